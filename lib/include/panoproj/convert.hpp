@@ -1,0 +1,30 @@
+#pragma once
+// One conversion, in memory: plan (projections bound to sizes, rotation) then remap.
+#include <optional>
+
+#include "panoproj/image.hpp"
+#include "panoproj/interpolator.hpp"
+#include "panoproj/projection.hpp"
+
+namespace panoproj {
+
+struct ConvertOptions {
+  double yaw = 0, pitch = 0, roll = 0;  // degrees, see rotation.hpp
+  Interp interp = Interp::Bicubic;
+  int threads = 0;                      // 0: all cores
+  std::optional<Size> size;             // output size; default: default_size() at the source's
+                                        // centre density (square pixels)
+};
+
+struct Plan {
+  Projection source, target;
+  Eigen::Matrix3d rotation;
+};
+
+// Throws panoproj::Error on bad parameters (non-finite angles, sizes, specs).
+Plan make_plan(Size source_size, const ProjectionSpec& from, const ProjectionSpec& to,
+               const ConvertOptions& options);
+Image convert(const Image& source, const ProjectionSpec& from, const ProjectionSpec& to,
+              const ConvertOptions& options);
+
+}  // namespace panoproj

@@ -1,0 +1,36 @@
+#pragma once
+// A conversion between files, as the CLI (and later Python) runs it: read, infer the source
+// projection, plan, remap, write atomically. Rules:
+//   - no --from: an input path with {face}/{index} is a cubemap in files; a 2:1 image is a
+//     full equirect; anything else is an error asking for --from.
+//   - the output must not be an input (same file by path or inode), and an existing output is
+//     replaced only with overwrite; nothing is written when anything fails.
+#include <optional>
+#include <string>
+
+#include "panoproj/convert.hpp"
+#include "panoproj/io.hpp"
+
+namespace panoproj {
+
+struct ConvertJob {
+  std::string input, output;
+  std::optional<std::string> from;  // spec text; see convert_job.hpp rules when absent
+  std::string to;
+  ConvertOptions options;
+  WriteOptions write;
+};
+
+struct ConvertReport {
+  std::string from, to;  // canonical specs used
+  Size input_size, output_size;
+  double seconds = 0;    // remap only
+};
+
+ConvertReport run_convert(const ConvertJob& job);
+
+// The source spec to use for an image of this size (rules above).
+ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const std::string& input,
+                                 Size size);
+
+}  // namespace panoproj

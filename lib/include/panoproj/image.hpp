@@ -1,0 +1,61 @@
+#pragma once
+// An interleaved image in memory: 1 to 4 channels of uint8, uint16, half or float samples,
+// rows stored top to bottom with 64-bit offsets (no size limit but memory).
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "panoproj/projections/frame.hpp"
+
+namespace panoproj {
+
+enum class PixelType { U8, U16, F16, F32 };
+
+size_t bytes_of(PixelType t);
+const char* name_of(PixelType t);
+// Largest sample value mapping to 1.0 (255, 65535; 1 for half and float).
+double unit_of(PixelType t);
+
+class Image {
+ public:
+  Image() = default;
+  // Zero-filled. alpha_channel: index of the alpha channel, or -1.
+  Image(Size size, int channels, PixelType type, int alpha_channel = -1);
+
+  Size size() const { return size_; }
+  int64_t width() const { return size_.width; }
+  int64_t height() const { return size_.height; }
+  int channels() const { return channels_; }
+  PixelType type() const { return type_; }
+  int alpha_channel() const { return alpha_; }
+  size_t pixel_bytes() const { return static_cast<size_t>(channels_) * bytes_of(type_); }
+  size_t row_bytes() const { return static_cast<size_t>(size_.width) * pixel_bytes(); }
+  size_t byte_size() const { return pixels_.size(); }
+
+  unsigned char* data() { return pixels_.data(); }
+  const unsigned char* data() const { return pixels_.data(); }
+  unsigned char* row(int64_t y) { return pixels_.data() + static_cast<size_t>(y) * row_bytes(); }
+  const unsigned char* row(int64_t y) const {
+    return pixels_.data() + static_cast<size_t>(y) * row_bytes();
+  }
+  unsigned char* pixel(int64_t x, int64_t y) {
+    return row(y) + static_cast<size_t>(x) * pixel_bytes();
+  }
+  const unsigned char* pixel(int64_t x, int64_t y) const {
+    return row(y) + static_cast<size_t>(x) * pixel_bytes();
+  }
+
+  bool operator==(const Image& o) const {
+    return size_ == o.size_ && channels_ == o.channels_ && type_ == o.type_ && alpha_ == o.alpha_ &&
+           pixels_ == o.pixels_;
+  }
+
+ private:
+  Size size_{};
+  int channels_ = 0;
+  PixelType type_ = PixelType::U8;
+  int alpha_ = -1;
+  std::vector<unsigned char> pixels_;
+};
+
+}  // namespace panoproj

@@ -1,0 +1,36 @@
+#pragma once
+// Image files through OpenImageIO: JPEG, PNG, TIFF 8/16-bit, OpenEXR half/float, Radiance HDR
+// (and whatever else the installed OpenImageIO reads).
+// Writing is atomic: a temporary file beside the target, then rename. An existing output is
+// replaced only with overwrite = true; the caller refuses outputs that are inputs.
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "panoproj/image.hpp"
+
+namespace panoproj {
+
+struct WriteOptions {
+  bool overwrite = false;
+  std::optional<PixelType> type;  // convert samples before writing; default: keep
+};
+
+Image read_image(const std::string& path);
+void write_image(const Image& image, const std::string& path, const WriteOptions& options);
+
+// Converts samples to another type (integers scale by their unit: 255 <-> 65535 <-> 1.0;
+// floats are clamped to [0, 1] when going to integers).
+Image convert_pixels(const Image& image, PixelType type);
+
+// Six cube faces as separate files: a pattern containing {face} (front, right, back, left,
+// up, down) and/or {index} (0..5). In memory the faces form the 6x1 strip.
+bool is_face_pattern(std::string_view path);
+std::string face_path(std::string_view pattern, int face);
+Image read_cube_faces(const std::string& pattern);
+// All six are written to temporary files first and renamed only when every one succeeded.
+void write_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options);
+
+extern const char* const kFaceNames[6];
+
+}  // namespace panoproj

@@ -1,0 +1,49 @@
+#pragma once
+// The closed set of projections, their factory and the row forms the pipeline uses.
+// Dispatch (std::visit) happens once per row, so inner loops see one concrete type.
+#include <cstdint>
+#include <variant>
+
+#include "panoproj/projections/aitoff.hpp"
+#include "panoproj/projections/bonne.hpp"
+#include "panoproj/projections/cubemap.hpp"
+#include "panoproj/projections/cylindrical.hpp"
+#include "panoproj/projections/equirect.hpp"
+#include "panoproj/projections/fisheye.hpp"
+#include "panoproj/projections/hammer.hpp"
+#include "panoproj/projections/pinhole.hpp"
+#include "panoproj/spec.hpp"
+
+namespace panoproj {
+
+using Projection =
+    std::variant<Pinhole, Fisheye, Equirect, Cylindrical, Cubemap, Aitoff, Hammer, Bonne>;
+
+// Validates the spec against the image size; throws panoproj::Error.
+Projection make_projection(const ProjectionSpec& spec, Size size);
+
+// The size at which the projection's centre has `density` pixels per radian (square pixels),
+// used when no output size is given. Throws if it would exceed kMaxDefaultPixels.
+Size default_size(const ProjectionSpec& spec, double density);
+inline constexpr int64_t kMaxDefaultPixels = int64_t{1} << 29;  // 537 Mpx
+
+inline Size size_of(const Projection& p) {
+  return std::visit([](const auto& q) { return q.size(); }, p);
+}
+inline double center_density(const Projection& p) {
+  return std::visit([](const auto& q) { return q.center_density(); }, p);
+}
+inline bool to_ray(const Projection& p, double x, double y, Ray& d) {
+  return std::visit([&](const auto& q) { return q.to_ray(x, y, d); }, p);
+}
+inline bool to_pixel(const Projection& p, const Ray& d, double& x, double& y) {
+  return std::visit([&](const auto& q) { return q.to_pixel(d, x, y); }, p);
+}
+
+// Rays through the pixel centres (x0 + i + 0.5, y), i < n; ok[i] = 0 where there is none.
+void to_ray_row(const Projection& p, double y, int64_t x0, int64_t n, Ray* rays, uint8_t* ok);
+// Pixels of rays[i] where ok[i] (in/out: cleared where the ray has no pixel).
+void to_pixel_row(const Projection& p, const Ray* rays, int64_t n, double* xs, double* ys,
+                  uint8_t* ok);
+
+}  // namespace panoproj

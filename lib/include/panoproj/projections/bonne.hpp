@@ -1,0 +1,86 @@
+#pragma once
+// Bonne, equal-area, standard parallel phi1 (Snyder, PP 1395, eq. 19-1..19-5):
+//   rho = cot phi1 + phi1 - phi,  E = lambda cos phi / rho,
+//   X = rho sin E,  Y = cot phi1 - rho cos E        (origin at lambda = 0, phi = phi1).
+// cot phi1 overflows as phi1 -> 0, where Bonne tends to the sinusoidal projection
+// (X = lambda cos phi, Y = phi). For |phi1| < kSmallPhi1 the same equations are written with
+// q = 1/rho = t / (1 + t (phi1 - phi)), t = tan phi1, which stays finite at phi1 = 0:
+//   X = lambda cos phi sinc(E),  Y = (phi - phi1) + lambda cos phi sin(E/2) sinc(E/2).
+// A southern phi1 is the mirror image (phi -> -phi, Y -> -Y). phi1 = 90 degrees is Werner's.
+#include <cmath>
+
+#include "panoproj/projections/map_frame.hpp"
+
+namespace panoproj {
+
+class Bonne {
+ public:
+  static constexpr double kSmallPhi1 = 0.1;  // radians; both forms are exact on either side
+
+  Bonne(Size size, double phi1, double lon0);
+
+  void forward(double lam, double phi, double& X, double& Y) const {
+    phi *= sign_;
+    const double cp = std::cos(phi);
+    if (small_) {
+      const double q = t_ / (1.0 + t_ * (p1_ - phi));
+      const double lc = lam * cp, E = lc * q;
+      X = lc * sinc(E);
+      Y = (phi - p1_) + lc * std::sin(0.5 * E) * sinc(0.5 * E);
+    } else {
+      const double rho = cot_ + p1_ - phi;
+      const double E = rho > 1e-300 ? lam * cp / rho : lam;  // Werner's apex: cos phi / rho -> 1
+      X = rho * std::sin(E);
+      Y = cot_ - rho * std::cos(E);
+    }
+    Y *= sign_;
+  }
+  // False outside the outline.
+  bool inverse(double X, double Y, double& lam, double& phi) const {
+    Y *= sign_;
+    double rho_e_over_cos;  // rho * E, to be divided by cos phi
+    if (small_) {
+      const double a = 1.0 - t_ * Y;
+      const double root = std::sqrt(t_ * t_ * X * X + a * a);
+      phi = p1_ + (2.0 * Y - t_ * (X * X + Y * Y)) / (1.0 + root);
+      const double e_over_t = t_ > 1e-150 ? std::atan2(t_ * X, a) / t_ : X;
+      rho_e_over_cos = root * e_over_t;
+    } else {
+      const double cy = cot_ - Y;
+      const double rho = std::hypot(X, cy);
+      phi = cot_ + p1_ - rho;
+      rho_e_over_cos = rho * std::atan2(X, cy);
+    }
+    if (std::fabs(phi) > kHalfPi * (1.0 + kEdgeSlack)) return false;
+    phi = std::fmin(kHalfPi, std::fmax(-kHalfPi, phi));
+    const double cp = std::cos(phi);
+    lam = cp > 1e-15 ? rho_e_over_cos / cp : 0.0;  // at a pole every longitude is one point
+    phi *= sign_;
+    return std::fabs(lam) <= kPi * (1.0 + kEdgeSlack);
+  }
+
+  bool to_ray(double x, double y, Ray& d) const {
+    double lam, phi;
+    if (!inverse(frame_.plane_x(x), frame_.plane_y(y), lam, phi)) return false;
+    d = ray_from_lonlat(lam + lon0_, phi);
+    return true;
+  }
+  bool to_pixel(const Ray& d, double& x, double& y) const {
+    double X, Y;
+    forward(wrap_pi(longitude(d) - lon0_), latitude(d), X, Y);
+    x = frame_.pixel_x(X);
+    y = frame_.pixel_y(Y);
+    return in_frame(x, y, frame_.size);
+  }
+
+  Size size() const { return frame_.size; }
+  double center_density() const { return frame_.density(); }
+  const MapFrame& frame() const { return frame_; }
+
+ private:
+  double p1_, sign_, t_, cot_, lon0_;
+  bool small_;
+  MapFrame frame_{};
+};
+
+}  // namespace panoproj

@@ -1,0 +1,106 @@
+#pragma once
+// Fisheye with a radial lens law. psi = angle from the optical axis (+z), theta = azimuth in the
+// image. The law maps psi to an unnormalized radius g(psi), all with g'(0) = 1:
+//   equidistant   g = psi             (defined for psi <= pi)
+//   equisolid     g = 2 sin(psi/2)    (psi <= pi)
+//   orthographic  g = sin(psi)        (psi <= pi/2)
+//   stereographic g = 2 tan(psi/2)    (psi <  pi)
+// Normalized radius r = g(psi) / g(psi_max): r = 1 on the image circle (fov = 2 psi_max).
+// Pixel: (x, y) = (cx, cy) + r * (rx cos theta, ry sin theta); rx = ry keeps a circle ("keep"),
+// rx != ry draws an ellipse ("stretch"). Formulas: Kingslake, "A History of the Photographic
+// Lens"; Bettonvil, "Fisheye lenses", WGN 33 (2005).
+#include <cmath>
+
+#include "panoproj/conventions.hpp"
+#include "panoproj/projections/frame.hpp"
+
+namespace panoproj {
+
+enum class FisheyeModel { Equidistant, Equisolid, Orthographic, Stereographic };
+
+class Fisheye {
+ public:
+  // psi_max: half the field of view (radians). clip: pixels with r > 1 are invalid.
+  Fisheye(Size size, double psi_max, FisheyeModel model, bool clip, double cx, double cy,
+          double rx, double ry)
+      : size_(size), psi_max_(psi_max), model_(model), clip_(clip), cx_(cx), cy_(cy), rx_(rx),
+        ry_(ry), g_max_(law(psi_max)), psi_limit_(law_limit(model)) {}
+
+  static double law(FisheyeModel m, double psi) {
+    switch (m) {
+      case FisheyeModel::Equidistant: return psi;
+      case FisheyeModel::Equisolid: return 2.0 * std::sin(0.5 * psi);
+      case FisheyeModel::Orthographic: return std::sin(psi);
+      case FisheyeModel::Stereographic: return 2.0 * std::tan(0.5 * psi);
+    }
+    return psi;
+  }
+  // Largest psi for which the law is monotonic (and so invertible).
+  static double law_limit(FisheyeModel m) {
+    return m == FisheyeModel::Orthographic ? kHalfPi : kPi;
+  }
+  double law(double psi) const { return law(model_, psi); }
+
+  bool to_ray(double x, double y, Ray& d) const {
+    const double u = (x - cx_) / rx_, v = (y - cy_) / ry_;
+    const double r = std::hypot(u, v);
+    if (clip_ && r > 1.0 + kEdgeSlack) return false;
+    double psi;
+    if (!inverse_law(r * g_max_, psi)) return false;
+    if (r == 0.0) {
+      d = Ray(0.0, 0.0, 1.0);
+      return true;
+    }
+    const double s = std::sin(psi) / r;
+    d = Ray(s * u, s * v, std::cos(psi));
+    return true;
+  }
+
+  bool to_pixel(const Ray& d, double& x, double& y) const {
+    const double s = std::hypot(d.x(), d.y());
+    const double psi = std::atan2(s, d.z());
+    if (clip_ && psi > psi_max_ * (1.0 + kEdgeSlack)) return false;
+    if (psi > psi_limit_ * (1.0 + kEdgeSlack) || (model_ == FisheyeModel::Stereographic && psi >= kPi))
+      return false;
+    const double r = law(psi) / g_max_;
+    // On the axis (s = 0) the azimuth is undefined: the front pole maps to the centre; the back
+    // pole (psi = pi, the 360-degree rim, one point) maps to theta = 0.
+    const double cu = s > 0.0 ? d.x() / s : 1.0, cv = s > 0.0 ? d.y() / s : 0.0;
+    x = cx_ + rx_ * r * cu;
+    y = cy_ + ry_ * r * cv;
+    return in_frame(x, y, size_);
+  }
+
+  Size size() const { return size_; }
+  double center_density() const { return rx_ / g_max_; }  // g'(0) = 1
+  double psi_max() const { return psi_max_; }
+  FisheyeModel model() const { return model_; }
+  bool clip() const { return clip_; }
+
+ private:
+  // psi from g; false where the law has no inverse.
+  bool inverse_law(double g, double& psi) const {
+    switch (model_) {
+      case FisheyeModel::Equidistant: psi = g; return g <= kPi * (1.0 + kEdgeSlack);
+      case FisheyeModel::Equisolid:
+        if (g > 2.0 * (1.0 + kEdgeSlack)) return false;
+        psi = 2.0 * std::asin(std::fmin(0.5 * g, 1.0));
+        return true;
+      case FisheyeModel::Orthographic:
+        if (g > 1.0 + kEdgeSlack) return false;
+        psi = std::asin(std::fmin(g, 1.0));
+        return true;
+      case FisheyeModel::Stereographic: psi = 2.0 * std::atan(0.5 * g); return true;
+    }
+    return false;
+  }
+
+  Size size_;
+  double psi_max_;
+  FisheyeModel model_;
+  bool clip_;
+  double cx_, cy_, rx_, ry_;
+  double g_max_, psi_limit_;
+};
+
+}  // namespace panoproj

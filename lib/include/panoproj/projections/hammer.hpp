@@ -1,0 +1,68 @@
+#pragma once
+// Hammer-Wagner family with parameter W (Hammer: W = 1/2; Eckert-Greifendorff: W = 1/4):
+//   (X W, Y) is the Lambert azimuthal equal-area image of (lambda W, phi):
+//   d = sqrt(2 / (1 + cos phi cos(lambda W))),  X = d cos phi sin(lambda W) / W,  Y = d sin phi.
+// Inverse through LAEA's (Snyder, "Map Projections: A Working Manual", USGS PP 1395, eq. 24-2..):
+//   rho^2 = (XW)^2 + Y^2 (< 4),  sin c / rho = sqrt(1 - rho^2/4),  cos c = 1 - rho^2/2,
+//   phi = asin(Y sin c / rho),  lambda W = atan2(XW sin c / rho, cos c),
+// written without dividing by rho. The outline is |lambda| = pi.
+#include <cmath>
+
+#include "panoproj/projections/map_frame.hpp"
+
+namespace panoproj {
+
+class Hammer {
+ public:
+  Hammer(Size size, double w, double lon0) : w_(w), lon0_(lon0) {
+    const double x_max = forward_x(kPi, 0.0);
+    frame_ = {size, -x_max, x_max, -std::sqrt(2.0), std::sqrt(2.0)};
+  }
+
+  // Plane coordinates of (lambda, phi) relative to the central meridian.
+  void forward(double lam, double phi, double& X, double& Y) const {
+    const double cp = std::cos(phi), lw = lam * w_;
+    const double d = std::sqrt(2.0 / (1.0 + cp * std::cos(lw)));
+    X = d * cp * std::sin(lw) / w_;
+    Y = d * std::sin(phi);
+  }
+  // False outside the outline.
+  bool inverse(double X, double Y, double& lam, double& phi) const {
+    const double xw = X * w_;
+    const double rho2 = xw * xw + Y * Y;
+    if (rho2 > 4.0) return false;
+    const double k = std::sqrt(1.0 - 0.25 * rho2);  // sin c / rho
+    phi = std::asin(std::fmin(1.0, std::fmax(-1.0, Y * k)));
+    lam = std::atan2(xw * k, 1.0 - 0.5 * rho2) / w_;
+    return std::fabs(lam) <= kPi * (1.0 + kEdgeSlack);
+  }
+
+  bool to_ray(double x, double y, Ray& d) const {
+    double lam, phi;
+    if (!inverse(frame_.plane_x(x), frame_.plane_y(y), lam, phi)) return false;
+    d = ray_from_lonlat(lam + lon0_, phi);
+    return true;
+  }
+  bool to_pixel(const Ray& d, double& x, double& y) const {
+    double X, Y;
+    forward(wrap_pi(longitude(d) - lon0_), latitude(d), X, Y);
+    x = frame_.pixel_x(X);
+    y = frame_.pixel_y(Y);
+    return in_frame(x, y, frame_.size);
+  }
+
+  Size size() const { return frame_.size; }
+  double center_density() const { return frame_.density(); }
+  const MapFrame& frame() const { return frame_; }
+
+ private:
+  double forward_x(double lam, double phi) const {
+    double X, Y;
+    forward(lam, phi, X, Y);
+    return X;
+  }
+  double w_, lon0_;
+  MapFrame frame_{};
+};
+
+}  // namespace panoproj

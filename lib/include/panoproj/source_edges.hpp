@@ -1,0 +1,32 @@
+#pragma once
+// Where interpolation taps that fall outside a source's pixels read from, by source kind:
+//   equirect  wraps in longitude (full 360); past a pole row it continues on the far side
+//             (row -1-j, longitude + 180), when the frame reaches that pole;
+//   cubemap   a tap past its face's edge is re-projected onto the neighbouring face (the ray
+//             through the tap's centre on the extended face plane), so edges have no seam;
+//   others    clamp to the frame. Whether a sample is valid at all is decided by to_pixel, so a
+//             clamped tap only ever supports a sample whose centre is inside the field.
+#include <cstdint>
+
+#include "panoproj/projection.hpp"
+
+namespace panoproj {
+
+class SourceEdges {
+ public:
+  explicit SourceEdges(const Projection& source);
+
+  // Face under a sample position (cubemap sources), else 0.
+  int face_at(double sx, double sy) const { return cube_ ? cube_->face_at(sx, sy) : 0; }
+  // In-frame pixel for tap (ix, iy) of a sample on `face`.
+  void resolve(int64_t& ix, int64_t& iy, int face) const;
+
+ private:
+  enum class Mode { Clamp, Equirect, Cube };
+  Mode mode_ = Mode::Clamp;
+  int64_t w_ = 0, h_ = 0;
+  bool wrap_x_ = false, north_ = false, south_ = false;
+  const Cubemap* cube_ = nullptr;
+};
+
+}  // namespace panoproj

@@ -1,0 +1,60 @@
+#pragma once
+// Projection specs: "name[:key=value[,key=value...]]", angles in degrees, sizes in pixels.
+// One table (projection_catalog) defines every name, key, default and range; the parser, the
+// factories, `panoproj info` and the docs all read it.
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace panoproj {
+
+enum class Kind { Pinhole, Fisheye, Equirect, Cylindrical, Cubemap, Aitoff, Hammer, Bonne };
+
+enum class ParamType { Number, Integer, Choice };
+
+struct ParamDef {
+  const char* key;
+  ParamType type;
+  const char* default_text;  // "" when the default is derived (from the size or other keys)
+  double lo, hi;             // numeric range
+  bool lo_open, hi_open;     // exclusive bounds
+  const char* choices;       // "a|b|c" for Choice
+  const char* help;
+};
+
+struct ProjectionDef {
+  const char* name;
+  Kind kind;
+  const char* summary;
+  std::vector<ParamDef> params;
+};
+
+const std::vector<ProjectionDef>& projection_catalog();
+const ProjectionDef& projection_def(Kind kind, std::string_view name);
+
+class ProjectionSpec {
+ public:
+  ProjectionSpec(const ProjectionDef& def, std::map<std::string, std::string> values);
+
+  Kind kind() const { return def_->kind; }
+  const std::string& name() const { return name_; }
+  const ProjectionDef& def() const { return *def_; }
+  bool given(std::string_view key) const { return values_.count(std::string(key)) > 0; }
+  // The given value, else the table default, else nullopt (a derived default).
+  std::optional<double> number(std::string_view key) const;
+  std::string choice(std::string_view key) const;
+  // Canonical text: name and the given keys in table order.
+  std::string str() const;
+
+ private:
+  const ProjectionDef* def_;
+  std::string name_;
+  std::map<std::string, std::string> values_;
+};
+
+// Throws panoproj::Error naming the bad part and what was expected.
+ProjectionSpec parse_spec(std::string_view text);
+
+}  // namespace panoproj

@@ -1,0 +1,43 @@
+#include "panoproj/convert.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "panoproj/error.hpp"
+#include "panoproj/resample.hpp"
+#include "panoproj/rotation.hpp"
+
+namespace panoproj {
+
+Plan make_plan(Size source_size, const ProjectionSpec& from, const ProjectionSpec& to,
+               const ConvertOptions& o) {
+  for (const auto& [name, v] : {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"roll", o.roll}}) {
+    if (!std::isfinite(v) || std::fabs(v) > 1e6) {
+      std::ostringstream s;
+      s << name << ": " << v << " (expected a finite angle in degrees)";
+      throw Error(s.str());
+    }
+  }
+  if (o.threads < 0)
+    throw Error("threads: " + std::to_string(o.threads) + " (expected 0 for all cores, or more)");
+  Projection source = make_projection(from, source_size);
+  Size size;
+  if (o.size) {
+    size = *o.size;
+    if (size.width < 1 || size.height < 1)
+      throw Error("size: " + std::to_string(size.width) + "x" + std::to_string(size.height) +
+                  " (expected at least 1x1)");
+  } else {
+    size = default_size(to, center_density(source));
+  }
+  Projection target = make_projection(to, size);
+  return {std::move(source), std::move(target), rotation_from_ypr(o.yaw, o.pitch, o.roll)};
+}
+
+Image convert(const Image& source, const ProjectionSpec& from, const ProjectionSpec& to,
+              const ConvertOptions& options) {
+  const Plan plan = make_plan(source.size(), from, to, options);
+  return remap(source, plan.source, plan.target, plan.rotation, {options.interp, options.threads});
+}
+
+}  // namespace panoproj

@@ -1,0 +1,49 @@
+#include "panoproj/image.hpp"
+
+#include "panoproj/error.hpp"
+
+namespace panoproj {
+
+size_t bytes_of(PixelType t) {
+  switch (t) {
+    case PixelType::U8: return 1;
+    case PixelType::U16:
+    case PixelType::F16: return 2;
+    case PixelType::F32: return 4;
+  }
+  return 1;
+}
+
+const char* name_of(PixelType t) {
+  switch (t) {
+    case PixelType::U8: return "uint8";
+    case PixelType::U16: return "uint16";
+    case PixelType::F16: return "half";
+    case PixelType::F32: return "float";
+  }
+  return "?";
+}
+
+double unit_of(PixelType t) {
+  switch (t) {
+    case PixelType::U8: return 255.0;
+    case PixelType::U16: return 65535.0;
+    default: return 1.0;
+  }
+}
+
+Image::Image(Size size, int channels, PixelType type, int alpha_channel)
+    : size_(size), channels_(channels), type_(type), alpha_(alpha_channel) {
+  if (channels < 1 || channels > 4)
+    throw Error("channels: " + std::to_string(channels) + " (expected 1 to 4)");
+  if (size.width < 1 || size.height < 1)
+    throw Error("image size: " + std::to_string(size.width) + "x" + std::to_string(size.height) +
+                " (expected at least 1x1)");
+  if (alpha_channel >= channels || alpha_channel < -1)
+    throw Error("alpha channel: " + std::to_string(alpha_channel) + " (expected -1 or < " +
+                std::to_string(channels) + ")");
+  pixels_.resize(static_cast<size_t>(size.width) * static_cast<size_t>(size.height) *
+                 pixel_bytes());
+}
+
+}  // namespace panoproj

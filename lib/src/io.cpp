@@ -1,0 +1,238 @@
+// OpenImageIO is included only here (compile-time hot spot; keep it out of public headers).
+#include "panoproj/io.hpp"
+
+#include <Imath/half.h>
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+#include <vector>
+
+#include "panoproj/error.hpp"
+
+namespace panoproj {
+
+const char* const kFaceNames[6] = {"front", "right", "back", "left", "up", "down"};
+
+namespace fs = std::filesystem;
+namespace {
+
+OIIO::TypeDesc oiio_type(PixelType t) {
+  switch (t) {
+    case PixelType::U8: return OIIO::TypeDesc::UINT8;
+    case PixelType::U16: return OIIO::TypeDesc::UINT16;
+    case PixelType::F16: return OIIO::TypeDesc::HALF;
+    case PixelType::F32: return OIIO::TypeDesc::FLOAT;
+  }
+  return OIIO::TypeDesc::UINT8;
+}
+
+// Closest panoproj type that holds the file's samples without loss (others go to float).
+PixelType from_oiio(OIIO::TypeDesc t) {
+  if (t == OIIO::TypeDesc::UINT8) return PixelType::U8;
+  if (t == OIIO::TypeDesc::UINT16) return PixelType::U16;
+  if (t == OIIO::TypeDesc::HALF) return PixelType::F16;
+  return PixelType::F32;
+}
+
+std::string one_line(std::string s) {
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+// Temporary name in the target's folder, keeping the extension (it selects the format).
+std::string temp_path(const std::string& path) {
+  const fs::path p(path);
+  std::string name = ".";
+  name += p.stem().string();
+  name += ".panoproj-tmp-" + std::to_string(::getpid());
+  name += p.extension().string();
+  return (p.parent_path() / name).string();
+}
+
+void check_target(const std::string& path, const WriteOptions& options) {
+  std::error_code ec;
+  if (fs::exists(path, ec) && !options.overwrite)
+    throw Error("output " + path + " exists (pass --overwrite to replace it)");
+  const fs::path dir = fs::path(path).parent_path();
+  if (!dir.empty() && !fs::is_directory(dir, ec))
+    throw Error("output folder " + dir.string() + " does not exist (create it first)");
+}
+
+// Writes to `tmp`; throws on failure (and removes what it wrote).
+void write_file(const Image& in, const std::string& tmp, const std::string& shown_path,
+                const WriteOptions& options) {
+  const Image* image = &in;
+  Image converted;
+  if (options.type && *options.type != in.type()) {
+    converted = convert_pixels(in, *options.type);
+    image = &converted;
+  }
+  auto out = OIIO::ImageOutput::create(tmp);
+  if (!out)
+    throw Error("cannot write " + shown_path + ": no image format for its extension (" +
+                one_line(OIIO::geterror()) + "; use .jpg .png .tif .exr .hdr)");
+  int nch = image->channels();
+  int alpha = image->alpha_channel();
+  // Formats without alpha (JPEG, HDR) get the colour channels only.
+  if (alpha >= 0 && !out->supports("alpha") && alpha == nch - 1) {
+    --nch;
+    alpha = -1;
+  }
+  OIIO::ImageSpec spec(static_cast<int>(image->width()), static_cast<int>(image->height()), nch,
+                       oiio_type(image->type()));
+  spec.alpha_channel = alpha;
+  if (fs::path(shown_path).extension() == ".jpg" || fs::path(shown_path).extension() == ".jpeg")
+    spec.attribute("Compression", "jpeg:95");
+  bool ok = out->open(tmp, spec);
+  if (ok) {
+    const auto stride = static_cast<OIIO::stride_t>(image->pixel_bytes());
+    ok = out->write_image(oiio_type(image->type()), image->data(), stride);
+  }
+  ok = out->close() && ok;
+  if (!ok) {
+    const std::string why = one_line(out->geterror());
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw Error("cannot write " + shown_path + ": " + why);
+  }
+}
+
+void commit(const std::string& tmp, const std::string& path) {
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw Error("cannot write " + path + ": rename failed (" + ec.message() + ")");
+  }
+}
+
+}  // namespace
+
+Image read_image(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error("input " + path + " does not exist (check the path)");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in)
+    throw Error("cannot read " + path + ": " + one_line(OIIO::geterror()) +
+                " (expected a JPEG, PNG, TIFF, EXR or HDR image)");
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.nchannels < 1 || spec.nchannels > 4)
+    throw Error("input " + path + " has " + std::to_string(spec.nchannels) +
+                " channels (expected 1 to 4)");
+  const PixelType type = from_oiio(spec.format);
+  Image image({spec.width, spec.height}, spec.nchannels, type,
+              spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel
+                                                                             : -1);
+  const bool ok = in->read_image(0, 0, 0, spec.nchannels, oiio_type(type), image.data());
+  if (!ok || in->has_error())
+    throw Error("cannot read " + path + ": " + one_line(in->geterror()) +
+                " (the file is damaged or truncated)");
+  return image;
+}
+
+void write_image(const Image& image, const std::string& path, const WriteOptions& options) {
+  check_target(path, options);
+  const std::string tmp = temp_path(path);
+  write_file(image, tmp, path, options);
+  commit(tmp, path);
+}
+
+Image convert_pixels(const Image& in, PixelType type) {
+  Image out(in.size(), in.channels(), type, in.alpha_channel());
+  const size_t n = static_cast<size_t>(in.width()) * static_cast<size_t>(in.height()) *
+                   static_cast<size_t>(in.channels());
+  const double from_unit = unit_of(in.type()), to_unit = unit_of(type);
+  const bool to_int = type == PixelType::U8 || type == PixelType::U16;
+  for (size_t i = 0; i < n; ++i) {
+    double v = 0;
+    const unsigned char* p = in.data() + i * bytes_of(in.type());
+    switch (in.type()) {
+      case PixelType::U8: v = *p; break;
+      case PixelType::U16: { uint16_t t; std::memcpy(&t, p, 2); v = t; break; }
+      case PixelType::F16: { Imath::half t; std::memcpy(&t, p, 2); v = float(t); break; }
+      case PixelType::F32: { float t; std::memcpy(&t, p, 4); v = t; break; }
+    }
+    v = v / from_unit * to_unit;
+    if (to_int) v = std::clamp(std::nearbyint(v), 0.0, to_unit);
+    unsigned char* q = out.data() + i * bytes_of(type);
+    switch (type) {
+      case PixelType::U8: *q = static_cast<uint8_t>(v); break;
+      case PixelType::U16: { const auto t = static_cast<uint16_t>(v); std::memcpy(q, &t, 2); break; }
+      case PixelType::F16: { const Imath::half t(static_cast<float>(v)); std::memcpy(q, &t, 2); break; }
+      case PixelType::F32: { const auto t = static_cast<float>(v); std::memcpy(q, &t, 4); break; }
+    }
+  }
+  return out;
+}
+
+bool is_face_pattern(std::string_view path) {
+  return path.find("{face}") != std::string_view::npos ||
+         path.find("{index}") != std::string_view::npos;
+}
+
+std::string face_path(std::string_view pattern, int face) {
+  std::string s(pattern);
+  for (const auto& [key, value] : {std::pair<std::string, std::string>{"{face}", kFaceNames[face]},
+                                   {"{index}", std::to_string(face)}}) {
+    for (size_t at; (at = s.find(key)) != std::string::npos;) s.replace(at, key.size(), value);
+  }
+  return s;
+}
+
+Image read_cube_faces(const std::string& pattern) {
+  Image strip;
+  for (int f = 0; f < 6; ++f) {
+    const std::string path = face_path(pattern, f);
+    const Image face = read_image(path);
+    if (face.width() != face.height())
+      throw Error("cube face " + path + " is " + std::to_string(face.width()) + "x" +
+                  std::to_string(face.height()) + " (expected square faces)");
+    if (f == 0) {
+      strip = Image({6 * face.width(), face.height()}, face.channels(), face.type(),
+                    face.alpha_channel());
+    } else if (face.width() != strip.height() || face.channels() != strip.channels() ||
+               face.type() != strip.type()) {
+      throw Error("cube face " + path + " is " + std::to_string(face.width()) + "x" +
+                  std::to_string(face.height()) + " " + std::to_string(face.channels()) + "ch " +
+                  name_of(face.type()) + ", but " + face_path(pattern, 0) + " is " +
+                  std::to_string(strip.height()) + "x" + std::to_string(strip.height()) + " " +
+                  std::to_string(strip.channels()) + "ch " + name_of(strip.type()) +
+                  " (all six faces must match)");
+    }
+    for (int64_t y = 0; y < face.height(); ++y)
+      std::memcpy(strip.pixel(f * face.width(), y), face.row(y), face.row_bytes());
+  }
+  return strip;
+}
+
+void write_cube_faces(const Image& strip, const std::string& pattern,
+                      const WriteOptions& options) {
+  const int64_t f = strip.height();
+  std::vector<std::string> paths, temps;
+  for (int i = 0; i < 6; ++i) {
+    paths.push_back(face_path(pattern, i));
+    check_target(paths.back(), options);
+  }
+  try {
+    for (int i = 0; i < 6; ++i) {
+      Image face({f, f}, strip.channels(), strip.type(), strip.alpha_channel());
+      for (int64_t y = 0; y < f; ++y)
+        std::memcpy(face.row(y), strip.pixel(i * f, y), face.row_bytes());
+      temps.push_back(temp_path(paths[i]));
+      write_file(face, temps.back(), paths[i], options);
+    }
+  } catch (...) {
+    std::error_code ec;
+    for (const auto& t : temps) fs::remove(t, ec);
+    throw;
+  }
+  for (int i = 0; i < 6; ++i) commit(temps[i], paths[i]);
+}
+
+}  // namespace panoproj

@@ -1,0 +1,311 @@
+// Projection factories (parameter validation against the frame), default sizes and row forms.
+#include "panoproj/projection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "panoproj/error.hpp"
+
+namespace panoproj {
+
+// ---- Cubemap ------------------------------------------------------------------------------
+std::array<int, 2> Cubemap::grid(CubeLayout layout) {
+  switch (layout) {
+    case CubeLayout::Files:
+    case CubeLayout::Row6x1: return {6, 1};
+    case CubeLayout::Column1x6: return {1, 6};
+    case CubeLayout::Grid3x2: return {3, 2};
+    case CubeLayout::Cross4x3: return {4, 3};
+  }
+  return {6, 1};
+}
+
+Cubemap::Cubemap(int64_t face_size, CubeLayout layout)
+    : f_(face_size), fd_(static_cast<double>(face_size)), layout_(layout) {
+  const auto g = grid(layout);
+  cols_ = g[0];
+  rows_ = g[1];
+  size_ = {cols_ * f_, rows_ * f_};
+  // Cell (column, row) of each face.
+  std::array<std::array<int, 2>, 6> cells{};
+  switch (layout) {
+    case CubeLayout::Files:
+    case CubeLayout::Row6x1:
+      for (int i = 0; i < 6; ++i) cells[i] = {i, 0};
+      break;
+    case CubeLayout::Column1x6:
+      for (int i = 0; i < 6; ++i) cells[i] = {0, i};
+      break;
+    case CubeLayout::Grid3x2:
+      for (int i = 0; i < 6; ++i) cells[i] = {i % 3, i / 3};
+      break;
+    case CubeLayout::Cross4x3:
+      cells = {{{1, 1}, {2, 1}, {3, 1}, {0, 1}, {1, 0}, {1, 2}}};
+      break;
+  }
+  cell_face_.fill(-1);
+  for (int i = 0; i < 6; ++i) {
+    origin_[i] = {cells[i][0] * f_, cells[i][1] * f_};
+    cell_face_[cells[i][1] * cols_ + cells[i][0]] = i;
+  }
+}
+
+// ---- Bonne --------------------------------------------------------------------------------
+Bonne::Bonne(Size size, double phi1, double lon0)
+    : p1_(std::fabs(phi1)), sign_(phi1 < 0 ? -1.0 : 1.0), t_(std::tan(std::fabs(phi1))),
+      cot_(0.0), lon0_(lon0), small_(std::fabs(phi1) < kSmallPhi1) {
+  if (!small_) cot_ = std::cos(p1_) / std::sin(p1_);
+  // Bounding box: X peaks on the outline lambda = +-pi; Y is monotonic in |lambda| on each
+  // parallel (|E| < pi), so its extremes lie on lambda = 0 or on the outline. Dense sampling
+  // then golden-section refinement of each extreme.
+  auto outline = [&](double phi, int which) {
+    double X, Y;
+    forward(kPi, phi, X, Y);
+    return which == 0 ? X : (which == 1 ? Y : -Y);
+  };
+  double ext[3];
+  for (int which = 0; which < 3; ++which) {
+    constexpr int kSamples = 2048;
+    int best = 0;
+    double best_v = -HUGE_VAL;
+    for (int i = 0; i <= kSamples; ++i) {
+      const double v = outline(-kHalfPi + kPi * i / kSamples, which);
+      if (v > best_v) best_v = v, best = i;
+    }
+    double a = -kHalfPi + kPi * std::max(0, best - 1) / kSamples;
+    double b = -kHalfPi + kPi * std::min(kSamples, best + 1) / kSamples;
+    const double gr = 0.5 * (std::sqrt(5.0) - 1.0);
+    for (int it = 0; it < 80; ++it) {
+      const double c = b - gr * (b - a), d = a + gr * (b - a);
+      if (outline(c, which) > outline(d, which)) b = d; else a = c;
+    }
+    ext[which] = std::max(best_v, outline(0.5 * (a + b), which));
+  }
+  // lambda = 0 reaches Y = +-pi/2 - phi1 (mirrored for a southern phi1).
+  const double ymax = std::max(ext[1], sign_ > 0 ? kHalfPi - p1_ : p1_ + kHalfPi);
+  const double ymin = std::min(-ext[2], sign_ > 0 ? -kHalfPi - p1_ : p1_ - kHalfPi);
+  frame_ = {size, -ext[0], ext[0], ymin, ymax};
+}
+
+// ---- factories ----------------------------------------------------------------------------
+namespace {
+
+[[noreturn]] void fail(const ProjectionSpec& s, const std::string& what) {
+  throw Error(s.name() + ": " + what);
+}
+
+double rad(const ProjectionSpec& s, const char* key) { return deg2rad(*s.number(key)); }
+
+FisheyeModel fisheye_model(const std::string& m) {
+  if (m == "equisolid") return FisheyeModel::Equisolid;
+  if (m == "orthographic") return FisheyeModel::Orthographic;
+  if (m == "stereographic") return FisheyeModel::Stereographic;
+  return FisheyeModel::Equidistant;
+}
+
+CubeLayout cube_layout(const std::string& l) {
+  if (l == "files") return CubeLayout::Files;
+  if (l == "1x6") return CubeLayout::Column1x6;
+  if (l == "3x2") return CubeLayout::Grid3x2;
+  if (l == "cross") return CubeLayout::Cross4x3;
+  return CubeLayout::Row6x1;
+}
+
+void check_fisheye(const ProjectionSpec& s) {
+  const double fov = *s.number("fov");
+  const auto model = fisheye_model(s.choice("model"));
+  if (model == FisheyeModel::Orthographic && fov > 180)
+    fail(s, "fov=" + std::to_string(fov) + " is too wide for model=orthographic (expected <= 180)");
+  if (model == FisheyeModel::Stereographic && fov >= 360)
+    fail(s, "fov=360 is not reachable with model=stereographic (expected < 360)");
+  if (s.given("radius") && s.choice("aspect") == "stretch")
+    fail(s, "radius applies to aspect=keep only (stretch fills the frame)");
+}
+
+void check_latitude_span(const ProjectionSpec& s, bool open) {
+  const double top = *s.number("lat0") + 0.5 * *s.number("vfov");
+  const double bottom = *s.number("lat0") - 0.5 * *s.number("vfov");
+  const double lim = 90.0 + 1e-9;
+  if ((open ? top >= 90.0 || bottom <= -90.0 : top > lim || bottom < -lim)) {
+    std::ostringstream o;
+    o << "lat0=" << *s.number("lat0") << " with vfov=" << *s.number("vfov")
+      << " spans latitudes " << bottom << ".." << top << " (expected within "
+      << (open ? "(-90, 90)" : "[-90, 90]") << ")";
+    fail(s, o.str());
+  }
+}
+
+void check_pinhole(const ProjectionSpec& s) {
+  if (s.given("hfov") && s.given("focal")) fail(s, "give hfov or focal, not both");
+  if (s.given("vfov") && s.given("focal")) fail(s, "give vfov or focal, not both");
+}
+
+// Validation that does not depend on the frame (shared by make_projection and default_size).
+void check_spec(const ProjectionSpec& s) {
+  switch (s.kind()) {
+    case Kind::Pinhole: check_pinhole(s); break;
+    case Kind::Fisheye: check_fisheye(s); break;
+    case Kind::Equirect: check_latitude_span(s, false); break;
+    case Kind::Cylindrical: check_latitude_span(s, true); break;
+    default: break;
+  }
+}
+
+}  // namespace
+
+Projection make_projection(const ProjectionSpec& s, Size size) {
+  check_spec(s);
+  if (size.width < 1 || size.height < 1) {
+    std::ostringstream o;
+    o << "size " << size.width << "x" << size.height << " is empty (expected at least 1x1)";
+    fail(s, o.str());
+  }
+  const double w = static_cast<double>(size.width), h = static_cast<double>(size.height);
+  auto cx = [&](const char* key, double extent) {
+    return s.given(key) ? *s.number(key) + kCvPixelShift : 0.5 * extent;
+  };
+  switch (s.kind()) {
+    case Kind::Pinhole: {
+      double fx, fy;
+      if (s.given("focal")) {
+        fx = fy = *s.number("focal");
+      } else if (s.given("hfov")) {
+        fx = 0.5 * w / std::tan(0.5 * rad(s, "hfov"));
+        fy = s.given("vfov") ? 0.5 * h / std::tan(0.5 * rad(s, "vfov")) : fx;
+      } else if (s.given("vfov")) {
+        fx = fy = 0.5 * h / std::tan(0.5 * rad(s, "vfov"));
+      } else {
+        fx = fy = 0.5 * w / std::tan(deg2rad(45.0));  // hfov 90
+      }
+      return Pinhole(size, fx, fy, cx("cx", w), cx("cy", h));
+    }
+    case Kind::Fisheye: {
+      const double psi_max = 0.5 * rad(s, "fov");
+      double rx, ry;
+      if (s.choice("aspect") == "stretch") {
+        rx = 0.5 * w;
+        ry = 0.5 * h;
+      } else {
+        rx = ry = s.given("radius") ? *s.number("radius") : 0.5 * std::min(w, h);
+      }
+      return Fisheye(size, psi_max, fisheye_model(s.choice("model")), s.choice("clip") == "circle",
+                     cx("cx", w), cx("cy", h), rx, ry);
+    }
+    case Kind::Equirect:
+      return Equirect(size, rad(s, "hfov"), rad(s, "vfov"), rad(s, "lon0"), rad(s, "lat0"));
+    case Kind::Cylindrical:
+      return Cylindrical(size, rad(s, "hfov"), rad(s, "vfov"), rad(s, "lon0"), rad(s, "lat0"));
+    case Kind::Cubemap: {
+      const auto layout = cube_layout(s.choice("layout"));
+      const auto g = Cubemap::grid(layout);
+      const int64_t f = size.width / g[0];
+      if (f * g[0] != size.width || f * g[1] != size.height) {
+        std::ostringstream o;
+        o << "layout=" << s.choice("layout") << " needs a " << g[0] << "F x " << g[1]
+          << "F image with square faces; got " << size.width << "x" << size.height
+          << " (check the size or the layout)";
+        fail(s, o.str());
+      }
+      if (s.given("face") && static_cast<int64_t>(*s.number("face")) != f) {
+        std::ostringstream o;
+        o << "face=" << *s.number("face") << " does not match the image (faces of " << f
+          << " px)";
+        fail(s, o.str());
+      }
+      return Cubemap(f, layout);
+    }
+    case Kind::Aitoff: return Aitoff(size, rad(s, "lon0"));
+    case Kind::Hammer: return Hammer(size, *s.number("w"), rad(s, "lon0"));
+    case Kind::Bonne: return Bonne(size, rad(s, "phi1"), rad(s, "lon0"));
+  }
+  fail(s, "internal: unhandled projection kind");
+}
+
+Size default_size(const ProjectionSpec& s, double density) {
+  check_spec(s);
+  auto px = [](double v) { return std::max<int64_t>(1, std::llround(v)); };
+  double w = 0, h = 0;
+  switch (s.kind()) {
+    case Kind::Pinhole: {
+      // Focal length = density (pixels per radian on the axis).
+      const double f = s.given("focal") ? *s.number("focal") : density;
+      const double hf = s.given("hfov") ? rad(s, "hfov") : (s.given("vfov") ? 0.0 : deg2rad(90));
+      const double vf = s.given("vfov") ? rad(s, "vfov") : hf;
+      w = 2.0 * f * std::tan(0.5 * (hf > 0 ? hf : vf));
+      h = 2.0 * f * std::tan(0.5 * vf);
+      break;
+    }
+    case Kind::Fisheye: {
+      const double r = s.given("radius")
+                           ? *s.number("radius")
+                           : density * Fisheye::law(fisheye_model(s.choice("model")),
+                                                    0.5 * rad(s, "fov"));
+      w = h = 2.0 * r;
+      break;
+    }
+    case Kind::Equirect:
+      w = density * rad(s, "hfov");
+      h = density * rad(s, "vfov");
+      break;
+    case Kind::Cylindrical: {
+      const double top = rad(s, "lat0") + 0.5 * rad(s, "vfov");
+      const double bottom = rad(s, "lat0") - 0.5 * rad(s, "vfov");
+      w = density * rad(s, "hfov");
+      h = density * (std::tan(top) - std::tan(bottom));
+      break;
+    }
+    case Kind::Cubemap: {
+      const auto g = Cubemap::grid(cube_layout(s.choice("layout")));
+      const int64_t f = s.given("face") ? static_cast<int64_t>(*s.number("face")) : px(2 * density);
+      return {f * g[0], f * g[1]};
+    }
+    case Kind::Aitoff:
+    case Kind::Hammer:
+    case Kind::Bonne: {
+      // All three have unit scale at their centre: size the frame in plane units.
+      const Projection unit = make_projection(s, {1000, 1000});
+      const MapFrame& fr = std::visit(
+          [](const auto& p) -> const MapFrame& {
+            if constexpr (requires { p.frame(); }) return p.frame();
+            else throw Error("internal: no map frame");
+          },
+          unit);
+      w = density * (fr.xmax - fr.xmin);
+      h = density * (fr.ymax - fr.ymin);
+      break;
+    }
+  }
+  const Size size{px(w), px(h)};
+  if (!(w < 1e12 && h < 1e12) || size.width * size.height > kMaxDefaultPixels) {
+    std::ostringstream o;
+    o << "the default output size for " << s.str() << " would be " << w << "x" << h
+      << " pixels (over " << (kMaxDefaultPixels >> 20) << " Mpx); give --size WxH";
+    throw Error(o.str());
+  }
+  return size;
+}
+
+// ---- row forms ----------------------------------------------------------------------------
+void to_ray_row(const Projection& p, double y, int64_t x0, int64_t n, Ray* rays, uint8_t* ok) {
+  std::visit(
+      [&](const auto& q) {
+        for (int64_t i = 0; i < n; ++i) {
+          ok[i] = q.to_ray(static_cast<double>(x0 + i) + 0.5, y, rays[i]) ? 1 : 0;
+        }
+      },
+      p);
+}
+
+void to_pixel_row(const Projection& p, const Ray* rays, int64_t n, double* xs, double* ys,
+                  uint8_t* ok) {
+  std::visit(
+      [&](const auto& q) {
+        for (int64_t i = 0; i < n; ++i) {
+          if (ok[i]) ok[i] = q.to_pixel(rays[i], xs[i], ys[i]) ? 1 : 0;
+        }
+      },
+      p);
+}
+
+}  // namespace panoproj

@@ -1,0 +1,124 @@
+// Reference remap (scalar). See resample.hpp.
+#include "panoproj/resample.hpp"
+
+#include <Imath/half.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "panoproj/parallel.hpp"
+#include "panoproj/source_edges.hpp"
+
+namespace panoproj {
+namespace {
+
+template <class T>
+double load(const unsigned char* p) {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  if constexpr (std::is_same_v<T, Imath::half>) return static_cast<float>(v);
+  else return static_cast<double>(v);
+}
+
+template <class T>
+void store(unsigned char* p, double v) {
+  if constexpr (std::is_integral_v<T>) {
+    constexpr double kMax = static_cast<double>(std::numeric_limits<T>::max());
+    const T t = static_cast<T>(std::clamp(std::nearbyint(v), 0.0, kMax));
+    std::memcpy(p, &t, sizeof(T));
+  } else {
+    const T t = static_cast<T>(static_cast<float>(v));
+    std::memcpy(p, &t, sizeof(T));
+  }
+}
+
+// One output row: samples at (xs[i], ys[i]) where ok[i].
+template <class T>
+void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const double* xs,
+                const double* ys, const uint8_t* ok, int64_t n, unsigned char* out) {
+  const int nc = src.channels(), alpha = src.alpha_channel();
+  const size_t pb = src.pixel_bytes();
+  const int k = support(interp);
+  const double unit = unit_of(src.type());
+  double wx[6], wy[6], acc[4];
+  for (int64_t i = 0; i < n; ++i, out += pb) {
+    if (!ok[i]) {
+      std::memset(out, 0, pb);
+      continue;
+    }
+    const int face = edges.face_at(xs[i], ys[i]);
+    const int64_t bx = first_tap(interp, xs[i]), by = first_tap(interp, ys[i]);
+    if (interp == Interp::Nearest) {
+      int64_t ix = bx, iy = by;
+      edges.resolve(ix, iy, face);
+      std::memcpy(out, src.pixel(ix, iy), pb);
+      continue;
+    }
+    tap_weights(interp, xs[i], wx);
+    tap_weights(interp, ys[i], wy);
+    std::fill(acc, acc + 4, 0.0);
+    for (int r = 0; r < k; ++r) {
+      for (int c = 0; c < k; ++c) {
+        int64_t ix = bx + c, iy = by + r;
+        edges.resolve(ix, iy, face);
+        const unsigned char* p = src.pixel(ix, iy);
+        const double w = wx[c] * wy[r];
+        // Premultiplied alpha: colour taps are weighted by their alpha.
+        const double a = alpha >= 0 ? load<T>(p + alpha * sizeof(T)) / unit : 1.0;
+        for (int ch = 0; ch < nc; ++ch) {
+          const double v = load<T>(p + ch * sizeof(T));
+          acc[ch] += ch == alpha ? w * v : w * v * a;
+        }
+      }
+    }
+    if (alpha >= 0) {
+      const double a = acc[alpha] / unit;  // interpolated alpha, [0, 1] after clamping
+      for (int ch = 0; ch < nc; ++ch) {
+        if (ch == alpha) continue;
+        acc[ch] = a > 1e-12 ? acc[ch] / a : 0.0;
+      }
+      acc[alpha] = std::clamp(a, 0.0, 1.0) * unit;
+    }
+    for (int ch = 0; ch < nc; ++ch) store<T>(out + ch * sizeof(T), acc[ch]);
+  }
+}
+
+using RowSampler = void (*)(const Image&, const SourceEdges&, Interp, const double*,
+                            const double*, const uint8_t*, int64_t, unsigned char*);
+
+RowSampler row_sampler(PixelType t) {
+  switch (t) {
+    case PixelType::U8: return sample_row<uint8_t>;
+    case PixelType::U16: return sample_row<uint16_t>;
+    case PixelType::F16: return sample_row<Imath::half>;
+    case PixelType::F32: return sample_row<float>;
+  }
+  return sample_row<uint8_t>;
+}
+
+}  // namespace
+
+Image remap(const Image& src, const Projection& src_proj, const Projection& dst_proj,
+            const Eigen::Matrix3d& rotation, const RemapOptions& options) {
+  const Size out_size = size_of(dst_proj);
+  Image out(out_size, src.channels(), src.type(), src.alpha_channel());
+  const SourceEdges edges(src_proj);
+  const RowSampler sample = row_sampler(src.type());
+  const int64_t w = out_size.width;
+  parallel_rows(out_size.height, options.threads, [&](int64_t y0, int64_t y1) {
+    std::vector<Ray> rays(static_cast<size_t>(w));
+    std::vector<double> xs(static_cast<size_t>(w)), ys(static_cast<size_t>(w));
+    std::vector<uint8_t> ok(static_cast<size_t>(w));
+    for (int64_t y = y0; y < y1; ++y) {
+      to_ray_row(dst_proj, static_cast<double>(y) + 0.5, 0, w, rays.data(), ok.data());
+      for (int64_t i = 0; i < w; ++i) rays[i] = rotation * rays[i];
+      to_pixel_row(src_proj, rays.data(), w, xs.data(), ys.data(), ok.data());
+      sample(src, edges, options.interp, xs.data(), ys.data(), ok.data(), w, out.row(y));
+    }
+  });
+  return out;
+}
+
+}  // namespace panoproj

@@ -1,0 +1,65 @@
+#include "panoproj/source_edges.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace panoproj {
+
+SourceEdges::SourceEdges(const Projection& source) {
+  const Size s = size_of(source);
+  w_ = s.width;
+  h_ = s.height;
+  if (const auto* e = std::get_if<Equirect>(&source)) {
+    mode_ = Mode::Equirect;
+    wrap_x_ = e->full_longitude();
+    north_ = e->reaches_north_pole();
+    south_ = e->reaches_south_pole();
+  } else if (const auto* c = std::get_if<Cubemap>(&source)) {
+    mode_ = Mode::Cube;
+    cube_ = c;
+  }
+}
+
+void SourceEdges::resolve(int64_t& ix, int64_t& iy, int face) const {
+  switch (mode_) {
+    case Mode::Equirect:
+      // Crossing a pole: row -1 - j (or 2H - 1 - j), half a turn of longitude away.
+      if (iy < 0 && north_) {
+        iy = -1 - iy;
+        ix += w_ / 2;
+      } else if (iy >= h_ && south_) {
+        iy = 2 * h_ - 1 - iy;
+        ix += w_ / 2;
+      }
+      if (wrap_x_) {
+        ix %= w_;
+        if (ix < 0) ix += w_;
+      }
+      break;
+    case Mode::Cube: {
+      if (face < 0) break;
+      const int64_t f = cube_->face_size();
+      const auto o = cube_->face_origin(face);
+      const int64_t lx = ix - o[0], ly = iy - o[1];
+      if (lx >= 0 && ly >= 0 && lx < f && ly < f) return;
+      // The tap's centre on the extended face plane, re-projected onto the cube.
+      const double fd = static_cast<double>(f);
+      const Ray d = Cubemap::face_ray(face, 2.0 * (static_cast<double>(lx) + 0.5) / fd - 1.0,
+                                      2.0 * (static_cast<double>(ly) + 0.5) / fd - 1.0);
+      const int nf = cube_face_of(d);
+      const CubeFace& c = cube_faces()[nf];
+      const double depth = d.dot(c.fwd);
+      const double u = 0.5 * (d.dot(c.right) / depth + 1.0) * fd;
+      const double v = 0.5 * (d.dot(c.down) / depth + 1.0) * fd;
+      const auto no = cube_->face_origin(nf);
+      ix = no[0] + std::clamp<int64_t>(static_cast<int64_t>(std::floor(u)), 0, f - 1);
+      iy = no[1] + std::clamp<int64_t>(static_cast<int64_t>(std::floor(v)), 0, f - 1);
+      return;
+    }
+    case Mode::Clamp: break;
+  }
+  ix = std::clamp<int64_t>(ix, 0, w_ - 1);
+  iy = std::clamp<int64_t>(iy, 0, h_ - 1);
+}
+
+}  // namespace panoproj

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs the Debian packages panoproj needs, only those missing (about a second when none is).
+# Usage: scripts/install-deps.sh [--dev]   (--dev adds nothing yet; reserved for sanitizer/fuzz tools)
+set -euo pipefail
+
+pkgs=(
+  g++ cmake ninja-build pkg-config   # toolchain
+  libopenimageio-dev                 # all image I/O (lib/io)
+  libeigen3-dev                      # rotations
+  libcli11-dev                       # the panoproj command
+  libgtest-dev                       # ctest suite
+  python3 python3-venv               # Python side (venv for Debian's own python3)
+  ccache                             # fast rebuilds; used only when present
+)
+
+missing=()
+for p in "${pkgs[@]}"; do
+  # dpkg-query is ~10 ms a package: the whole check stays well under a second.
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q '^install ok installed'; then
+    missing+=("$p")
+  fi
+done
+((${#missing[@]} == 0)) && exit 0
+
+echo "install-deps: installing ${missing[*]}" >&2
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+apt_get() { $sudo apt-get -y -q -o DPkg::Lock::Timeout=600 "$@"; }
+# Update the lists only when a package has no candidate (fresh machine, stale lists).
+need_update=0
+for p in "${missing[@]}"; do
+  cand=$(apt-cache policy "$p" 2>/dev/null | awk '/Candidate:/ {print $2}')
+  if [[ -z $cand || $cand == "(none)" ]]; then need_update=1; break; fi
+done
+((need_update)) && apt_get update
+apt_get install --no-install-recommends "${missing[@]}"

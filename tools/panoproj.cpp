@@ -1,0 +1,119 @@
+// The panoproj command: a thin front end over the library (lib/include/panoproj/convert_job.hpp).
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "panoproj/convert_job.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/parallel.hpp"
+#include "panoproj/spec.hpp"
+
+namespace {
+
+using namespace panoproj;
+
+Size parse_size(const std::string& text) {
+  const auto x = text.find('x');
+  if (x != std::string::npos) {
+    try {
+      size_t a = 0, b = 0;
+      const long long w = std::stoll(text.substr(0, x), &a), h = std::stoll(text.substr(x + 1), &b);
+      if (a == x && b == text.size() - x - 1 && w > 0 && h > 0) return {w, h};
+    } catch (const std::exception&) {
+    }
+  }
+  throw Error("size: " + text + " (expected WxH with positive integers, e.g. 2048x1024)");
+}
+
+std::optional<PixelType> parse_depth(const std::string& text) {
+  if (text.empty() || text == "keep") return std::nullopt;
+  for (PixelType t : {PixelType::U8, PixelType::U16, PixelType::F16, PixelType::F32})
+    if (text == name_of(t)) return t;
+  throw Error("depth: " + text + " (expected keep, uint8, uint16, half or float)");
+}
+
+void print_info() {
+  std::cout << "Projections (spec: name[:key=value,...], angles in degrees, sizes in pixels):\n";
+  for (const auto& d : projection_catalog()) {
+    std::cout << "\n  " << d.name << " - " << d.summary << "\n";
+    for (const auto& p : d.params) {
+      std::ostringstream range;
+      if (p.type == ParamType::Choice) {
+        range << p.choices;
+      } else {
+        range << (p.lo_open ? "(" : "[") << p.lo << ", " << p.hi << (p.hi_open ? ")" : "]");
+      }
+      std::cout << "      " << p.key << "=" << (*p.default_text ? p.default_text : "<derived>")
+                << "  " << range.str() << "  " << p.help << "\n";
+    }
+  }
+  std::cout << "\nInterpolators: nearest, bilinear, bicubic (Keys a=-0.5, default), lanczos3\n"
+               "Rotation: --yaw (positive looks right), --pitch (positive looks up), --roll "
+               "(positive turns the view clockwise); applied roll, then pitch, then yaw.\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"panoproj: convert images between panoramic, fisheye, pinhole, cubemap and map "
+               "projections"};
+  app.require_subcommand(1);
+
+  ConvertJob job;
+  std::string size_text, interp_text = "bicubic", depth_text;
+  std::string from_text;
+  auto* convert = app.add_subcommand("convert", "convert one image (or cube-face set) to another projection");
+  convert->add_option("input", job.input, "input image, or a cube-face pattern with {face}/{index}")
+      ->required();
+  convert->add_option("output", job.output, "output image, or a cube-face pattern")->required();
+  convert->add_option("--from", from_text,
+                      "source projection spec (default: 2:1 image = equirect; face pattern = "
+                      "cubemap:layout=files)");
+  convert->add_option("--to", job.to, "target projection spec, e.g. fisheye:fov=180")->required();
+  convert->add_option("--size", size_text,
+                      "output size WxH (cube faces: one face); default: source resolution, square "
+                      "pixels");
+  convert->add_option("--yaw", job.options.yaw, "degrees, positive looks right");
+  convert->add_option("--pitch", job.options.pitch, "degrees, positive looks up");
+  convert->add_option("--roll", job.options.roll, "degrees, positive turns the view clockwise");
+  convert->add_option("--interp", interp_text, "nearest|bilinear|bicubic|lanczos3 (default bicubic)");
+  convert->add_option("--threads", job.options.threads, "worker threads (default: all cores)");
+  convert->add_option("--depth", depth_text, "output samples: keep|uint8|uint16|half|float");
+  convert->add_flag("--overwrite", job.write.overwrite, "replace an existing output");
+  bool quiet = false;
+  convert->add_flag("-q,--quiet", quiet, "print nothing on success");
+
+  auto* info = app.add_subcommand("info", "list projections, their parameters and defaults");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    if (info->parsed()) {
+      print_info();
+      return 0;
+    }
+    if (!from_text.empty()) job.from = from_text;
+    if (!size_text.empty()) job.options.size = parse_size(size_text);
+    job.options.interp = parse_interp(interp_text);
+    job.write.type = parse_depth(depth_text);
+    const ConvertReport r = run_convert(job);
+    if (!quiet) {
+      std::printf("%s (%lldx%lld, %s) -> %s (%lldx%lld, %s): %.3f s, %s, %d threads\n",
+                  job.input.c_str(), static_cast<long long>(r.input_size.width),
+                  static_cast<long long>(r.input_size.height), r.from.c_str(), job.output.c_str(),
+                  static_cast<long long>(r.output_size.width),
+                  static_cast<long long>(r.output_size.height), r.to.c_str(), r.seconds,
+                  interp_text.c_str(), resolve_threads(job.options.threads));
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "panoproj: error: %s\n", e.what());
+    return 1;
+  }
+}
