@@ -90,10 +90,11 @@ class Cubemap {
     const CubeFace& c = cube_faces()[face];
     const double depth = d.dot(c.fwd);
     const double a = d.dot(c.right) / depth, b = d.dot(c.down) / depth;
-    // Kept inside the face's own cell (a = 1 would land in the next cell of the layout).
-    const double hi = std::nextafter(fd_, 0.0);
-    x = static_cast<double>(origin_[face][0]) + std::fmin(std::fmax(0.5 * (a + 1.0) * fd_, 0.0), hi);
-    y = static_cast<double>(origin_[face][1]) + std::fmin(std::fmax(0.5 * (b + 1.0) * fd_, 0.0), hi);
+    // Kept inside the face's own cell (a = 1 would land in the next cell of the layout); the
+    // clamp is applied after adding the origin, where the spacing of doubles is coarser.
+    const double ox = static_cast<double>(origin_[face][0]), oy = static_cast<double>(origin_[face][1]);
+    x = std::fmin(std::fmax(ox + 0.5 * (a + 1.0) * fd_, ox), std::nextafter(ox + fd_, 0.0));
+    y = std::fmin(std::fmax(oy + 0.5 * (b + 1.0) * fd_, oy), std::nextafter(oy + fd_, 0.0));
     return true;
   }
 

@@ -5,7 +5,7 @@
 // Inverse through LAEA's (Snyder, "Map Projections: A Working Manual", USGS PP 1395, eq. 24-2..):
 //   rho^2 = (XW)^2 + Y^2 (< 4),  sin c / rho = sqrt(1 - rho^2/4),  cos c = 1 - rho^2/2,
 //   phi = asin(Y sin c / rho),  lambda W = atan2(XW sin c / rho, cos c),
-// written without dividing by rho. The outline is |lambda| = pi.
+// written without dividing by rho, and phi by atan2 of the same unit vector. The outline is |lambda| = pi.
 #include <cmath>
 
 #include "panoproj/projections/map_frame.hpp"
@@ -31,9 +31,11 @@ class Hammer {
     const double xw = X * w_;
     const double rho2 = xw * xw + Y * Y;
     if (rho2 > 4.0) return false;
-    const double k = std::sqrt(1.0 - 0.25 * rho2);  // sin c / rho
-    phi = std::asin(std::fmin(1.0, std::fmax(-1.0, Y * k)));
-    lam = std::atan2(xw * k, 1.0 - 0.5 * rho2) / w_;
+    // The unit vector (XW k, Y k, cos c) with k = sin c / rho; atan2 keeps full precision
+    // near the poles, where asin(Y k) loses half the digits.
+    const double k = std::sqrt(1.0 - 0.25 * rho2), cos_c = 1.0 - 0.5 * rho2;
+    phi = std::atan2(Y * k, std::hypot(xw * k, cos_c));
+    lam = std::atan2(xw * k, cos_c) / w_;
     return std::fabs(lam) <= kPi * (1.0 + kEdgeSlack);
   }
 

@@ -1,0 +1,149 @@
+#pragma once
+// Helpers shared by the tests: analytic scenes (functions of ray direction) rendered directly
+// into any projection, PSNR, area downsampling, pixel access.
+#include <Eigen/Geometry>
+#include <Imath/half.h>
+
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "panoproj/image.hpp"
+#include "panoproj/projection.hpp"
+
+namespace panoproj::test {
+
+inline std::string source_dir() { return PANOPROJ_SOURCE_DIR; }
+inline std::string samples_dir() { return source_dir() + "/samples/images"; }
+
+// Scene value in [0, 1] for a unit ray, per channel.
+using Scene = std::function<void(const Ray&, double* rgb)>;
+
+// Sum of plane waves cos(omega (k . d) + phase) on the sphere. Along any great circle a wave has
+// at most omega radians of phase per radian, so omega_max = 2 pi f W / (2 pi) = f W limits it to
+// f cycles per pixel of a W-wide equirect at the equator.
+inline Scene band_limited_scene(double cycles_per_px, int64_t equirect_width, uint32_t seed = 7) {
+  struct Wave {
+    Ray k;
+    double omega, phase, amp;
+    int channel;
+  };
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n01;
+  std::uniform_real_distribution<double> u01;
+  const double omega_max = cycles_per_px * static_cast<double>(equirect_width);
+  std::vector<Wave> waves;
+  for (int i = 0; i < 36; ++i) {
+    Ray k(n01(rng), n01(rng), n01(rng));
+    k.normalize();
+    waves.push_back({k, omega_max * (0.05 + 0.95 * u01(rng)), kTwoPi * u01(rng), 0.4 / 12.0, i % 3});
+  }
+  return [waves](const Ray& d, double* rgb) {
+    rgb[0] = rgb[1] = rgb[2] = 0.5;
+    for (const auto& w : waves) rgb[w.channel] += w.amp * std::cos(w.omega * w.k.dot(d) + w.phase);
+  };
+}
+
+// A smooth scene: linear in the ray components (band-limited to the lowest frequencies).
+inline Scene smooth_scene() {
+  return [](const Ray& d, double* rgb) {
+    rgb[0] = 0.5 + 0.4 * d.x();
+    rgb[1] = 0.5 + 0.4 * d.y();
+    rgb[2] = 0.5 + 0.4 * d.z();
+  };
+}
+
+template <class T>
+inline void put(unsigned char* p, double v, PixelType type) {
+  if (type == PixelType::U8 || type == PixelType::U16) {
+    const double unit = unit_of(type);
+    const T t = static_cast<T>(std::fmin(unit, std::fmax(0.0, std::nearbyint(v * unit))));
+    std::memcpy(p, &t, sizeof(T));
+  } else {
+    const T t = static_cast<T>(static_cast<float>(v));
+    std::memcpy(p, &t, sizeof(T));
+  }
+}
+
+inline double get(const Image& im, int64_t x, int64_t y, int c) {
+  const unsigned char* p = im.pixel(x, y) + c * bytes_of(im.type());
+  switch (im.type()) {
+    case PixelType::U8: return *p;
+    case PixelType::U16: { uint16_t t; std::memcpy(&t, p, 2); return t; }
+    case PixelType::F16: { Imath::half t; std::memcpy(&t, p, 2); return float(t); }
+    case PixelType::F32: { float t; std::memcpy(&t, p, 4); return t; }
+  }
+  return 0;
+}
+
+inline void set(Image& im, int64_t x, int64_t y, int c, double v_unit) {
+  unsigned char* p = im.pixel(x, y) + c * bytes_of(im.type());
+  switch (im.type()) {
+    case PixelType::U8: put<uint8_t>(p, v_unit, im.type()); break;
+    case PixelType::U16: put<uint16_t>(p, v_unit, im.type()); break;
+    case PixelType::F16: put<Imath::half>(p, v_unit, im.type()); break;
+    case PixelType::F32: put<float>(p, v_unit, im.type()); break;
+  }
+}
+
+// Renders the scene at each pixel centre (3 channels, plus alpha = 1 where the pixel has a ray
+// when with_alpha). Pixels without a ray are 0.
+inline Image render(const Projection& proj, const Scene& scene, PixelType type,
+                    bool with_alpha = false) {
+  const Size s = size_of(proj);
+  Image im(s, with_alpha ? 4 : 3, type, with_alpha ? 3 : -1);
+  double rgb[3];
+  for (int64_t y = 0; y < s.height; ++y)
+    for (int64_t x = 0; x < s.width; ++x) {
+      Ray d;
+      if (!to_ray(proj, x + 0.5, y + 0.5, d)) continue;
+      scene(d, rgb);
+      for (int c = 0; c < 3; ++c) set(im, x, y, c, rgb[c]);
+      if (with_alpha) set(im, x, y, 3, 1.0);
+    }
+  return im;
+}
+
+// PSNR over channels [0, 3) of the pixels where mask (if given) is true; peak = unit of type.
+inline double psnr(const Image& a, const Image& b,
+                   const std::function<bool(int64_t, int64_t)>& mask = nullptr) {
+  double se = 0;
+  int64_t n = 0;
+  const int nc = std::min(3, a.channels());
+  for (int64_t y = 0; y < a.height(); ++y)
+    for (int64_t x = 0; x < a.width(); ++x) {
+      if (mask && !mask(x, y)) continue;
+      for (int c = 0; c < nc; ++c) {
+        const double d = get(a, x, y, c) - get(b, x, y, c);
+        se += d * d;
+        ++n;
+      }
+    }
+  const double unit = unit_of(a.type());
+  return se == 0 ? 999.0 : 10.0 * std::log10(unit * unit * n / se);
+}
+
+// Box-filter downsample by an integer factor, in float.
+inline Image area_downsample(const Image& im, int factor) {
+  Image out({im.width() / factor, im.height() / factor}, im.channels(), PixelType::F32);
+  const double unit = unit_of(im.type());
+  for (int64_t y = 0; y < out.height(); ++y)
+    for (int64_t x = 0; x < out.width(); ++x)
+      for (int c = 0; c < im.channels(); ++c) {
+        double s = 0;
+        for (int j = 0; j < factor; ++j)
+          for (int i = 0; i < factor; ++i) s += get(im, x * factor + i, y * factor + j, c);
+        set(out, x, y, c, s / (factor * factor) / unit);
+      }
+  return out;
+}
+
+// Angle between two rays, robust for tiny angles.
+inline double angle(const Ray& a, const Ray& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+}  // namespace panoproj::test
