@@ -50,10 +50,13 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
     }
     const int face = edges.face_at(xs[i], ys[i]);
     const int64_t bx = first_tap(interp, xs[i]), by = first_tap(interp, ys[i]);
+    SourceEdges::Part parts[4];
     if (interp == Interp::Nearest) {
-      int64_t ix = bx, iy = by;
-      edges.resolve(ix, iy, face);
-      std::memcpy(out, src.pixel(ix, iy), pb);
+      // The pixel containing the sample, copied untouched (its largest part off a cube face).
+      const int n_parts = edges.resolve(bx, by, face, parts);
+      const auto* best = std::max_element(parts, parts + n_parts,
+                                          [](const auto& a, const auto& b) { return a.w < b.w; });
+      std::memcpy(out, src.pixel(best->x, best->y), pb);
       continue;
     }
     tap_weights(interp, xs[i], wx);
@@ -61,15 +64,16 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
     std::fill(acc, acc + 4, 0.0);
     for (int r = 0; r < k; ++r) {
       for (int c = 0; c < k; ++c) {
-        int64_t ix = bx + c, iy = by + r;
-        edges.resolve(ix, iy, face);
-        const unsigned char* p = src.pixel(ix, iy);
-        const double w = wx[c] * wy[r];
-        // Premultiplied alpha: colour taps are weighted by their alpha.
-        const double a = alpha >= 0 ? load<T>(p + alpha * sizeof(T)) / unit : 1.0;
-        for (int ch = 0; ch < nc; ++ch) {
-          const double v = load<T>(p + ch * sizeof(T));
-          acc[ch] += ch == alpha ? w * v : w * v * a;
+        const int n_parts = edges.resolve(bx + c, by + r, face, parts);
+        for (int q = 0; q < n_parts; ++q) {
+          const unsigned char* p = src.pixel(parts[q].x, parts[q].y);
+          const double w = wx[c] * wy[r] * parts[q].w;
+          // Premultiplied alpha: colour taps are weighted by their alpha.
+          const double a = alpha >= 0 ? load<T>(p + alpha * sizeof(T)) / unit : 1.0;
+          for (int ch = 0; ch < nc; ++ch) {
+            const double v = load<T>(p + ch * sizeof(T));
+            acc[ch] += ch == alpha ? w * v : w * v * a;
+          }
         }
       }
     }

@@ -20,7 +20,7 @@ SourceEdges::SourceEdges(const Projection& source) {
   }
 }
 
-void SourceEdges::resolve(int64_t& ix, int64_t& iy, int face) const {
+int SourceEdges::resolve(int64_t ix, int64_t iy, int face, Part* parts) const {
   switch (mode_) {
     case Mode::Equirect:
       // Crossing a pole: row -1 - j (or 2H - 1 - j), half a turn of longitude away.
@@ -41,7 +41,7 @@ void SourceEdges::resolve(int64_t& ix, int64_t& iy, int face) const {
       const int64_t f = cube_->face_size();
       const auto o = cube_->face_origin(face);
       const int64_t lx = ix - o[0], ly = iy - o[1];
-      if (lx >= 0 && ly >= 0 && lx < f && ly < f) return;
+      if (lx >= 0 && ly >= 0 && lx < f && ly < f) break;
       // The tap's centre on the extended face plane, re-projected onto the cube.
       const double fd = static_cast<double>(f);
       const Ray d = Cubemap::face_ray(face, 2.0 * (static_cast<double>(lx) + 0.5) / fd - 1.0,
@@ -49,17 +49,27 @@ void SourceEdges::resolve(int64_t& ix, int64_t& iy, int face) const {
       const int nf = cube_face_of(d);
       const CubeFace& c = cube_faces()[nf];
       const double depth = d.dot(c.fwd);
-      const double u = 0.5 * (d.dot(c.right) / depth + 1.0) * fd;
-      const double v = 0.5 * (d.dot(c.down) / depth + 1.0) * fd;
+      // Continuous position on the neighbour face, pixel centres at integers.
+      const double u = 0.5 * (d.dot(c.right) / depth + 1.0) * fd - 0.5;
+      const double v = 0.5 * (d.dot(c.down) / depth + 1.0) * fd - 0.5;
+      const double u0 = std::floor(u), v0 = std::floor(v);
+      const double fu = u - u0, fv = v - v0;
       const auto no = cube_->face_origin(nf);
-      ix = no[0] + std::clamp<int64_t>(static_cast<int64_t>(std::floor(u)), 0, f - 1);
-      iy = no[1] + std::clamp<int64_t>(static_cast<int64_t>(std::floor(v)), 0, f - 1);
-      return;
+      auto clampf = [f](double t) {
+        return std::clamp<int64_t>(static_cast<int64_t>(t), 0, f - 1);
+      };
+      const int64_t x0 = no[0] + clampf(u0), x1 = no[0] + clampf(u0 + 1);
+      const int64_t y0 = no[1] + clampf(v0), y1 = no[1] + clampf(v0 + 1);
+      parts[0] = {x0, y0, (1 - fu) * (1 - fv)};
+      parts[1] = {x1, y0, fu * (1 - fv)};
+      parts[2] = {x0, y1, (1 - fu) * fv};
+      parts[3] = {x1, y1, fu * fv};
+      return 4;
     }
     case Mode::Clamp: break;
   }
-  ix = std::clamp<int64_t>(ix, 0, w_ - 1);
-  iy = std::clamp<int64_t>(iy, 0, h_ - 1);
+  parts[0] = {std::clamp<int64_t>(ix, 0, w_ - 1), std::clamp<int64_t>(iy, 0, h_ - 1), 1.0};
+  return 1;
 }
 
 }  // namespace panoproj
