@@ -1,6 +1,9 @@
 // The panoproj command: a thin front end over the library (lib/include/panoproj/convert_job.hpp).
 #include <CLI/CLI.hpp>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -33,6 +36,31 @@ std::optional<PixelType> parse_depth(const std::string& text) {
     if (text == name_of(t)) return t;
   throw Error("depth: " + text + " (expected keep, uint8, uint16, half or float)");
 }
+
+// Image libraries (libpng, libjpeg via OpenImageIO) print their own messages to stderr; the
+// CLI reports failures itself in one line, so it holds stderr while a job runs.
+class QuietStderr {
+ public:
+  explicit QuietStderr(bool active) {
+    if (!active) return;
+    std::fflush(stderr);
+    saved_ = ::dup(2);
+    const int null_fd = ::open("/dev/null", O_WRONLY);
+    if (saved_ >= 0 && null_fd >= 0) ::dup2(null_fd, 2);
+    if (null_fd >= 0) ::close(null_fd);
+  }
+  ~QuietStderr() {
+    if (saved_ < 0) return;
+    std::fflush(stderr);
+    ::dup2(saved_, 2);
+    ::close(saved_);
+  }
+  QuietStderr(const QuietStderr&) = delete;
+  QuietStderr& operator=(const QuietStderr&) = delete;
+
+ private:
+  int saved_ = -1;
+};
 
 void print_info() {
   std::cout << "Projections (spec: name[:key=value,...], angles in degrees, sizes in pixels):\n";
@@ -82,8 +110,9 @@ int main(int argc, char** argv) {
   convert->add_option("--threads", job.options.threads, "worker threads (default: all cores)");
   convert->add_option("--depth", depth_text, "output samples: keep|uint8|uint16|half|float");
   convert->add_flag("--overwrite", job.write.overwrite, "replace an existing output");
-  bool quiet = false;
+  bool quiet = false, verbose = false;
   convert->add_flag("-q,--quiet", quiet, "print nothing on success");
+  convert->add_flag("-v,--verbose", verbose, "let image libraries print their own warnings");
 
   auto* info = app.add_subcommand("info", "list projections, their parameters and defaults");
 
@@ -102,7 +131,10 @@ int main(int argc, char** argv) {
     if (!size_text.empty()) job.options.size = parse_size(size_text);
     job.options.interp = parse_interp(interp_text);
     job.write.type = parse_depth(depth_text);
-    const ConvertReport r = run_convert(job);
+    const ConvertReport r = [&] {
+      QuietStderr hold(!verbose);
+      return run_convert(job);
+    }();
     if (!quiet) {
       std::printf("%s (%lldx%lld, %s) -> %s (%lldx%lld, %s): %.3f s, %s, %d threads\n",
                   job.input.c_str(), static_cast<long long>(r.input_size.width),

@@ -87,6 +87,7 @@ void write_file(const Image& in, const std::string& tmp, const std::string& show
   OIIO::ImageSpec spec(static_cast<int>(image->width()), static_cast<int>(image->height()), nch,
                        oiio_type(image->type()));
   spec.alpha_channel = alpha;
+  spec.attribute("oiio:UnassociatedAlpha", 1);  // colours are straight, as read
   if (fs::path(shown_path).extension() == ".jpg" || fs::path(shown_path).extension() == ".jpeg")
     spec.attribute("Compression", "jpeg:95");
   bool ok = out->open(tmp, spec);
@@ -117,7 +118,10 @@ void commit(const std::string& tmp, const std::string& path) {
 Image read_image(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error("input " + path + " does not exist (check the path)");
-  auto in = OIIO::ImageInput::open(path);
+  // Samples exactly as stored: no conversion of straight (PNG, TIFF) alpha to premultiplied.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, &config);
   if (!in)
     throw Error("cannot read " + path + ": " + one_line(OIIO::geterror()) +
                 " (expected a JPEG, PNG, TIFF, EXR or HDR image)");

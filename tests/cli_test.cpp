@@ -1,0 +1,146 @@
+// The panoproj command end to end: a good run writes its output; every kind of bad input gives
+// one line on stderr naming the value, a non-zero exit, and writes nothing (inputs untouched).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "panoproj/io.hpp"
+#include "test_support.hpp"
+
+namespace panoproj {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code;
+  std::string out, err;
+};
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("panoproj_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    Image e({64, 32}, 3, PixelType::U8);
+    for (size_t i = 0; i < e.byte_size(); ++i) e.data()[i] = static_cast<unsigned char>(i % 251);
+    write_image(e, p("pano.png"), {});
+    Image sq({40, 40}, 3, PixelType::U8);
+    write_image(sq, p("square.png"), {});
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string p(const std::string& name) const { return (dir_ / name).string(); }
+
+  CliRun run(const std::string& args) const {
+    const std::string cmd = std::string(PANOPROJ_CLI) + " " + args + " >" + p(".stdout") + " 2>" + p(".stderr");
+    const int status = std::system(cmd.c_str());
+    auto slurp = [](const std::string& f) {
+      std::ifstream in(f);
+      std::stringstream s;
+      s << in.rdbuf();
+      return s.str();
+    };
+    CliRun r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(p(".stdout")), slurp(p(".stderr"))};
+    fs::remove(p(".stdout"));
+    fs::remove(p(".stderr"));
+    return r;
+  }
+
+  // Names and sizes of the folder's files.
+  std::map<std::string, uintmax_t> snapshot() const {
+    std::map<std::string, uintmax_t> m;
+    for (const auto& e : fs::directory_iterator(dir_)) m[e.path().filename().string()] = fs::file_size(e.path());
+    return m;
+  }
+
+  // A bad invocation: exit != 0, exactly one stderr line containing `needle`, nothing written.
+  void expect_refused(const std::string& args, const std::string& needle) {
+    const auto before = snapshot();
+    const CliRun r = run(args);
+    EXPECT_NE(r.code, 0) << args;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << args << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("panoproj: error: ", 0), 0u) << r.err;
+    EXPECT_EQ(snapshot(), before) << args;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(Cli, ConvertsAndReports) {
+  const CliRun r = run("convert " + p("pano.png") + " " + p("fish.png") + " --to fisheye:fov=180 --threads 2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("fisheye:fov=180"), std::string::npos);
+  const Image out = read_image(p("fish.png"));
+  EXPECT_EQ(out.width(), 32);  // 64 / 2 pi px/rad * pi
+  EXPECT_EQ(out.height(), 32);
+  // Cube faces as files, then back.
+  ASSERT_EQ(run("convert " + p("pano.png") + " '" + p("c_{face}.png") + "' --to cubemap:layout=files --size 16x16").code, 0);
+  EXPECT_TRUE(fs::exists(p("c_down.png")));
+  EXPECT_EQ(read_image(p("c_up.png")).width(), 16);
+  const CliRun back = run("convert '" + p("c_{face}.png") + "' " + p("back.png") + " --to equirect --size 64x32 -q");
+  ASSERT_EQ(back.code, 0) << back.err;
+  EXPECT_EQ(back.out, "");
+}
+
+TEST_F(Cli, InfoListsEveryProjection) {
+  const CliRun r = run("info");
+  ASSERT_EQ(r.code, 0);
+  for (const auto& d : projection_catalog()) {
+    EXPECT_NE(r.out.find(std::string("  ") + d.name + " - "), std::string::npos) << d.name;
+    for (const auto& prm : d.params) EXPECT_NE(r.out.find(std::string(prm.key) + "="), std::string::npos);
+  }
+}
+
+TEST_F(Cli, UnknownProjection) {
+  expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to fishey", "unknown projection 'fishey'");
+}
+
+TEST_F(Cli, BadParameters) {
+  expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to fisheye:fov=nan", "fov=nan is not finite");
+  expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to fisheye:fov=-5", "fov=-5 is out of range");
+  expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to fisheye:fov=400", "fov=400 is out of range");
+  expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to pinhole:hfov=180", "hfov=180 is out of range");
+  expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to equirect --yaw nan", "yaw: nan");
+  expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to equirect --size 0x5", "size: 0x5");
+  expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to equirect --interp cubic", "interpolator 'cubic'");
+}
+
+TEST_F(Cli, MissingFile) {
+  expect_refused("convert " + p("nope.png") + " " + p("o.png") + " --to equirect", "nope.png does not exist");
+}
+
+TEST_F(Cli, CorruptFile) {
+  std::ifstream in(p("pano.png"), std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  std::ofstream(p("cut.png"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  std::ofstream(p("junk.jpg"), std::ios::binary) << std::string(3000, 'x');
+  expect_refused("convert " + p("cut.png") + " " + p("o.png") + " --to equirect", "cannot read " + p("cut.png"));
+  expect_refused("convert " + p("junk.jpg") + " " + p("o.png") + " --to equirect", "cannot read " + p("junk.jpg"));
+}
+
+TEST_F(Cli, MismatchedCubeFaces) {
+  for (int f = 0; f < 6; ++f) write_image(Image({f == 4 ? 12 : 16, f == 4 ? 12 : 16}, 3, PixelType::U8), p("m_" + std::to_string(f) + ".png"), {});
+  expect_refused("convert '" + p("m_{index}.png") + "' " + p("o.png") + " --to equirect", "all six faces must match");
+}
+
+TEST_F(Cli, OutputIsInputOrExists) {
+  expect_refused("convert " + p("pano.png") + " " + p("pano.png") + " --to equirect", "is the input");
+  expect_refused("convert " + p("pano.png") + " " + p("./pano.png") + " --to equirect --overwrite", "is the input");
+  expect_refused("convert " + p("pano.png") + " " + p("square.png") + " --to equirect", "exists (pass --overwrite");
+  ASSERT_EQ(run("convert " + p("pano.png") + " " + p("square.png") + " --to equirect --overwrite").code, 0);
+  EXPECT_EQ(read_image(p("square.png")).width(), 64);
+}
+
+TEST_F(Cli, NeedsFromUnlessTwoToOne) {
+  expect_refused("convert " + p("square.png") + " " + p("o.png") + " --to equirect", "give --from SPEC");
+  ASSERT_EQ(run("convert " + p("square.png") + " " + p("o.png") + " --from fisheye:fov=180 --to equirect").code, 0);
+}
+
+}  // namespace
+}  // namespace panoproj

@@ -1,0 +1,157 @@
+// Image files: every format and depth round-trips, types are kept, writes are atomic and refuse
+// to clobber, damaged files give one clear error.
+#include "panoproj/io.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "panoproj/error.hpp"
+#include "test_support.hpp"
+
+namespace panoproj {
+namespace {
+
+namespace fs = std::filesystem;
+
+class Io : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("panoproj_io_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::vector<std::string> listing() const {
+    std::vector<std::string> v;
+    for (const auto& e : fs::directory_iterator(dir_)) v.push_back(e.path().filename().string());
+    std::sort(v.begin(), v.end());
+    return v;
+  }
+  fs::path dir_;
+};
+
+Image pattern(Size s, int nc, PixelType t, int alpha) {
+  Image im(s, nc, t, alpha);
+  for (int64_t y = 0; y < s.height; ++y)
+    for (int64_t x = 0; x < s.width; ++x)
+      for (int c = 0; c < nc; ++c)
+        test::set(im, x, y, c, c == alpha ? 0.25 + 0.5 * ((x + y) % 2) : std::fmod(0.013 * x + 0.029 * y + 0.3 * c, 1.0));
+  return im;
+}
+
+TEST_F(Io, LosslessFormatsRoundTripExactlyAndKeepTheirType) {
+  struct F {
+    const char* name;
+    int nc;
+    PixelType type;
+    int alpha;
+  };
+  for (const F& f : {F{"a.png", 3, PixelType::U8, -1}, F{"b.png", 4, PixelType::U8, 3},
+                     F{"c.png", 1, PixelType::U8, -1}, F{"d.png", 4, PixelType::U16, 3},
+                     F{"e.tif", 3, PixelType::U8, -1}, F{"f.tif", 3, PixelType::U16, -1},
+                     F{"g.exr", 4, PixelType::F16, 3}, F{"h.exr", 3, PixelType::F32, -1},
+                     F{"i.tif", 2, PixelType::U16, 1}}) {
+    const Image im = pattern({37, 23}, f.nc, f.type, f.alpha);
+    write_image(im, path(f.name), {});
+    const Image back = read_image(path(f.name));
+    EXPECT_EQ(back.type(), f.type) << f.name;
+    EXPECT_EQ(back.alpha_channel(), f.alpha) << f.name;
+    EXPECT_TRUE(back == im) << f.name;
+  }
+}
+
+TEST_F(Io, HdrAndJpegRoundTripWithinTheirFormats) {
+  // Radiance HDR: shared-exponent RGB, 8-bit mantissas (relative error < 1%), any magnitude.
+  Image hdr({16, 8}, 3, PixelType::F32);
+  for (int64_t y = 0; y < 8; ++y)
+    for (int64_t x = 0; x < 16; ++x)
+      for (int c = 0; c < 3; ++c) test::set(hdr, x, y, c, std::pow(10.0, (x - 8) / 2.0) * (c + 1));
+  write_image(hdr, path("a.hdr"), {});
+  const Image h = read_image(path("a.hdr"));
+  EXPECT_EQ(h.type(), PixelType::F32);
+  for (int64_t x = 0; x < 16; ++x)
+    EXPECT_NEAR(test::get(h, x, 3, 2), test::get(hdr, x, 3, 2), 0.01 * test::get(hdr, x, 3, 2));
+  // JPEG (quality 95): lossy, alpha dropped; a smooth picture comes back close.
+  Image im({64, 48}, 4, PixelType::U8, 3);
+  for (int64_t y = 0; y < 48; ++y)
+    for (int64_t x = 0; x < 64; ++x)
+      for (int c = 0; c < 4; ++c) test::set(im, x, y, c, c == 3 ? 1.0 : 0.5 + 0.4 * std::sin(0.1 * x + 0.07 * y + c));
+  write_image(im, path("a.jpg"), {});
+  const Image j = read_image(path("a.jpg"));
+  EXPECT_EQ(j.channels(), 3);
+  EXPECT_GT(test::psnr(j, im), 30.0);
+}
+
+TEST_F(Io, DepthConversionOnWrite) {
+  const Image im = pattern({8, 8}, 3, PixelType::U8, -1);
+  write_image(im, path("a.exr"), {false, PixelType::F32});
+  const Image f = read_image(path("a.exr"));
+  ASSERT_EQ(f.type(), PixelType::F32);
+  EXPECT_FLOAT_EQ(test::get(f, 3, 4, 1), test::get(im, 3, 4, 1) / 255.0);
+  write_image(f, path("b.png"), {false, PixelType::U16});
+  EXPECT_EQ(test::get(read_image(path("b.png")), 3, 4, 1), test::get(im, 3, 4, 1) * 257);
+}
+
+TEST_F(Io, RefusesToClobberAndLeavesNothingBehindOnFailure) {
+  const Image im = pattern({8, 8}, 3, PixelType::U8, -1);
+  write_image(im, path("a.png"), {});
+  const auto before = fs::file_size(path("a.png"));
+  const Image other = pattern({9, 9}, 3, PixelType::U8, -1);
+  try {
+    write_image(other, path("a.png"), {});
+    FAIL() << "overwrote";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "output " + path("a.png") + " exists (pass --overwrite to replace it)");
+  }
+  EXPECT_EQ(fs::file_size(path("a.png")), before);
+  write_image(other, path("a.png"), {true, std::nullopt});
+  EXPECT_EQ(read_image(path("a.png")).width(), 9);
+  // An extension no format has: an error and no file, not even a temporary one.
+  EXPECT_THROW(write_image(im, path("b.xyz"), {}), Error);
+  EXPECT_THROW(write_image(im, path("missing/b.png"), {}), Error);
+  EXPECT_EQ(listing(), std::vector<std::string>{"a.png"});
+}
+
+TEST_F(Io, DamagedFilesGiveOneClearError) {
+  auto write_bytes = [&](const std::string& name, const std::string& bytes) {
+    std::ofstream(path(name), std::ios::binary) << bytes;
+  };
+  write_image(pattern({64, 64}, 3, PixelType::U8, -1), path("ok.png"), {});
+  std::ifstream in(path("ok.png"), std::ios::binary);
+  const std::string png((std::istreambuf_iterator<char>(in)), {});
+  write_bytes("truncated.png", png.substr(0, png.size() / 2));
+  write_bytes("garbage.jpg", std::string(4000, '\x5a'));
+  for (const char* name : {"truncated.png", "garbage.jpg", "nothing.png"}) {
+    try {
+      read_image(path(name));
+      FAIL() << name;
+    } catch (const Error& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(path(name)), std::string::npos) << m;
+      EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    }
+  }
+}
+
+TEST_F(Io, CubeFacesRoundTripAndMustMatch) {
+  Image strip = pattern({6 * 16, 16}, 3, PixelType::U8, -1);
+  write_cube_faces(strip, path("f{index}_{face}.png"), {});
+  EXPECT_EQ(listing(), (std::vector<std::string>{"f0_front.png", "f1_right.png", "f2_back.png",
+                                                  "f3_left.png", "f4_up.png", "f5_down.png"}));
+  EXPECT_TRUE(read_cube_faces(path("f{index}_{face}.png")) == strip);
+  write_image(pattern({15, 15}, 3, PixelType::U8, -1), path("f3_left.png"), {true, std::nullopt});
+  try {
+    read_cube_faces(path("f{index}_{face}.png"));
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "cube face " + path("f3_left.png") + " is 15x15 3ch uint8, but " +
+                                         path("f0_front.png") + " is 16x16 3ch uint8 (all six faces must match)");
+  }
+}
+
+}  // namespace
+}  // namespace panoproj
