@@ -136,11 +136,13 @@ int main(int argc, char** argv) {
       return run_convert(job);
     }();
     if (!quiet) {
-      std::printf("%s (%lldx%lld, %s) -> %s (%lldx%lld, %s): %.3f s, %s, %d threads\n",
-                  job.input.c_str(), static_cast<long long>(r.input_size.width),
-                  static_cast<long long>(r.input_size.height), r.from.c_str(), job.output.c_str(),
-                  static_cast<long long>(r.output_size.width),
-                  static_cast<long long>(r.output_size.height), r.to.c_str(), r.seconds,
+      auto dims = [](Size sz, bool faces) {
+        return std::string(faces ? "6 faces of " : "") + std::to_string(sz.width) + "x" +
+               std::to_string(sz.height);
+      };
+      std::printf("%s (%s, %s) -> %s (%s, %s): %.3f s, %s, %d threads\n", job.input.c_str(),
+                  dims(r.input_size, r.input_faces).c_str(), r.from.c_str(), job.output.c_str(),
+                  dims(r.output_size, r.output_faces).c_str(), r.to.c_str(), r.seconds,
                   interp_text.c_str(), resolve_threads(job.options.threads));
     }
     return 0;

@@ -84,7 +84,14 @@ ConvertReport run_convert(const ConvertJob& job) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (out_faces) write_cube_faces(out, job.output, job.write);
   else write_image(out, job.output, job.write);
-  return {from->str(), to.str(), source.size(), out.size(), seconds};
+  auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };
+  return {from->str(),
+          to.str(),
+          in_faces ? face_size(source.size()) : source.size(),
+          out_faces ? face_size(out.size()) : out.size(),
+          in_faces,
+          out_faces,
+          seconds};
 }
 
 }  // namespace panoproj

@@ -23,7 +23,8 @@ struct ConvertJob {
 
 struct ConvertReport {
   std::string from, to;  // canonical specs used
-  Size input_size, output_size;
+  Size input_size, output_size;  // one face's size where input/output_faces
+  bool input_faces = false, output_faces = false;
   double seconds = 0;    // remap only
 };
 

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Installs what is missing (scripts/install-deps.sh) and builds panoproj with CMake + Ninja.
+# Usage: scripts/build.sh [BUILD_DIR] [extra cmake args...]   (default BUILD_DIR: build)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-"$root/build"}
+shift || true
+bash "$root/scripts/install-deps.sh"
+if [[ ! -f "$build/build.ninja" ]]; then
+  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+fi
+# Two cores here; Ninja's default (cores + 2) is right.
+ninja -C "$build" | grep -v '^ninja: no work to do' || true
+test -x "$build/tools/panoproj"

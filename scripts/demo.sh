@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# The main job: installs what is missing, builds, and converts the bundled real samples
+# (samples/images) into every form panoproj writes. Results go to out/demo/ (or $1).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+out=${1:-"$root/out/demo"}
+bash "$root/scripts/build.sh"
+pp="$root/build/tools/panoproj"
+img="$root/samples/images"
+mkdir -p "$out"
+
+pano="$img/jordan_pond_4096x2048.jpg"
+earth="$img/xplanet_earth_2048x1024.jpg"
+run() { "$pp" convert "$@" --overwrite; }
+
+echo "== Jordan Pond equirect 4096x2048 into every form"
+run "$pano" "$out/jordan_fisheye180.jpg" --to fisheye:fov=180
+run "$pano" "$out/jordan_fisheye360.jpg" --to fisheye:fov=360 --size 2048x2048
+run "$pano" "$out/jordan_fisheye180_down_equisolid.jpg" --to fisheye:fov=180,model=equisolid --pitch -90 --size 1536x1536
+run "$pano" "$out/jordan_partial_equirect.jpg" --to equirect:hfov=180,vfov=90,lon0=60
+run "$pano" "$out/jordan_cylindrical.jpg" --to cylindrical:vfov=100
+run "$pano" "$out/jordan_pinhole.jpg" --to pinhole:hfov=90 --size 1920x1080 --yaw 75 --pitch -5
+run "$pano" "$out/jordan_cubemap_cross.jpg" --to cubemap:layout=cross,face=1024
+run "$pano" "$out/jordan_cube_{index}_{face}.jpg" --to cubemap:layout=files,face=1024
+run "$pano" "$out/jordan_aitoff.jpg" --to aitoff
+run "$pano" "$out/jordan_eckert_greifendorff.jpg" --to eckert-greifendorff
+run "$pano" "$out/jordan_bonne.jpg" --to bonne
+
+echo "== Earth (NASA Visible Earth) into the world maps"
+run "$earth" "$out/earth_aitoff.jpg" --to aitoff
+run "$earth" "$out/earth_eckert_greifendorff.jpg" --to eckert-greifendorff
+run "$earth" "$out/earth_bonne.jpg" --to bonne:phi1=45
+run "$earth" "$out/earth_hammer.jpg" --to hammer
+
+echo "== Stellarium 210-degree fisheye (looking at the zenith, South at the top) -> equirect"
+# The lens looks up: pitch -90 levels the horizon; North (the image bottom) lands at the centre.
+run "$img/stellarium_trees_fisheye210_512.png" "$out/trees_equirect.png" --from fisheye:fov=210 --to equirect --pitch -90
+
+echo "== Real cubemap (six files) -> equirect"
+run "$img/cubemap_jordan_pond/face{index}_{face}.jpg" "$out/jordan_from_cubemap.jpg" --to equirect --size 4096x2048
+
+echo
+echo "Results written to $out"
