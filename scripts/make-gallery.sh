@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Regenerates the README gallery (docs/gallery/*.jpg) from the main job's results: runs
+# scripts/demo.sh, then makes small thumbnails with Pillow's area-aware resize (a docs-only
+# tool in the project's .venv; panoproj itself does not depend on it).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+bash "$root/scripts/demo.sh" "$root/out/demo" >/dev/null
+bash "$root/scripts/python-env.sh"
+"$root/.venv/bin/python" -c "import PIL" 2>/dev/null || "$root/.venv/bin/python" -m pip install -q pillow
+mkdir -p "$root/docs/gallery"
+"$root/.venv/bin/python" - "$root/out/demo" "$root/docs/gallery" "$root/samples/images" <<'PY'
+import sys, pathlib
+from PIL import Image
+src, dst, samples = map(pathlib.Path, sys.argv[1:4])
+items = {
+    "jordan_source.jpg": samples / "jordan_pond_4096x2048.jpg",
+    "trees_source.jpg": samples / "stellarium_trees_fisheye210_512.png",
+}
+for name in ["jordan_fisheye180", "jordan_fisheye360", "jordan_fisheye180_down_equisolid",
+             "jordan_partial_equirect", "jordan_cylindrical", "jordan_pinhole",
+             "jordan_cubemap_cross", "jordan_aitoff", "jordan_eckert_greifendorff", "jordan_bonne",
+             "earth_aitoff", "earth_eckert_greifendorff", "earth_bonne", "earth_hammer",
+             "jordan_from_cubemap"]:
+    items[name + ".jpg"] = src / (name + ".jpg")
+items["trees_equirect.jpg"] = src / "trees_equirect.png"
+for out, path in items.items():
+    im = Image.open(path)
+    if im.mode in ("RGBA", "LA"):  # transparent areas shown on white
+        bg = Image.new("RGB", im.size, (255, 255, 255))
+        bg.paste(im, mask=im.getchannel("A"))
+        im = bg
+    im = im.convert("RGB")
+    im.thumbnail((320, 240), Image.LANCZOS)
+    im.save(dst / out, quality=85, optimize=True)
+print("gallery:", len(items), "thumbnails in", dst)
+PY
