@@ -20,21 +20,17 @@ struct CliRun {
   std::string out, err;
 };
 
-class Cli : public ::testing::Test {
+class Cli : public test::TempDirTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("panoproj_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    TempDirTest::SetUp();
     Image e({64, 32}, 3, PixelType::U8);
     for (size_t i = 0; i < e.byte_size(); ++i) e.data()[i] = static_cast<unsigned char>(i % 251);
     write_image(e, p("pano.png"), {});
     Image sq({40, 40}, 3, PixelType::U8);
     write_image(sq, p("square.png"), {});
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string p(const std::string& name) const { return (dir_ / name).string(); }
+  std::string p(const std::string& name) const { return path(name); }
 
   CliRun run(const std::string& args) const {
     const std::string cmd = std::string(PANOPROJ_CLI) + " " + args + " >" + p(".stdout") + " 2>" + p(".stderr");
@@ -68,8 +64,6 @@ class Cli : public ::testing::Test {
     EXPECT_EQ(r.err.rfind("panoproj: error: ", 0), 0u) << r.err;
     EXPECT_EQ(snapshot(), before) << args;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(Cli, ConvertsAndReports) {

@@ -15,23 +15,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class Io : public ::testing::Test {
+class Io : public test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("panoproj_io_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::vector<std::string> listing() const {
     std::vector<std::string> v;
     for (const auto& e : fs::directory_iterator(dir_)) v.push_back(e.path().filename().string());
     std::sort(v.begin(), v.end());
     return v;
   }
-  fs::path dir_;
 };
 
 Image pattern(Size s, int nc, PixelType t, int alpha) {

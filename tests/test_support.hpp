@@ -4,8 +4,11 @@
 #include <Eigen/Geometry>
 #include <Imath/half.h>
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <functional>
 #include <random>
 #include <string>
@@ -140,6 +143,20 @@ inline Image area_downsample(const Image& im, int factor) {
       }
   return out;
 }
+
+// A fixture with a fresh folder per test (named after it), removed afterwards.
+class TempDirTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("panoproj_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::filesystem::path dir_;
+};
 
 // Angle between two rays, robust for tiny angles.
 inline double angle(const Ray& a, const Ray& b) {

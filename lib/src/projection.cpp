@@ -53,8 +53,8 @@ Cubemap::Cubemap(int64_t face_size, CubeLayout layout)
 
 // ---- Bonne --------------------------------------------------------------------------------
 Bonne::Bonne(Size size, double phi1, double lon0)
-    : p1_(std::fabs(phi1)), sign_(phi1 < 0 ? -1.0 : 1.0), t_(std::tan(std::fabs(phi1))),
-      cot_(0.0), lon0_(lon0), small_(std::fabs(phi1) < kSmallPhi1) {
+    : MapProjection(lon0), p1_(std::fabs(phi1)), sign_(phi1 < 0 ? -1.0 : 1.0),
+      t_(std::tan(std::fabs(phi1))), cot_(0.0), small_(std::fabs(phi1) < kSmallPhi1) {
   if (!small_) cot_ = std::cos(p1_) / std::sin(p1_);
   // Bounding box: X peaks on the outline lambda = +-pi; Y is monotonic in |lambda| on each
   // parallel (|E| < pi), so its extremes lie on lambda = 0 or on the outline. Dense sampling

@@ -12,13 +12,13 @@
 
 namespace panoproj {
 
-class Aitoff {
+class Aitoff : public MapProjection<Aitoff> {
  public:
   static constexpr int kMaxIterations = 40;
   static constexpr double kTolerance = 1e-12;
 
   Aitoff(Size size, double lon0)
-      : lon0_(lon0), frame_{size, -kPi, kPi, -kHalfPi, kHalfPi}, seed_(size, 0.5, 0.0) {}
+      : MapProjection(lon0, {size, -kPi, kPi, -kHalfPi, kHalfPi}), seed_(size, 0.5, 0.0) {}
 
   // Also returns the Jacobian d(X, Y)/d(lambda, phi) when J is given (row-major 2x2).
   static void forward(double lam, double phi, double& X, double& Y, double* J = nullptr) {
@@ -52,9 +52,12 @@ class Aitoff {
     return u * u + v * v <= 1.0 + kEdgeSlack;
   }
 
+  bool inverse(double X, double Y, double& lam, double& phi) const {
+    return newton_inverse(X, Y, lam, phi) >= 0;
+  }
   // Newton inverse; returns the iteration count used (0 when the seed already fits), or -1
   // outside the outline.
-  int inverse(double X, double Y, double& lam, double& phi) const {
+  int newton_inverse(double X, double Y, double& lam, double& phi) const {
     if (!inside_outline(X, Y)) return -1;
     constexpr double kToHammer = 2.0 * 1.4142135623730951 / kPi;  // outline pi -> 2 sqrt 2
     if (!seed_.inverse(X * kToHammer, Y * kToHammer, lam, phi)) {
@@ -89,27 +92,8 @@ class Aitoff {
     return it;
   }
 
-  bool to_ray(double x, double y, Ray& d) const {
-    double lam, phi;
-    if (inverse(frame_.plane_x(x), frame_.plane_y(y), lam, phi) < 0) return false;
-    d = ray_from_lonlat(lam + lon0_, phi);
-    return true;
-  }
-  bool to_pixel(const Ray& d, double& x, double& y) const {
-    double X, Y;
-    forward(wrap_pi(longitude(d) - lon0_), latitude(d), X, Y);
-    x = frame_.pixel_x(X);
-    y = frame_.pixel_y(Y);
-    return in_frame(x, y, frame_.size);
-  }
-
-  Size size() const { return frame_.size; }
-  double center_density() const { return frame_.density(); }
-  const MapFrame& frame() const { return frame_; }
 
  private:
-  double lon0_;
-  MapFrame frame_;
   Hammer seed_;
 };
 

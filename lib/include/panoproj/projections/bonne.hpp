@@ -13,7 +13,7 @@
 
 namespace panoproj {
 
-class Bonne {
+class Bonne : public MapProjection<Bonne> {
  public:
   static constexpr double kSmallPhi1 = 0.1;  // radians; both forms are exact on either side
 
@@ -59,28 +59,10 @@ class Bonne {
     return std::fabs(lam) <= kPi * (1.0 + kEdgeSlack);
   }
 
-  bool to_ray(double x, double y, Ray& d) const {
-    double lam, phi;
-    if (!inverse(frame_.plane_x(x), frame_.plane_y(y), lam, phi)) return false;
-    d = ray_from_lonlat(lam + lon0_, phi);
-    return true;
-  }
-  bool to_pixel(const Ray& d, double& x, double& y) const {
-    double X, Y;
-    forward(wrap_pi(longitude(d) - lon0_), latitude(d), X, Y);
-    x = frame_.pixel_x(X);
-    y = frame_.pixel_y(Y);
-    return in_frame(x, y, frame_.size);
-  }
-
-  Size size() const { return frame_.size; }
-  double center_density() const { return frame_.density(); }
-  const MapFrame& frame() const { return frame_; }
 
  private:
-  double p1_, sign_, t_, cot_, lon0_;
+  double p1_, sign_, t_, cot_;
   bool small_;
-  MapFrame frame_{};
 };
 
 }  // namespace panoproj

@@ -12,9 +12,9 @@
 
 namespace panoproj {
 
-class Hammer {
+class Hammer : public MapProjection<Hammer> {
  public:
-  Hammer(Size size, double w, double lon0) : w_(w), lon0_(lon0) {
+  Hammer(Size size, double w, double lon0) : MapProjection(lon0), w_(w) {
     const double x_max = forward_x(kPi, 0.0);
     frame_ = {size, -x_max, x_max, -std::sqrt(2.0), std::sqrt(2.0)};
   }
@@ -39,23 +39,6 @@ class Hammer {
     return std::fabs(lam) <= kPi * (1.0 + kEdgeSlack);
   }
 
-  bool to_ray(double x, double y, Ray& d) const {
-    double lam, phi;
-    if (!inverse(frame_.plane_x(x), frame_.plane_y(y), lam, phi)) return false;
-    d = ray_from_lonlat(lam + lon0_, phi);
-    return true;
-  }
-  bool to_pixel(const Ray& d, double& x, double& y) const {
-    double X, Y;
-    forward(wrap_pi(longitude(d) - lon0_), latitude(d), X, Y);
-    x = frame_.pixel_x(X);
-    y = frame_.pixel_y(Y);
-    return in_frame(x, y, frame_.size);
-  }
-
-  Size size() const { return frame_.size; }
-  double center_density() const { return frame_.density(); }
-  const MapFrame& frame() const { return frame_; }
 
  private:
   double forward_x(double lam, double phi) const {
@@ -63,8 +46,7 @@ class Hammer {
     forward(lam, phi, X, Y);
     return X;
   }
-  double w_, lon0_;
-  MapFrame frame_{};
+  double w_;
 };
 
 }  // namespace panoproj

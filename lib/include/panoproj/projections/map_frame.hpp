@@ -1,6 +1,8 @@
 #pragma once
 // Cartographic plane <-> pixels: the map's bounding box [xmin, xmax] x [ymin, ymax] fills the
 // frame, north (+Y) up. Longitudes are taken relative to the central meridian lon0.
+// MapProjection<Derived> turns a map's plane equations, Derived::forward(lambda, phi, X, Y) and
+// bool Derived::inverse(X, Y, lambda, phi) (false outside the outline), into a projection.
 #include "panoproj/conventions.hpp"
 #include "panoproj/projections/frame.hpp"
 
@@ -24,6 +26,36 @@ struct MapFrame {
   }
   // Pixels per plane unit horizontally (all forms here have unit scale at their centre).
   double density() const { return static_cast<double>(size.width) / (xmax - xmin); }
+};
+
+template <class Derived>
+class MapProjection {
+ public:
+  bool to_ray(double x, double y, Ray& d) const {
+    double lam, phi;
+    if (!self().inverse(frame_.plane_x(x), frame_.plane_y(y), lam, phi)) return false;
+    d = ray_from_lonlat(lam + lon0_, phi);
+    return true;
+  }
+  bool to_pixel(const Ray& d, double& x, double& y) const {
+    double X, Y;
+    self().forward(wrap_pi(longitude(d) - lon0_), latitude(d), X, Y);
+    x = frame_.pixel_x(X);
+    y = frame_.pixel_y(Y);
+    return in_frame(x, y, frame_.size);
+  }
+
+  Size size() const { return frame_.size; }
+  double center_density() const { return frame_.density(); }
+  const MapFrame& frame() const { return frame_; }
+
+ protected:
+  explicit MapProjection(double lon0, MapFrame frame = {}) : lon0_(lon0), frame_(frame) {}
+  double lon0_;
+  MapFrame frame_;
+
+ private:
+  const Derived& self() const { return static_cast<const Derived&>(*this); }
 };
 
 }  // namespace panoproj
