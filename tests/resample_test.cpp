@@ -77,6 +77,7 @@ TEST(Remap, NoSeamAtEquirectSeamPolesAndCubeCorners) {
   const Scene scene = test::band_limited_scene(0.05, 1024);
   const Projection e = make("equirect", {1024, 512});
   const Projection c = make("cubemap", {6 * 512, 512});
+  const Projection cyl = make("cylindrical:vfov=100", {1024, 390});
   const Projection view = make("pinhole:hfov=60", {301, 301});
   struct Look {
     const Projection* src;
@@ -90,7 +91,8 @@ TEST(Remap, NoSeamAtEquirectSeamPolesAndCubeCorners) {
   for (const Look& look : {Look{&e, 180, 0, "equirect seam", 1e-4}, Look{&e, 0, 90, "north pole", 1e-4},
                            Look{&e, 77, -90, "south pole", 1e-4}, Look{&c, 45, 35.26, "cube corner", 2e-3},
                            Look{&c, 135, -35.26, "cube corner below", 2e-3},
-                           Look{&c, 90, 45, "cube edge", 1e-4}, Look{&c, 0, 0, "cube face centre", 2e-5}}) {
+                           Look{&c, 90, 45, "cube edge", 1e-4}, Look{&c, 0, 0, "cube face centre", 2e-5},
+                           Look{&cyl, 180, 0, "cylindrical seam", 1e-4}}) {
     const Image src = test::render(*look.src, scene, PixelType::F32);
     const Eigen::Matrix3d r = rotation_from_ypr(look.yaw, look.pitch, 0);
     const Image out = remap(src, *look.src, view, r, {Interp::Bicubic, 0});

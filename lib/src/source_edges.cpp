@@ -14,6 +14,9 @@ SourceEdges::SourceEdges(const Projection& source) {
     wrap_x_ = e->full_longitude();
     north_ = e->reaches_north_pole();
     south_ = e->reaches_south_pole();
+  } else if (const auto* y = std::get_if<Cylindrical>(&source)) {
+    mode_ = Mode::Equirect;  // same seam; its poles are at infinity, so no pole crossing
+    wrap_x_ = y->full_longitude();
   } else if (const auto* c = std::get_if<Cubemap>(&source)) {
     mode_ = Mode::Cube;
     cube_ = c;

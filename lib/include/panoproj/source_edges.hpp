@@ -2,6 +2,7 @@
 // Where interpolation taps that fall outside a source's pixels read from, by source kind:
 //   equirect  wraps in longitude (full 360); past a pole row it continues on the far side
 //             (row -1-j, longitude + 180), when the frame reaches that pole;
+//   cylindrical wraps in longitude (full 360);
 //   cubemap   a tap past its face's edge is the neighbouring face's value where the ray through
 //             the tap's centre on the extended face plane meets it, read bilinearly there, so
 //             the kernel sees a continuous function across edges and corners (no seam);
