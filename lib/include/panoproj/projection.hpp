@@ -36,6 +36,9 @@ inline double center_density(const Projection& p) {
 inline bool to_ray(const Projection& p, double x, double y, Ray& d) {
   return std::visit([&](const auto& q) { return q.to_ray(x, y, d); }, p);
 }
+inline bool contains(const Projection& p, double x, double y) {
+  return std::visit([&](const auto& q) { return q.contains(x, y); }, p);
+}
 inline bool to_pixel(const Projection& p, const Ray& d, double& x, double& y) {
   return std::visit([&](const auto& q) { return q.to_pixel(d, x, y); }, p);
 }

@@ -47,6 +47,7 @@ class Aitoff : public MapProjection<Aitoff> {
     J[3] = cp * g + sp * gp * dD_dphi;                         // dY/dphi
   }
 
+  bool inside(double X, double Y) const { return inside_outline(X, Y); }
   static bool inside_outline(double X, double Y) {
     const double u = X / kPi, v = Y / kHalfPi;
     return u * u + v * v <= 1.0 + kEdgeSlack;

@@ -35,6 +35,10 @@ class Bonne : public MapProjection<Bonne> {
     }
     Y *= sign_;
   }
+  bool inside(double X, double Y) const {
+    double lam, phi;
+    return inverse(X, Y, lam, phi);
+  }
   // False outside the outline.
   bool inverse(double X, double Y, double& lam, double& phi) const {
     Y *= sign_;

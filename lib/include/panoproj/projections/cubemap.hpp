@@ -98,6 +98,9 @@ class Cubemap {
     return true;
   }
 
+  // Whether pixel position (x, y) has a ray (inside a face).
+  bool contains(double x, double y) const { return in_frame(x, y, size_) && face_at(x, y) >= 0; }
+
   Size size() const { return size_; }
   double center_density() const { return 0.5 * fd_; }  // face focal length F/2
 

@@ -29,6 +29,9 @@ class Equirect {
     return in_frame(x, y, size_);
   }
 
+  // Whether pixel position (x, y) has a ray (cheap form of to_ray's test).
+  bool contains(double x, double y) const { return in_frame(x, y, size_); }
+
   Size size() const { return size_; }
   double center_density() const { return static_cast<double>(size_.width) / hfov_; }
   bool full_longitude() const { return full_lon_; }

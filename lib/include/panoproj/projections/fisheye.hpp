@@ -71,6 +71,15 @@ class Fisheye {
     return in_frame(x, y, size_);
   }
 
+  // Whether pixel position (x, y) has a ray (cheap form of to_ray's test).
+  bool contains(double x, double y) const {
+    if (!in_frame(x, y, size_)) return false;
+    const double r = std::hypot((x - cx_) / rx_, (y - cy_) / ry_);
+    if (clip_) return r <= 1.0 + kEdgeSlack;
+    double psi;
+    return inverse_law(r * g_max_, psi);
+  }
+
   Size size() const { return size_; }
   double center_density() const { return rx_ / g_max_; }  // g'(0) = 1
   double psi_max() const { return psi_max_; }

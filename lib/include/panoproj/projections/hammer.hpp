@@ -26,6 +26,11 @@ class Hammer : public MapProjection<Hammer> {
     X = d * cp * std::sin(lw) / w_;
     Y = d * std::sin(phi);
   }
+  // Inside the outline (|lambda| <= pi): the closed-form inverse succeeds.
+  bool inside(double X, double Y) const {
+    double lam, phi;
+    return inverse(X, Y, lam, phi);
+  }
   // False outside the outline.
   bool inverse(double X, double Y, double& lam, double& phi) const {
     const double xw = X * w_;

@@ -2,7 +2,8 @@
 // Cartographic plane <-> pixels: the map's bounding box [xmin, xmax] x [ymin, ymax] fills the
 // frame, north (+Y) up. Longitudes are taken relative to the central meridian lon0.
 // MapProjection<Derived> turns a map's plane equations, Derived::forward(lambda, phi, X, Y) and
-// bool Derived::inverse(X, Y, lambda, phi) (false outside the outline), into a projection.
+// bool Derived::inverse(X, Y, lambda, phi) (false outside the outline) and a cheap
+// bool Derived::inside(X, Y) (the same outline test without the inverse), into a projection.
 #include "panoproj/conventions.hpp"
 #include "panoproj/projections/frame.hpp"
 
@@ -43,6 +44,11 @@ class MapProjection {
     x = frame_.pixel_x(X);
     y = frame_.pixel_y(Y);
     return in_frame(x, y, frame_.size);
+  }
+
+  // Whether pixel position (x, y) has a ray (inside the map's outline).
+  bool contains(double x, double y) const {
+    return in_frame(x, y, frame_.size) && self().inside(frame_.plane_x(x), frame_.plane_y(y));
   }
 
   Size size() const { return frame_.size; }

@@ -22,6 +22,9 @@ class Pinhole {
     return in_frame(x, y, size_);
   }
 
+  // Whether pixel position (x, y) has a ray (cheap form of to_ray's test).
+  bool contains(double x, double y) const { return in_frame(x, y, size_); }
+
   Size size() const { return size_; }
   double center_density() const { return fx_; }  // pixels per radian on the optical axis
   double fx() const { return fx_; }

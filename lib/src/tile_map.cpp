@@ -1,0 +1,140 @@
+#include "panoproj/tile_map.hpp"
+
+#include <algorithm>
+#include <array>
+#include <utility>
+#include <cmath>
+
+namespace panoproj {
+namespace {
+
+bool exact(const Projection& src, const Projection& dst, const Eigen::Matrix3d& r, double px,
+           double py, double& sx, double& sy) {
+  Ray d;
+  if (!to_ray(dst, px, py, d)) return false;
+  return to_pixel(src, r * d, sx, sy);
+}
+
+// Cubic Lagrange weights through nodes at t = -1, 0, 1, 2 (cell units), at t = i / kCell.
+struct Lagrange {
+  double w[kCell + 1][4];
+  Lagrange() {
+    for (int i = 0; i <= kCell; ++i) {
+      const double t = static_cast<double>(i) / kCell;
+      w[i][0] = -t * (t - 1) * (t - 2) / 6;
+      w[i][1] = (t + 1) * (t - 1) * (t - 2) / 2;
+      w[i][2] = -(t + 1) * t * (t - 2) / 2;
+      w[i][3] = (t + 1) * t * (t - 1) / 6;
+    }
+  }
+};
+const Lagrange kLagrange;
+
+}  // namespace
+
+void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
+              TileRect rect, TileMap& out) {
+  const auto n = static_cast<size_t>(rect.w * rect.h);
+  out.rect = rect;
+  out.xs.resize(n);
+  out.ys.resize(n);
+  out.ok.assign(n, 0);
+  out.exact_cells = out.interpolated_cells = 0;
+
+  // Node i sits at offset (i - 1) * kCell from the tile's corner.
+  const int64_t ncx = (rect.w + kCell - 1) / kCell, ncy = (rect.h + kCell - 1) / kCell;
+  const int64_t nx = ncx + 3, ny = ncy + 3;
+  std::vector<double> nxs(static_cast<size_t>(nx * ny)), nys(nxs.size());
+  std::vector<uint8_t> nok(nxs.size());
+  for (int64_t j = 0; j < ny; ++j)
+    for (int64_t i = 0; i < nx; ++i) {
+      const size_t k = static_cast<size_t>(j * nx + i);
+      nok[k] = exact(src, dst, rotation, static_cast<double>(rect.x0 + (i - 1) * kCell) + 0.5,
+                     static_cast<double>(rect.y0 + (j - 1) * kCell) + 0.5, nxs[k], nys[k]);
+    }
+
+  std::array<Ray, kCell> rays;
+  std::array<double, kCell> rx, ry;
+  std::array<uint8_t, kCell> rok;
+  for (int64_t cy = 0; cy < ncy; ++cy)
+    for (int64_t cx = 0; cx < ncx; ++cx) {
+      const int64_t w = std::min<int64_t>(kCell, rect.w - cx * kCell);
+      const int64_t h = std::min<int64_t>(kCell, rect.h - cy * kCell);
+      const int64_t px0 = rect.x0 + cx * kCell, py0 = rect.y0 + cy * kCell;
+      // The cell's 4x4 stencil starts at node (cx, cy), one cell up and left.
+      auto node = [&](int a, int b) { return static_cast<size_t>((cy + b) * nx + cx + a); };
+      bool accept = true;
+      for (int b = 0; b < 4; ++b)
+        for (int a = 0; a < 4; ++a) accept = accept && nok[node(a, b)];
+      // Separable: along y per stencil column (for row j), then along x (for column i).
+      double col_x[kCell][4], col_y[kCell][4];
+      auto columns = [&](int j) {
+        for (int a = 0; a < 4; ++a) {
+          double sx = 0, sy = 0;
+          for (int b = 0; b < 4; ++b) {
+            sx += kLagrange.w[j][b] * nxs[node(a, b)];
+            sy += kLagrange.w[j][b] * nys[node(a, b)];
+          }
+          col_x[j][a] = sx;
+          col_y[j][a] = sy;
+        }
+      };
+      auto interp = [&](int i, int j, double& sx, double& sy) {
+        sx = sy = 0;
+        for (int a = 0; a < 4; ++a) {
+          sx += kLagrange.w[i][a] * col_x[j][a];
+          sy += kLagrange.w[i][a] * col_y[j][a];
+        }
+      };
+      if (accept) {
+        // Five checks (centre, quarter points); where the map is curved enough that they err by
+        // over a quarter of the tolerance, four more (the inner square's edge midpoints).
+        constexpr int q = kCell / 4, h3 = 3 * kCell / 4, c = kCell / 2;
+        constexpr std::pair<int, int> kChecks[9] = {{c, c},  {q, q}, {h3, q}, {q, h3}, {h3, h3},
+                                                    {c, q},  {q, c}, {h3, c}, {c, h3}};
+        double worst = 0;
+        for (int k = 0; k < 9 && accept; ++k) {
+          if (k == 5 && worst <= 0.25 * kMapTolerance) break;
+          const auto [i, j] = kChecks[k];
+          double ex, ey, ix, iy;
+          if (!exact(src, dst, rotation, static_cast<double>(px0 + i) + 0.5,
+                     static_cast<double>(py0 + j) + 0.5, ex, ey)) {
+            accept = false;
+            break;
+          }
+          columns(j);
+          interp(i, j, ix, iy);
+          worst = std::max(worst, std::hypot(ix - ex, iy - ey));
+          accept = worst <= kMapTolerance;
+        }
+      }
+      if (accept) {
+        ++out.interpolated_cells;
+        for (int64_t j = 0; j < h; ++j) {
+          columns(static_cast<int>(j));
+          for (int64_t i = 0; i < w; ++i) {
+            const size_t k = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell + i);
+            interp(static_cast<int>(i), static_cast<int>(j), out.xs[k], out.ys[k]);
+            out.ok[k] = contains(dst, static_cast<double>(px0 + i) + 0.5,
+                                 static_cast<double>(py0 + j) + 0.5) &&
+                        contains(src, out.xs[k], out.ys[k]);
+          }
+        }
+      } else {
+        ++out.exact_cells;
+        for (int64_t j = 0; j < h; ++j) {
+          to_ray_row(dst, static_cast<double>(py0 + j) + 0.5, px0, w, rays.data(), rok.data());
+          for (int64_t i = 0; i < w; ++i) rays[i] = rotation * rays[i];
+          to_pixel_row(src, rays.data(), w, rx.data(), ry.data(), rok.data());
+          for (int64_t i = 0; i < w; ++i) {
+            const size_t k = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell + i);
+            out.xs[k] = rx[i];
+            out.ys[k] = ry[i];
+            out.ok[k] = rok[i];
+          }
+        }
+      }
+    }
+}
+
+}  // namespace panoproj
