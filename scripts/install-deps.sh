@@ -8,6 +8,7 @@ pkgs=(
   libopenimageio-dev                 # all image I/O (lib/io)
   libeigen3-dev                      # rotations
   libcli11-dev                       # the panoproj command
+  libhwy-dev                         # SIMD kernels (Google Highway)
   libgtest-dev                       # ctest suite
   python3 python3-venv               # Python side (venv for Debian's own python3)
   ccache                             # fast rebuilds; used only when present

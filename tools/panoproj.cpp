@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   ConvertJob job;
-  std::string size_text, interp_text = "bicubic", depth_text;
+  std::string size_text, interp_text = "bicubic", depth_text, engine_text = "simd";
   std::string from_text;
   auto* convert = app.add_subcommand("convert", "convert one image (or cube-face set) to another projection");
   convert->add_option("input", job.input, "input image, or a cube-face pattern with {face}/{index}")
@@ -108,6 +108,8 @@ int main(int argc, char** argv) {
   convert->add_option("--roll", job.options.roll, "degrees, positive turns the view clockwise");
   convert->add_option("--interp", interp_text, "nearest|bilinear|bicubic|lanczos3 (default bicubic)");
   convert->add_option("--threads", job.options.threads, "worker threads (default: all cores)");
+  convert->add_option("--engine", engine_text,
+                      "simd (default) | scalar (same tiles, no SIMD) | reference (exact, slow)");
   convert->add_option("--depth", depth_text, "output samples: keep|uint8|uint16|half|float");
   convert->add_flag("--overwrite", job.write.overwrite, "replace an existing output");
   bool quiet = false, verbose = false;
@@ -130,6 +132,7 @@ int main(int argc, char** argv) {
     if (!from_text.empty()) job.from = from_text;
     if (!size_text.empty()) job.options.size = parse_size(size_text);
     job.options.interp = parse_interp(interp_text);
+    job.options.engine = parse_engine(engine_text);
     job.write.type = parse_depth(depth_text);
     const ConvertReport r = [&] {
       QuietStderr hold(!verbose);
@@ -140,10 +143,11 @@ int main(int argc, char** argv) {
         return std::string(faces ? "6 faces of " : "") + std::to_string(sz.width) + "x" +
                std::to_string(sz.height);
       };
-      std::printf("%s (%s, %s) -> %s (%s, %s): %.3f s, %s, %d threads\n", job.input.c_str(),
-                  dims(r.input_size, r.input_faces).c_str(), r.from.c_str(), job.output.c_str(),
-                  dims(r.output_size, r.output_faces).c_str(), r.to.c_str(), r.seconds,
-                  interp_text.c_str(), resolve_threads(job.options.threads));
+      std::printf("%s (%s, %s) -> %s (%s, %s): %.3f s, %s, %s engine (%s), %d threads\n",
+                  job.input.c_str(), dims(r.input_size, r.input_faces).c_str(), r.from.c_str(),
+                  job.output.c_str(), dims(r.output_size, r.output_faces).c_str(), r.to.c_str(),
+                  r.seconds, interp_text.c_str(), engine_text.c_str(), simd_target(),
+                  resolve_threads(job.options.threads));
     }
     return 0;
   } catch (const std::exception& e) {

@@ -4,7 +4,6 @@
 #include <sstream>
 
 #include "panoproj/error.hpp"
-#include "panoproj/resample.hpp"
 #include "panoproj/rotation.hpp"
 
 namespace panoproj {
@@ -37,7 +36,8 @@ Plan make_plan(Size source_size, const ProjectionSpec& from, const ProjectionSpe
 Image convert(const Image& source, const ProjectionSpec& from, const ProjectionSpec& to,
               const ConvertOptions& options) {
   const Plan plan = make_plan(source.size(), from, to, options);
-  return remap(source, plan.source, plan.target, plan.rotation, {options.interp, options.threads});
+  return fast_remap(source, plan.source, plan.target, plan.rotation, options.interp, options.engine,
+                    options.threads);
 }
 
 }  // namespace panoproj

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "panoproj/error.hpp"
-#include "panoproj/resample.hpp"
 
 namespace panoproj {
 namespace fs = std::filesystem;
@@ -78,8 +77,8 @@ ConvertReport run_convert(const ConvertJob& job) {
   }
   const Plan plan = make_plan(source.size(), *from, to, options);
   const auto t0 = std::chrono::steady_clock::now();
-  const Image out = remap(source, plan.source, plan.target, plan.rotation,
-                          {options.interp, options.threads});
+  const Image out = fast_remap(source, plan.source, plan.target, plan.rotation, options.interp,
+                               options.engine, options.threads);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (out_faces) write_cube_faces(out, job.output, job.write);

@@ -42,8 +42,8 @@ Image::Image(Size size, int channels, PixelType type, int alpha_channel)
   if (alpha_channel >= channels || alpha_channel < -1)
     throw Error("alpha channel: " + std::to_string(alpha_channel) + " (expected -1 or < " +
                 std::to_string(channels) + ")");
-  pixels_.resize(static_cast<size_t>(size.width) * static_cast<size_t>(size.height) *
-                 pixel_bytes());
+  bytes_ = static_cast<size_t>(size.width) * static_cast<size_t>(size.height) * pixel_bytes();
+  pixels_.resize(bytes_ + kSlack);
 }
 
 }  // namespace panoproj

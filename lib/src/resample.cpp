@@ -10,6 +10,7 @@
 
 #include "panoproj/parallel.hpp"
 #include "panoproj/source_edges.hpp"
+#include "reference_sampler.hpp"
 
 namespace panoproj {
 namespace {
@@ -89,27 +90,23 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
   }
 }
 
-using RowSampler = void (*)(const Image&, const SourceEdges&, Interp, const double*,
-                            const double*, const uint8_t*, int64_t, unsigned char*);
-
-RowSampler row_sampler(PixelType t) {
-  switch (t) {
-    case PixelType::U8: return sample_row<uint8_t>;
-    case PixelType::U16: return sample_row<uint16_t>;
-    case PixelType::F16: return sample_row<Imath::half>;
-    case PixelType::F32: return sample_row<float>;
-  }
-  return sample_row<uint8_t>;
-}
-
 }  // namespace
+
+void sample_reference(const Image& src, const SourceEdges& edges, Interp interp, const double* xs,
+                      const double* ys, const uint8_t* ok, int64_t n, unsigned char* out) {
+  switch (src.type()) {
+    case PixelType::U8: return sample_row<uint8_t>(src, edges, interp, xs, ys, ok, n, out);
+    case PixelType::U16: return sample_row<uint16_t>(src, edges, interp, xs, ys, ok, n, out);
+    case PixelType::F16: return sample_row<Imath::half>(src, edges, interp, xs, ys, ok, n, out);
+    case PixelType::F32: return sample_row<float>(src, edges, interp, xs, ys, ok, n, out);
+  }
+}
 
 Image remap(const Image& src, const Projection& src_proj, const Projection& dst_proj,
             const Eigen::Matrix3d& rotation, const RemapOptions& options) {
   const Size out_size = size_of(dst_proj);
   Image out(out_size, src.channels(), src.type(), src.alpha_channel());
   const SourceEdges edges(src_proj);
-  const RowSampler sample = row_sampler(src.type());
   const int64_t w = out_size.width;
   parallel_rows(out_size.height, options.threads, [&](int64_t y0, int64_t y1) {
     std::vector<Ray> rays(static_cast<size_t>(w));
@@ -119,7 +116,7 @@ Image remap(const Image& src, const Projection& src_proj, const Projection& dst_
       to_ray_row(dst_proj, static_cast<double>(y) + 0.5, 0, w, rays.data(), ok.data());
       for (int64_t i = 0; i < w; ++i) rays[i] = rotation * rays[i];
       to_pixel_row(src_proj, rays.data(), w, xs.data(), ys.data(), ok.data());
-      sample(src, edges, options.interp, xs.data(), ys.data(), ok.data(), w, out.row(y));
+      sample_reference(src, edges, options.interp, xs.data(), ys.data(), ok.data(), w, out.row(y));
     }
   });
   return out;

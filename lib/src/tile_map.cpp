@@ -87,14 +87,13 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
         }
       };
       if (accept) {
-        // Five checks (centre, quarter points); where the map is curved enough that they err by
-        // over a quarter of the tolerance, four more (the inner square's edge midpoints).
+        // The centre first (cubic error peaks mid-cell); where it errs by over kMapTolerance/16
+        // the map is curved enough to need eight more: quarter points and the inner square's
+        // edge midpoints.
         constexpr int q = kCell / 4, h3 = 3 * kCell / 4, c = kCell / 2;
         constexpr std::pair<int, int> kChecks[9] = {{c, c},  {q, q}, {h3, q}, {q, h3}, {h3, h3},
                                                     {c, q},  {q, c}, {h3, c}, {c, h3}};
-        double worst = 0;
         for (int k = 0; k < 9 && accept; ++k) {
-          if (k == 5 && worst <= 0.25 * kMapTolerance) break;
           const auto [i, j] = kChecks[k];
           double ex, ey, ix, iy;
           if (!exact(src, dst, rotation, static_cast<double>(px0 + i) + 0.5,
@@ -104,22 +103,57 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
           }
           columns(j);
           interp(i, j, ix, iy);
-          worst = std::max(worst, std::hypot(ix - ex, iy - ey));
-          accept = worst <= kMapTolerance;
+          const double e = std::hypot(ix - ex, iy - ey);
+          accept = e <= kMapTolerance;
+          if (k == 0 && e <= kMapTolerance / 16) break;
         }
       }
       if (accept) {
         ++out.interpolated_cells;
-        for (int64_t j = 0; j < h; ++j) {
-          columns(static_cast<int>(j));
-          for (int64_t i = 0; i < w; ++i) {
-            const size_t k = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell + i);
-            interp(static_cast<int>(i), static_cast<int>(j), out.xs[k], out.ys[k]);
-            out.ok[k] = contains(dst, static_cast<double>(px0 + i) + 0.5,
-                                 static_cast<double>(py0 + j) + 0.5) &&
-                        contains(src, out.xs[k], out.ys[k]);
+        double gx[4][4], gy[4][4];  // the stencil's nodes, [b][a]
+        for (int b = 0; b < 4; ++b)
+          for (int a = 0; a < 4; ++a) {
+            gx[b][a] = nxs[node(a, b)];
+            gy[b][a] = nys[node(a, b)];
           }
-        }
+        // One dispatch per cell; the pixel loop sees the concrete projection types. Per-pixel
+        // validity tests run only where the cell's rectangle (output) or its positions' bounding
+        // box (source) is not covered as a whole.
+        std::visit(
+            [&](const auto& d, const auto& sp) {
+              double bx0 = HUGE_VAL, by0 = HUGE_VAL, bx1 = -HUGE_VAL, by1 = -HUGE_VAL;
+              for (int64_t j = 0; j < h; ++j) {
+                const double* wj = kLagrange.w[j];
+                double cx4[4], cy4[4];
+                for (int a = 0; a < 4; ++a) {
+                  cx4[a] = wj[0] * gx[0][a] + wj[1] * gx[1][a] + wj[2] * gx[2][a] + wj[3] * gx[3][a];
+                  cy4[a] = wj[0] * gy[0][a] + wj[1] * gy[1][a] + wj[2] * gy[2][a] + wj[3] * gy[3][a];
+                }
+                const size_t row = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell);
+                for (int64_t i = 0; i < w; ++i) {
+                  const double* wi = kLagrange.w[i];
+                  const double sx = wi[0] * cx4[0] + wi[1] * cx4[1] + wi[2] * cx4[2] + wi[3] * cx4[3];
+                  const double sy = wi[0] * cy4[0] + wi[1] * cy4[1] + wi[2] * cy4[2] + wi[3] * cy4[3];
+                  out.xs[row + i] = sx;
+                  out.ys[row + i] = sy;
+                  bx0 = std::min(bx0, sx), bx1 = std::max(bx1, sx);
+                  by0 = std::min(by0, sy), by1 = std::max(by1, sy);
+                }
+              }
+              const bool all_dst = d.covers(static_cast<double>(px0) + 0.5, static_cast<double>(py0) + 0.5,
+                                            static_cast<double>(px0 + w) - 0.5, static_cast<double>(py0 + h) - 0.5);
+              const bool all_src = sp.covers(bx0, by0, bx1, by1);
+              for (int64_t j = 0; j < h; ++j) {
+                const size_t row = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell);
+                const double py = static_cast<double>(py0 + j) + 0.5;
+                for (int64_t i = 0; i < w; ++i) {
+                  out.ok[row + i] =
+                      (all_dst || d.contains(static_cast<double>(px0 + i) + 0.5, py)) &&
+                      (all_src || sp.contains(out.xs[row + i], out.ys[row + i]));
+                }
+              }
+            },
+            dst, src);
       } else {
         ++out.exact_cells;
         for (int64_t j = 0; j < h; ++j) {

@@ -2,6 +2,7 @@
 // One conversion, in memory: plan (projections bound to sizes, rotation) then remap.
 #include <optional>
 
+#include "panoproj/engine.hpp"
 #include "panoproj/image.hpp"
 #include "panoproj/interpolator.hpp"
 #include "panoproj/projection.hpp"
@@ -12,6 +13,7 @@ struct ConvertOptions {
   double yaw = 0, pitch = 0, roll = 0;  // degrees, see rotation.hpp
   Interp interp = Interp::Bicubic;
   int threads = 0;                      // 0: all cores
+  Engine engine = Engine::Simd;         // see engine.hpp
   std::optional<Size> size;             // output size; default: default_size() at the source's
                                         // centre density (square pixels)
 };

@@ -18,6 +18,7 @@ double unit_of(PixelType t);
 
 class Image {
  public:
+  static constexpr size_t kSlack = 16;
   Image() = default;
   // Zero-filled. alpha_channel: index of the alpha channel, or -1.
   Image(Size size, int channels, PixelType type, int alpha_channel = -1);
@@ -30,7 +31,7 @@ class Image {
   int alpha_channel() const { return alpha_; }
   size_t pixel_bytes() const { return static_cast<size_t>(channels_) * bytes_of(type_); }
   size_t row_bytes() const { return static_cast<size_t>(size_.width) * pixel_bytes(); }
-  size_t byte_size() const { return pixels_.size(); }
+  size_t byte_size() const { return bytes_; }
 
   unsigned char* data() { return pixels_.data(); }
   const unsigned char* data() const { return pixels_.data(); }
@@ -55,7 +56,8 @@ class Image {
   int channels_ = 0;
   PixelType type_ = PixelType::U8;
   int alpha_ = -1;
-  std::vector<unsigned char> pixels_;
+  size_t bytes_ = 0;
+  std::vector<unsigned char> pixels_;  // bytes_ + kSlack: SIMD gathers read a word past a pixel
 };
 
 }  // namespace panoproj

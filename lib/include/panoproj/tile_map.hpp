@@ -4,9 +4,9 @@
 //     (a node grid every kCell pixels, with one ring of nodes before and two after the tile);
 //   - inside each cell, cubic Lagrange interpolation of the 4x4 surrounding nodes (error of
 //     order h^4 times the map's 4th derivative), accepted when all 16 nodes have a source pixel
-//     and exact check points in the cell agree within kMapTolerance source pixels: five (centre,
-//     quarter points), and four more (edge midpoints of the inner square) where the five err
-//     by over a quarter of the tolerance;
+//     and exact check points in the cell agree within kMapTolerance source pixels: the centre,
+//     and where it errs by over kMapTolerance/16, eight more (quarter points and the inner
+//     square's edge midpoints);
 //   - otherwise (seams, face changes, field boundaries, singular points) exact per pixel.
 // Interpolated pixels are then checked with contains() on both sides, so validity is exact.
 // Bilinear over 8-px cells was tried first: it errs by h^2 f''/8 ~ 0.05 px on equirect -> cube,

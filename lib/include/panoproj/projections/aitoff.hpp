@@ -14,6 +14,7 @@ namespace panoproj {
 
 class Aitoff : public MapProjection<Aitoff> {
  public:
+  static constexpr bool kConvexOutline = true;  // an ellipse
   static constexpr int kMaxIterations = 40;
   static constexpr double kTolerance = 1e-12;
 

@@ -15,6 +15,7 @@ namespace panoproj {
 
 class Bonne : public MapProjection<Bonne> {
  public:
+  static constexpr bool kConvexOutline = false;  // the heart's notch
   static constexpr double kSmallPhi1 = 0.1;  // radians; both forms are exact on either side
 
   Bonne(Size size, double phi1, double lon0);

@@ -101,6 +101,13 @@ class Cubemap {
   // Whether pixel position (x, y) has a ray (inside a face).
   bool contains(double x, double y) const { return in_frame(x, y, size_) && face_at(x, y) >= 0; }
 
+  // True only if every position in [x0, x1] x [y0, y1] has a ray: both corners in one face's cell.
+  bool covers(double x0, double y0, double x1, double y1) const {
+    const int f = face_at(x0, y0);
+    if (f < 0 || !in_frame(x0, y0, size_) || !in_frame(x1, y1, size_)) return false;
+    const double ox = static_cast<double>(origin_[f][0]), oy = static_cast<double>(origin_[f][1]);
+    return x1 < ox + fd_ && y1 < oy + fd_;
+  }
   Size size() const { return size_; }
   double center_density() const { return 0.5 * fd_; }  // face focal length F/2
 

@@ -32,6 +32,10 @@ class Equirect {
   // Whether pixel position (x, y) has a ray (cheap form of to_ray's test).
   bool contains(double x, double y) const { return in_frame(x, y, size_); }
 
+  // True only if every position in [x0, x1] x [y0, y1] has a ray (used to skip per-pixel tests).
+  bool covers(double x0, double y0, double x1, double y1) const {
+    return in_frame(x0, y0, size_) && in_frame(x1, y1, size_);
+  }
   Size size() const { return size_; }
   double center_density() const { return static_cast<double>(size_.width) / hfov_; }
   bool full_longitude() const { return full_lon_; }

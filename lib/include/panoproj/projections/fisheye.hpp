@@ -80,6 +80,11 @@ class Fisheye {
     return inverse_law(r * g_max_, psi);
   }
 
+  // True only if every position in [x0, x1] x [y0, y1] has a ray: the valid region (an ellipse,
+  // or the frame) is convex, so its four corners decide.
+  bool covers(double x0, double y0, double x1, double y1) const {
+    return contains(x0, y0) && contains(x1, y0) && contains(x0, y1) && contains(x1, y1);
+  }
   Size size() const { return size_; }
   double center_density() const { return rx_ / g_max_; }  // g'(0) = 1
   double psi_max() const { return psi_max_; }

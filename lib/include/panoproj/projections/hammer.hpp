@@ -14,6 +14,7 @@ namespace panoproj {
 
 class Hammer : public MapProjection<Hammer> {
  public:
+  static constexpr bool kConvexOutline = false;  // not shown for every W
   Hammer(Size size, double w, double lon0) : MapProjection(lon0), w_(w) {
     const double x_max = forward_x(kPi, 0.0);
     frame_ = {size, -x_max, x_max, -std::sqrt(2.0), std::sqrt(2.0)};

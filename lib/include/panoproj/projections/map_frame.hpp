@@ -51,6 +51,12 @@ class MapProjection {
     return in_frame(x, y, frame_.size) && self().inside(frame_.plane_x(x), frame_.plane_y(y));
   }
 
+  // True only if every position in [x0, x1] x [y0, y1] has a ray: maps with a convex outline
+  // (Derived::kConvexOutline) decide by the four corners; others always say false.
+  bool covers(double x0, double y0, double x1, double y1) const {
+    if constexpr (!Derived::kConvexOutline) return false;
+    return contains(x0, y0) && contains(x1, y0) && contains(x0, y1) && contains(x1, y1);
+  }
   Size size() const { return frame_.size; }
   double center_density() const { return frame_.density(); }
   const MapFrame& frame() const { return frame_; }

@@ -1,0 +1,144 @@
+#include "panoproj/engine.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "panoproj/error.hpp"
+#include "panoproj/parallel.hpp"
+#include "panoproj/resample.hpp"
+#include "panoproj/source_edges.hpp"
+#include "panoproj/tile_map.hpp"
+#include "reference_sampler.hpp"
+#include "simd_sampler.hpp"
+
+namespace panoproj {
+
+Engine parse_engine(std::string_view name) {
+  for (Engine e : {Engine::Simd, Engine::Scalar, Engine::Reference})
+    if (name == name_of(e)) return e;
+  throw Error("engine '" + std::string(name) + "' is unknown (expected simd, scalar or reference)");
+}
+
+const char* name_of(Engine e) {
+  switch (e) {
+    case Engine::Simd: return "simd";
+    case Engine::Scalar: return "scalar";
+    case Engine::Reference: return "reference";
+  }
+  return "?";
+}
+
+const char* simd_target() { return simd_target_name(); }
+
+namespace {
+
+struct Footprint {
+  int64_t x0, y0, x1, y1;  // taps span [x0, x1) x [y0, y1)
+};
+
+// Taps of all valid samples of a tile, if they lie in one rectangle the SIMD kernel may read
+// without edge rules (the frame, or the samples' single cube face) and 32-bit offsets reach.
+bool interior_footprint(const TileMap& tm, const Image& src, const Projection& sp, Interp interp,
+                        Footprint& fp) {
+  const int k = support(interp);
+  Footprint lim{0, 0, src.width(), src.height()};
+  const auto* cube = std::get_if<Cubemap>(&sp);
+  int face = -2;
+  fp = {std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::max(),
+        std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::min()};
+  bool any = false;
+  for (size_t i = 0; i < tm.ok.size(); ++i) {
+    if (!tm.ok[i]) continue;
+    any = true;
+    if (cube) {
+      const int f = cube->face_at(tm.xs[i], tm.ys[i]);
+      if (face == -2) {
+        face = f;
+        const auto o = cube->face_origin(f);
+        lim = {o[0], o[1], o[0] + cube->face_size(), o[1] + cube->face_size()};
+      } else if (f != face) {
+        return false;
+      }
+    }
+    const int64_t bx = first_tap(interp, tm.xs[i]), by = first_tap(interp, tm.ys[i]);
+    fp.x0 = std::min(fp.x0, bx);
+    fp.y0 = std::min(fp.y0, by);
+    fp.x1 = std::max(fp.x1, bx + k);
+    fp.y1 = std::max(fp.y1, by + k);
+  }
+  if (!any) return false;
+  if (fp.x0 < lim.x0 || fp.y0 < lim.y0 || fp.x1 > lim.x1 || fp.y1 > lim.y1) return false;
+  const double span = static_cast<double>(fp.y1 - fp.y0) * static_cast<double>(src.row_bytes()) +
+                      static_cast<double>(fp.x1 - fp.x0) * static_cast<double>(src.pixel_bytes());
+  return span < 2e9;  // int32 byte offsets
+}
+
+}  // namespace
+
+Image fast_remap(const Image& src, const Projection& sp, const Projection& dp,
+                 const Eigen::Matrix3d& rotation, Interp interp, Engine engine, int threads,
+                 EngineStats* stats) {
+  if (engine == Engine::Reference) return remap(src, sp, dp, rotation, {interp, threads});
+  const Size size = size_of(dp);
+  Image out(size, src.channels(), src.type(), src.alpha_channel());
+  const SourceEdges edges(sp);
+  const int64_t tiles_x = (size.width + kTile - 1) / kTile, tiles_y = (size.height + kTile - 1) / kTile;
+  const int64_t n_tiles = tiles_x * tiles_y;
+  const bool use_simd = engine == Engine::Simd && interp != Interp::Nearest;
+  std::atomic<int64_t> next{0}, simd_tiles{0}, interp_cells{0}, exact_cells{0};
+  auto worker = [&] {
+    TileMap tm;
+    std::vector<float> fx(kTile + kMaxSimdLanes), fy(kTile + kMaxSimdLanes);
+    std::vector<uint8_t> fok(kTile + kMaxSimdLanes);
+    for (int64_t t; (t = next.fetch_add(1)) < n_tiles;) {
+      const TileRect rect{(t % tiles_x) * kTile, (t / tiles_x) * kTile,
+                          std::min(kTile, size.width - (t % tiles_x) * kTile),
+                          std::min(kTile, size.height - (t / tiles_x) * kTile)};
+      map_tile(sp, dp, rotation, rect, tm);
+      interp_cells += tm.interpolated_cells;
+      exact_cells += tm.exact_cells;
+      Footprint fp;
+      if (use_simd && interior_footprint(tm, src, sp, interp, fp)) {
+        ++simd_tiles;
+        // Positions relative to the footprint's corner, in float; invalid and padding lanes get
+        // a valid sample's position so that their taps stay inside too.
+        size_t first = 0;
+        while (!tm.ok[first]) ++first;
+        const float safe_x = static_cast<float>(tm.xs[first] - static_cast<double>(fp.x0));
+        const float safe_y = static_cast<float>(tm.ys[first] - static_cast<double>(fp.y0));
+        const SimdSource s{src.pixel(fp.x0, fp.y0), static_cast<int64_t>(src.row_bytes()),
+                           src.channels(), src.alpha_channel(), src.type()};
+        for (int64_t j = 0; j < rect.h; ++j) {
+          for (int64_t i = 0; i < kTile + kMaxSimdLanes; ++i) {
+            const size_t k = static_cast<size_t>(j * rect.w + i);
+            const bool in = i < rect.w && tm.ok[k];
+            fx[i] = in ? static_cast<float>(tm.xs[k] - static_cast<double>(fp.x0)) : safe_x;
+            fy[i] = in ? static_cast<float>(tm.ys[k] - static_cast<double>(fp.y0)) : safe_y;
+            fok[i] = in;
+          }
+          simd_sample(s, interp, fx.data(), fy.data(), fok.data(), rect.w, out.pixel(rect.x0, rect.y0 + j));
+        }
+      } else {
+        for (int64_t j = 0; j < rect.h; ++j) {
+          const size_t k = static_cast<size_t>(j * rect.w);
+          sample_reference(src, edges, interp, tm.xs.data() + k, tm.ys.data() + k, tm.ok.data() + k,
+                           rect.w, out.pixel(rect.x0, rect.y0 + j));
+        }
+      }
+    }
+  };
+  const int n_threads = static_cast<int>(std::min<int64_t>(resolve_threads(threads), n_tiles));
+  std::vector<std::thread> pool;
+  for (int i = 1; i < n_threads; ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& th : pool) th.join();
+  if (stats) *stats = {n_tiles, simd_tiles.load(), interp_cells.load(), exact_cells.load()};
+  return out;
+}
+
+}  // namespace panoproj

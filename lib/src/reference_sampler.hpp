@@ -1,0 +1,15 @@
+#pragma once
+// The reference (double, per-tap edge rules) sampler of resample.cpp, for the engine's tiles
+// that touch an edge and for its scalar mode. Internal.
+#include <cstdint>
+
+#include "panoproj/image.hpp"
+#include "panoproj/interpolator.hpp"
+#include "panoproj/source_edges.hpp"
+
+namespace panoproj {
+
+void sample_reference(const Image& src, const SourceEdges& edges, Interp interp, const double* xs,
+                      const double* ys, const uint8_t* ok, int64_t n, unsigned char* out);
+
+}  // namespace panoproj
