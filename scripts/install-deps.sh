@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages panoproj needs, only those missing (about a second when none is).
-# Usage: scripts/install-deps.sh [--dev]   (--dev adds nothing yet; reserved for sanitizer/fuzz tools)
+# Usage: scripts/install-deps.sh   (PANOPROJ_EXTRA_PKGS adds packages, e.g. OpenCV for bench/)
 set -euo pipefail
 
 pkgs=(
@@ -14,6 +14,8 @@ pkgs=(
   ccache                             # fast rebuilds; used only when present
 )
 
+# shellcheck disable=SC2206
+pkgs+=(${PANOPROJ_EXTRA_PKGS:-})
 missing=()
 for p in "${pkgs[@]}"; do
   # dpkg-query is ~10 ms a package: the whole check stays well under a second.

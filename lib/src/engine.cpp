@@ -52,6 +52,7 @@ bool interior_footprint(const TileMap& tm, const Image& src, const Projection& s
   fp = {std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::max(),
         std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::min()};
   bool any = false;
+  double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
   for (size_t i = 0; i < tm.ok.size(); ++i) {
     if (!tm.ok[i]) continue;
     any = true;
@@ -65,12 +66,12 @@ bool interior_footprint(const TileMap& tm, const Image& src, const Projection& s
         return false;
       }
     }
-    const int64_t bx = first_tap(interp, tm.xs[i]), by = first_tap(interp, tm.ys[i]);
-    fp.x0 = std::min(fp.x0, bx);
-    fp.y0 = std::min(fp.y0, by);
-    fp.x1 = std::max(fp.x1, bx + k);
-    fp.y1 = std::max(fp.y1, by + k);
+    x0 = std::min(x0, tm.xs[i]), x1 = std::max(x1, tm.xs[i]);
+    y0 = std::min(y0, tm.ys[i]), y1 = std::max(y1, tm.ys[i]);
   }
+  // Taps are monotonic in the position: the extremes bound them all.
+  if (any) fp = {first_tap(interp, x0), first_tap(interp, y0), first_tap(interp, x1) + k,
+                 first_tap(interp, y1) + k};
   if (!any) return false;
   if (fp.x0 < lim.x0 || fp.y0 < lim.y0 || fp.x1 > lim.x1 || fp.y1 > lim.y1) return false;
   const double span = static_cast<double>(fp.y1 - fp.y0) * static_cast<double>(src.row_bytes()) +
@@ -94,7 +95,6 @@ Image fast_remap(const Image& src, const Projection& sp, const Projection& dp,
   auto worker = [&] {
     TileMap tm;
     std::vector<float> fx(kTile + kMaxSimdLanes), fy(kTile + kMaxSimdLanes);
-    std::vector<uint8_t> fok(kTile + kMaxSimdLanes);
     for (int64_t t; (t = next.fetch_add(1)) < n_tiles;) {
       const TileRect rect{(t % tiles_x) * kTile, (t / tiles_x) * kTile,
                           std::min(kTile, size.width - (t % tiles_x) * kTile),
@@ -113,15 +113,18 @@ Image fast_remap(const Image& src, const Projection& sp, const Projection& dp,
         const float safe_y = static_cast<float>(tm.ys[first] - static_cast<double>(fp.y0));
         const SimdSource s{src.pixel(fp.x0, fp.y0), static_cast<int64_t>(src.row_bytes()),
                            src.channels(), src.alpha_channel(), src.type()};
+        const double ox = static_cast<double>(fp.x0), oy = static_cast<double>(fp.y0);
+        std::fill(fx.begin() + rect.w, fx.end(), safe_x);
+        std::fill(fy.begin() + rect.w, fy.end(), safe_y);
         for (int64_t j = 0; j < rect.h; ++j) {
-          for (int64_t i = 0; i < kTile + kMaxSimdLanes; ++i) {
-            const size_t k = static_cast<size_t>(j * rect.w + i);
-            const bool in = i < rect.w && tm.ok[k];
-            fx[i] = in ? static_cast<float>(tm.xs[k] - static_cast<double>(fp.x0)) : safe_x;
-            fy[i] = in ? static_cast<float>(tm.ys[k] - static_cast<double>(fp.y0)) : safe_y;
-            fok[i] = in;
+          const double* xs = tm.xs.data() + j * rect.w;
+          const double* ys = tm.ys.data() + j * rect.w;
+          const uint8_t* ok = tm.ok.data() + j * rect.w;
+          for (int64_t i = 0; i < rect.w; ++i) {
+            fx[i] = ok[i] ? static_cast<float>(xs[i] - ox) : safe_x;
+            fy[i] = ok[i] ? static_cast<float>(ys[i] - oy) : safe_y;
           }
-          simd_sample(s, interp, fx.data(), fy.data(), fok.data(), rect.w, out.pixel(rect.x0, rect.y0 + j));
+          simd_sample(s, interp, fx.data(), fy.data(), ok, rect.w, out.pixel(rect.x0, rect.y0 + j));
         }
       } else {
         for (int64_t j = 0; j < rect.h; ++j) {

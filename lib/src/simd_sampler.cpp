@@ -145,22 +145,34 @@ void SampleRowT(const SimdSource& s, const float* xs, const float* ys, const uin
         }
       }
     }
-    for (int ch = 0; ch < nc; ++ch) hn::Store(acc[ch], df, res[ch]);
+    // Unpremultiply, round and clamp in vectors; the scalar loop below only narrows and stores.
+    if (alpha >= 0) {
+      const VF a = hn::Mul(acc[alpha], hn::Set(df, 1.0f / unit));
+      const auto has = hn::Gt(a, hn::Set(df, 1e-12f));
+      const VF inv = hn::Div(hn::Set(df, 1.0f), hn::IfThenElse(has, a, hn::Set(df, 1.0f)));
+      for (int ch = 0; ch < nc; ++ch)
+        if (ch != alpha) acc[ch] = hn::IfThenElseZero(has, hn::Mul(acc[ch], inv));
+      acc[alpha] = hn::Mul(hn::Min(hn::Max(a, hn::Zero(df)), hn::Set(df, 1.0f)), hn::Set(df, unit));
+    }
     const int64_t m = std::min<int64_t>(static_cast<int64_t>(N), n - i);
-    for (int64_t l = 0; l < m; ++l) {
-      unsigned char* p = out + (i + l) * pb;
-      if (!ok[i + l]) {
-        std::memset(p, 0, static_cast<size_t>(pb));
-        continue;
+    if constexpr (std::is_integral_v<T>) {
+      HWY_ALIGN int32_t q[4][kMaxSimdLanes];
+      for (int ch = 0; ch < nc; ++ch) {
+        const VF c = hn::Min(hn::Max(acc[ch], hn::Zero(df)), hn::Set(df, unit));
+        hn::Store(hn::NearestInt(c), di, q[ch]);
       }
-      float v[4] = {res[0][l], res[1][l], res[2][l], res[3][l]};
-      if (alpha >= 0) {
-        const float a = v[alpha] / unit;
-        for (int ch = 0; ch < nc; ++ch)
-          if (ch != alpha) v[ch] = a > 1e-12f ? v[ch] / a : 0.0f;
-        v[alpha] = std::clamp(a, 0.0f, 1.0f) * unit;
+      for (int64_t l = 0; l < m; ++l) {
+        T* p = reinterpret_cast<T*>(out + (i + l) * pb);
+        const bool valid = ok[i + l] != 0;
+        for (int ch = 0; ch < nc; ++ch) p[ch] = valid ? static_cast<T>(q[ch][l]) : T{0};
       }
-      for (int ch = 0; ch < nc; ++ch) StoreSample<T>(p + ch * sizeof(T), v[ch]);
+    } else {
+      for (int ch = 0; ch < nc; ++ch) hn::Store(acc[ch], df, res[ch]);
+      for (int64_t l = 0; l < m; ++l) {
+        unsigned char* p = out + (i + l) * pb;
+        const bool valid = ok[i + l] != 0;
+        for (int ch = 0; ch < nc; ++ch) StoreSample<T>(p + ch * sizeof(T), valid ? res[ch][l] : 0.0f);
+      }
     }
   }
 }

@@ -22,6 +22,7 @@ inline constexpr int kMaxSimdLanes = 16;
 
 // Samples n positions (xs, ys relative to base, panoproj pixel convention) for bilinear, bicubic
 // or lanczos3, writing interleaved pixels of src's type to out; samples with ok = 0 are 0.
+// xs and ys are read (not written) up to n rounded up to kMaxSimdLanes; ok only up to n.
 // Reads up to 3 bytes past the last pixel it touches (Image keeps that slack).
 void simd_sample(const SimdSource& src, Interp interp, const float* xs, const float* ys,
                  const uint8_t* ok, int64_t n, unsigned char* out);
