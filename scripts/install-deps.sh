@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages panoproj needs, only those missing (about a second when none is).
-# Usage: scripts/install-deps.sh   (PANOPROJ_EXTRA_PKGS adds packages, e.g. OpenCV for bench/)
+# Usage: scripts/install-deps.sh
 set -euo pipefail
 
 pkgs=(
@@ -10,12 +10,11 @@ pkgs=(
   libcli11-dev                       # the panoproj command
   libhwy-dev                         # SIMD kernels (Google Highway)
   libgtest-dev                       # ctest suite
+  libopencv-core-dev libopencv-imgproc-dev  # test oracle and bench peer (not the library)
   python3 python3-venv               # Python side (venv for Debian's own python3)
   ccache                             # fast rebuilds; used only when present
 )
 
-# shellcheck disable=SC2206
-pkgs+=(${PANOPROJ_EXTRA_PKGS:-})
 missing=()
 for p in "${pkgs[@]}"; do
   # dpkg-query is ~10 ms a package: the whole check stays well under a second.

@@ -25,6 +25,17 @@ class Io : public test::TempDirTest {
   }
 };
 
+WriteOptions with_type(PixelType t) {
+  WriteOptions w;
+  w.type = t;
+  return w;
+}
+WriteOptions replacing() {
+  WriteOptions w;
+  w.overwrite = true;
+  return w;
+}
+
 Image pattern(Size s, int nc, PixelType t, int alpha) {
   Image im(s, nc, t, alpha);
   for (int64_t y = 0; y < s.height; ++y)
@@ -79,11 +90,11 @@ TEST_F(Io, HdrAndJpegRoundTripWithinTheirFormats) {
 
 TEST_F(Io, DepthConversionOnWrite) {
   const Image im = pattern({8, 8}, 3, PixelType::U8, -1);
-  write_image(im, path("a.exr"), {false, PixelType::F32});
+  write_image(im, path("a.exr"), with_type(PixelType::F32));
   const Image f = read_image(path("a.exr"));
   ASSERT_EQ(f.type(), PixelType::F32);
   EXPECT_FLOAT_EQ(test::get(f, 3, 4, 1), test::get(im, 3, 4, 1) / 255.0);
-  write_image(f, path("b.png"), {false, PixelType::U16});
+  write_image(f, path("b.png"), with_type(PixelType::U16));
   EXPECT_EQ(test::get(read_image(path("b.png")), 3, 4, 1), test::get(im, 3, 4, 1) * 257);
 }
 
@@ -99,7 +110,7 @@ TEST_F(Io, RefusesToClobberAndLeavesNothingBehindOnFailure) {
     EXPECT_EQ(std::string(e.what()), "output " + path("a.png") + " exists (pass --overwrite to replace it)");
   }
   EXPECT_EQ(fs::file_size(path("a.png")), before);
-  write_image(other, path("a.png"), {true, std::nullopt});
+  write_image(other, path("a.png"), replacing());
   EXPECT_EQ(read_image(path("a.png")).width(), 9);
   // An extension no format has: an error and no file, not even a temporary one.
   EXPECT_THROW(write_image(im, path("b.xyz"), {}), Error);
@@ -134,7 +145,7 @@ TEST_F(Io, CubeFacesRoundTripAndMustMatch) {
   EXPECT_EQ(listing(), (std::vector<std::string>{"f0_front.png", "f1_right.png", "f2_back.png",
                                                   "f3_left.png", "f4_up.png", "f5_down.png"}));
   EXPECT_TRUE(read_cube_faces(path("f{index}_{face}.png")) == strip);
-  write_image(pattern({15, 15}, 3, PixelType::U8, -1), path("f3_left.png"), {true, std::nullopt});
+  write_image(pattern({15, 15}, 3, PixelType::U8, -1), path("f3_left.png"), replacing());
   try {
     read_cube_faces(path("f{index}_{face}.png"));
     FAIL();

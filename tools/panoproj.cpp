@@ -116,6 +116,23 @@ int main(int argc, char** argv) {
   convert->add_flag("-q,--quiet", quiet, "print nothing on success");
   convert->add_flag("-v,--verbose", verbose, "let image libraries print their own warnings");
 
+  MapsJob maps_job;
+  std::string maps_size, maps_source_size, maps_convention = "opencv";
+  auto* maps = app.add_subcommand("maps", "write the source-coordinate map of a conversion (float x, y)");
+  maps->add_option("output", maps_job.output, "map file: .exr or .tif (2 float channels: x, y)")->required();
+  maps->add_option("--from", maps_job.from, "source projection spec")->required();
+  maps->add_option("--source-size", maps_source_size, "source image size WxH")->required();
+  maps->add_option("--to", maps_job.to, "target projection spec")->required();
+  maps->add_option("--size", maps_size, "output size WxH (default: as for convert)");
+  maps->add_option("--yaw", maps_job.options.yaw, "degrees, positive looks right");
+  maps->add_option("--pitch", maps_job.options.pitch, "degrees, positive looks up");
+  maps->add_option("--roll", maps_job.options.roll, "degrees, positive turns the view clockwise");
+  maps->add_option("--convention", maps_convention,
+                   "opencv (default: centres at integers, -1 where no source, for cv::remap) | "
+                   "panoproj (centres at i + 0.5, NaN where no source)");
+  maps->add_option("--threads", maps_job.options.threads, "worker threads (default: all cores)");
+  maps->add_flag("--overwrite", maps_job.write.overwrite, "replace an existing output");
+
   auto* info = app.add_subcommand("info", "list projections, their parameters and defaults");
 
   try {
@@ -127,6 +144,17 @@ int main(int argc, char** argv) {
   try {
     if (info->parsed()) {
       print_info();
+      return 0;
+    }
+    if (maps->parsed()) {
+      maps_job.source_size = parse_size(maps_source_size);
+      if (!maps_size.empty()) maps_job.options.size = parse_size(maps_size);
+      if (maps_convention != "opencv" && maps_convention != "panoproj")
+        throw Error("convention: " + maps_convention + " (expected opencv or panoproj)");
+      maps_job.convention = maps_convention == "opencv" ? MapConvention::OpenCV : MapConvention::Panoproj;
+      const Size out = run_maps(maps_job);
+      std::printf("%s: %lldx%lld map (x, y float32, %s convention)\n", maps_job.output.c_str(),
+                  static_cast<long long>(out.width), static_cast<long long>(out.height), maps_convention.c_str());
       return 0;
     }
     if (!from_text.empty()) job.from = from_text;

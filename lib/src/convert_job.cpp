@@ -93,4 +93,18 @@ ConvertReport run_convert(const ConvertJob& job) {
           seconds};
 }
 
+Size run_maps(const MapsJob& job) {
+  const std::string ext = fs::path(job.output).extension().string();
+  if (ext != ".exr" && ext != ".tif" && ext != ".tiff")
+    throw Error("output " + job.output + " cannot hold float maps (use .exr or .tif)");
+  if (!job.write.overwrite && fs::exists(job.output))
+    throw Error("output " + job.output + " exists (pass --overwrite to replace it)");
+  const Plan plan = make_plan(job.source_size, parse_spec(job.from), parse_spec(job.to), job.options);
+  const Image map = build_map(plan.source, plan.target, plan.rotation, job.convention, job.options.threads);
+  WriteOptions w = job.write;
+  w.channel_names = {"x", "y"};
+  write_image(map, job.output, w);
+  return map.size();
+}
+
 }  // namespace panoproj

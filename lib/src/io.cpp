@@ -88,6 +88,7 @@ void write_file(const Image& in, const std::string& tmp, const std::string& show
                        oiio_type(image->type()));
   spec.alpha_channel = alpha;
   spec.attribute("oiio:UnassociatedAlpha", 1);  // colours are straight, as read
+  if (static_cast<int>(options.channel_names.size()) == nch) spec.channelnames = options.channel_names;
   if (fs::path(shown_path).extension() == ".jpg" || fs::path(shown_path).extension() == ".jpeg")
     spec.attribute("Compression", "jpeg:95");
   bool ok = out->open(tmp, spec);

@@ -11,10 +11,9 @@
 #include "panoproj/image.hpp"
 #include "panoproj/interpolator.hpp"
 #include "panoproj/projection.hpp"
+#include "panoproj/tile_map.hpp"
 
 namespace panoproj {
-
-inline constexpr int64_t kTile = 64;
 
 enum class Engine {
   Simd,       // tiles, interpolated coordinates, SIMD sampling where no edge is touched (default)

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "panoproj/image.hpp"
 
@@ -14,6 +15,7 @@ namespace panoproj {
 struct WriteOptions {
   bool overwrite = false;
   std::optional<PixelType> type;  // convert samples before writing; default: keep
+  std::vector<std::string> channel_names;  // default: the format's (R, G, B, A)
 };
 
 Image read_image(const std::string& path);

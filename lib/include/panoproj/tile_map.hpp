@@ -19,6 +19,7 @@
 
 namespace panoproj {
 
+inline constexpr int64_t kTile = 64;  // output tile side: the unit of work and of threading
 inline constexpr int kCell = 8;
 inline constexpr double kMapTolerance = 1.0 / 1024;  // source pixels, at the checked points
 
