@@ -1,6 +1,7 @@
 // The panoproj command end to end: a good run writes its output; every kind of bad input gives
 // one line on stderr naming the value, a non-zero exit, and writes nothing (inputs untouched).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <filesystem>
@@ -50,7 +51,8 @@ class Cli : public test::TempDirTest {
   // Names and sizes of the folder's files.
   std::map<std::string, uintmax_t> snapshot() const {
     std::map<std::string, uintmax_t> m;
-    for (const auto& e : fs::directory_iterator(dir_)) m[e.path().filename().string()] = fs::file_size(e.path());
+    for (const auto& e : fs::recursive_directory_iterator(dir_))
+      if (e.is_regular_file()) m[fs::relative(e.path(), dir_).string()] = e.file_size();
     return m;
   }
 
@@ -80,6 +82,39 @@ TEST_F(Cli, ConvertsAndReports) {
   const CliRun back = run("convert '" + p("c_{face}.png") + "' " + p("back.png") + " --to equirect --size 64x32 -q");
   ASSERT_EQ(back.code, 0) << back.err;
   EXPECT_EQ(back.out, "");
+}
+
+TEST_F(Cli, BatchBuildsOneMapAndMatchesSingleConversions) {
+  for (int k = 0; k < 3; ++k) {
+    Image e({64, 32}, 3, PixelType::U8);
+    for (size_t i = 0; i < e.byte_size(); ++i) e.data()[i] = static_cast<unsigned char>((i * (k + 3)) % 251);
+    write_image(e, p("frame" + std::to_string(k) + ".png"), {});
+  }
+  mkdir(p("out").c_str(), 0755);
+  const CliRun r = run("convert " + p("frame0.png") + " " + p("frame1.png") + " " + p("frame2.png") + " '" +
+                       p("out/{stem}_{n}.png") + "' --to fisheye:fov=200 --interp bicubic");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "");  // no progress bar when stderr is not a terminal
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 3);
+  for (int k = 0; k < 3; ++k) {
+    const std::string single = p("single" + std::to_string(k) + ".png");
+    ASSERT_EQ(run("convert " + p("frame" + std::to_string(k) + ".png") + " " + single +
+                  " --to fisheye:fov=200 --interp bicubic -q").code, 0);
+    EXPECT_TRUE(read_image(p("out/frame" + std::to_string(k) + "_" + std::to_string(k) + ".png")) ==
+                read_image(single));
+  }
+}
+
+TEST_F(Cli, BatchIsCheckedBeforeAnythingIsWritten) {
+  write_image(Image({64, 32}, 3, PixelType::U8), p("a.png"), {});
+  expect_refused("convert " + p("a.png") + " " + p("pano.png") + " " + p("out.png") + " --to equirect",
+                 "names one file for 2 inputs");
+  expect_refused("convert " + p("a.png") + " " + p("square.png") + " '" + p("{stem}_o.png") + "' --to equirect",
+                 "a batch shares one size");
+  mkdir(p("sub").c_str(), 0755);
+  write_image(Image({64, 32}, 3, PixelType::U8), p("sub/a.png"), {});
+  expect_refused("convert " + p("a.png") + " " + p("sub/a.png") + " '" + p("{stem}_o.png") + "' --to equirect",
+                 "would be written twice");
 }
 
 TEST_F(Cli, InfoListsEveryProjection) {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 
+#include "panoproj/error.hpp"
 #include "panoproj/resample.hpp"
 #include "panoproj/rotation.hpp"
 #include "test_support.hpp"
@@ -85,6 +86,18 @@ TEST(Engine, ThreadCountDoesNotChangeOneBit) {
     EXPECT_TRUE(fast_remap(im, src, dst, Eigen::Matrix3d::Identity(), Interp::Bicubic, e, 2) == one);
     EXPECT_TRUE(fast_remap(im, src, dst, Eigen::Matrix3d::Identity(), Interp::Bicubic, e, 5) == one);
   }
+}
+
+TEST(Engine, CachedMapGivesTheSameBytesAndChecksSizes) {
+  const Projection src = make("equirect", {600, 300});
+  const Projection dst = make("cubemap:layout=cross", {4 * 100, 3 * 100});
+  const Eigen::Matrix3d r = rotation_from_ypr(10, 5, 0);
+  const Converter cached(src, dst, r, Interp::Bicubic, Engine::Simd, 2, true);
+  for (uint32_t seed : {1u, 2u}) {  // two frames through one cached map
+    const Image im = test::render(src, test::band_limited_scene(0.1, 600, seed), PixelType::U8);
+    EXPECT_TRUE(cached.run(im) == fast_remap(im, src, dst, r, Interp::Bicubic, Engine::Simd, 1));
+  }
+  EXPECT_THROW(cached.run(Image({601, 300}, 3, PixelType::U8)), Error);
 }
 
 TEST(Engine, AgreesWithTheReference) {

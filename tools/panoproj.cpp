@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -57,9 +58,40 @@ class QuietStderr {
   }
   QuietStderr(const QuietStderr&) = delete;
   QuietStderr& operator=(const QuietStderr&) = delete;
+  // The real stderr while held (for the progress bar).
+  int fd() const { return saved_ >= 0 ? saved_ : 2; }
 
  private:
   int saved_ = -1;
+};
+
+// "[#####.....]  52%" redrawn in place, only on a terminal.
+class ProgressBar {
+ public:
+  ProgressBar(int fd, bool enabled) : fd_(fd), enabled_(enabled && ::isatty(fd)) {}
+  ~ProgressBar() {
+    if (enabled_ && shown_) (void)!::write(fd_, "\r\033[K", 4);
+  }
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
+  void update(double fraction) {
+    if (!enabled_) return;
+    const int percent = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * 100);
+    if (percent == last_) return;
+    last_ = percent;
+    shown_ = true;
+    char line[128];
+    const int filled = percent * 30 / 100;
+    const int n = std::snprintf(line, sizeof line, "\r[%.*s%.*s] %3d%%", filled,
+                                "##############################", 30 - filled,
+                                "..............................", percent);
+    (void)!::write(fd_, line, static_cast<size_t>(n));
+  }
+
+ private:
+  int fd_;
+  bool enabled_, shown_ = false;
+  int last_ = -1;
 };
 
 void print_info() {
@@ -93,9 +125,12 @@ int main(int argc, char** argv) {
   std::string size_text, interp_text = "bicubic", depth_text, engine_text = "simd";
   std::string from_text;
   auto* convert = app.add_subcommand("convert", "convert one image (or cube-face set) to another projection");
-  convert->add_option("input", job.input, "input image, or a cube-face pattern with {face}/{index}")
-      ->required();
-  convert->add_option("output", job.output, "output image, or a cube-face pattern")->required();
+  std::vector<std::string> files;
+  convert->add_option("files", files,
+                      "IN... OUT: an input image (or a cube-face pattern with {face}/{index}) and the "
+                      "output; several inputs (same size) need an output pattern with {stem} or {n}")
+      ->required()
+      ->expected(2, -1);
   convert->add_option("--from", from_text,
                       "source projection spec (default: 2:1 image = equirect; face pattern = "
                       "cubemap:layout=files)");
@@ -162,21 +197,26 @@ int main(int argc, char** argv) {
     job.options.interp = parse_interp(interp_text);
     job.options.engine = parse_engine(engine_text);
     job.write.type = parse_depth(depth_text);
-    const ConvertReport r = [&] {
-      QuietStderr hold(!verbose);
-      return run_convert(job);
-    }();
-    if (!quiet) {
-      auto dims = [](Size sz, bool faces) {
-        return std::string(faces ? "6 faces of " : "") + std::to_string(sz.width) + "x" +
-               std::to_string(sz.height);
-      };
-      std::printf("%s (%s, %s) -> %s (%s, %s): %.3f s, %s, %s engine (%s), %d threads\n",
-                  job.input.c_str(), dims(r.input_size, r.input_faces).c_str(), r.from.c_str(),
-                  job.output.c_str(), dims(r.output_size, r.output_faces).c_str(), r.to.c_str(),
-                  r.seconds, interp_text.c_str(), engine_text.c_str(), simd_target(),
-                  resolve_threads(job.options.threads));
-    }
+    job.output = files.back();
+    job.inputs.assign(files.begin(), files.end() - 1);
+    auto dims = [](Size sz, bool faces) {
+      return std::string(faces ? "6 faces of " : "") + std::to_string(sz.width) + "x" +
+             std::to_string(sz.height);
+    };
+    QuietStderr hold(!verbose);
+    ProgressBar bar(hold.fd(), !quiet);
+    run_convert(
+        job,
+        [&](const ConvertReport& r) {
+          if (quiet) return;
+          std::printf("\r%s (%s, %s) -> %s (%s, %s): %.3f s, %s, %s engine (%s), %d threads\n",
+                      r.input.c_str(), dims(r.input_size, r.input_faces).c_str(), r.from.c_str(),
+                      r.output.c_str(), dims(r.output_size, r.output_faces).c_str(), r.to.c_str(),
+                      r.seconds, interp_text.c_str(), engine_text.c_str(), simd_target(),
+                      resolve_threads(job.options.threads));
+          std::fflush(stdout);
+        },
+        [&](double f) { bar.update(f); });
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "panoproj: error: %s\n", e.what());

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "panoproj/engine.hpp"
 #include "panoproj/error.hpp"
 
 namespace panoproj {
@@ -38,34 +39,79 @@ ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const s
               std::to_string(size.height) + " is not a 2:1 equirect): give --from SPEC");
 }
 
-ConvertReport run_convert(const ConvertJob& job) {
+namespace {
+
+std::string batch_output(const std::string& pattern, const std::string& input, size_t n) {
+  std::string s = pattern;
+  for (const auto& [key, value] : {std::pair<std::string, std::string>{"{stem}", fs::path(input).stem().string()},
+                                   {"{n}", std::to_string(n)}})
+    for (size_t at; (at = s.find(key)) != std::string::npos;) s.replace(at, key.size(), value);
+  return s;
+}
+
+}  // namespace
+
+std::vector<ConvertReport> run_convert(const ConvertJob& job,
+                                       const std::function<void(const ConvertReport&)>& on_frame,
+                                       const std::function<void(double)>& progress) {
+  if (job.inputs.empty()) throw Error("no input given (expected one or more images)");
   const ProjectionSpec to = parse_spec(job.to);
-  const bool in_faces = is_face_pattern(job.input), out_faces = is_cube_files(to);
+  const bool batch = job.inputs.size() > 1;
+  const bool in_faces = !batch && is_face_pattern(job.inputs[0]), out_faces = is_cube_files(to);
   if (out_faces != is_face_pattern(job.output))
     throw Error(out_faces ? "output " + job.output +
                                 " needs {face} or {index} for cubemap:layout=files"
                           : "output " + job.output +
                                 " has {face}/{index} but --to is not cubemap:layout=files");
-  // The output must not be an input, checked before reading anything.
-  for (const auto& o : expand(job.output, out_faces))
-    for (const auto& i : expand(job.input, in_faces))
-      if (same_file(o, i))
-        throw Error("output " + o + " is the input (choose another output path)");
-  if (!job.write.overwrite)
-    for (const auto& o : expand(job.output, out_faces))
-      if (std::error_code ec; fs::exists(o, ec))
-        throw Error("output " + o + " exists (pass --overwrite to replace it)");
+  if (batch) {
+    if (job.output.find("{stem}") == std::string::npos && job.output.find("{n}") == std::string::npos)
+      throw Error("output " + job.output + " names one file for " + std::to_string(job.inputs.size()) +
+                  " inputs (put {stem} or {n} in it, e.g. out/{stem}.jpg)");
+    for (const auto& in : job.inputs)
+      if (is_face_pattern(in))
+        throw Error("input " + in + " is a face pattern: cube faces convert one set at a time");
+  }
+  // Every output path, then: distinct, not an input, not existing (unless overwrite).
+  std::vector<std::string> outputs;
+  for (size_t n = 0; n < job.inputs.size(); ++n) outputs.push_back(batch ? batch_output(job.output, job.inputs[n], n) : job.output);
+  std::vector<std::string> all_outputs, all_inputs;
+  for (const auto& o : outputs)
+    for (const auto& f : expand(o, out_faces)) all_outputs.push_back(f);
+  for (const auto& i : job.inputs)
+    for (const auto& f : expand(i, in_faces)) all_inputs.push_back(f);
+  for (size_t a = 0; a < all_outputs.size(); ++a) {
+    for (size_t b = 0; b < a; ++b)
+      if (all_outputs[a] == all_outputs[b])
+        throw Error("output " + all_outputs[a] + " would be written twice (make the pattern unique per input)");
+    for (const auto& i : all_inputs)
+      if (same_file(all_outputs[a], i))
+        throw Error("output " + all_outputs[a] + " is the input (choose another output path)");
+    if (std::error_code ec; !job.write.overwrite && fs::exists(all_outputs[a], ec))
+      throw Error("output " + all_outputs[a] + " exists (pass --overwrite to replace it)");
+  }
 
   std::optional<ProjectionSpec> from;
   if (job.from) from = parse_spec(*job.from);  // early: a bad spec fails before any reading
   if (from && is_cube_files(*from) != in_faces)
-    throw Error(in_faces ? "input " + job.input + " is a face pattern but --from is not "
-                                                  "cubemap:layout=files"
+    throw Error(in_faces ? "input " + job.inputs[0] + " is a face pattern but --from is not "
+                                                      "cubemap:layout=files"
                          : "--from cubemap:layout=files needs an input pattern with {face} or "
                            "{index}");
-  const Image source = in_faces ? read_cube_faces(job.input) : read_image(job.input);
-  if (!from) from = infer_source_spec(std::nullopt, job.input, source.size());
+  // A batch shares one geometry: every header is read (no pixels) before any work.
+  Size batch_size{};
+  if (batch) {
+    batch_size = read_image_size(job.inputs[0]);
+    for (const auto& in : job.inputs) {
+      const Size s = read_image_size(in);
+      if (s != batch_size)
+        throw Error("input " + in + " is " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                    " but " + job.inputs[0] + " is " + std::to_string(batch_size.width) + "x" +
+                    std::to_string(batch_size.height) + " (a batch shares one size)");
+    }
+  }
 
+  std::vector<ConvertReport> reports;
+  std::optional<Converter> converter;
   ConvertOptions options = job.options;
   if (options.size && out_faces) {
     // For separate face files the size is one face's.
@@ -75,22 +121,31 @@ ConvertReport run_convert(const ConvertJob& job) {
                   " is not square (cube faces are square; or use face=N)");
     options.size = Size{6 * options.size->width, options.size->height};
   }
-  const Plan plan = make_plan(source.size(), *from, to, options);
-  const auto t0 = std::chrono::steady_clock::now();
-  const Image out = fast_remap(source, plan.source, plan.target, plan.rotation, options.interp,
-                               options.engine, options.threads);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (out_faces) write_cube_faces(out, job.output, job.write);
-  else write_image(out, job.output, job.write);
-  auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };
-  return {from->str(),
-          to.str(),
-          in_faces ? face_size(source.size()) : source.size(),
-          out_faces ? face_size(out.size()) : out.size(),
-          in_faces,
-          out_faces,
-          seconds};
+  for (size_t n = 0; n < job.inputs.size(); ++n) {
+    const Image source = in_faces ? read_cube_faces(job.inputs[n]) : read_image(job.inputs[n]);
+    if (!converter) {
+      if (!from) from = infer_source_spec(std::nullopt, job.inputs[n], source.size());
+      const Plan plan = make_plan(source.size(), *from, to, options);
+      converter.emplace(plan.source, plan.target, plan.rotation, options.interp, options.engine,
+                        options.threads, batch);
+    } else if (source.size() != batch_size) {
+      throw Error("input " + job.inputs[n] + " changed size while converting");
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const double frames = static_cast<double>(job.inputs.size());
+    const Image out = converter->run(source, nullptr, [&](double f) {
+      if (progress) progress((static_cast<double>(n) + f) / frames);
+    });
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (out_faces) write_cube_faces(out, outputs[n], job.write);
+    else write_image(out, outputs[n], job.write);
+    auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };
+    reports.push_back({job.inputs[n], outputs[n], from->str(), to.str(),
+                       in_faces ? face_size(source.size()) : source.size(),
+                       out_faces ? face_size(out.size()) : out.size(), in_faces, out_faces, seconds});
+    if (on_frame) on_frame(reports.back());
+  }
+  return reports;
 }
 
 Size run_maps(const MapsJob& job) {

@@ -81,29 +81,65 @@ bool interior_footprint(const TileMap& tm, const Image& src, const Projection& s
 
 }  // namespace
 
-Image fast_remap(const Image& src, const Projection& sp, const Projection& dp,
-                 const Eigen::Matrix3d& rotation, Interp interp, Engine engine, int threads,
-                 EngineStats* stats) {
-  if (engine == Engine::Reference) return remap(src, sp, dp, rotation, {interp, threads});
-  const Size size = size_of(dp);
+Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation,
+                     Interp interp, Engine engine, int threads, bool cache_map)
+    : source_(std::move(source)), target_(std::move(target)), rotation_(rotation), interp_(interp),
+      engine_(engine), threads_(threads), cache_map_(cache_map) {}
+
+Image Converter::run(const Image& src, EngineStats* stats,
+                     const std::function<void(double)>& progress) const {
+  const Size expected = size_of(source_);
+  if (src.size() != expected)
+    throw Error("image size " + std::to_string(src.width()) + "x" + std::to_string(src.height()) +
+                " does not match the source projection's " + std::to_string(expected.width) + "x" +
+                std::to_string(expected.height));
+  if (engine_ == Engine::Reference) {
+    Image out = remap(src, source_, target_, rotation_, {interp_, threads_});
+    if (progress) progress(1.0);
+    return out;
+  }
+  const Size size = size_of(target_);
   Image out(size, src.channels(), src.type(), src.alpha_channel());
-  const SourceEdges edges(sp);
+  const SourceEdges edges(source_);
   const int64_t tiles_x = (size.width + kTile - 1) / kTile, tiles_y = (size.height + kTile - 1) / kTile;
   const int64_t n_tiles = tiles_x * tiles_y;
-  const bool use_simd = engine == Engine::Simd && interp != Interp::Nearest;
-  std::atomic<int64_t> next{0}, simd_tiles{0}, interp_cells{0}, exact_cells{0};
-  auto worker = [&] {
-    TileMap tm;
+  const bool use_simd = engine_ == Engine::Simd && interp_ != Interp::Nearest;
+  auto rect_of = [&](int64_t t) {
+    return TileRect{(t % tiles_x) * kTile, (t / tiles_x) * kTile,
+                    std::min(kTile, size.width - (t % tiles_x) * kTile),
+                    std::min(kTile, size.height - (t / tiles_x) * kTile)};
+  };
+  const int n_threads = static_cast<int>(std::min<int64_t>(resolve_threads(threads_), n_tiles));
+  if (cache_map_ && cache_.empty()) {
+    std::vector<TileMap> maps(static_cast<size_t>(n_tiles));
+    std::atomic<int64_t> next{0};
+    auto build = [&] {
+      for (int64_t t; (t = next.fetch_add(1)) < n_tiles;) map_tile(source_, target_, rotation_, rect_of(t), maps[t]);
+    };
+    std::vector<std::thread> pool;
+    for (int i = 1; i < n_threads; ++i) pool.emplace_back(build);
+    build();
+    for (auto& th : pool) th.join();
+    cache_ = std::move(maps);
+  }
+  std::atomic<int64_t> next{0}, done{0}, simd_tiles{0}, interp_cells{0}, exact_cells{0};
+  auto worker = [&](bool reports) {
+    TileMap local;
     std::vector<float> fx(kTile + kMaxSimdLanes), fy(kTile + kMaxSimdLanes);
+    int64_t last_percent = -1;
     for (int64_t t; (t = next.fetch_add(1)) < n_tiles;) {
-      const TileRect rect{(t % tiles_x) * kTile, (t / tiles_x) * kTile,
-                          std::min(kTile, size.width - (t % tiles_x) * kTile),
-                          std::min(kTile, size.height - (t / tiles_x) * kTile)};
-      map_tile(sp, dp, rotation, rect, tm);
+      const TileRect rect = rect_of(t);
+      const TileMap* map = &local;
+      if (cache_map_) {
+        map = &cache_[static_cast<size_t>(t)];
+      } else {
+        map_tile(source_, target_, rotation_, rect, local);
+      }
+      const TileMap& tm = *map;
       interp_cells += tm.interpolated_cells;
       exact_cells += tm.exact_cells;
       Footprint fp;
-      if (use_simd && interior_footprint(tm, src, sp, interp, fp)) {
+      if (use_simd && interior_footprint(tm, src, source_, interp_, fp)) {
         ++simd_tiles;
         // Positions relative to the footprint's corner, in float; invalid and padding lanes get
         // a valid sample's position so that their taps stay inside too.
@@ -124,24 +160,35 @@ Image fast_remap(const Image& src, const Projection& sp, const Projection& dp,
             fx[i] = ok[i] ? static_cast<float>(xs[i] - ox) : safe_x;
             fy[i] = ok[i] ? static_cast<float>(ys[i] - oy) : safe_y;
           }
-          simd_sample(s, interp, fx.data(), fy.data(), ok, rect.w, out.pixel(rect.x0, rect.y0 + j));
+          simd_sample(s, interp_, fx.data(), fy.data(), ok, rect.w, out.pixel(rect.x0, rect.y0 + j));
         }
       } else {
         for (int64_t j = 0; j < rect.h; ++j) {
           const size_t k = static_cast<size_t>(j * rect.w);
-          sample_reference(src, edges, interp, tm.xs.data() + k, tm.ys.data() + k, tm.ok.data() + k,
+          sample_reference(src, edges, interp_, tm.xs.data() + k, tm.ys.data() + k, tm.ok.data() + k,
                            rect.w, out.pixel(rect.x0, rect.y0 + j));
         }
       }
+      const int64_t d = ++done;
+      if (reports && progress && d * 100 / n_tiles != last_percent) {
+        last_percent = d * 100 / n_tiles;
+        progress(static_cast<double>(d) / static_cast<double>(n_tiles));
+      }
     }
   };
-  const int n_threads = static_cast<int>(std::min<int64_t>(resolve_threads(threads), n_tiles));
   std::vector<std::thread> pool;
-  for (int i = 1; i < n_threads; ++i) pool.emplace_back(worker);
-  worker();
+  for (int i = 1; i < n_threads; ++i) pool.emplace_back(worker, false);
+  worker(true);
   for (auto& th : pool) th.join();
+  if (progress) progress(1.0);
   if (stats) *stats = {n_tiles, simd_tiles.load(), interp_cells.load(), exact_cells.load()};
   return out;
+}
+
+Image fast_remap(const Image& src, const Projection& sp, const Projection& dp,
+                 const Eigen::Matrix3d& rotation, Interp interp, Engine engine, int threads,
+                 EngineStats* stats) {
+  return Converter(sp, dp, rotation, interp, engine, threads).run(src, stats);
 }
 
 }  // namespace panoproj

@@ -116,7 +116,9 @@ void commit(const std::string& tmp, const std::string& path) {
 
 }  // namespace
 
-Image read_image(const std::string& path) {
+namespace {
+// Opens an image for reading (samples as stored: no premultiplication), checking its channels.
+std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error("input " + path + " does not exist (check the path)");
   // Samples exactly as stored: no conversion of straight (PNG, TIFF) alpha to premultiplied.
@@ -130,6 +132,18 @@ Image read_image(const std::string& path) {
   if (spec.nchannels < 1 || spec.nchannels > 4)
     throw Error("input " + path + " has " + std::to_string(spec.nchannels) +
                 " channels (expected 1 to 4)");
+  return in;
+}
+}  // namespace
+
+Size read_image_size(const std::string& path) {
+  const auto in = open_input(path);
+  return {in->spec().width, in->spec().height};
+}
+
+Image read_image(const std::string& path) {
+  auto in = open_input(path);
+  const OIIO::ImageSpec& spec = in->spec();
   const PixelType type = from_oiio(spec.format);
   Image image({spec.width, spec.height}, spec.nchannels, type,
               spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel

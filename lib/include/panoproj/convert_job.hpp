@@ -5,8 +5,13 @@
 //     full equirect; anything else is an error asking for --from.
 //   - the output must not be an input (same file by path or inode), and an existing output is
 //     replaced only with overwrite; nothing is written when anything fails.
+//   - several inputs (a batch, video frames): all of one size, an output pattern with {stem}
+//     (the input's file name without extension) and/or {n} (its position, from 0); every input
+//     header and output path is checked before the first conversion; the map is built once.
+#include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "panoproj/convert.hpp"
 #include "panoproj/io.hpp"
@@ -15,7 +20,8 @@
 namespace panoproj {
 
 struct ConvertJob {
-  std::string input, output;
+  std::vector<std::string> inputs;  // one image or face pattern, or several images (a batch)
+  std::string output;               // a path, a face pattern, or a batch pattern
   std::optional<std::string> from;  // spec text; see convert_job.hpp rules when absent
   std::string to;
   ConvertOptions options;
@@ -23,13 +29,18 @@ struct ConvertJob {
 };
 
 struct ConvertReport {
+  std::string input, output;
   std::string from, to;  // canonical specs used
   Size input_size, output_size;  // one face's size where input/output_faces
   bool input_faces = false, output_faces = false;
   double seconds = 0;    // remap only
 };
 
-ConvertReport run_convert(const ConvertJob& job);
+// Converts every input; on_frame (if given) is called after each one is written, progress with
+// the overall fraction done (from the calling thread).
+std::vector<ConvertReport> run_convert(const ConvertJob& job,
+                                       const std::function<void(const ConvertReport&)>& on_frame = {},
+                                       const std::function<void(double)>& progress = {});
 
 struct MapsJob {
   std::string output;  // a float format: .exr or .tif

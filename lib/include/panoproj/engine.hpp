@@ -7,6 +7,8 @@
 // Tiles are fixed by the image size, not the thread count, so any number of threads gives the
 // same bytes.
 #include <Eigen/Core>
+#include <functional>
+#include <vector>
 
 #include "panoproj/image.hpp"
 #include "panoproj/interpolator.hpp"
@@ -28,6 +30,33 @@ struct EngineStats {
   int64_t tiles = 0, simd_tiles = 0, interpolated_cells = 0, exact_cells = 0;
 };
 
+// One geometry (projections, rotation, kernel), applied to any number of images of the source's
+// size. With cache_map, the tile maps (17 bytes per output pixel) are built once, on the first
+// run, and reused: batches and video frames pay for the geometry once.
+class Converter {
+ public:
+  Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
+            Engine engine, int threads, bool cache_map = false);
+
+  // Throws panoproj::Error if src's size is not the source projection's. progress, if given,
+  // is called from the calling thread with the fraction of tiles done.
+  Image run(const Image& src, EngineStats* stats = nullptr,
+            const std::function<void(double)>& progress = {}) const;
+
+  const Projection& source() const { return source_; }
+  const Projection& target() const { return target_; }
+
+ private:
+  Projection source_, target_;
+  Eigen::Matrix3d rotation_;
+  Interp interp_;
+  Engine engine_;
+  int threads_;
+  bool cache_map_;
+  mutable std::vector<TileMap> cache_;  // one per tile, filled on the first run when cache_map_
+};
+
+// A one-off conversion (a Converter without a cache).
 Image fast_remap(const Image& src, const Projection& src_proj, const Projection& dst_proj,
                  const Eigen::Matrix3d& rotation, Interp interp, Engine engine, int threads,
                  EngineStats* stats = nullptr);

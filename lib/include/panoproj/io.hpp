@@ -19,6 +19,8 @@ struct WriteOptions {
 };
 
 Image read_image(const std::string& path);
+// The image's size from its header only (no pixels decoded); throws like read_image.
+Size read_image_size(const std::string& path);
 void write_image(const Image& image, const std::string& path, const WriteOptions& options);
 
 // Converts samples to another type (integers scale by their unit: 255 <-> 65535 <-> 1.0;
