@@ -117,6 +117,33 @@ TEST_F(Cli, BatchIsCheckedBeforeAnythingIsWritten) {
                  "would be written twice");
 }
 
+TEST_F(Cli, AViewReadsOnlyTheSourceRowsItNeeds) {
+  // A 2:1 panorama whose lower part is cut off: a view of the sky converts, and matches the same
+  // view from the intact file; a view of the ground cannot.
+  Image e({1024, 512}, 3, PixelType::U8);
+  for (int64_t y = 0; y < 512; ++y)
+    for (int64_t x = 0; x < 1024; ++x)
+      for (int c = 0; c < 3; ++c) e.pixel(x, y)[c] = static_cast<unsigned char>((x * 3 + y * 5 + c * 70) % 256);
+  // JPEG streams its rows (OpenImageIO's PNG reader decodes a whole PNG first).
+  write_image(e, p("intact.jpg"), {});
+  std::ifstream in(p("intact.jpg"), std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  std::ofstream(p("cut.jpg"), std::ios::binary) << bytes.substr(0, bytes.size() * 55 / 100);
+  const std::string view = " --to pinhole:hfov=60 --pitch 60 --size 200x200";
+  const CliRun a = run("convert " + p("cut.jpg") + " " + p("sky_cut.png") + view);
+  ASSERT_EQ(a.code, 0) << a.err;
+  // The view reaches the pole, so it needs full rows from the top: about a third of them.
+  const auto at = a.out.find("read ");
+  ASSERT_NE(at, std::string::npos) << a.out;
+  const int percent = std::atoi(a.out.c_str() + at + 5);
+  EXPECT_GT(percent, 20) << a.out;
+  EXPECT_LT(percent, 50) << a.out;
+  ASSERT_EQ(run("convert " + p("intact.jpg") + " " + p("sky.png") + view).code, 0);
+  EXPECT_TRUE(read_image(p("sky_cut.png")) == read_image(p("sky.png")));
+  expect_refused("convert " + p("cut.jpg") + " " + p("ground.png") + " --to pinhole:hfov=60 --pitch -60",
+                 "cannot read " + p("cut.jpg"));
+}
+
 TEST_F(Cli, InfoListsEveryProjection) {
   const CliRun r = run("info");
   ASSERT_EQ(r.code, 0);

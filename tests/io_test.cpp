@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <OpenImageIO/imageio.h>
+
 #include "panoproj/error.hpp"
 #include "test_support.hpp"
 
@@ -137,6 +139,57 @@ TEST_F(Io, DamagedFilesGiveOneClearError) {
       EXPECT_EQ(m.find('\n'), std::string::npos) << m;
     }
   }
+}
+
+// Truncates a file to a fraction of its bytes.
+void truncate_file(const std::string& path, double fraction) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  in.close();
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      << bytes.substr(0, static_cast<size_t>(static_cast<double>(bytes.size()) * fraction));
+}
+
+TEST_F(Io, RegionReadsNeedOnlyTheirPartOfADamagedFile) {
+  const Image full = pattern({512, 256}, 3, PixelType::U8, -1);
+  // JPEG (scanlines, decoded in order): the lower part is cut off. (OpenImageIO's PNG reader
+  // decodes a whole PNG before handing out rows, so PNG gains nothing from region reads.)
+  write_image(full, path("a.jpg"), {});
+  write_image(full, path("intact.jpg"), {});
+  truncate_file(path("a.jpg"), 0.6);
+  const Image intact = read_image(path("intact.jpg"));
+  const Image top = read_image_region(path("a.jpg"), 0, 0, 512, 80);
+  ASSERT_EQ(top.origin_y(), 0);
+  ASSERT_EQ(top.frame_size(), full.size());
+  for (int64_t y = 0; y < 80; ++y) ASSERT_EQ(0, std::memcmp(top.at(0, y), intact.pixel(0, y), full.row_bytes())) << y;
+  EXPECT_THROW(read_image(path("a.jpg")), Error);
+  EXPECT_THROW(read_image_region(path("a.jpg"), 0, 200, 512, 256), Error);
+  // A middle band keeps only its rows, at their frame position.
+  const Image band = read_image_region(path("intact.jpg"), 10, 100, 20, 130);
+  EXPECT_EQ(band.height(), 30);
+  EXPECT_EQ(band.origin_y(), 100);
+  EXPECT_EQ(0, std::memcmp(band.at(5, 120), intact.pixel(5, 120), 3));
+}
+
+TEST_F(Io, TiledFilesDecodeOnlyTheTilesTheRegionTouches) {
+  const Image full = pattern({512, 256}, 3, PixelType::U8, -1);
+  {
+    auto out = OIIO::ImageOutput::create(path("t.tif"));
+    OIIO::ImageSpec spec(512, 256, 3, OIIO::TypeDesc::UINT8);
+    spec.tile_width = spec.tile_height = 64;
+    spec.attribute("compression", "none");
+    ASSERT_TRUE(out->open(path("t.tif"), spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, full.data()));
+    out->close();
+  }
+  // Tiles are stored row by row: cut the file inside the third row of tiles.
+  truncate_file(path("t.tif"), 0.55);
+  const Image win = read_image_region(path("t.tif"), 100, 10, 300, 100);
+  EXPECT_EQ(win.origin_x(), 64);  // tile-aligned
+  EXPECT_EQ(win.origin_y(), 0);
+  EXPECT_EQ(win.width(), 256);
+  for (int64_t y = 10; y < 100; ++y) ASSERT_EQ(0, std::memcmp(win.at(100, y), full.pixel(100, y), 200 * 3)) << y;
+  EXPECT_THROW(read_image_region(path("t.tif"), 0, 200, 512, 256), Error);
 }
 
 TEST_F(Io, CubeFacesRoundTripAndMustMatch) {

@@ -209,11 +209,12 @@ int main(int argc, char** argv) {
         job,
         [&](const ConvertReport& r) {
           if (quiet) return;
-          std::printf("\r%s (%s, %s) -> %s (%s, %s): %.3f s, %s, %s engine (%s), %d threads\n",
+          std::printf("\r%s (%s, %s) -> %s (%s, %s): %.3f s, %s, %s engine (%s), %d threads, "
+                      "read %.0f%% of the source\n",
                       r.input.c_str(), dims(r.input_size, r.input_faces).c_str(), r.from.c_str(),
                       r.output.c_str(), dims(r.output_size, r.output_faces).c_str(), r.to.c_str(),
                       r.seconds, interp_text.c_str(), engine_text.c_str(), simd_target(),
-                      resolve_threads(job.options.threads));
+                      resolve_threads(job.options.threads), 100 * r.read_fraction);
           std::fflush(stdout);
         },
         [&](double f) { bar.update(f); });

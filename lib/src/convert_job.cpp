@@ -111,7 +111,6 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   }
 
   std::vector<ConvertReport> reports;
-  std::optional<Converter> converter;
   ConvertOptions options = job.options;
   if (options.size && out_faces) {
     // For separate face files the size is one face's.
@@ -121,28 +120,36 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
                   " is not square (cube faces are square; or use face=N)");
     options.size = Size{6 * options.size->width, options.size->height};
   }
+  // Plan from the first input's header; then read of each input only what the view needs.
+  const Size frame = in_faces ? Size{} : (batch ? batch_size : read_image_size(job.inputs[0]));
+  std::optional<Image> faces;
+  if (in_faces) faces = read_cube_faces(job.inputs[0]);
+  const Size source_size = in_faces ? faces->size() : frame;
+  if (!from) from = infer_source_spec(std::nullopt, job.inputs[0], source_size);
+  const Plan plan = make_plan(source_size, *from, to, options);
+  const auto t_map = std::chrono::steady_clock::now();
+  const Converter converter(plan.source, plan.target, plan.rotation, options.interp, options.engine,
+                            options.threads, true);
+  const Converter::Region need = converter.source_footprint();  // builds the tile maps
+  const double map_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count();
   for (size_t n = 0; n < job.inputs.size(); ++n) {
-    const Image source = in_faces ? read_cube_faces(job.inputs[n]) : read_image(job.inputs[n]);
-    if (!converter) {
-      if (!from) from = infer_source_spec(std::nullopt, job.inputs[n], source.size());
-      const Plan plan = make_plan(source.size(), *from, to, options);
-      converter.emplace(plan.source, plan.target, plan.rotation, options.interp, options.engine,
-                        options.threads, batch);
-    } else if (source.size() != batch_size) {
-      throw Error("input " + job.inputs[n] + " changed size while converting");
-    }
+    const Image source = in_faces ? std::move(*faces)
+                                  : read_image_region(job.inputs[n], need.x0, need.y0, need.x1, need.y1);
     const auto t0 = std::chrono::steady_clock::now();
     const double frames = static_cast<double>(job.inputs.size());
-    const Image out = converter->run(source, nullptr, [&](double f) {
+    const Image out = converter.run(source, nullptr, [&](double f) {
       if (progress) progress((static_cast<double>(n) + f) / frames);
     });
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +
+                           (n == 0 ? map_seconds : 0.0);  // the map is built once, for the first
     if (out_faces) write_cube_faces(out, outputs[n], job.write);
     else write_image(out, outputs[n], job.write);
     auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };
+    const double read = static_cast<double>(source.width() * source.height()) /
+                        static_cast<double>(source.frame_size().width * source.frame_size().height);
     reports.push_back({job.inputs[n], outputs[n], from->str(), to.str(),
-                       in_faces ? face_size(source.size()) : source.size(),
-                       out_faces ? face_size(out.size()) : out.size(), in_faces, out_faces, seconds});
+                       in_faces ? face_size(source.size()) : source.frame_size(),
+                       out_faces ? face_size(out.size()) : out.size(), in_faces, out_faces, seconds, read});
     if (on_frame) on_frame(reports.back());
   }
   return reports;

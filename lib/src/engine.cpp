@@ -46,7 +46,7 @@ struct Footprint {
 bool interior_footprint(const TileMap& tm, const Image& src, const Projection& sp, Interp interp,
                         Footprint& fp) {
   const int k = support(interp);
-  Footprint lim{0, 0, src.width(), src.height()};
+  Footprint lim{src.origin_x(), src.origin_y(), src.origin_x() + src.width(), src.origin_y() + src.height()};
   const auto* cube = std::get_if<Cubemap>(&sp);
   int face = -2;
   fp = {std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::max(),
@@ -61,7 +61,8 @@ bool interior_footprint(const TileMap& tm, const Image& src, const Projection& s
       if (face == -2) {
         face = f;
         const auto o = cube->face_origin(f);
-        lim = {o[0], o[1], o[0] + cube->face_size(), o[1] + cube->face_size()};
+        lim = {std::max(lim.x0, o[0]), std::max(lim.y0, o[1]), std::min(lim.x1, o[0] + cube->face_size()),
+               std::min(lim.y1, o[1] + cube->face_size())};
       } else if (f != face) {
         return false;
       }
@@ -86,11 +87,58 @@ Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d
     : source_(std::move(source)), target_(std::move(target)), rotation_(rotation), interp_(interp),
       engine_(engine), threads_(threads), cache_map_(cache_map) {}
 
+void Converter::build_cache() const {
+  const Size size = size_of(target_);
+  const int64_t tiles_x = (size.width + kTile - 1) / kTile, tiles_y = (size.height + kTile - 1) / kTile;
+  const int64_t n_tiles = tiles_x * tiles_y;
+  std::vector<TileMap> maps(static_cast<size_t>(n_tiles));
+  std::atomic<int64_t> next{0};
+  auto build = [&] {
+    for (int64_t t; (t = next.fetch_add(1)) < n_tiles;) {
+      const TileRect rect{(t % tiles_x) * kTile, (t / tiles_x) * kTile,
+                          std::min(kTile, size.width - (t % tiles_x) * kTile),
+                          std::min(kTile, size.height - (t / tiles_x) * kTile)};
+      map_tile(source_, target_, rotation_, rect, maps[static_cast<size_t>(t)]);
+    }
+  };
+  const int n_threads = static_cast<int>(std::min<int64_t>(resolve_threads(threads_), n_tiles));
+  std::vector<std::thread> pool;
+  for (int i = 1; i < n_threads; ++i) pool.emplace_back(build);
+  build();
+  for (auto& th : pool) th.join();
+  cache_ = std::move(maps);
+}
+
+Converter::Region Converter::source_footprint() const {
+  const Size frame = size_of(source_);
+  const Region all{0, 0, frame.width, frame.height};
+  if (std::holds_alternative<Cubemap>(source_)) return all;
+  if (cache_.empty()) build_cache();
+  const Interp k = interp_;
+  const int n = support(k);
+  double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
+  for (const TileMap& tm : cache_)
+    for (size_t i = 0; i < tm.ok.size(); ++i) {
+      if (!tm.ok[i]) continue;
+      x0 = std::min(x0, tm.xs[i]), x1 = std::max(x1, tm.xs[i]);
+      y0 = std::min(y0, tm.ys[i]), y1 = std::max(y1, tm.ys[i]);
+    }
+  if (x0 > x1) return {0, 0, 0, 0};  // no pixel has a source
+  // Taps (first_tap is monotonic), one pixel of margin for the 1/256 px map tolerance.
+  Region r{first_tap(k, x0) - 1, first_tap(k, y0) - 1, first_tap(k, x1) + n + 1, first_tap(k, y1) + n + 1};
+  // Where taps leave the frame, the edge rules read elsewhere: wrap (full width), pole crossing
+  // (full width, rows from the pole), clamp (the edge row or column, inside the clamp).
+  if (r.x0 < 0 || r.x1 > frame.width) r.x0 = 0, r.x1 = frame.width;
+  if (r.y0 < 0) r.y0 = 0, r.x0 = 0, r.x1 = frame.width;
+  if (r.y1 > frame.height) r.y1 = frame.height, r.x0 = 0, r.x1 = frame.width;
+  return r;
+}
+
 Image Converter::run(const Image& src, EngineStats* stats,
                      const std::function<void(double)>& progress) const {
   const Size expected = size_of(source_);
-  if (src.size() != expected)
-    throw Error("image size " + std::to_string(src.width()) + "x" + std::to_string(src.height()) +
+  if (src.frame_size() != expected)
+    throw Error("image size " + std::to_string(src.frame_size().width) + "x" + std::to_string(src.frame_size().height) +
                 " does not match the source projection's " + std::to_string(expected.width) + "x" +
                 std::to_string(expected.height));
   if (engine_ == Engine::Reference) {
@@ -110,18 +158,7 @@ Image Converter::run(const Image& src, EngineStats* stats,
                     std::min(kTile, size.height - (t / tiles_x) * kTile)};
   };
   const int n_threads = static_cast<int>(std::min<int64_t>(resolve_threads(threads_), n_tiles));
-  if (cache_map_ && cache_.empty()) {
-    std::vector<TileMap> maps(static_cast<size_t>(n_tiles));
-    std::atomic<int64_t> next{0};
-    auto build = [&] {
-      for (int64_t t; (t = next.fetch_add(1)) < n_tiles;) map_tile(source_, target_, rotation_, rect_of(t), maps[t]);
-    };
-    std::vector<std::thread> pool;
-    for (int i = 1; i < n_threads; ++i) pool.emplace_back(build);
-    build();
-    for (auto& th : pool) th.join();
-    cache_ = std::move(maps);
-  }
+  if (cache_map_ && cache_.empty()) build_cache();
   std::atomic<int64_t> next{0}, done{0}, simd_tiles{0}, interp_cells{0}, exact_cells{0};
   auto worker = [&](bool reports) {
     TileMap local;
@@ -147,7 +184,7 @@ Image Converter::run(const Image& src, EngineStats* stats,
         while (!tm.ok[first]) ++first;
         const float safe_x = static_cast<float>(tm.xs[first] - static_cast<double>(fp.x0));
         const float safe_y = static_cast<float>(tm.ys[first] - static_cast<double>(fp.y0));
-        const SimdSource s{src.pixel(fp.x0, fp.y0), static_cast<int64_t>(src.row_bytes()),
+        const SimdSource s{src.at(fp.x0, fp.y0), static_cast<int64_t>(src.row_bytes()),
                            src.channels(), src.alpha_channel(), src.type()};
         const double ox = static_cast<double>(fp.x0), oy = static_cast<double>(fp.y0);
         std::fill(fx.begin() + rect.w, fx.end(), safe_x);

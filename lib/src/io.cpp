@@ -155,6 +155,45 @@ Image read_image(const std::string& path) {
   return image;
 }
 
+Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
+  auto in = open_input(path);
+  const OIIO::ImageSpec& spec = in->spec();
+  const int64_t w = spec.width, h = spec.height;
+  x0 = std::clamp<int64_t>(x0, 0, w), x1 = std::clamp<int64_t>(x1, x0, w);
+  y0 = std::clamp<int64_t>(y0, 0, h), y1 = std::clamp<int64_t>(y1, y0, h);
+  if (x1 == x0 || y1 == y0) x0 = 0, x1 = 1, y0 = 0, y1 = 1;  // nothing needed: one pixel
+  const bool whole = x0 == 0 && y0 == 0 && x1 == w && y1 == h;
+  if (whole || spec.x != 0 || spec.y != 0 || spec.depth > 1) {
+    in.reset();
+    return read_image(path);
+  }
+  const PixelType type = from_oiio(spec.format);
+  const int alpha = spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel : -1;
+  Image win;
+  bool ok;
+  if (spec.tile_width > 0) {
+    // Tile-aligned bounds (or the frame's edge), as read_tiles requires.
+    const int64_t tw = spec.tile_width, th = spec.tile_height;
+    const int64_t tx0 = x0 / tw * tw, ty0 = y0 / th * th;
+    const int64_t tx1 = std::min(w, (x1 + tw - 1) / tw * tw), ty1 = std::min(h, (y1 + th - 1) / th * th);
+    win = Image({tx1 - tx0, ty1 - ty0}, spec.nchannels, type, alpha);
+    ok = in->read_tiles(0, 0, static_cast<int>(tx0), static_cast<int>(tx1), static_cast<int>(ty0),
+                        static_cast<int>(ty1), 0, 1, 0, spec.nchannels, oiio_type(type), win.data(),
+                        static_cast<OIIO::stride_t>(win.pixel_bytes()), static_cast<OIIO::stride_t>(win.row_bytes()));
+    win.set_window(tx0, ty0, {w, h});
+  } else {
+    win = Image({w, y1 - y0}, spec.nchannels, type, alpha);
+    ok = in->read_scanlines(0, 0, static_cast<int>(y0), static_cast<int>(y1), 0, 0, spec.nchannels,
+                            oiio_type(type), win.data(), static_cast<OIIO::stride_t>(win.pixel_bytes()),
+                            static_cast<OIIO::stride_t>(win.row_bytes()));
+    win.set_window(0, y0, {w, h});
+  }
+  if (!ok || in->has_error())
+    throw Error("cannot read " + path + ": " + one_line(in->geterror()) +
+                " (the file is damaged or truncated)");
+  return win;
+}
+
 void write_image(const Image& image, const std::string& path, const WriteOptions& options) {
   check_target(path, options);
   const std::string tmp = temp_path(path);

@@ -43,6 +43,12 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
   const size_t pb = src.pixel_bytes();
   const int k = support(interp);
   const double unit = unit_of(src.type());
+  // Taps stay inside the window the caller read (a guard: the footprint already ensures it).
+  const int64_t wx0 = src.origin_x(), wy0 = src.origin_y();
+  const int64_t wx1 = wx0 + src.width() - 1, wy1 = wy0 + src.height() - 1;
+  auto at = [&](int64_t x, int64_t y) {
+    return src.at(std::clamp(x, wx0, wx1), std::clamp(y, wy0, wy1));
+  };
   double wx[6], wy[6], acc[4];
   for (int64_t i = 0; i < n; ++i, out += pb) {
     if (!ok[i]) {
@@ -57,7 +63,7 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
       const int n_parts = edges.resolve(bx, by, face, parts);
       const auto* best = std::max_element(parts, parts + n_parts,
                                           [](const auto& a, const auto& b) { return a.w < b.w; });
-      std::memcpy(out, src.pixel(best->x, best->y), pb);
+      std::memcpy(out, at(best->x, best->y), pb);
       continue;
     }
     tap_weights(interp, xs[i], wx);
@@ -67,7 +73,7 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
       for (int c = 0; c < k; ++c) {
         const int n_parts = edges.resolve(bx + c, by + r, face, parts);
         for (int q = 0; q < n_parts; ++q) {
-          const unsigned char* p = src.pixel(parts[q].x, parts[q].y);
+          const unsigned char* p = at(parts[q].x, parts[q].y);
           const double w = wx[c] * wy[r] * parts[q].w;
           // Premultiplied alpha: colour taps are weighted by their alpha.
           const double a = alpha >= 0 ? load<T>(p + alpha * sizeof(T)) / unit : 1.0;

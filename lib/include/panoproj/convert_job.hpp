@@ -33,7 +33,8 @@ struct ConvertReport {
   std::string from, to;  // canonical specs used
   Size input_size, output_size;  // one face's size where input/output_faces
   bool input_faces = false, output_faces = false;
-  double seconds = 0;    // remap only
+  double seconds = 0;    // map (first input of a batch) and remap; not reading or writing
+  double read_fraction = 1;  // share of the source's pixels read (only what the view needs)
 };
 
 // Converts every input; on_frame (if given) is called after each one is written, progress with

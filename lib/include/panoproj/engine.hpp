@@ -43,6 +43,14 @@ class Converter {
   Image run(const Image& src, EngineStats* stats = nullptr,
             const std::function<void(double)>& progress = {}) const;
 
+  // The source pixels [x0, x1) x [y0, y1) that run() reads (with the kernel's taps and the
+  // edge rules: a seam or pole crossing widens it to the full width; cubemaps read all). Builds
+  // and keeps the tile maps (as cache_map does). Read only this part of a large source.
+  struct Region {
+    int64_t x0, y0, x1, y1;
+  };
+  Region source_footprint() const;
+
   const Projection& source() const { return source_; }
   const Projection& target() const { return target_; }
 
@@ -54,6 +62,7 @@ class Converter {
   int threads_;
   bool cache_map_;
   mutable std::vector<TileMap> cache_;  // one per tile, filled on the first run when cache_map_
+  void build_cache() const;
 };
 
 // A one-off conversion (a Converter without a cache).

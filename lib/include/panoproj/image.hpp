@@ -46,6 +46,19 @@ class Image {
     return row(y) + static_cast<size_t>(x) * pixel_bytes();
   }
 
+  // A window of a larger frame: this image holds frame pixels [origin, origin + size) of a frame
+  // of frame_size() (e.g. the rows of a source file a view needs). Projections and samplers
+  // address frame coordinates through at(); by default the window is the whole frame.
+  void set_window(int64_t origin_x, int64_t origin_y, Size frame_size) {
+    ox_ = origin_x;
+    oy_ = origin_y;
+    frame_ = frame_size;
+  }
+  int64_t origin_x() const { return ox_; }
+  int64_t origin_y() const { return oy_; }
+  Size frame_size() const { return frame_.width ? frame_ : size_; }
+  const unsigned char* at(int64_t frame_x, int64_t frame_y) const { return pixel(frame_x - ox_, frame_y - oy_); }
+
   bool operator==(const Image& o) const {
     return size_ == o.size_ && channels_ == o.channels_ && type_ == o.type_ && alpha_ == o.alpha_ &&
            pixels_ == o.pixels_;
@@ -56,6 +69,8 @@ class Image {
   int channels_ = 0;
   PixelType type_ = PixelType::U8;
   int alpha_ = -1;
+  int64_t ox_ = 0, oy_ = 0;
+  Size frame_{};  // 0 x 0: the image is the whole frame
   size_t bytes_ = 0;
   std::vector<unsigned char> pixels_;  // bytes_ + kSlack: SIMD gathers read a word past a pixel
 };

@@ -21,6 +21,13 @@ struct WriteOptions {
 Image read_image(const std::string& path);
 // The image's size from its header only (no pixels decoded); throws like read_image.
 Size read_image_size(const std::string& path);
+// Reads at least the pixels [x0, x1) x [y0, y1) as a window of the file's frame (image.hpp):
+// tiled files (TIFF, EXR) decode only the tiles the region touches; scanline files keep whole
+// rows y0..y1 (JPEG decodes the rows above on the way without keeping them; TIFF and EXR strips
+// read directly), so a damaged part outside the region is never needed. OpenImageIO's PNG reader
+// decodes a whole PNG internally first: PNG sources save no memory. A region covering the frame
+// is read_image.
+Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1);
 void write_image(const Image& image, const std::string& path, const WriteOptions& options);
 
 // Converts samples to another type (integers scale by their unit: 255 <-> 65535 <-> 1.0;

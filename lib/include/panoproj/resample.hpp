@@ -16,6 +16,7 @@ struct RemapOptions {
   int threads = 0;  // 0: all cores
 };
 
+// src may be a window of the source frame (image.hpp) holding every pixel the taps reach.
 // Output: dst's size, src's channels, type and alpha. Pixels with no source (outside the
 // source's field or the target's frame) are 0, which is transparent when there is alpha.
 // Alpha is interpolated premultiplied; nearest copies pixels untouched.
