@@ -4,12 +4,18 @@
 // printed after each step. Spot checks compare 2000 output pixels with the exact reference
 // sampling of the same positions. Needs ~4.5 GB. Usage: bench_big [--threads N]
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <random>
 
+#include <OpenImageIO/imageio.h>
+#include <string>
+
+#include "panoproj/convert_job.hpp"
 #include "panoproj/engine.hpp"
 #include "panoproj/rotation.hpp"
 
@@ -27,9 +33,80 @@ unsigned char pattern(int64_t x, int64_t y, int c) {
 }
 }  // namespace
 
+// Converts in a child process; returns its peak RSS in GB and prints its report.
+double convert_in_child(const ConvertJob& job) {
+  std::fflush(stdout);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    try {
+      for (const auto& r : run_convert(job))
+        std::printf("  %s -> %lldx%lld %s: %.2f s, read %.0f%% of the source\n", job.inputs[0].c_str(),
+                    static_cast<long long>(r.output_size.width), static_cast<long long>(r.output_size.height),
+                    r.to.c_str(), r.seconds, 100 * r.read_fraction);
+      std::fflush(stdout);
+      _exit(0);
+    } catch (const std::exception& e) {
+      std::printf("  failed: %s\n", e.what());
+      _exit(1);
+    }
+  }
+  int status = 0;
+  rusage ru{};
+  wait4(pid, &status, 0, &ru);
+  return ru.ru_maxrss / 1024.0 / 1024.0;
+}
+
+void region_reads(const std::string& dir, int threads) {
+  const Size s{32768, 16384};
+  const std::string tif = dir + "/panoproj_big_tiled.tif", jpg = dir + "/panoproj_big.jpg";
+  {  // the generated image is freed before the conversions fork, so they do not inherit it
+  Image src(s, 3, PixelType::U8);
+  for (int64_t y = 0; y < s.height; ++y)
+    for (int64_t x = 0; x < s.width; ++x)
+      for (int c = 0; c < 3; ++c) src.pixel(x, y)[c] = pattern(x, y, c);
+  {
+    auto out = OIIO::ImageOutput::create(tif);
+    OIIO::ImageSpec spec(static_cast<int>(s.width), static_cast<int>(s.height), 3, OIIO::TypeDesc::UINT8);
+    spec.tile_width = spec.tile_height = 256;
+    spec.attribute("compression", "zip");
+    out->open(tif, spec);
+    out->write_image(OIIO::TypeDesc::UINT8, src.data());
+    out->close();
+  }
+  WriteOptions w;
+  w.overwrite = true;
+  write_image(src, jpg, w);
+  }
+  std::printf("\nregion reads: 32768x16384 RGB equirect, decoded 1.61 GB, written as %s and %s\n", tif.c_str(), jpg.c_str());
+  for (const std::string& in : {tif, jpg}) {
+    for (const char* view : {"pinhole:hfov=90", "pinhole:hfov=90,vfov=90"}) {
+      ConvertJob job;
+      job.inputs = {in};
+      job.output = dir + "/panoproj_big_view.png";
+      job.to = view;
+      job.options.size = Size{2048, 2048};
+      job.options.pitch = std::string(view).find("vfov") != std::string::npos ? 70 : 0;  // at the pole, or level
+      job.options.yaw = 30;
+      job.options.threads = threads;
+      job.write.overwrite = true;
+      const double gb = convert_in_child(job);
+      std::printf("  pitch %.0f: peak memory of the converting process %.2f GB (decoded source 1.61 GB)\n",
+                  job.options.pitch, gb);
+    }
+  }
+  std::remove(tif.c_str());
+  std::remove(jpg.c_str());
+  std::remove((dir + "/panoproj_big_view.png").c_str());
+}
+
 int main(int argc, char** argv) {
   int threads = 0;
-  if (argc == 3 && !std::strcmp(argv[1], "--threads")) threads = std::atoi(argv[2]);
+  std::string dir = "/tmp";
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--dir")) dir = argv[i + 1];
+  }
+  {
   const Size big{40000, 20000};
   auto t0 = std::chrono::steady_clock::now();
   Image src(big, 3, PixelType::U8);
@@ -80,4 +157,6 @@ int main(int argc, char** argv) {
                 static_cast<long long>(st.tiles), static_cast<long long>(st.simd_tiles),
                 j.size.width * j.size.height / t / 1e6, bad, peak_gb());
   }
+  }
+  region_reads(dir, threads);
 }
