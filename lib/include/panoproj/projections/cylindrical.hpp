@@ -6,17 +6,18 @@
 
 #include "panoproj/conventions.hpp"
 #include "panoproj/projections/frame.hpp"
+#include "panoproj/projections/longitude_axis.hpp"
 
 namespace panoproj {
 
-class Cylindrical {
+class Cylindrical : public FramedBounds {
  public:
   Cylindrical(Size size, double hfov, double vfov, double lon0, double lat0)
-      : size_(size), hfov_(hfov), lon0_(lon0), t_top_(std::tan(lat0 + 0.5 * vfov)),
-        t_bottom_(std::tan(lat0 - 0.5 * vfov)), full_lon_(hfov >= kTwoPi * (1.0 - 1e-12)) {}
+      : FramedBounds(size), axis_(size.width, hfov, lon0), t_top_(std::tan(lat0 + 0.5 * vfov)),
+        t_bottom_(std::tan(lat0 - 0.5 * vfov)) {}
 
   bool to_ray(double x, double y, Ray& d) const {
-    const double lon = lon0_ + (x / static_cast<double>(size_.width) - 0.5) * hfov_;
+    const double lon = axis_.longitude_at(x);
     const double t = t_top_ + (y / static_cast<double>(size_.height)) * (t_bottom_ - t_top_);
     d = Ray(std::sin(lon), -t, std::cos(lon)).normalized();
     return true;
@@ -24,28 +25,17 @@ class Cylindrical {
   bool to_pixel(const Ray& d, double& x, double& y) const {
     const double rho = std::hypot(d.x(), d.z());
     if (!(rho > 0.0)) return false;  // the poles are at infinity
-    const double lon = wrap_pi(longitude(d) - lon0_);
-    if (!full_lon_ && std::fabs(lon) > 0.5 * hfov_ * (1.0 + kEdgeSlack)) return false;
-    x = (lon / hfov_ + 0.5) * static_cast<double>(size_.width);
+    if (!axis_.to_x(d, x)) return false;
     y = (-d.y() / rho - t_top_) / (t_bottom_ - t_top_) * static_cast<double>(size_.height);
     return in_frame(x, y, size_);
   }
 
-  // Whether pixel position (x, y) has a ray (cheap form of to_ray's test).
-  bool contains(double x, double y) const { return in_frame(x, y, size_); }
-
-  // True only if every position in [x0, x1] x [y0, y1] has a ray (used to skip per-pixel tests).
-  bool covers(double x0, double y0, double x1, double y1) const {
-    return in_frame(x0, y0, size_) && in_frame(x1, y1, size_);
-  }
-  Size size() const { return size_; }
-  double center_density() const { return static_cast<double>(size_.width) / hfov_; }
-  bool full_longitude() const { return full_lon_; }
+  double center_density() const { return axis_.density(); }
+  bool full_longitude() const { return axis_.full; }
 
  private:
-  Size size_;
-  double hfov_, lon0_, t_top_, t_bottom_;
-  bool full_lon_;
+  LongitudeAxis axis_;
+  double t_top_, t_bottom_;
 };
 
 }  // namespace panoproj

@@ -5,11 +5,11 @@
 
 namespace panoproj {
 
-class Pinhole {
+class Pinhole : public FramedBounds {
  public:
   // fx, fy: focal lengths in pixels; cx, cy: principal point in panoproj's pixel convention.
   Pinhole(Size size, double fx, double fy, double cx, double cy)
-      : size_(size), fx_(fx), fy_(fy), cx_(cx), cy_(cy) {}
+      : FramedBounds(size), fx_(fx), fy_(fy), cx_(cx), cy_(cy) {}
 
   bool to_ray(double x, double y, Ray& d) const {
     d = Ray((x - cx_) / fx_, (y - cy_) / fy_, 1.0).normalized();
@@ -22,14 +22,6 @@ class Pinhole {
     return in_frame(x, y, size_);
   }
 
-  // Whether pixel position (x, y) has a ray (cheap form of to_ray's test).
-  bool contains(double x, double y) const { return in_frame(x, y, size_); }
-
-  // True only if every position in [x0, x1] x [y0, y1] has a ray (used to skip per-pixel tests).
-  bool covers(double x0, double y0, double x1, double y1) const {
-    return in_frame(x0, y0, size_) && in_frame(x1, y1, size_);
-  }
-  Size size() const { return size_; }
   double center_density() const { return fx_; }  // pixels per radian on the optical axis
   double fx() const { return fx_; }
   double fy() const { return fy_; }
@@ -37,7 +29,6 @@ class Pinhole {
   double cy() const { return cy_; }
 
  private:
-  Size size_;
   double fx_, fy_, cx_, cy_;
 };
 
