@@ -14,6 +14,7 @@
 #include "panoproj/source_edges.hpp"
 #include "panoproj/tile_map.hpp"
 #include "reference_sampler.hpp"
+#include "simd_geometry.hpp"
 #include "simd_sampler.hpp"
 
 namespace panoproj {
@@ -87,6 +88,15 @@ Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d
     : source_(std::move(source)), target_(std::move(target)), rotation_(rotation), interp_(interp),
       engine_(engine), threads_(threads), cache_map_(cache_map) {}
 
+void Converter::map(const TileRect& rect, TileMap& out) const {
+  SimdGeometry g;
+  if (engine_ == Engine::Simd && simd_geometry_for(source_, target_, rotation_, rect, g)) {
+    simd_map_tile(g, rect, out);
+  } else {
+    map_tile(source_, target_, rotation_, rect, out);
+  }
+}
+
 void Converter::build_cache() const {
   const Size size = size_of(target_);
   const int64_t tiles_x = (size.width + kTile - 1) / kTile, tiles_y = (size.height + kTile - 1) / kTile;
@@ -98,7 +108,7 @@ void Converter::build_cache() const {
       const TileRect rect{(t % tiles_x) * kTile, (t / tiles_x) * kTile,
                           std::min(kTile, size.width - (t % tiles_x) * kTile),
                           std::min(kTile, size.height - (t / tiles_x) * kTile)};
-      map_tile(source_, target_, rotation_, rect, maps[static_cast<size_t>(t)]);
+      map(rect, maps[static_cast<size_t>(t)]);
     }
   };
   const int n_threads = static_cast<int>(std::min<int64_t>(resolve_threads(threads_), n_tiles));
@@ -166,13 +176,13 @@ Image Converter::run(const Image& src, EngineStats* stats,
     int64_t last_percent = -1;
     for (int64_t t; (t = next.fetch_add(1)) < n_tiles;) {
       const TileRect rect = rect_of(t);
-      const TileMap* map = &local;
+      const TileMap* tile_map = &local;
       if (cache_map_) {
-        map = &cache_[static_cast<size_t>(t)];
+        tile_map = &cache_[static_cast<size_t>(t)];
       } else {
-        map_tile(source_, target_, rotation_, rect, local);
+        map(rect, local);
       }
-      const TileMap& tm = *map;
+      const TileMap& tm = *tile_map;
       interp_cells += tm.interpolated_cells;
       exact_cells += tm.exact_cells;
       Footprint fp;

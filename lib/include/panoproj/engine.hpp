@@ -1,6 +1,7 @@
 #pragma once
 // The fast engine: output tiles of kTile x kTile pixels over a thread pool. Per tile:
-//   1. source coordinates from tile_map.hpp (cubic interpolation of exact nodes, <= 1/256 px);
+//   1. source coordinates: float SIMD geometry for the common pairs (simd_geometry.hpp), else
+//      tile_map.hpp (cubic interpolation of exact nodes); both within 1/256 px;
 //   2. if every tap lies inside the source (one face for cubemaps) and SIMD is on: Highway
 //      kernels (float, runtime-dispatched target); otherwise the reference sampler, with its
 //      edge rules (wrap, poles, cube neighbours, clamp).
@@ -18,8 +19,9 @@
 namespace panoproj {
 
 enum class Engine {
-  Simd,       // tiles, interpolated coordinates, SIMD sampling where no edge is touched (default)
-  Scalar,     // the same tiles and coordinates, reference sampling everywhere
+  Simd,       // tiles; SIMD geometry for the common pairs (else interpolated coordinates); SIMD
+              // sampling where no edge is touched (default)
+  Scalar,     // the same tiles, interpolated coordinates, reference sampling everywhere
   Reference,  // exact per-pixel double geometry and sampling (resample.hpp)
 };
 
@@ -63,6 +65,9 @@ class Converter {
   bool cache_map_;
   mutable std::vector<TileMap> cache_;  // one per tile, filled on the first run when cache_map_
   void build_cache() const;
+  // The tile's source positions: SIMD float geometry where the pair supports it (simd engine),
+  // else the tile mapper.
+  void map(const TileRect& rect, TileMap& out) const;
 };
 
 // A one-off conversion (a Converter without a cache).

@@ -27,6 +27,9 @@ class Equirect : public FramedBounds {
   }
 
   double center_density() const { return axis_.density(); }
+  const LongitudeAxis& axis() const { return axis_; }
+  double lat_top() const { return lat_top_; }
+  double vfov() const { return vfov_; }
   bool full_longitude() const { return axis_.full; }
   // With a full circle of longitude, a frame edge at a pole can be crossed by interpolation taps.
   bool reaches_north_pole() const { return axis_.full && lat_top_ >= kHalfPi * (1.0 - 1e-12); }

@@ -90,6 +90,11 @@ class Fisheye {
   double psi_max() const { return psi_max_; }
   FisheyeModel model() const { return model_; }
   bool clip() const { return clip_; }
+  double cx() const { return cx_; }
+  double cy() const { return cy_; }
+  double rx() const { return rx_; }
+  double ry() const { return ry_; }
+  double g_max() const { return g_max_; }
 
  private:
   // psi from g; false where the law has no inverse.
