@@ -102,6 +102,25 @@ TEST(Engine, CachedMapGivesTheSameBytesAndChecksSizes) {
   EXPECT_THROW(cached.run(Image({601, 300}, 3, PixelType::U8)), Error);
 }
 
+TEST(Engine, FootprintIsTheSameWithOrWithoutAKeptMap) {
+  // Without a cache the footprint keeps one tile map per thread (large outputs); with one it
+  // keeps them all. Both must name the same source rectangle and give the same image.
+  const Projection src = make("equirect", {2048, 1024});
+  for (auto [spec, pitch] : {std::pair{"pinhole:hfov=70", 20.0}, {"pinhole:hfov=70", 80.0}, {"aitoff", 0.0}}) {
+    const Projection dst = make(spec, {400, 300});
+    const Eigen::Matrix3d r = rotation_from_ypr(40, pitch, 0);
+    const Converter kept(src, dst, r, Interp::Bicubic, Engine::Simd, 2, true);
+    const Converter lean(src, dst, r, Interp::Bicubic, Engine::Simd, 2, false);
+    const auto a = kept.source_footprint(), b = lean.source_footprint();
+    EXPECT_EQ(a.x0, b.x0);
+    EXPECT_EQ(a.y0, b.y0);
+    EXPECT_EQ(a.x1, b.x1);
+    EXPECT_EQ(a.y1, b.y1);
+    const Image im = test::render(src, test::band_limited_scene(0.1, 2048), PixelType::U8);
+    EXPECT_TRUE(kept.run(im) == lean.run(im)) << spec;
+  }
+}
+
 TEST(Engine, AgreesWithTheReference) {
   // Coordinates within 1/256 px and float sampling: within 1 LSB of the exact double path on a
   // band-limited scene (a steeper image moves more per 1/256 px).

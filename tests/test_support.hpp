@@ -163,4 +163,35 @@ inline double angle(const Ray& a, const Ray& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
+// A tile map against the exact per-pixel map: the largest position error, where a position
+// farther than `tolerance` counts as exact when it is the same ray (the seam, a pole row, a
+// shared cube edge), and the pixels whose validity differs.
+struct MapComparison {
+  double worst = 0;
+  int64_t differ = 0, valid = 0;
+};
+template <class TileMapT, class RectT>
+void compare_with_exact(const Projection& sp, const Projection& dp, const Eigen::Matrix3d& r,
+                        const RectT& rect, const TileMapT& tm, double tolerance, MapComparison& acc) {
+  for (int64_t j = 0; j < rect.h; ++j)
+    for (int64_t i = 0; i < rect.w; ++i) {
+      const size_t k = static_cast<size_t>(j * rect.w + i);
+      Ray d;
+      double sx = 0, sy = 0;
+      const bool ok = to_ray(dp, rect.x0 + i + 0.5, rect.y0 + j + 0.5, d) && to_pixel(sp, r * d, sx, sy);
+      if (ok != static_cast<bool>(tm.ok[k])) {
+        ++acc.differ;
+        continue;
+      }
+      if (!ok) continue;
+      ++acc.valid;
+      double err = std::hypot(tm.xs[k] - sx, tm.ys[k] - sy);
+      Ray d2, d3;
+      if (err > tolerance && to_ray(sp, tm.xs[k], tm.ys[k], d2) && to_ray(sp, sx, sy, d3) &&
+          angle(d2, d3) < 1e-9)
+        err = 0;
+      acc.worst = std::max(acc.worst, err);
+    }
+}
+
 }  // namespace panoproj::test

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "panoproj/rotation.hpp"
+#include "test_support.hpp"
 
 namespace panoproj {
 namespace {
@@ -26,8 +27,8 @@ TEST_P(TileMapAccuracy, MatchesTheExactMap) {
   const Projection src = make_projection(parse_spec(c.src), c.src_size);
   const Projection dst = make_projection(parse_spec(c.dst), c.dst_size);
   const Eigen::Matrix3d r = rotation_from_ypr(c.yaw, c.pitch, c.roll);
-  double max_err = 0;
-  int64_t valid = 0, mismatched = 0, cells = 0, interpolated = 0;
+  test::MapComparison cmp;
+  int64_t cells = 0, interpolated = 0;
   TileMap tm;
   const int64_t tile = 64;
   for (int64_t ty = 0; ty < c.dst_size.height; ty += tile)
@@ -36,21 +37,10 @@ TEST_P(TileMapAccuracy, MatchesTheExactMap) {
       map_tile(src, dst, r, rect, tm);
       cells += tm.exact_cells + tm.interpolated_cells;
       interpolated += tm.interpolated_cells;
-      for (int64_t j = 0; j < rect.h; ++j)
-        for (int64_t i = 0; i < rect.w; ++i) {
-          const size_t k = static_cast<size_t>(j * rect.w + i);
-          Ray d;
-          double sx = 0, sy = 0;
-          const bool ok = to_ray(dst, tx + i + 0.5, ty + j + 0.5, d) && to_pixel(src, r * d, sx, sy);
-          if (ok != static_cast<bool>(tm.ok[k])) {
-            ++mismatched;
-            continue;
-          }
-          if (!ok) continue;
-          ++valid;
-          max_err = std::max(max_err, std::hypot(tm.xs[k] - sx, tm.ys[k] - sy));
-        }
+      test::compare_with_exact(src, dst, r, rect, tm, 1.0 / 256, cmp);
     }
+  const double max_err = cmp.worst;
+  const int64_t valid = cmp.valid, mismatched = cmp.differ;
   std::printf("[tile_map] %-34s -> %-34s max error %.2e px, %5.1f%% cells interpolated, %lld of %lld "
               "pixels differ in validity\n",
               c.src, c.dst, max_err, 100.0 * interpolated / cells, static_cast<long long>(mismatched),

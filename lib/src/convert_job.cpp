@@ -127,10 +127,15 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const Size source_size = in_faces ? faces->size() : frame;
   if (!from) from = infer_source_spec(std::nullopt, job.inputs[0], source_size);
   const Plan plan = make_plan(source_size, *from, to, options);
+  // The map is kept (built once for the footprint, the first image and the rest of a batch)
+  // while it fits kMapCacheBudget; beyond, memory stays source + output + tile buffers and the
+  // map is made twice (footprint, then conversion) and again per frame.
+  const Size out_size = size_of(plan.target);
+  const bool cache = out_size.width * out_size.height * kCachedMapBytesPerPixel <= kMapCacheBudget;
   const auto t_map = std::chrono::steady_clock::now();
   const Converter converter(plan.source, plan.target, plan.rotation, options.interp, options.engine,
-                            options.threads, true);
-  const Converter::Region need = converter.source_footprint();  // builds the tile maps
+                            options.threads, cache);
+  const Converter::Region need = converter.source_footprint();
   const double map_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count();
   for (size_t n = 0; n < job.inputs.size(); ++n) {
     const Image source = in_faces ? std::move(*faces)

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -123,19 +124,47 @@ Converter::Region Converter::source_footprint() const {
   const Size frame = size_of(source_);
   const Region all{0, 0, frame.width, frame.height};
   if (std::holds_alternative<Cubemap>(source_)) return all;
-  if (cache_.empty()) build_cache();
-  const Interp k = interp_;
-  const int n = support(k);
+  // Bounding box of the valid positions: from the kept tile maps, or (without a cache) from tile
+  // maps made one at a time and dropped, so memory stays at one tile per thread.
+  std::mutex m;
   double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
-  for (const TileMap& tm : cache_)
+  auto extend = [&](const TileMap& tm) {
+    double a = HUGE_VAL, b = HUGE_VAL, c = -HUGE_VAL, d = -HUGE_VAL;
     for (size_t i = 0; i < tm.ok.size(); ++i) {
       if (!tm.ok[i]) continue;
-      x0 = std::min(x0, tm.xs[i]), x1 = std::max(x1, tm.xs[i]);
-      y0 = std::min(y0, tm.ys[i]), y1 = std::max(y1, tm.ys[i]);
+      a = std::min(a, tm.xs[i]), c = std::max(c, tm.xs[i]);
+      b = std::min(b, tm.ys[i]), d = std::max(d, tm.ys[i]);
     }
+    const std::lock_guard<std::mutex> lock(m);
+    x0 = std::min(x0, a), x1 = std::max(x1, c), y0 = std::min(y0, b), y1 = std::max(y1, d);
+  };
+  if (cache_map_) {
+    if (cache_.empty()) build_cache();
+    for (const TileMap& tm : cache_) extend(tm);
+  } else {
+    const Size size = size_of(target_);
+    const int64_t tiles_x = (size.width + kTile - 1) / kTile, tiles_y = (size.height + kTile - 1) / kTile;
+    std::atomic<int64_t> next{0};
+    auto scan = [&] {
+      TileMap tm;
+      for (int64_t t; (t = next.fetch_add(1)) < tiles_x * tiles_y;) {
+        map({(t % tiles_x) * kTile, (t / tiles_x) * kTile, std::min(kTile, size.width - (t % tiles_x) * kTile),
+             std::min(kTile, size.height - (t / tiles_x) * kTile)},
+            tm);
+        extend(tm);
+      }
+    };
+    const int n_threads = static_cast<int>(std::min<int64_t>(resolve_threads(threads_), tiles_x * tiles_y));
+    std::vector<std::thread> pool;
+    for (int i = 1; i < n_threads; ++i) pool.emplace_back(scan);
+    scan();
+    for (auto& th : pool) th.join();
+  }
   if (x0 > x1) return {0, 0, 0, 0};  // no pixel has a source
+  const int n = support(interp_);
   // Taps (first_tap is monotonic), one pixel of margin for the 1/256 px map tolerance.
-  Region r{first_tap(k, x0) - 1, first_tap(k, y0) - 1, first_tap(k, x1) + n + 1, first_tap(k, y1) + n + 1};
+  Region r{first_tap(interp_, x0) - 1, first_tap(interp_, y0) - 1, first_tap(interp_, x1) + n + 1,
+           first_tap(interp_, y1) + n + 1};
   // Where taps leave the frame, the edge rules read elsewhere: wrap (full width), pole crossing
   // (full width, rows from the pole), clamp (the edge row or column, inside the clamp).
   if (r.x0 < 0 || r.x1 > frame.width) r.x0 = 0, r.x1 = frame.width;

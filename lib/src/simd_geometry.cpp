@@ -42,6 +42,7 @@ HWY_INLINE VF Atan2(DF df, VF y, VF x) {
 HWY_INLINE void TargetRay(DF df, const SimdGeometry& g, VF px, VF py, VF& x, VF& y, VF& z, MF& ok) {
   const double* d = g.d;
   ok = hn::Eq(px, px);  // all true
+  x = y = z = hn::Zero(df);
   switch (g.dst) {
     case SimdGeometry::Dst::Pinhole:
       x = hn::Div(hn::Sub(px, hn::Set(df, d[2])), hn::Set(df, d[0]));
@@ -172,15 +173,17 @@ HWY_EXPORT(MapTile);
 bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
                        const TileRect& rect, SimdGeometry& g) {
   for (int i = 0; i < 9; ++i) g.r[i] = static_cast<double>(rotation(i / 3, i % 3));
+  // W, hfov, lon0, H, lat_top, vfov: the same layout on both sides.
+  auto equirect = [](const Equirect& e, double* out) {
+    const double v[6] = {static_cast<double>(e.size().width), e.axis().hfov, e.axis().lon0,
+                         static_cast<double>(e.size().height), e.lat_top(), e.vfov()};
+    std::copy(v, v + 6, out);
+  };
   if (const auto* e = std::get_if<Equirect>(&src)) {
-    if (!e->full_longitude() || e->size().width > 32768) return false;
+    if (!e->full_longitude()) return false;
     g.src = SimdGeometry::Src::Equirect;
-    const double v[6] = {static_cast<double>(e->size().width), static_cast<double>(e->axis().hfov),
-                        static_cast<double>(e->axis().lon0), static_cast<double>(e->size().height),
-                        static_cast<double>(e->lat_top()), static_cast<double>(e->vfov())};
-    std::copy(v, v + 6, g.s);
+    equirect(*e, g.s);
   } else if (const auto* c = std::get_if<Cubemap>(&src)) {
-    if (c->size().width > 32768 || c->size().height > 32768) return false;
     g.src = SimdGeometry::Src::Cubemap;
     g.s[0] = static_cast<double>(c->face_size());
     for (int f = 0; f < 6; ++f) {
@@ -197,10 +200,7 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
     std::copy(v, v + 4, g.d);
   } else if (const auto* e = std::get_if<Equirect>(&dst)) {
     g.dst = SimdGeometry::Dst::Equirect;
-    const double v[6] = {static_cast<double>(e->size().width), static_cast<double>(e->axis().hfov),
-                        static_cast<double>(e->axis().lon0), static_cast<double>(e->size().height),
-                        static_cast<double>(e->lat_top()), static_cast<double>(e->vfov())};
-    std::copy(v, v + 6, g.d);
+    equirect(*e, g.d);
   } else if (const auto* c = std::get_if<Cubemap>(&dst)) {
     // The whole tile inside one face's cell.
     const int f = c->face_at(static_cast<double>(rect.x0) + 0.5, static_cast<double>(rect.y0) + 0.5);

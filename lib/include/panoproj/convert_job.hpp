@@ -19,6 +19,9 @@
 
 namespace panoproj {
 
+// Largest map the file jobs keep in memory (about 30 Mpx of output).
+inline constexpr int64_t kMapCacheBudget = int64_t{512} << 20;
+
 struct ConvertJob {
   std::vector<std::string> inputs;  // one image or face pattern, or several images (a batch)
   std::string output;               // a path, a face pattern, or a batch pattern

@@ -28,13 +28,16 @@ enum class Engine {
 Engine parse_engine(std::string_view name);  // throws panoproj::Error
 const char* name_of(Engine e);
 
+// Bytes a cached map takes per output pixel (double x, y and a validity byte).
+inline constexpr int64_t kCachedMapBytesPerPixel = 2 * sizeof(double) + 1;
+
 struct EngineStats {
   int64_t tiles = 0, simd_tiles = 0, interpolated_cells = 0, exact_cells = 0;
 };
 
 // One geometry (projections, rotation, kernel), applied to any number of images of the source's
-// size. With cache_map, the tile maps (17 bytes per output pixel) are built once, on the first
-// run, and reused: batches and video frames pay for the geometry once.
+// size. With cache_map, the tile maps (kCachedMapBytesPerPixel per output pixel) are built once,
+// on the first run, and reused: batches and video frames pay for the geometry once.
 class Converter {
  public:
   Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
@@ -46,8 +49,9 @@ class Converter {
             const std::function<void(double)>& progress = {}) const;
 
   // The source pixels [x0, x1) x [y0, y1) that run() reads (with the kernel's taps and the
-  // edge rules: a seam or pole crossing widens it to the full width; cubemaps read all). Builds
-  // and keeps the tile maps (as cache_map does). Read only this part of a large source.
+  // edge rules: a seam or pole crossing widens it to the full width; cubemaps read all). Read
+  // only this part of a large source. With cache_map it builds and keeps the tile maps (run()
+  // then reuses them); without, it maps tile by tile and keeps nothing.
   struct Region {
     int64_t x0, y0, x1, y1;
   };
