@@ -151,10 +151,10 @@ int main(int argc, char** argv) {
         bad += std::fabs(out.pixel(x, y)[c] - want) > 1.5;
       }
     }
-    std::printf("equirect 40000x20000 -> %s %lldx%lld bilinear: %.2f s (%lld tiles, %lld SIMD), "
+    std::printf("equirect 40000x20000 -> %s %lldx%lld bilinear: %.2f s (%lld tiles, %lld fused; %lld edge samples), "
                 "%.1f Mpx/s; spot checks off by > 1 LSB: %d; peak RSS %.2f GB\n",
                 j.spec, static_cast<long long>(j.size.width), static_cast<long long>(j.size.height), t,
-                static_cast<long long>(st.tiles), static_cast<long long>(st.simd_tiles),
+                static_cast<long long>(st.tiles), static_cast<long long>(st.fused_tiles), static_cast<long long>(st.edge_samples),
                 j.size.width * j.size.height / t / 1e6, bad, peak_gb());
   }
   }

@@ -5,7 +5,8 @@
 //   CV_16SC2 + CV_16UC1 from cv::convertMaps; the faster of the two is the reference).
 //   memcpy: copying a buffer the size of the output (the floor for any method).
 // Median of --runs runs (default 9). OpenCV has no Lanczos-3: its LANCZOS4 (8x8) stands in,
-// labelled so. Usage: bench_remap [--threads N] [--runs N]
+// labelled so. Usage: bench_remap [--threads N] [--runs N] [--case I] [--ours-only]
+// (--case runs only the I-th row, --ours-only skips the peers: for profiling).
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -62,10 +63,14 @@ cv::Mat as_mat(const Image& im) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int threads = 2, runs = 9;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  int threads = 2, runs = 9, only = -1;
+  bool ours_only = false;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--ours-only")) ours_only = true;
+    if (i + 1 == argc) break;
     if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--runs")) runs = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--case")) only = std::atoi(argv[i + 1]);
   }
   cv::setNumThreads(threads);
   const Image pano = read_image(std::string(PANOPROJ_SOURCE_DIR) + "/samples/images/jordan_pond_4096x2048.jpg");
@@ -95,11 +100,16 @@ int main(int argc, char** argv) {
   std::printf("| conversion | kernel | panoproj ms | cv::remap float ms | cv::remap fixed ms | memcpy ms | panoproj / OpenCV | panoproj / memcpy |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   for (const Case& c : cases) {
+    if (only >= 0 && &c != &cases[only]) continue;
     const Projection dst = make_projection(parse_spec(c.dst), c.size);
     const double ours = median_ms(runs, [&] {
       const Image out = fast_remap(*c.src, *c.sp, dst, Eigen::Matrix3d::Identity(), c.interp, Engine::Simd, threads);
       (void)out;
     });
+    if (ours_only) {
+      std::printf("| %s | %s | %.1f | | | | | |\n", c.name, name_of(c.interp), ours);
+      continue;
+    }
     cv::Mat mx, my, fx, fy, out;
     cv_maps(*c.sp, dst, mx, my);
     cv::convertMaps(mx, my, fx, fy, CV_16SC2);

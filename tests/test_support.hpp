@@ -163,9 +163,11 @@ inline double angle(const Ray& a, const Ray& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
-// A tile map against the exact per-pixel map: the largest position error, where a position
-// farther than `tolerance` counts as exact when it is the same ray (the seam, a pole row, a
-// shared cube edge), and the pixels whose validity differs.
+// A tile map against the exact per-pixel map: the largest position error in source pixels, and
+// the pixels whose validity differs. Where the positions differ by more than `tolerance`, the
+// error is also measured as the angle between the two rays over the angle of one source pixel
+// there (the larger of its two sides), and the smaller counts: at the seam, a pole row or a
+// shared cube edge, far-apart positions can be (nearly) the same ray.
 struct MapComparison {
   double worst = 0;
   int64_t differ = 0, valid = 0;
@@ -186,10 +188,13 @@ void compare_with_exact(const Projection& sp, const Projection& dp, const Eigen:
       if (!ok) continue;
       ++acc.valid;
       double err = std::hypot(tm.xs[k] - sx, tm.ys[k] - sy);
-      Ray d2, d3;
-      if (err > tolerance && to_ray(sp, tm.xs[k], tm.ys[k], d2) && to_ray(sp, sx, sy, d3) &&
-          angle(d2, d3) < 1e-9)
-        err = 0;
+      Ray d2, d3, dx, dy;
+      if (err > tolerance && to_ray(sp, tm.xs[k], tm.ys[k], d2) && to_ray(sp, sx, sy, d3)) {
+        const double step_x = to_ray(sp, sx + 0.5, sy, dx) || to_ray(sp, sx - 0.5, sy, dx) ? 2 * angle(d3, dx) : 0;
+        const double step_y = to_ray(sp, sx, sy + 0.5, dy) || to_ray(sp, sx, sy - 0.5, dy) ? 2 * angle(d3, dy) : 0;
+        const double pixel = std::max(step_x, step_y);
+        if (pixel > 0) err = std::min(err, angle(d2, d3) / pixel);
+      }
       acc.worst = std::max(acc.worst, err);
     }
 }

@@ -1,12 +1,14 @@
 #pragma once
-// Source positions of pixel rows in double-precision SIMD (Google Highway), for the common pairs:
-// targets pinhole, equirect, fisheye (clip=circle, any law) and cube tiles inside one face;
-// sources equirect with a full circle of longitude and cubemap. Double, not float: near a pole
-// the longitude atan2(x, z) divides float's 6e-8 absolute error by cos(latitude), which reached
-// 0.1 px at 32768 px (measured). Tested against the exact map in tests/simd_geometry_test.cpp;
-// other pairs use the tile mapper. Internal.
+// Source positions of pixel rows in SIMD (Google Highway), for the common pairs: targets pinhole,
+// equirect, fisheye (clip=circle, any law) and cube tiles inside one face; sources equirect with a
+// full circle of longitude and cubemap. Float lanes where they stay within kFloatTolerance, double
+// lanes elsewhere: near an equirect pole the longitude atan2(x, z) divides float's ~1e-7 absolute
+// ray error by cos(latitude) (float everywhere erred by 0.1 px at 32768 px, measured), and float
+// positions themselves are coarse beyond a few thousand pixels. Tested against the exact map in
+// tests/simd_geometry_test.cpp; other pairs use the tile mapper. Internal.
 #include <Eigen/Core>
 #include <cstdint>
+#include <type_traits>
 
 #include "panoproj/projection.hpp"
 #include "panoproj/tile_map.hpp"
@@ -14,12 +16,28 @@
 namespace panoproj {
 
 struct SimdGeometry {
+  // Error bound of float lanes, in source pixels: lanes that could exceed it are computed in
+  // double (see use_float and the coarse masks of simd_geometry-inl.h).
+  static constexpr double kFloatTolerance = 1.0 / 1024;
   enum class Dst { Pinhole, Equirect, CubeFace, Fisheye } dst;
   enum class Src { Equirect, Cubemap } src;
-  double d[12];   // target parameters (see simd_geometry.cpp)
-  double s[20];   // source parameters
-  double r[9];    // rotation, row-major
-  int law;        // fisheye law (FisheyeModel as int)
+  int law;  // fisheye law (FisheyeModel as int)
+  // Float lanes (twice as many per vector, shorter polynomials) where the source is small enough
+  // for float positions to stay within kFloatTolerance; double lanes otherwise.
+  bool use_float;
+  template <class T>
+  struct Params {
+    T d[16];  // target parameters (see simd_geometry.cpp)
+    T s[16];  // source parameters
+    T r[9];   // rotation, row-major
+  };
+  Params<double> pd;
+  Params<float> pf;  // the same, rounded to float
+  template <class T>
+  const Params<T>& params() const {
+    if constexpr (std::is_same_v<T, float>) return pf;
+    else return pd;
+  }
 };
 
 // Describes the pair for one tile; false when the pair (or this tile: a cube tile spanning two

@@ -1,11 +1,12 @@
 // Highway kernels for simd_sampler.hpp, compiled once per target (foreach_target) and chosen at
-// run time. Arithmetic in float; the reference (double) agrees within the bounds stated in
-// tests/engine_test.cpp.
+// run time. Positions and tap indices in double; weights and accumulation in float. The reference
+// (double) agrees within the bounds stated in tests/engine_test.cpp.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "simd_sampler.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 // Order matters: foreach_target re-includes this file once per target.
 #include <hwy/contrib/math/math-inl.h>
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
 #include <Imath/half.h>
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "simd_geometry-inl.h"
 #include "simd_sampler.hpp"
 
 HWY_BEFORE_NAMESPACE();
@@ -21,13 +23,12 @@ namespace panoproj {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-using DF = hn::ScalableTag<float>;
-using DI = hn::RebindToSigned<DF>;
-using VF = hn::Vec<DF>;
-using VI = hn::Vec<DI>;
+// One lane per output pixel. Positions come in float or double vectors (DP); the samples use float
+// and int32 vectors of the same lane count (DF, DI below).
+constexpr size_t kMaxLanes = HWY_MAX_BYTES / sizeof(float);
 
 // Tap weights for fractional offset t in [0, 1) from the left centre.
-template <int K>
+template <int K, class DF, class VF = hn::Vec<DF>>
 HWY_INLINE void Weights(DF df, VF t, VF* w) {
   if constexpr (K == 2) {
     w[0] = hn::Sub(hn::Set(df, 1.0f), t);
@@ -68,6 +69,7 @@ HWY_INLINE void Weights(DF df, VF t, VF* w) {
 
 // Exact half -> float for finite values (inf/NaN become inf/NaN): shift the 15 magnitude bits
 // into a float's place and rescale by 2^112 (handles subnormals), then restore the sign.
+template <class DF, class VF = hn::Vec<DF>, class DI = hn::RebindToSigned<DF>, class VI = hn::Vec<DI>>
 HWY_INLINE VF HalfToFloat(DF df, VI h) {
   const DI di;
   const VI mag = hn::And(h, hn::Set(di, 0x7fff));
@@ -79,7 +81,7 @@ HWY_INLINE VF HalfToFloat(DF df, VI h) {
 }
 
 // Loads channel c of the pixels at byte offsets off as float.
-template <PixelType T>
+template <PixelType T, class DF, class VF = hn::Vec<DF>, class DI = hn::RebindToSigned<DF>, class VI = hn::Vec<DI>>
 HWY_INLINE VF LoadChannel(DF df, const unsigned char* base, VI off, int c, VI word) {
   const DI di;
   if constexpr (T == PixelType::U8) {
@@ -107,41 +109,233 @@ HWY_INLINE void StoreSample(unsigned char* p, float v) {
   }
 }
 
-template <PixelType PT, class T, int K>
-void SampleRowT(const SimdSource& s, const float* xs, const float* ys, const uint8_t* ok,
-                int64_t n, unsigned char* out) {
+// Per-call constants of PlanLanes in the position type, in registers (the compiler cannot hoist
+// loads from the SimdSource past the stores, which may alias anything).
+template <class DP, class VP = hn::Vec<DP>>
+struct Bounds {
+  VP cw, ch, inv_cw, inv_ch, x0, x1, y0, y1;
+  explicit Bounds(const SimdSource& s) {
+    using P = hn::TFromD<DP>;
+    const DP dp;
+    cw = hn::Set(dp, static_cast<P>(s.cell_w)), ch = hn::Set(dp, static_cast<P>(s.cell_h));
+    inv_cw = hn::Set(dp, static_cast<P>(1.0 / static_cast<double>(s.cell_w)));
+    inv_ch = hn::Set(dp, static_cast<P>(1.0 / static_cast<double>(s.cell_h)));
+    x0 = hn::Set(dp, static_cast<P>(s.x0)), x1 = hn::Set(dp, static_cast<P>(s.x1));
+    y0 = hn::Set(dp, static_cast<P>(s.y0)), y1 = hn::Set(dp, static_cast<P>(s.y1));
+  }
+};
+
+// Float copy of a position-type vector.
+template <class DF, class V>
+HWY_INLINE hn::Vec<DF> ToFloat(DF df, V v) {
+  if constexpr (std::is_same_v<hn::TFromV<V>, float>) return v;
+  else return hn::DemoteTo(df, v);
+}
+
+// The taps of up to one float vector of output pixels (phase 1's product, phase 2's input).
+struct TapBlock {
+  const unsigned char* base;  // the row of the block's lowest first tap
+  int64_t index;              // output pixel index of lane 0 (row-major in the rect)
+  int64_t m;                  // lanes in use
+  HWY_ALIGN int32_t off[kMaxLanes];    // byte offset of the first tap from base; -1: not here
+  HWY_ALIGN float tx[kMaxLanes], ty[kMaxLanes];  // fractions from the first-but-(K/2 - 1) tap
+};
+
+// Phase 1 for one vector of positions: first taps and fractions (floor(s) for nearest, else
+// floor(s - 0.5) - (K/2 - 1), as interpolator.cpp), and the check that all taps lie in the
+// sample's cell (a cube face, else the frame) and in the window, within int32 byte offsets of
+// the lowest tap row. Other valid lanes go to misses. Prefetches the taps' cache lines so that
+// phase 2, a few rows later, finds them in cache. Returns false if no lane is sampled here.
+// Float positions are exact integers + fractions up to 2^24 px (use_float allows far less).
+template <int K, class DP, class VP = hn::Vec<DP>, class MP = hn::Mask<DP>>
+HWY_INLINE bool PlanLanes(const SimdSource& s, const Bounds<DP>& b, VP sx, VP sy, MP ok, int64_t index,
+                          int64_t m, TapBlock& blk, SimdMisses& misses) {
+  using P = hn::TFromD<DP>;
+  using DF = hn::Rebind<float, DP>;
+  using DI = hn::Rebind<int32_t, DP>;
+  using VI = hn::Vec<DI>;
+  const DP dp;
   const DF df;
   const DI di;
-  const size_t N = hn::Lanes(df);
+  const int pb = s.channels * static_cast<int>(bytes_of(s.type));
+  const VP shift = hn::Set(dp, static_cast<P>(K == 1 ? 0.0 : 0.5 + (K / 2 - 1)));
+  const VP X = hn::Sub(sx, shift), Y = hn::Sub(sy, shift);
+  const VP fx = hn::Floor(X), fy = hn::Floor(Y);
+  // (A rounding of s / cell at a cell edge only sends the sample to the reference.)
+  const VP cx = hn::Mul(hn::Floor(hn::Mul(sx, b.inv_cw)), b.cw), cy = hn::Mul(hn::Floor(hn::Mul(sy, b.inv_ch)), b.ch);
+  const VP k = hn::Set(dp, static_cast<P>(K));
+  const VP lo_x = hn::Max(cx, b.x0), hi_x = hn::Sub(hn::Min(hn::Add(cx, b.cw), b.x1), k);
+  const VP lo_y = hn::Max(cy, b.y0), hi_y = hn::Sub(hn::Min(hn::Add(cy, b.ch), b.y1), k);
+  MP inside = hn::And(hn::And(ok, hn::And(hn::Ge(fx, lo_x), hn::Le(fx, hi_x))),
+                      hn::And(hn::Ge(fy, lo_y), hn::Le(fy, hi_y)));
+  // The reach test runs in the position type (float: with 1% margin for its rounding), the
+  // offsets themselves in exact integers.
+  P y_min = 0;
+  VI ioff = hn::Set(di, -1);
+  const bool any = !hn::AllFalse(dp, inside);
+  if (any) {
+    y_min = hn::GetLane(hn::MinOfLanes(dp, hn::IfThenElse(inside, fy, hn::Set(dp, std::numeric_limits<P>::max()))));
+    const VP row = hn::Sub(fy, hn::Set(dp, y_min)), col = hn::Sub(fx, b.x0);
+    const double reach = 2147483647.0 - (K - 1) * static_cast<double>(s.stride) - (K + 1) * pb;
+    const VP off = hn::MulAdd(row, hn::Set(dp, static_cast<P>(s.stride)), hn::Mul(col, hn::Set(dp, static_cast<P>(pb))));
+    inside = hn::And(inside, hn::Le(off, hn::Set(dp, static_cast<P>(std::is_same_v<P, float> ? 0.99 * reach : reach))));
+    if constexpr (std::is_same_v<P, float>) {
+      const VI o = hn::Add(hn::Mul(hn::ConvertTo(di, row), hn::Set(di, static_cast<int32_t>(s.stride))),
+                           hn::Mul(hn::ConvertTo(di, col), hn::Set(di, pb)));
+      ioff = hn::IfThenElse(hn::RebindMask(di, inside), o, ioff);
+    } else {
+      ioff = hn::DemoteTo(di, hn::IfThenElse(inside, off, hn::Set(dp, -1.0)));
+    }
+  }
+  const MP missed = hn::AndNot(inside, ok);
+  if (HWY_UNLIKELY(!hn::AllFalse(dp, missed))) {
+    HWY_ALIGN P bx[kMaxLanes], by[kMaxLanes], bm[kMaxLanes];
+    hn::Store(sx, dp, bx);
+    hn::Store(sy, dp, by);
+    hn::Store(hn::IfThenElseZero(missed, hn::Set(dp, P(1))), dp, bm);
+    for (int64_t l = 0; l < m; ++l)
+      if (bm[l] != P(0)) misses.index.push_back(index + l), misses.xs.push_back(bx[l]), misses.ys.push_back(by[l]);
+  }
+  blk.index = index;
+  blk.m = m;
+  blk.base = s.base + static_cast<int64_t>(y_min - static_cast<P>(s.y0)) * s.stride;
+  if constexpr (!std::is_same_v<P, float>) {  // fewer lanes than phase 2 reads: the rest unused
+    const hn::ScalableTag<int32_t> d32;
+    hn::Store(hn::Set(d32, -1), d32, blk.off);
+  }
+  hn::Store(ioff, di, blk.off);
+  if constexpr (K > 1) {
+    hn::Store(ToFloat(df, hn::Sub(X, fx)), df, blk.tx);
+    hn::Store(ToFloat(df, hn::Sub(Y, fy)), df, blk.ty);
+  }
+  if (any) {
+    // The first and last lanes' taps, row by row: the lanes in between lie mostly between them.
+    const int32_t first = blk.off[0] >= 0 ? blk.off[0] : 0, last = blk.off[m - 1] >= 0 ? blk.off[m - 1] : first;
+    for (int r = 0; r < K; ++r) {
+      hwy::Prefetch(blk.base + first + r * s.stride);
+      hwy::Prefetch(blk.base + last + r * s.stride + (K - 1) * pb);
+    }
+  }
+  return any;
+}
+
+// Stores m pixels of pb <= 4 bytes from little-endian words, 4 bytes at a time while that stays
+// inside the m pixels (the spare bytes are overwritten by the following pixels), then exactly.
+HWY_INLINE void StoreWords(const uint32_t* w, int64_t m, int pb, unsigned char* p) {
+  int64_t l = 0;
+  for (; l * pb + 4 <= m * pb; ++l) std::memcpy(p + l * pb, &w[l], 4);
+  for (; l < m; ++l) std::memcpy(p + l * pb, &w[l], static_cast<size_t>(pb));
+}
+
+#if HWY_TARGET != HWY_SCALAR
+// Phase 2 for bilinear uint8 without alpha (the common photo case), all channels at once in
+// 16-bit fixed point: one 64-bit gather per pixel and row fetches both taps (8 bytes from the
+// first; the second starts pb bytes in). Channels 0, 2 and 1, 3 of each RGBx word sit in the
+// two 16-bit halves of a lane, scaled by 256; weights w = round(t 65535) and 65535 - w (1/65536
+// px steps); each product keeps its high 16 bits. The truncations lower the result by < 0.02 LSB
+// before the final rounding, so it stays within 1 LSB of the exact blend.
+HWY_INLINE void BilinearU8(const SimdSource& s, const TapBlock& blk, unsigned char* o) {
+  using DF = hn::ScalableTag<float>;
+  using DI = hn::RebindToSigned<DF>;
+  using DU = hn::RebindToUnsigned<DF>;
+  using D16 = hn::Repartition<uint16_t, DU>;
+  using D64 = hn::Repartition<uint64_t, DU>;
+  using DI64 = hn::RebindToSigned<D64>;
+  using VU = hn::Vec<DU>;
+  using V16 = hn::Vec<D16>;
+  const DF df;
+  const DI di;
+  const DU du;
+  const D16 d16;
+  const D64 d64;
+  const DI64 di64;
+  const hn::Half<DI> dih;
+  const int pb = s.channels;
+  const auto* base = reinterpret_cast<const uint64_t*>(blk.base);
+  const auto off = hn::Max(hn::Load(di, blk.off), hn::Zero(di));
+  const auto off_lo = hn::PromoteTo(di64, hn::LowerHalf(dih, off)), off_hi = hn::PromoteTo(di64, hn::UpperHalf(dih, off));
+  // Both taps of row r as RGBx words: p0 from the first pixel, p1 from the second.
+  auto taps = [&](int r, VU& p0, VU& p1) {
+    const auto rs = hn::Set(di64, static_cast<int64_t>(r) * s.stride);
+    const auto lo = hn::GatherOffset(d64, base, hn::Add(off_lo, rs)), hi = hn::GatherOffset(d64, base, hn::Add(off_hi, rs));
+    p0 = hn::ConcatEven(du, hn::BitCast(du, hi), hn::BitCast(du, lo));
+    p1 = hn::ConcatEven(du, hn::BitCast(du, hn::ShiftRightSame(hi, 8 * pb)), hn::BitCast(du, hn::ShiftRightSame(lo, 8 * pb)));
+  };
+  auto weight = [&](const float* t) {
+    const VU w = hn::BitCast(du, hn::NearestInt(hn::Mul(hn::Load(df, t), hn::Set(df, 65535.0f))));
+    return hn::BitCast(d16, hn::Or(w, hn::ShiftLeft<16>(w)));
+  };
+  const V16 wx1 = weight(blk.tx), wy1 = weight(blk.ty);
+  const V16 wx0 = hn::Not(wx1), wy0 = hn::Not(wy1);  // 65535 - w in each half
+  const VU high_bytes = hn::Set(du, 0xFF00FF00u);
+  V16 even[2], odd[2];  // horizontal blends of rows 0 and 1: channels 0, 2 and 1, 3, x 256
+  for (int r = 0; r < 2; ++r) {
+    VU p0, p1;
+    taps(r, p0, p1);
+    const V16 e0 = hn::BitCast(d16, hn::And(hn::ShiftLeft<8>(p0), high_bytes));
+    const V16 e1 = hn::BitCast(d16, hn::And(hn::ShiftLeft<8>(p1), high_bytes));
+    const V16 o0 = hn::BitCast(d16, hn::And(p0, high_bytes)), o1 = hn::BitCast(d16, hn::And(p1, high_bytes));
+    even[r] = hn::Add(hn::MulHigh(e0, wx0), hn::MulHigh(e1, wx1));
+    odd[r] = hn::Add(hn::MulHigh(o0, wx0), hn::MulHigh(o1, wx1));
+  }
+  const V16 half = hn::Set(d16, 128);
+  const V16 ve = hn::ShiftRight<8>(hn::Add(hn::Add(hn::MulHigh(even[0], wy0), hn::MulHigh(even[1], wy1)), half));
+  const V16 vo = hn::ShiftRight<8>(hn::Add(hn::Add(hn::MulHigh(odd[0], wy0), hn::MulHigh(odd[1], wy1)), half));
+  VU word = hn::Or(hn::BitCast(du, ve), hn::ShiftLeft<8>(hn::BitCast(du, vo)));
+  word = hn::IfThenElseZero(hn::RebindMask(du, hn::Gt(hn::Load(di, blk.off), hn::Set(di, -1))), word);
+  HWY_ALIGN uint32_t w32[kMaxLanes];
+  hn::Store(word, du, w32);
+  const int64_t m = blk.m;
+  unsigned char* p = o + blk.index * pb;
+  StoreWords(w32, m, pb, p);
+}
+#endif
+
+// Phase 2: gathers and blends one block's taps, writes its m output pixels (0 where not sampled
+// here: misses and invalid lanes).
+template <PixelType PT, class T, int K>
+HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned char* out) {
+  using DF = hn::ScalableTag<float>;
+  using DI = hn::RebindToSigned<DF>;
+  using VF = hn::Vec<DF>;
+  using VI = hn::Vec<DI>;
+  const DF df;
+  const DI di;
   const int nc = s.channels, alpha = s.alpha;
   const int pb = nc * static_cast<int>(sizeof(T));
-  const float unit = PT == PixelType::U8 ? 255.0f : (PT == PixelType::U16 ? 65535.0f : 1.0f);
-  const VF half = hn::Set(df, 0.5f);
-  const VI stride = hn::Set(di, static_cast<int32_t>(s.stride)), vpb = hn::Set(di, pb);
-  HWY_ALIGN float res[4][kMaxSimdLanes];
-  for (int64_t i = 0; i < n; i += static_cast<int64_t>(N)) {
-    const VF X = hn::Sub(hn::LoadU(df, xs + i), half), Y = hn::Sub(hn::LoadU(df, ys + i), half);
-    const VF fx = hn::Floor(X), fy = hn::Floor(Y);
+  const unsigned char* base = blk.base;
+  const int64_t m = blk.m;
+#if HWY_TARGET != HWY_SCALAR
+  if constexpr (PT == PixelType::U8 && K == 2) {
+    if (alpha < 0) return BilinearU8(s, blk, out);
+  }
+#endif
+  unsigned char* o = out + blk.index * pb;
+  if constexpr (K == 1) {
+    for (int64_t l = 0; l < m; ++l) {
+      if (blk.off[l] >= 0) std::memcpy(o + l * pb, base + blk.off[l], static_cast<size_t>(pb));
+      else std::memset(o + l * pb, 0, static_cast<size_t>(pb));
+    }
+  } else {
+    const float unit = PT == PixelType::U8 ? 255.0f : (PT == PixelType::U16 ? 65535.0f : 1.0f);
     VF wx[K], wy[K];
-    Weights<K>(df, hn::Sub(X, fx), wx);
-    Weights<K>(df, hn::Sub(Y, fy), wy);
-    const VI ix = hn::Sub(hn::ConvertTo(di, fx), hn::Set(di, K / 2 - 1));
-    const VI iy = hn::Sub(hn::ConvertTo(di, fy), hn::Set(di, K / 2 - 1));
-    const VI off0 = hn::Add(hn::Mul(iy, stride), hn::Mul(ix, vpb));
+    Weights<K>(df, hn::Load(df, blk.tx), wx);
+    Weights<K>(df, hn::Load(df, blk.ty), wy);
+    const VI stride = hn::Set(di, static_cast<int32_t>(s.stride));
+    const VI off0 = hn::Max(hn::Load(di, blk.off), hn::Zero(di));  // lanes not sampled read the base row
     VF acc[4] = {hn::Zero(df), hn::Zero(df), hn::Zero(df), hn::Zero(df)};
     for (int r = 0; r < K; ++r) {
       const VI row = hn::Add(off0, hn::Mul(hn::Set(di, r), stride));
       for (int c = 0; c < K; ++c) {
-        const VI off = hn::Add(row, hn::Set(di, c * pb));
+        const VI at = hn::Add(row, hn::Set(di, c * pb));
         const VF w = hn::Mul(wy[r], wx[c]);
-        const VI word = PT == PixelType::U8
-                            ? hn::GatherOffset(di, reinterpret_cast<const int32_t*>(s.base), off)
-                            : hn::Zero(di);
+        const VI word = PT == PixelType::U8 ? hn::GatherOffset(di, reinterpret_cast<const int32_t*>(base), at)
+                                            : hn::Zero(di);
         VF a = hn::Set(df, 1.0f);
-        if (alpha >= 0) a = hn::Mul(LoadChannel<PT>(df, s.base, off, alpha, word), hn::Set(df, 1.0f / unit));
-        for (int ch = 0; ch < nc; ++ch) {
-          const VF v = LoadChannel<PT>(df, s.base, off, ch, word);
-          acc[ch] = hn::MulAdd(ch == alpha ? w : hn::Mul(w, a), v, acc[ch]);
+        if (alpha >= 0) a = hn::Mul(LoadChannel<PT>(df, base, at, alpha, word), hn::Set(df, 1.0f / unit));
+        for (int c2 = 0; c2 < nc; ++c2) {
+          const VF v = LoadChannel<PT>(df, base, at, c2, word);
+          acc[c2] = hn::MulAdd(c2 == alpha ? w : hn::Mul(w, a), v, acc[c2]);
         }
       }
     }
@@ -150,52 +344,149 @@ void SampleRowT(const SimdSource& s, const float* xs, const float* ys, const uin
       const VF a = hn::Mul(acc[alpha], hn::Set(df, 1.0f / unit));
       const auto has = hn::Gt(a, hn::Set(df, 1e-12f));
       const VF inv = hn::Div(hn::Set(df, 1.0f), hn::IfThenElse(has, a, hn::Set(df, 1.0f)));
-      for (int ch = 0; ch < nc; ++ch)
-        if (ch != alpha) acc[ch] = hn::IfThenElseZero(has, hn::Mul(acc[ch], inv));
+      for (int c2 = 0; c2 < nc; ++c2)
+        if (c2 != alpha) acc[c2] = hn::IfThenElseZero(has, hn::Mul(acc[c2], inv));
       acc[alpha] = hn::Mul(hn::Min(hn::Max(a, hn::Zero(df)), hn::Set(df, 1.0f)), hn::Set(df, unit));
     }
-    const int64_t m = std::min<int64_t>(static_cast<int64_t>(N), n - i);
-    if constexpr (std::is_integral_v<T>) {
-      HWY_ALIGN int32_t q[4][kMaxSimdLanes];
-      for (int ch = 0; ch < nc; ++ch) {
-        const VF c = hn::Min(hn::Max(acc[ch], hn::Zero(df)), hn::Set(df, unit));
-        hn::Store(hn::NearestInt(c), di, q[ch]);
-      }
+    const auto valid = hn::Gt(hn::Load(di, blk.off), hn::Set(di, -1));
+    if constexpr (PT == PixelType::U8) {
+      // Channels packed into one little-endian word per pixel.
+      VI word = hn::Zero(di);
+      for (int c2 = 0; c2 < nc; ++c2)
+        word = hn::Or(word, hn::ShiftLeftSame(hn::NearestInt(hn::Min(hn::Max(acc[c2], hn::Zero(df)), hn::Set(df, unit))), 8 * c2));
+      word = hn::IfThenElseZero(valid, word);
+      HWY_ALIGN uint32_t w32[kMaxLanes];
+      hn::Store(hn::BitCast(hn::RebindToUnsigned<DI>(), word), hn::RebindToUnsigned<DI>(), w32);
+      StoreWords(w32, m, pb, o);
+    } else if constexpr (PT == PixelType::U16) {
+      HWY_ALIGN int32_t q[4][kMaxLanes];
+      for (int c2 = 0; c2 < nc; ++c2)
+        hn::Store(hn::IfThenElseZero(valid, hn::NearestInt(hn::Min(hn::Max(acc[c2], hn::Zero(df)), hn::Set(df, unit)))), di, q[c2]);
       for (int64_t l = 0; l < m; ++l) {
-        T* p = reinterpret_cast<T*>(out + (i + l) * pb);
-        const bool valid = ok[i + l] != 0;
-        for (int ch = 0; ch < nc; ++ch) p[ch] = valid ? static_cast<T>(q[ch][l]) : T{0};
+        T* p = reinterpret_cast<T*>(o + l * pb);
+        for (int c2 = 0; c2 < nc; ++c2) p[c2] = static_cast<T>(q[c2][l]);
       }
     } else {
-      for (int ch = 0; ch < nc; ++ch) hn::Store(acc[ch], df, res[ch]);
+      HWY_ALIGN float res[4][kMaxLanes];
+      for (int c2 = 0; c2 < nc; ++c2) hn::Store(acc[c2], df, res[c2]);
       for (int64_t l = 0; l < m; ++l) {
-        unsigned char* p = out + (i + l) * pb;
-        const bool valid = ok[i + l] != 0;
-        for (int ch = 0; ch < nc; ++ch) StoreSample<T>(p + ch * sizeof(T), valid ? res[ch][l] : 0.0f);
+        unsigned char* p = o + l * pb;
+        const bool valid = blk.off[l] >= 0;
+        for (int c2 = 0; c2 < nc; ++c2) StoreSample<T>(p + c2 * sizeof(T), valid ? res[c2][l] : 0.0f);
       }
     }
   }
 }
 
-template <PixelType PT, class T>
-void SampleRowK(const SimdSource& s, Interp k, const float* xs, const float* ys, const uint8_t* ok,
-                int64_t n, unsigned char* out) {
-  switch (k) {
-    case Interp::Bilinear: return SampleRowT<PT, T, 2>(s, xs, ys, ok, n, out);
-    case Interp::Bicubic: return SampleRowT<PT, T, 4>(s, xs, ys, ok, n, out);
-    case Interp::Lanczos3: return SampleRowT<PT, T, 6>(s, xs, ys, ok, n, out);
-    case Interp::Nearest: return;  // the engine copies pixels itself
+// Rows of a rect in chunks: phase 1 (plan(j, blocks) fills the blocks of row j, returns how
+// many) for kChunkBlocks blocks' worth of rows, then phase 2 for them. The chunk's planning time
+// is the prefetch distance.
+constexpr int kChunkBlocks = 64;
+
+template <PixelType PT, class T, int K, class Plan>
+HWY_INLINE void Chunked(const SimdSource& s, const TileRect& rect, int64_t blocks_per_row, unsigned char* out,
+                        int64_t out_stride, Plan&& plan) {
+  TapBlock blocks[kChunkBlocks];
+  const int64_t rows = std::max<int64_t>(1, kChunkBlocks / blocks_per_row);
+  const int64_t pb = s.channels * static_cast<int64_t>(sizeof(T));
+  for (int64_t j0 = 0; j0 < rect.h; j0 += rows) {
+    const int64_t j1 = std::min(rect.h, j0 + rows);
+    int n = 0;
+    for (int64_t j = j0; j < j1; ++j) n += plan(j, blocks + n);
+    for (int q = 0; q < n; ++q) {
+      const int64_t j = blocks[q].index / rect.w;
+      GatherBlock<PT, T, K>(s, blocks[q], out + j * out_stride - j * rect.w * pb);
+    }
   }
 }
 
-void SampleRow(const SimdSource& s, Interp k, const float* xs, const float* ys, const uint8_t* ok,
-               int64_t n, unsigned char* out) {
-  switch (s.type) {
-    case PixelType::U8: return SampleRowK<PixelType::U8, uint8_t>(s, k, xs, ys, ok, n, out);
-    case PixelType::U16: return SampleRowK<PixelType::U16, uint16_t>(s, k, xs, ys, ok, n, out);
-    case PixelType::F16: return SampleRowK<PixelType::F16, Imath::half>(s, k, xs, ys, ok, n, out);
-    case PixelType::F32: return SampleRowK<PixelType::F32, float>(s, k, xs, ys, ok, n, out);
+template <PixelType PT, class T, int K>
+HWY_FLATTEN void SampleMapT(const SimdSource& s, const TileMap& tm, unsigned char* out, int64_t out_stride, SimdMisses& misses) {
+  const DD dd;
+  const auto N = static_cast<int64_t>(hn::Lanes(dd));
+  const TileRect& rect = tm.rect;
+  const Bounds<DD> b(s);
+  const int64_t per_row = (rect.w + N - 1) / N;
+  Chunked<PT, T, K>(s, rect, per_row, out, out_stride, [&](int64_t j, TapBlock* blk) {
+    HWY_ALIGN double bx[kMaxLanes], by[kMaxLanes], bo[kMaxLanes];
+    int n = 0;
+    for (int64_t i = 0; i < rect.w; i += N) {
+      const int64_t m = std::min(N, rect.w - i);
+      const size_t k = static_cast<size_t>(j * rect.w + i);
+      for (int64_t l = 0; l < N; ++l) {
+        bx[l] = l < m ? tm.xs[k + l] : 0.0;
+        by[l] = l < m ? tm.ys[k + l] : 0.0;
+        bo[l] = l < m && tm.ok[k + l] ? 1.0 : 0.0;
+      }
+      n += PlanLanes<K>(s, b, hn::Load(dd, bx), hn::Load(dd, by), hn::Ne(hn::Load(dd, bo), hn::Zero(dd)),
+                        j * rect.w + i, m, blk[n], misses) ? 1 : 0;
+    }
+    return n;
+  });
+}
+
+// Flattened: the geometry, planning and gathering lambdas inline into one loop.
+template <PixelType PT, class T, int K>
+HWY_FLATTEN void ConvertT(const SimdGeometry& g, const TileRect& rect, const SimdSource& s, unsigned char* out,
+              int64_t out_stride, SimdMisses& misses) {
+  const Bounds<DD> bd(s);
+  const Bounds<hn::ScalableTag<float>> bf(s);
+  const auto NF = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>()));
+  // A coarse float vector becomes two or more double blocks.
+  const int64_t per_row = 2 * ((rect.w + NF - 1) / NF) + 1;
+  Chunked<PT, T, K>(s, rect, per_row, out, out_stride, [&](int64_t j, TapBlock* blk) {
+    int n = 0;
+    RowPositions(g, rect.x0, rect.y0 + j, rect.w, [&](auto sx, auto sy, auto ok, int64_t i, int64_t m) {
+      if constexpr (std::is_same_v<hn::TFromV<decltype(sx)>, float>) {
+        n += PlanLanes<K>(s, bf, sx, sy, ok, j * rect.w + i, m, blk[n], misses) ? 1 : 0;
+      } else {
+        n += PlanLanes<K>(s, bd, sx, sy, ok, j * rect.w + i, m, blk[n], misses) ? 1 : 0;
+      }
+    });
+    return n;
+  });
+}
+
+// Calls F<PT, T, K>::run(args...) for the source's type and the kernel.
+template <template <PixelType, class, int> class F, class... A>
+void Dispatch(PixelType t, Interp k, A&&... args) {
+  auto with_type = [&](auto pt, auto tag) {
+    using T = typename decltype(tag)::type;
+    constexpr PixelType PT = decltype(pt)::value;
+    switch (k) {
+      case Interp::Nearest: return F<PT, T, 1>::run(args...);
+      case Interp::Bilinear: return F<PT, T, 2>::run(args...);
+      case Interp::Bicubic: return F<PT, T, 4>::run(args...);
+      case Interp::Lanczos3: return F<PT, T, 6>::run(args...);
+    }
+  };
+  switch (t) {
+    case PixelType::U8: return with_type(std::integral_constant<PixelType, PixelType::U8>{}, std::type_identity<uint8_t>{});
+    case PixelType::U16: return with_type(std::integral_constant<PixelType, PixelType::U16>{}, std::type_identity<uint16_t>{});
+    case PixelType::F16: return with_type(std::integral_constant<PixelType, PixelType::F16>{}, std::type_identity<Imath::half>{});
+    case PixelType::F32: return with_type(std::integral_constant<PixelType, PixelType::F32>{}, std::type_identity<float>{});
   }
+}
+
+template <PixelType PT, class T, int K>
+struct SampleMapF {
+  template <class... A>
+  static void run(A&&... a) { SampleMapT<PT, T, K>(a...); }
+};
+template <PixelType PT, class T, int K>
+struct ConvertF {
+  template <class... A>
+  static void run(A&&... a) { ConvertT<PT, T, K>(a...); }
+};
+
+void SampleMap(const SimdSource& s, Interp k, const TileMap& tm, unsigned char* out, int64_t out_stride,
+               SimdMisses& misses) {
+  Dispatch<SampleMapF>(s.type, k, s, tm, out, out_stride, misses);
+}
+
+void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& s, Interp k, unsigned char* out,
+             int64_t out_stride, SimdMisses& misses) {
+  Dispatch<ConvertF>(s.type, k, g, rect, s, out, out_stride, misses);
 }
 
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
@@ -206,12 +497,18 @@ HWY_AFTER_NAMESPACE();
 
 #if HWY_ONCE
 namespace panoproj {
-HWY_EXPORT(SampleRow);
+HWY_EXPORT(SampleMap);
+HWY_EXPORT(Convert);
 HWY_EXPORT(TargetName);
 
-void simd_sample(const SimdSource& src, Interp interp, const float* xs, const float* ys,
-                 const uint8_t* ok, int64_t n, unsigned char* out) {
-  HWY_DYNAMIC_DISPATCH(SampleRow)(src, interp, xs, ys, ok, n, out);
+void simd_sample(const SimdSource& src, Interp interp, const TileMap& tm, unsigned char* out, int64_t out_stride,
+                 SimdMisses& misses) {
+  HWY_DYNAMIC_DISPATCH(SampleMap)(src, interp, tm, out, out_stride, misses);
+}
+
+void simd_convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& src, Interp interp,
+                  unsigned char* out, int64_t out_stride, SimdMisses& misses) {
+  HWY_DYNAMIC_DISPATCH(Convert)(g, rect, src, interp, out, out_stride, misses);
 }
 
 const char* simd_target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }

@@ -1,31 +1,49 @@
 #pragma once
-// SIMD sampling of interior tiles (Google Highway, runtime dispatch). Internal to the engine.
-// "Interior": every tap of every valid sample lies inside the source rectangle handed over, so
-// the kernel has no edge logic; the engine sends other tiles to the reference sampler.
+// SIMD sampling (Google Highway, runtime dispatch). Internal to the engine. In chunks of a few
+// rows: phase 1 turns positions into first taps (int32 byte offsets) and float fractions and
+// prefetches the taps; phase 2 gathers and blends in float.
+// A sample whose taps all lie inside its cell (one cube face, else the frame) and inside the
+// window of the source held in memory is computed here; any other valid sample (a seam, a pole,
+// a face edge, a window edge) is listed in SimdMisses for the reference sampler's edge rules.
+// Two entry points: positions from a map, or fused with the vector geometry (no map at all).
 #include <cstdint>
+#include <vector>
 
 #include "panoproj/image.hpp"
 #include "panoproj/interpolator.hpp"
+#include "panoproj/tile_map.hpp"
+#include "simd_geometry.hpp"
 
 namespace panoproj {
 
 struct SimdSource {
-  const unsigned char* base;  // pixel (0, 0) of the positions' frame
+  const unsigned char* base;  // frame pixel (x0, y0): the first pixel held
   int64_t stride;             // bytes per row
   int channels, alpha;        // alpha channel or -1
   PixelType type;
+  int64_t x0, y0, x1, y1;     // the frame pixels [x0, x1) x [y0, y1) held in memory
+  int64_t cell_w, cell_h;     // taps must stay in one aligned cell of this size
 };
 
-// Largest vector width in floats over all compiled targets: position arrays must be padded to
-// a multiple of it (with positions whose taps are also inside).
-inline constexpr int kMaxSimdLanes = 16;
+// Output pixels the kernels left (written as 0) for the reference sampler: pixel index in the
+// rect (row-major) and source position.
+struct SimdMisses {
+  std::vector<int64_t> index;
+  std::vector<double> xs, ys;
+  void clear() { index.clear(), xs.clear(), ys.clear(); }
+};
 
-// Samples n positions (xs, ys relative to base, panoproj pixel convention) for bilinear, bicubic
-// or lanczos3, writing interleaved pixels of src's type to out; samples with ok = 0 are 0.
-// xs and ys are read (not written) up to n rounded up to kMaxSimdLanes; ok only up to n.
-// Reads up to 3 bytes past the last pixel it touches (Image keeps that slack).
-void simd_sample(const SimdSource& src, Interp interp, const float* xs, const float* ys,
-                 const uint8_t* ok, int64_t n, unsigned char* out);
+// Samples the positions of a tile map (panoproj pixel convention, frame coordinates) with any
+// kernel; samples with ok = 0 are 0. Writes interleaved pixels of src's type: the rect's row j
+// at out + j * out_stride. Reads up to 3 bytes past the last pixel it touches (Image keeps that
+// slack).
+void simd_sample(const SimdSource& src, Interp interp, const TileMap& tm, unsigned char* out, int64_t out_stride,
+                 SimdMisses& misses);
+
+// The same for the output pixels of rect in g's target, the positions from the vector geometry
+// (g must be valid for rect): no map is stored.
+void simd_convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& src, Interp interp,
+                  unsigned char* out, int64_t out_stride, SimdMisses& misses);
 
 // Name of the SIMD target the dispatcher picks now (e.g. "AVX2").
 const char* simd_target_name();

@@ -1,10 +1,12 @@
 #pragma once
 // The fast engine: output tiles of kTile x kTile pixels over a thread pool. Per tile:
-//   1. source coordinates: float SIMD geometry for the common pairs (simd_geometry.hpp), else
-//      tile_map.hpp (cubic interpolation of exact nodes); both within 1/256 px;
-//   2. if every tap lies inside the source (one face for cubemaps) and SIMD is on: Highway
-//      kernels (float, runtime-dispatched target); otherwise the reference sampler, with its
-//      edge rules (wrap, poles, cube neighbours, clamp).
+//   - common pairs (simd_geometry.hpp): each vector of output pixels computes its source
+//     positions in double SIMD registers and samples them at once (fused, no map);
+//   - other pairs: a tile map (tile_map.hpp, cubic interpolation of exact nodes, within 1/256 px),
+//     then the same SIMD sampling from the map.
+// The SIMD kernels (simd_sampler.hpp) take every sample whose taps stay inside one cube face or
+// the frame; the rest (seams, poles, face edges) get the reference sampler's edge rules (wrap,
+// pole crossing, cube neighbours, clamp). The scalar engine samples everything with the reference.
 // Tiles are fixed by the image size, not the thread count, so any number of threads gives the
 // same bytes.
 #include <Eigen/Core>
@@ -18,9 +20,11 @@
 
 namespace panoproj {
 
+struct SimdGeometry;  // internal (lib/src/simd_geometry.hpp)
+
 enum class Engine {
-  Simd,       // tiles; SIMD geometry for the common pairs (else interpolated coordinates); SIMD
-              // sampling where no edge is touched (default)
+  Simd,       // tiles; fused SIMD geometry for the common pairs (else interpolated coordinates);
+              // SIMD sampling where no edge is touched (default)
   Scalar,     // the same tiles, interpolated coordinates, reference sampling everywhere
   Reference,  // exact per-pixel double geometry and sampling (resample.hpp)
 };
@@ -32,7 +36,10 @@ const char* name_of(Engine e);
 inline constexpr int64_t kCachedMapBytesPerPixel = 2 * sizeof(double) + 1;
 
 struct EngineStats {
-  int64_t tiles = 0, simd_tiles = 0, interpolated_cells = 0, exact_cells = 0;
+  int64_t tiles = 0;
+  int64_t fused_tiles = 0;   // geometry in registers, no map (simd engine, the common pairs)
+  int64_t edge_samples = 0;  // samples the SIMD kernels left to the reference's edge rules
+  int64_t interpolated_cells = 0, exact_cells = 0;  // tile_map.hpp cells of the other tiles
 };
 
 // One geometry (projections, rotation, kernel), applied to any number of images of the source's
@@ -67,9 +74,14 @@ class Converter {
   Engine engine_;
   int threads_;
   bool cache_map_;
-  mutable std::vector<TileMap> cache_;  // one per tile, filled on the first run when cache_map_
+  mutable std::vector<TileMap> cache_;  // one per tile (empty for fused tiles), built on first use
   void build_cache() const;
-  // The tile's source positions: SIMD float geometry where the pair supports it (simd engine),
+  TileRect tile(int64_t t) const;  // tiles in row-major order
+  int64_t tile_count() const;
+  // True (and g filled) where the tile's geometry runs in registers fused with the sampling.
+  bool fused(const TileRect& rect, SimdGeometry& g) const;
+  const TileMap* cached(int64_t t) const;  // the kept map of a tile that has one, else null
+  // The tile's source positions: SIMD double geometry where the pair supports it (simd engine),
   // else the tile mapper.
   void map(const TileRect& rect, TileMap& out) const;
 };

@@ -1,11 +1,17 @@
 #pragma once
-// Splits rows [0, rows) into contiguous bands, one per worker (threads = 0: all cores).
+// Work over threads (threads = 0: all cores).
 #include <cstdint>
 #include <functional>
 
 namespace panoproj {
 
 int resolve_threads(int threads);
+// Splits rows [0, rows) into contiguous bands, one per worker.
 void parallel_rows(int64_t rows, int threads, const std::function<void(int64_t, int64_t)>& band);
+// Workers parallel_tasks uses for n tasks: min(threads, n), at least 1.
+int workers_for(int64_t n, int threads);
+// Hands tasks 0 .. n-1 out in order, one at a time, to workers_for(n, threads) threads; worker 0
+// is the calling thread (per-worker state can be indexed by worker).
+void parallel_tasks(int64_t n, int threads, const std::function<void(int64_t task, int worker)>& fn);
 
 }  // namespace panoproj

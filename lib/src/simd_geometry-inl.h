@@ -1,0 +1,230 @@
+// Double-precision vector geometry of the SIMD pairs (see simd_geometry.hpp), shared by the map
+// builder (simd_geometry.cpp) and the fused converter (simd_sampler.cpp). Rays are not normalized:
+// both sources' to_pixel are scale-invariant (atan2; ratios to the depth).
+// Per-target include guard (Highway's pattern for -inl headers re-included per target).
+#if defined(PANOPROJ_SIMD_GEOMETRY_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef PANOPROJ_SIMD_GEOMETRY_INL_H_
+#undef PANOPROJ_SIMD_GEOMETRY_INL_H_
+#else
+#define PANOPROJ_SIMD_GEOMETRY_INL_H_
+#endif
+
+#include <hwy/highway.h>
+#include <hwy/contrib/math/math-inl.h>
+
+#include <algorithm>
+#include <limits>
+
+#include "simd_geometry.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace panoproj {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using DD = hn::ScalableTag<double>;
+using VD = hn::Vec<DD>;
+using MD = hn::Mask<DD>;
+
+constexpr double kPiF = 3.14159265358979323846;
+
+// The geometry below is written once for float and double lanes (D); its parameters come from
+// SimdGeometry in the lane type (params<T>()).
+
+// atan2(y, x) from the smaller-over-larger ratio in [0, 1], Highway's atan polynomial for that
+// range (the reduction inside hn::Atan would cost a second division), and a quadrant fix-up
+// (Highway 1.0.3 has no Atan2); 0 where x = y = 0.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE V Atan2(D d, V y, V x) {
+  using T = hn::TFromD<D>;
+  const V zero = hn::Zero(d);
+  const V ax = hn::Abs(x), ay = hn::Abs(y);
+  const auto swap = hn::Lt(ax, ay);
+  const V num = hn::IfThenElse(swap, ax, ay), den = hn::IfThenElse(swap, ay, ax);
+  const auto both_zero = hn::Eq(den, zero);
+  V a = hn::impl::AtanImpl<T>().AtanPoly(d, hn::Div(num, hn::IfThenElse(both_zero, hn::Set(d, T(1)), den)));
+  a = hn::IfThenElse(swap, hn::Sub(hn::Set(d, T(0.5 * kPiF)), a), a);  // [0, pi/2]
+  a = hn::IfThenElse(hn::Lt(x, zero), hn::Sub(hn::Set(d, T(kPiF)), a), a);  // [0, pi]
+  a = hn::IfThenElse(hn::Lt(y, zero), hn::Neg(a), a);
+  return hn::IfThenElse(both_zero, zero, a);
+}
+
+// The rays of pixel centres (px, py) for the target. coarse: lanes where float lanes would be
+// ill-conditioned (an arcsine argument near 1: d asin/da = 1/sqrt(1 - a^2)).
+template <class D, class V = hn::Vec<D>, class M = hn::Mask<D>>
+HWY_INLINE void TargetRay(D d, const SimdGeometry& g, V px, V py, V& x, V& y, V& z, M& ok, M& coarse) {
+  using T = hn::TFromD<D>;
+  const T* p = g.params<T>().d;
+  ok = hn::Eq(px, px);  // all true
+  coarse = hn::Not(ok);
+  x = y = z = hn::Zero(d);
+  switch (g.dst) {
+    case SimdGeometry::Dst::Pinhole:
+      x = hn::Mul(hn::Sub(px, hn::Set(d, p[2])), hn::Set(d, p[0]));
+      y = hn::Mul(hn::Sub(py, hn::Set(d, p[3])), hn::Set(d, p[1]));
+      z = hn::Set(d, T(1));
+      return;
+    case SimdGeometry::Dst::Equirect: {
+      const V lon = hn::MulAdd(px, hn::Set(d, p[6]), hn::Set(d, p[8]));
+      const V lat = hn::NegMulAdd(py, hn::Set(d, p[7]), hn::Set(d, p[4]));
+      const V cl = hn::Cos(d, lat);
+      x = hn::Mul(cl, hn::Sin(d, lon));
+      y = hn::Neg(hn::Sin(d, lat));
+      z = hn::Mul(cl, hn::Cos(d, lon));
+      return;
+    }
+    case SimdGeometry::Dst::CubeFace: {
+      const V a = hn::MulSub(hn::Sub(px, hn::Set(d, p[1])), hn::Set(d, p[12]), hn::Set(d, T(1)));
+      const V b = hn::MulSub(hn::Sub(py, hn::Set(d, p[2])), hn::Set(d, p[12]), hn::Set(d, T(1)));
+      x = hn::MulAdd(b, hn::Set(d, p[9]), hn::MulAdd(a, hn::Set(d, p[6]), hn::Set(d, p[3])));
+      y = hn::MulAdd(b, hn::Set(d, p[10]), hn::MulAdd(a, hn::Set(d, p[7]), hn::Set(d, p[4])));
+      z = hn::MulAdd(b, hn::Set(d, p[11]), hn::MulAdd(a, hn::Set(d, p[8]), hn::Set(d, p[5])));
+      return;
+    }
+    case SimdGeometry::Dst::Fisheye: {
+      const V u = hn::Mul(hn::Sub(px, hn::Set(d, p[0])), hn::Set(d, p[2]));
+      const V v = hn::Mul(hn::Sub(py, hn::Set(d, p[1])), hn::Set(d, p[3]));
+      const V r = hn::Sqrt(hn::MulAdd(u, u, hn::Mul(v, v)));
+      ok = hn::Not(hn::Gt(r, hn::Set(d, T(1.0 + 1e-9))));
+      const V gv = hn::Mul(hn::Min(r, hn::Set(d, T(1))), hn::Set(d, p[4]));
+      V psi;
+      switch (g.law) {
+        case 1: {
+          const V arg = hn::Min(hn::Mul(gv, hn::Set(d, T(0.5))), hn::Set(d, T(1)));
+          coarse = hn::Gt(arg, hn::Set(d, T(0.98)));
+          psi = hn::Mul(hn::Set(d, T(2)), hn::Asin(d, arg));
+          break;
+        }
+        case 2: {
+          const V arg = hn::Min(gv, hn::Set(d, T(1)));
+          coarse = hn::Gt(arg, hn::Set(d, T(0.98)));
+          psi = hn::Asin(d, arg);
+          break;
+        }
+        case 3: psi = hn::Mul(hn::Set(d, T(2)), hn::Atan(d, hn::Mul(gv, hn::Set(d, T(0.5))))); break;
+        default: psi = gv; break;
+      }
+      // (sin psi u / r, sin psi v / r, cos psi); at r = 0 the direction is the axis.
+      const V k = hn::Div(hn::Sin(d, psi), hn::Max(r, hn::Set(d, std::numeric_limits<T>::min())));
+      x = hn::Mul(k, u);
+      y = hn::Mul(k, v);
+      z = hn::Cos(d, psi);
+      return;
+    }
+  }
+}
+
+// Source pixel of ray (x, y, z). coarse: lanes where float lanes would err by more than
+// SimdGeometry::kFloatTolerance (near an equirect pole the longitude divides the ray's
+// absolute error by cos(latitude): lanes with cos(latitude) < float_cos_min).
+template <class D, class V = hn::Vec<D>, class M = hn::Mask<D>>
+HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V& sy, M& ok, M& coarse) {
+  using T = hn::TFromD<D>;
+  const T* s = g.params<T>().s;
+  const V zero = hn::Zero(d);
+  if (g.src == SimdGeometry::Src::Equirect) {
+    const V pi = hn::Set(d, T(kPiF)), two_pi = hn::Set(d, T(2 * kPiF));
+    V lon = hn::Sub(Atan2(d, x, z), hn::Set(d, s[2]));
+    lon = hn::IfThenElse(hn::Not(hn::Lt(lon, pi)), hn::Sub(lon, two_pi), lon);
+    lon = hn::IfThenElse(hn::Lt(lon, hn::Neg(pi)), hn::Add(lon, two_pi), lon);
+    sx = hn::MulAdd(lon, hn::Set(d, s[6]), hn::Set(d, s[8]));
+    const V h2 = hn::MulAdd(x, x, hn::Mul(z, z));
+    const V lat = Atan2(d, hn::Neg(y), hn::Sqrt(h2));
+    coarse = hn::Lt(h2, hn::Mul(hn::Set(d, s[9]), hn::MulAdd(y, y, h2)));
+    sy = hn::Mul(hn::Sub(hn::Set(d, s[4]), lat), hn::Set(d, s[7]));
+    const V slack = hn::Set(d, T(1e-9) * s[3]);
+    ok = hn::And(hn::Not(hn::Lt(sy, hn::Neg(slack))), hn::Not(hn::Gt(sy, hn::Add(hn::Set(d, s[3]), slack))));
+    // Keep x in [0, W) (the seam's far side is 0).
+    sx = hn::IfThenElse(hn::Not(hn::Lt(sx, hn::Set(d, s[0]))), hn::Sub(sx, hn::Set(d, s[0])), sx);
+    sx = hn::Max(sx, zero);
+    return;
+  }
+  // Cubemap: the face of the largest component (ties: x, then y, then z, as cube_face_of).
+  coarse = hn::Lt(zero, zero);  // none
+  const V ax = hn::Abs(x), ay = hn::Abs(y), az = hn::Abs(z);
+  const M xf = hn::And(hn::Not(hn::Lt(ax, ay)), hn::Not(hn::Lt(ax, az)));
+  const M yf = hn::AndNot(xf, hn::Not(hn::Lt(ay, az)));
+  // Per face: depth, numerators of a and b, face index (0 front, 1 right, 2 back, 3 left, 4 up, 5 down).
+  const M xp = hn::Gt(x, zero), yp = hn::Gt(y, zero), zp = hn::Gt(z, zero);
+  const V depth = hn::IfThenElse(xf, ax, hn::IfThenElse(yf, ay, az));
+  const V an = hn::IfThenElse(xf, hn::IfThenElse(xp, hn::Neg(z), z), hn::IfThenElse(yf, x, hn::IfThenElse(zp, x, hn::Neg(x))));
+  const V bn = hn::IfThenElse(xf, y, hn::IfThenElse(yf, hn::IfThenElse(yp, hn::Neg(z), z), y));
+  const V face = hn::IfThenElse(xf, hn::IfThenElse(xp, hn::Set(d, T(1)), hn::Set(d, T(3))),
+                                hn::IfThenElse(yf, hn::IfThenElse(yp, hn::Set(d, T(5)), hn::Set(d, T(4))),
+                                               hn::IfThenElse(zp, zero, hn::Set(d, T(2)))));
+  const V inv = hn::Div(hn::Set(d, T(1)), depth);
+  const V a = hn::Mul(an, inv), b = hn::Mul(bn, inv);
+  V ox = hn::Set(d, s[1]), oy = hn::Set(d, s[7]);
+  for (int f = 1; f < 6; ++f) {
+    const M is = hn::Eq(face, hn::Set(d, static_cast<T>(f)));
+    ox = hn::IfThenElse(is, hn::Set(d, s[1 + f]), ox);
+    oy = hn::IfThenElse(is, hn::Set(d, s[7 + f]), oy);
+  }
+  // Within the face's cell [o, o + F): the far edge becomes the largest value below o + F in the
+  // lane type (s[0] = F, s[14] = F / 2).
+  const V half_f = hn::Set(d, s[14]), f = hn::Set(d, s[0]);
+  const hn::RebindToSigned<D> di;
+  auto below = [&](V v) { return hn::BitCast(d, hn::Sub(hn::BitCast(di, v), hn::Set(di, 1))); };
+  sx = hn::Min(hn::Add(ox, hn::Max(hn::MulAdd(a, half_f, half_f), zero)), below(hn::Add(ox, f)));
+  sy = hn::Min(hn::Add(oy, hn::Max(hn::MulAdd(b, half_f, half_f), zero)), below(hn::Add(oy, f)));
+  ok = hn::Gt(depth, zero);
+}
+
+// Source positions (sx, sy) of target pixel centres (px, py): ray, rotation, source pixel; ok
+// where both sides are valid; coarse where float lanes are not accurate enough.
+template <class D, class V = hn::Vec<D>, class M = hn::Mask<D>>
+HWY_INLINE void SourceOfPixels(D d, const SimdGeometry& g, V px, V py, V& sx, V& sy, M& ok, M& coarse) {
+  using T = hn::TFromD<D>;
+  const T* r = g.params<T>().r;
+  V x, y, z;
+  M ok_dst, ok_src, coarse_dst, coarse_src;
+  TargetRay(d, g, px, py, x, y, z, ok_dst, coarse_dst);
+  const V rx = hn::MulAdd(hn::Set(d, r[0]), x, hn::MulAdd(hn::Set(d, r[1]), y, hn::Mul(hn::Set(d, r[2]), z)));
+  const V ry = hn::MulAdd(hn::Set(d, r[3]), x, hn::MulAdd(hn::Set(d, r[4]), y, hn::Mul(hn::Set(d, r[5]), z)));
+  const V rz = hn::MulAdd(hn::Set(d, r[6]), x, hn::MulAdd(hn::Set(d, r[7]), y, hn::Mul(hn::Set(d, r[8]), z)));
+  SourcePixel(d, g, rx, ry, rz, sx, sy, ok_src, coarse_src);
+  ok = hn::And(ok_dst, ok_src);
+  coarse = hn::And(ok, hn::Or(coarse_dst, coarse_src));
+}
+
+// Calls sink(sx, sy, ok, i, m) for output pixels (x0 + i .. x0 + i + m - 1, y), i from 0 to n in
+// steps of the vector: float vectors (twice the lanes) where g.use_float and every lane is
+// accurate enough, else double vectors. Lanes beyond n have ok false.
+template <class Sink>
+HWY_INLINE void RowPositions(const SimdGeometry& g, int64_t x0, int64_t y, int64_t n, Sink&& sink) {
+  const DD dd;
+  const auto ND = static_cast<int64_t>(hn::Lanes(dd));
+  auto doubles = [&](int64_t i, int64_t end) {
+    const VD py = hn::Set(dd, static_cast<double>(y) + 0.5);
+    for (; i < end; i += ND) {
+      const int64_t m = std::min(ND, end - i);
+      VD sx, sy;
+      MD ok, coarse;
+      SourceOfPixels(dd, g, hn::Iota(dd, static_cast<double>(x0 + i) + 0.5), py, sx, sy, ok, coarse);
+      sink(sx, sy, hn::And(ok, hn::FirstN(dd, static_cast<size_t>(m))), i, m);
+    }
+  };
+  if (!g.use_float) return doubles(0, n);
+  using DF32 = hn::ScalableTag<float>;
+  const DF32 df;
+  const auto NF = static_cast<int64_t>(hn::Lanes(df));
+  const auto py = hn::Set(df, static_cast<float>(y) + 0.5f);
+  for (int64_t i = 0; i < n; i += NF) {
+    const int64_t m = std::min(NF, n - i);
+    hn::Vec<DF32> sx, sy;
+    hn::Mask<DF32> ok, coarse;
+    SourceOfPixels(df, g, hn::Iota(df, static_cast<float>(x0 + i) + 0.5f), py, sx, sy, ok, coarse);
+    ok = hn::And(ok, hn::FirstN(df, static_cast<size_t>(m)));
+    if (HWY_LIKELY(hn::AllFalse(df, hn::And(coarse, ok)))) {
+      sink(sx, sy, ok, i, m);
+    } else {
+      doubles(i, i + m);
+    }
+  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace panoproj
+HWY_AFTER_NAMESPACE();
+
+#endif  // per-target include guard
