@@ -41,6 +41,7 @@ TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
       {"equirect", {4096, 2048}, "equirect", {2048, 1024}, 0, 89.99, 0},
       {"cubemap", {6 * 2048, 2048}, "equirect", {1024, 512}, 10, 20, 30},
       {"equirect", {2048, 1024}, "fisheye:fov=180,model=orthographic", {400, 400}, 0, 0, 0},
+      {"equirect", {4096, 2048}, "fisheye:fov=360", {500, 500}, 0, 30, 0},
   };
   const auto targets = hwy::SupportedAndGeneratedTargets();
   for (int64_t target : targets) {

@@ -137,12 +137,13 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
                             options.threads, cache);
   const Converter::Region need = converter.source_footprint();
   const double map_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count();
+  Image out;  // one buffer for every frame of a batch
   for (size_t n = 0; n < job.inputs.size(); ++n) {
     const Image source = in_faces ? std::move(*faces)
                                   : read_image_region(job.inputs[n], need.x0, need.y0, need.x1, need.y1);
     const auto t0 = std::chrono::steady_clock::now();
     const double frames = static_cast<double>(job.inputs.size());
-    const Image out = converter.run(source, nullptr, [&](double f) {
+    converter.run(source, out, nullptr, [&](double f) {
       if (progress) progress((static_cast<double>(n) + f) / frames);
     });
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +

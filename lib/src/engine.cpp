@@ -40,8 +40,7 @@ namespace {
 // The source as the SIMD kernels see it: the window held, and the cell taps must stay in (a cube
 // face: cube layouts put faces on a grid of face-sized cells; else the whole frame).
 SimdSource simd_source(const Image& src, const Projection& sp) {
-  const Size frame = src.frame_size();
-  int64_t cw = frame.width, ch = frame.height;
+  int64_t cw = 0, ch = 0;
   if (const auto* c = std::get_if<Cubemap>(&sp)) cw = ch = c->face_size();
   return {src.data(), static_cast<int64_t>(src.row_bytes()), src.channels(), src.alpha_channel(), src.type(),
           src.origin_x(), src.origin_y(), src.origin_x() + src.width(), src.origin_y() + src.height(), cw, ch};
@@ -134,17 +133,27 @@ Converter::Region Converter::source_footprint() const {
 
 Image Converter::run(const Image& src, EngineStats* stats,
                      const std::function<void(double)>& progress) const {
+  Image out;
+  run(src, out, stats, progress);
+  return out;
+}
+
+void Converter::run(const Image& src, Image& out, EngineStats* stats,
+                    const std::function<void(double)>& progress) const {
   const Size expected = size_of(source_);
   if (src.frame_size() != expected)
     throw Error("image size " + std::to_string(src.frame_size().width) + "x" + std::to_string(src.frame_size().height) +
                 " does not match the source projection's " + std::to_string(expected.width) + "x" +
                 std::to_string(expected.height));
   if (engine_ == Engine::Reference) {
-    Image out = remap(src, source_, target_, rotation_, {interp_, threads_});
+    out = remap(src, source_, target_, rotation_, {interp_, threads_});
     if (progress) progress(1.0);
-    return out;
+    return;
   }
-  Image out(size_of(target_), src.channels(), src.type(), src.alpha_channel());
+  // Every pixel is written below (invalid ones as 0): a new buffer need not be filled.
+  if (out.size() != size_of(target_) || out.channels() != src.channels() || out.type() != src.type() ||
+      out.alpha_channel() != src.alpha_channel())
+    out = Image(size_of(target_), src.channels(), src.type(), src.alpha_channel(), Image::Unfilled{});
   const SourceEdges edges(source_);
   const SimdSource simd_src = simd_source(src, source_);
   const bool use_simd = engine_ == Engine::Simd;
@@ -207,7 +216,6 @@ Image Converter::run(const Image& src, EngineStats* stats,
       stats->exact_cells += wk.stats.exact_cells;
     }
   }
-  return out;
 }
 
 Image fast_remap(const Image& src, const Projection& sp, const Projection& dp,

@@ -1,5 +1,7 @@
 #include "panoproj/image.hpp"
 
+#include <algorithm>
+
 #include "panoproj/error.hpp"
 
 namespace panoproj {
@@ -33,6 +35,11 @@ double unit_of(PixelType t) {
 }
 
 Image::Image(Size size, int channels, PixelType type, int alpha_channel)
+    : Image(size, channels, type, alpha_channel, Unfilled{}) {
+  std::fill(pixels_.begin(), pixels_.end(), 0);
+}
+
+Image::Image(Size size, int channels, PixelType type, int alpha_channel, Unfilled)
     : size_(size), channels_(channels), type_(type), alpha_(alpha_channel) {
   if (channels < 1 || channels > 4)
     throw Error("channels: " + std::to_string(channels) + " (expected 1 to 4)");
@@ -44,6 +51,7 @@ Image::Image(Size size, int channels, PixelType type, int alpha_channel)
                 std::to_string(channels) + ")");
   bytes_ = static_cast<size_t>(size.width) * static_cast<size_t>(size.height) * pixel_bytes();
   pixels_.resize(bytes_ + kSlack);
+  std::fill(pixels_.end() - kSlack, pixels_.end(), 0);  // the slack is read (and ignored) by gathers
 }
 
 }  // namespace panoproj

@@ -13,7 +13,10 @@
 #include <hwy/contrib/math/math-inl.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "simd_geometry.hpp"
 
@@ -47,6 +50,74 @@ HWY_INLINE V Atan2(D d, V y, V x) {
   a = hn::IfThenElse(hn::Lt(x, zero), hn::Sub(hn::Set(d, T(kPiF)), a), a);  // [0, pi]
   a = hn::IfThenElse(hn::Lt(y, zero), hn::Neg(a), a);
   return hn::IfThenElse(both_zero, zero, a);
+}
+
+// Taylor coefficients (-1)^k / (2k + first)!, k = 0 .. N-1: sin(x)/x with first = 1, cos(x) with
+// first = 0, as polynomials in q = x^2.
+template <int N>
+constexpr std::array<float, N> TaylorInQ(int first) {
+  std::array<float, N> c{};
+  double f = 1.0;  // (2k + first)!
+  for (int i = 2; i <= first; ++i) f *= i;
+  for (int k = 0; k < N; ++k) {
+    c[k] = static_cast<float>((k % 2 ? -1.0 : 1.0) / f);
+    f *= (2.0 * k + first + 1) * (2.0 * k + first + 2);
+  }
+  return c;
+}
+
+template <size_t N, class D, class V = hn::Vec<D>>
+HWY_INLINE V Horner(D d, const std::array<float, N>& c, V q) {
+  V acc = hn::Set(d, c[N - 1]);
+  for (size_t k = N - 1; k-- > 0;) acc = hn::MulAdd(acc, q, hn::Set(d, c[k]));
+  return acc;
+}
+
+// A fisheye target's rays in float lanes without inverse or direct trigonometry, from the law at
+// the clamped radius r (r^2 = r2 <= 1) and g = law(psi_max): with k = sin(psi) / r,
+//   equidistant  psi = g r:            k = g sinc(psi), cos psi, Taylor series in psi^2 <= pi^2
+//                                      (10 and 11 terms: truncation < 1e-8);
+//   equisolid    sin(psi/2) = s = g r/2: k = g sqrt(1 - s^2), cos psi = 1 - 2 s^2;
+//   orthographic sin psi = s = g r:    k = g, cos psi = sqrt(1 - s^2);
+//   stereographic tan(psi/2) = t = g r/2: k = g / (1 + t^2), cos psi = (1 - t^2) / (1 + t^2).
+// coarse where sqrt(1 - s^2) loses float precision (s > 0.98, as TargetRay's arcsines).
+template <class D, class V = hn::Vec<D>, class M = hn::Mask<D>>
+HWY_INLINE void FisheyeRayFloat(D d, const SimdGeometry& g, V u, V v, V r2, V& x, V& y, V& z, M& ok, M& coarse) {
+  static constexpr auto kSinc = TaylorInQ<10>(1);
+  static constexpr auto kCos = TaylorInQ<11>(0);
+  const V one = hn::Set(d, 1.0f), gv = hn::Set(d, g.pf.d[4]);
+  ok = hn::Not(hn::Gt(r2, one));
+  coarse = hn::Lt(one, hn::Zero(d));  // none
+  const V q = hn::Mul(hn::Mul(gv, gv), hn::Min(r2, one));  // (g r)^2
+  V k, cz;
+  switch (g.law) {
+    case 1: {
+      const V s2 = hn::Mul(q, hn::Set(d, 0.25f));
+      coarse = hn::Gt(s2, hn::Set(d, 0.98f * 0.98f));
+      k = hn::Mul(gv, hn::Sqrt(hn::Max(hn::Sub(one, s2), hn::Zero(d))));
+      cz = hn::NegMulAdd(hn::Set(d, 2.0f), s2, one);
+      break;
+    }
+    case 2:
+      coarse = hn::Gt(q, hn::Set(d, 0.98f * 0.98f));
+      k = gv;
+      cz = hn::Sqrt(hn::Max(hn::Sub(one, q), hn::Zero(d)));
+      break;
+    case 3: {
+      const V t2 = hn::Mul(q, hn::Set(d, 0.25f));
+      const V inv = hn::Div(one, hn::Add(one, t2));
+      k = hn::Mul(gv, inv);
+      cz = hn::Mul(hn::Sub(one, t2), inv);
+      break;
+    }
+    default:
+      k = hn::Mul(gv, Horner(d, kSinc, q));
+      cz = Horner(d, kCos, q);
+      break;
+  }
+  x = hn::Mul(k, u);
+  y = hn::Mul(k, v);
+  z = cz;
 }
 
 // The rays of pixel centres (px, py) for the target. coarse: lanes where float lanes would be
@@ -84,23 +155,18 @@ HWY_INLINE void TargetRay(D d, const SimdGeometry& g, V px, V py, V& x, V& y, V&
     case SimdGeometry::Dst::Fisheye: {
       const V u = hn::Mul(hn::Sub(px, hn::Set(d, p[0])), hn::Set(d, p[2]));
       const V v = hn::Mul(hn::Sub(py, hn::Set(d, p[1])), hn::Set(d, p[3]));
-      const V r = hn::Sqrt(hn::MulAdd(u, u, hn::Mul(v, v)));
+      const V r2 = hn::MulAdd(u, u, hn::Mul(v, v));
+      if constexpr (std::is_same_v<T, float>) {
+        FisheyeRayFloat(d, g, u, v, r2, x, y, z, ok, coarse);
+        return;
+      }
+      const V r = hn::Sqrt(r2);
       ok = hn::Not(hn::Gt(r, hn::Set(d, T(1.0 + 1e-9))));
       const V gv = hn::Mul(hn::Min(r, hn::Set(d, T(1))), hn::Set(d, p[4]));
       V psi;
       switch (g.law) {
-        case 1: {
-          const V arg = hn::Min(hn::Mul(gv, hn::Set(d, T(0.5))), hn::Set(d, T(1)));
-          coarse = hn::Gt(arg, hn::Set(d, T(0.98)));
-          psi = hn::Mul(hn::Set(d, T(2)), hn::Asin(d, arg));
-          break;
-        }
-        case 2: {
-          const V arg = hn::Min(gv, hn::Set(d, T(1)));
-          coarse = hn::Gt(arg, hn::Set(d, T(0.98)));
-          psi = hn::Asin(d, arg);
-          break;
-        }
+        case 1: psi = hn::Mul(hn::Set(d, T(2)), hn::Asin(d, hn::Min(hn::Mul(gv, hn::Set(d, T(0.5))), hn::Set(d, T(1))))); break;
+        case 2: psi = hn::Asin(d, hn::Min(gv, hn::Set(d, T(1)))); break;
         case 3: psi = hn::Mul(hn::Set(d, T(2)), hn::Atan(d, hn::Mul(gv, hn::Set(d, T(0.5))))); break;
         default: psi = gv; break;
       }
@@ -170,15 +236,15 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
   ok = hn::Gt(depth, zero);
 }
 
-// Source positions (sx, sy) of target pixel centres (px, py): ray, rotation, source pixel; ok
-// where both sides are valid; coarse where float lanes are not accurate enough.
+// Source positions (sx, sy) of target rays (x, y, z) (ok_dst, coarse_dst from TargetRay):
+// rotation, source pixel; ok where both sides are valid; coarse where float lanes are not
+// accurate enough.
 template <class D, class V = hn::Vec<D>, class M = hn::Mask<D>>
-HWY_INLINE void SourceOfPixels(D d, const SimdGeometry& g, V px, V py, V& sx, V& sy, M& ok, M& coarse) {
+HWY_INLINE void SourceOfRays(D d, const SimdGeometry& g, V x, V y, V z, M ok_dst, M coarse_dst, V& sx, V& sy, M& ok,
+                             M& coarse) {
   using T = hn::TFromD<D>;
   const T* r = g.params<T>().r;
-  V x, y, z;
-  M ok_dst, ok_src, coarse_dst, coarse_src;
-  TargetRay(d, g, px, py, x, y, z, ok_dst, coarse_dst);
+  M ok_src, coarse_src;
   const V rx = hn::MulAdd(hn::Set(d, r[0]), x, hn::MulAdd(hn::Set(d, r[1]), y, hn::Mul(hn::Set(d, r[2]), z)));
   const V ry = hn::MulAdd(hn::Set(d, r[3]), x, hn::MulAdd(hn::Set(d, r[4]), y, hn::Mul(hn::Set(d, r[5]), z)));
   const V rz = hn::MulAdd(hn::Set(d, r[6]), x, hn::MulAdd(hn::Set(d, r[7]), y, hn::Mul(hn::Set(d, r[8]), z)));
@@ -187,41 +253,92 @@ HWY_INLINE void SourceOfPixels(D d, const SimdGeometry& g, V px, V py, V& sx, V&
   coarse = hn::And(ok, hn::Or(coarse_dst, coarse_src));
 }
 
-// Calls sink(sx, sy, ok, i, m) for output pixels (x0 + i .. x0 + i + m - 1, y), i from 0 to n in
-// steps of the vector: float vectors (twice the lanes) where g.use_float and every lane is
-// accurate enough, else double vectors. Lanes beyond n have ok false.
-template <class Sink>
-HWY_INLINE void RowPositions(const SimdGeometry& g, int64_t x0, int64_t y, int64_t n, Sink&& sink) {
-  const DD dd;
-  const auto ND = static_cast<int64_t>(hn::Lanes(dd));
-  auto doubles = [&](int64_t i, int64_t end) {
-    const VD py = hn::Set(dd, static_cast<double>(y) + 0.5);
-    for (; i < end; i += ND) {
-      const int64_t m = std::min(ND, end - i);
-      VD sx, sy;
-      MD ok, coarse;
-      SourceOfPixels(dd, g, hn::Iota(dd, static_cast<double>(x0 + i) + 0.5), py, sx, sy, ok, coarse);
-      sink(sx, sy, hn::And(ok, hn::FirstN(dd, static_cast<size_t>(m))), i, m);
-    }
-  };
-  if (!g.use_float) return doubles(0, n);
-  using DF32 = hn::ScalableTag<float>;
-  const DF32 df;
-  const auto NF = static_cast<int64_t>(hn::Lanes(df));
-  const auto py = hn::Set(df, static_cast<float>(y) + 0.5f);
-  for (int64_t i = 0; i < n; i += NF) {
-    const int64_t m = std::min(NF, n - i);
-    hn::Vec<DF32> sx, sy;
-    hn::Mask<DF32> ok, coarse;
-    SourceOfPixels(df, g, hn::Iota(df, static_cast<float>(x0 + i) + 0.5f), py, sx, sy, ok, coarse);
-    ok = hn::And(ok, hn::FirstN(df, static_cast<size_t>(m)));
-    if (HWY_LIKELY(hn::AllFalse(df, hn::And(coarse, ok)))) {
-      sink(sx, sy, ok, i, m);
-    } else {
-      doubles(i, i + m);
+// The source positions of the rows of one tile (x0 .. x0 + n - 1). An equirect target's rays are
+// separable, (cos lat sin lon, -sin lat, cos lat cos lon): the sines and cosines of the tile's
+// longitudes and of each row's latitude come from std::sin/cos once (exact in double, rounded for
+// float), not from four vector sines per pixel.
+class TileRows {
+ public:
+  static constexpr int64_t kMaxTableWidth = 64;
+
+  TileRows(const SimdGeometry& g, int64_t x0, int64_t n) : g_(g), x0_(x0), n_(n) {
+    table_ = g.dst == SimdGeometry::Dst::Equirect && n <= kMaxTableWidth;
+    if (!table_) return;
+    const double* p = g.pd.d;
+    for (int64_t i = 0; i < kMaxTableWidth + kPad; ++i) {
+      const double lon = (static_cast<double>(x0 + std::min(i, n - 1)) + 0.5) * p[6] + p[8];
+      sin_d_[i] = std::sin(lon), cos_d_[i] = std::cos(lon);
+      sin_f_[i] = static_cast<float>(sin_d_[i]), cos_f_[i] = static_cast<float>(cos_d_[i]);
     }
   }
-}
+
+  // Calls sink(sx, sy, ok, i, m) for output pixels (x0 + i .. x0 + i + m - 1, y), i from 0 to n
+  // in steps of the vector: float vectors (twice the lanes) where g.use_float and every lane is
+  // accurate enough, else double vectors. Lanes beyond n have ok false.
+  template <class Sink>
+  HWY_INLINE void Row(int64_t y, Sink&& sink) const {
+    const DD dd;
+    const auto ND = static_cast<int64_t>(hn::Lanes(dd));
+    const double lat = g_.pd.d[4] - (static_cast<double>(y) + 0.5) * g_.pd.d[7];
+    const double sin_lat = table_ ? std::sin(lat) : 0.0, cos_lat = table_ ? std::cos(lat) : 0.0;
+    auto doubles = [&](int64_t i, int64_t end) {
+      const VD py = hn::Set(dd, static_cast<double>(y) + 0.5);
+      for (; i < end; i += ND) {
+        const int64_t m = std::min(ND, end - i);
+        VD sx, sy;
+        MD ok, coarse;
+        Positions(dd, hn::Iota(dd, static_cast<double>(x0_ + i) + 0.5), py, sin_d_ + i, cos_d_ + i, sin_lat, cos_lat,
+                  sx, sy, ok, coarse);
+        sink(sx, sy, hn::And(ok, hn::FirstN(dd, static_cast<size_t>(m))), i, m);
+      }
+    };
+    if (!g_.use_float) return doubles(0, n_);
+    using DF32 = hn::ScalableTag<float>;
+    const DF32 df;
+    const auto NF = static_cast<int64_t>(hn::Lanes(df));
+    const auto py = hn::Set(df, static_cast<float>(y) + 0.5f);
+    for (int64_t i = 0; i < n_; i += NF) {
+      const int64_t m = std::min(NF, n_ - i);
+      hn::Vec<DF32> sx, sy;
+      hn::Mask<DF32> ok, coarse;
+      Positions(df, hn::Iota(df, static_cast<float>(x0_ + i) + 0.5f), py, sin_f_ + i, cos_f_ + i,
+                static_cast<float>(sin_lat), static_cast<float>(cos_lat), sx, sy, ok, coarse);
+      ok = hn::And(ok, hn::FirstN(df, static_cast<size_t>(m)));
+      if (HWY_LIKELY(hn::AllFalse(df, hn::And(coarse, ok)))) {
+        sink(sx, sy, ok, i, m);
+      } else {
+        doubles(i, i + m);
+      }
+    }
+  }
+
+ private:
+  static constexpr int64_t kPad = HWY_MAX_BYTES / sizeof(float);  // a vector read past n
+
+  template <class D, class T, class V = hn::Vec<D>, class M = hn::Mask<D>>
+  HWY_INLINE void Positions(D d, V px, V py, const T* sin_lon, const T* cos_lon, T sin_lat, T cos_lat, V& sx, V& sy,
+                            M& ok, M& coarse) const {
+    V x, y, z;
+    M ok_dst, coarse_dst;
+    if (table_) {
+      const V cl = hn::Set(d, cos_lat);
+      x = hn::Mul(cl, hn::LoadU(d, sin_lon));
+      y = hn::Set(d, -sin_lat);
+      z = hn::Mul(cl, hn::LoadU(d, cos_lon));
+      ok_dst = hn::Eq(x, x);  // every equirect target pixel has a ray
+      coarse_dst = hn::Not(ok_dst);
+    } else {
+      TargetRay(d, g_, px, py, x, y, z, ok_dst, coarse_dst);
+    }
+    SourceOfRays(d, g_, x, y, z, ok_dst, coarse_dst, sx, sy, ok, coarse);
+  }
+
+  const SimdGeometry& g_;
+  int64_t x0_, n_;
+  bool table_;
+  HWY_ALIGN float sin_f_[kMaxTableWidth + kPad], cos_f_[kMaxTableWidth + kPad];
+  HWY_ALIGN double sin_d_[kMaxTableWidth + kPad], cos_d_[kMaxTableWidth + kPad];
+};
 
 }  // namespace HWY_NAMESPACE
 }  // namespace panoproj

@@ -17,11 +17,12 @@ namespace panoproj {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// The positions the fused converter computes (RowPositions), stored in double.
+// The positions the fused converter computes (TileRows), stored in double.
 void MapTile(const SimdGeometry& g, const TileRect& rect, TileMap& out) {
+  const TileRows rows(g, rect.x0, rect.w);
   for (int64_t j = 0; j < rect.h; ++j) {
     const size_t row = static_cast<size_t>(j * rect.w);
-    RowPositions(g, rect.x0, rect.y0 + j, rect.w, [&](auto sx, auto sy, auto ok, int64_t i, int64_t m) {
+    rows.Row(rect.y0 + j, [&](auto sx, auto sy, auto ok, int64_t i, int64_t m) {
       using D = hn::DFromV<decltype(sx)>;
       using T = hn::TFromD<D>;
       const D d;

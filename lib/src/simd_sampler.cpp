@@ -12,6 +12,7 @@
 #include <Imath/half.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -114,12 +115,13 @@ HWY_INLINE void StoreSample(unsigned char* p, float v) {
 template <class DP, class VP = hn::Vec<DP>>
 struct Bounds {
   VP cw, ch, inv_cw, inv_ch, x0, x1, y0, y1;
-  explicit Bounds(const SimdSource& s) {
+  bool cells;
+  explicit Bounds(const SimdSource& s) : cells(s.cell_w > 0) {
     using P = hn::TFromD<DP>;
     const DP dp;
     cw = hn::Set(dp, static_cast<P>(s.cell_w)), ch = hn::Set(dp, static_cast<P>(s.cell_h));
-    inv_cw = hn::Set(dp, static_cast<P>(1.0 / static_cast<double>(s.cell_w)));
-    inv_ch = hn::Set(dp, static_cast<P>(1.0 / static_cast<double>(s.cell_h)));
+    inv_cw = hn::Set(dp, static_cast<P>(cells ? 1.0 / static_cast<double>(s.cell_w) : 0.0));
+    inv_ch = hn::Set(dp, static_cast<P>(cells ? 1.0 / static_cast<double>(s.cell_h) : 0.0));
     x0 = hn::Set(dp, static_cast<P>(s.x0)), x1 = hn::Set(dp, static_cast<P>(s.x1));
     y0 = hn::Set(dp, static_cast<P>(s.y0)), y1 = hn::Set(dp, static_cast<P>(s.y1));
   }
@@ -137,6 +139,7 @@ struct TapBlock {
   const unsigned char* base;  // the row of the block's lowest first tap
   int64_t index;              // output pixel index of lane 0 (row-major in the rect)
   int64_t m;                  // lanes in use
+  bool any;                   // some lane is sampled here (else the block is written as 0)
   HWY_ALIGN int32_t off[kMaxLanes];    // byte offset of the first tap from base; -1: not here
   HWY_ALIGN float tx[kMaxLanes], ty[kMaxLanes];  // fractions from the first-but-(K/2 - 1) tap
 };
@@ -145,10 +148,10 @@ struct TapBlock {
 // floor(s - 0.5) - (K/2 - 1), as interpolator.cpp), and the check that all taps lie in the
 // sample's cell (a cube face, else the frame) and in the window, within int32 byte offsets of
 // the lowest tap row. Other valid lanes go to misses. Prefetches the taps' cache lines so that
-// phase 2, a few rows later, finds them in cache. Returns false if no lane is sampled here.
+// phase 2, a few rows later, finds them in cache.
 // Float positions are exact integers + fractions up to 2^24 px (use_float allows far less).
 template <int K, class DP, class VP = hn::Vec<DP>, class MP = hn::Mask<DP>>
-HWY_INLINE bool PlanLanes(const SimdSource& s, const Bounds<DP>& b, VP sx, VP sy, MP ok, int64_t index,
+HWY_INLINE void PlanLanes(const SimdSource& s, const Bounds<DP>& b, VP sx, VP sy, MP ok, int64_t index,
                           int64_t m, TapBlock& blk, SimdMisses& misses) {
   using P = hn::TFromD<DP>;
   using DF = hn::Rebind<float, DP>;
@@ -161,11 +164,14 @@ HWY_INLINE bool PlanLanes(const SimdSource& s, const Bounds<DP>& b, VP sx, VP sy
   const VP shift = hn::Set(dp, static_cast<P>(K == 1 ? 0.0 : 0.5 + (K / 2 - 1)));
   const VP X = hn::Sub(sx, shift), Y = hn::Sub(sy, shift);
   const VP fx = hn::Floor(X), fy = hn::Floor(Y);
-  // (A rounding of s / cell at a cell edge only sends the sample to the reference.)
-  const VP cx = hn::Mul(hn::Floor(hn::Mul(sx, b.inv_cw)), b.cw), cy = hn::Mul(hn::Floor(hn::Mul(sy, b.inv_ch)), b.ch);
   const VP k = hn::Set(dp, static_cast<P>(K));
-  const VP lo_x = hn::Max(cx, b.x0), hi_x = hn::Sub(hn::Min(hn::Add(cx, b.cw), b.x1), k);
-  const VP lo_y = hn::Max(cy, b.y0), hi_y = hn::Sub(hn::Min(hn::Add(cy, b.ch), b.y1), k);
+  VP lo_x = b.x0, hi_x = hn::Sub(b.x1, k), lo_y = b.y0, hi_y = hn::Sub(b.y1, k);
+  if (b.cells) {
+    // (A rounding of s / cell at a cell edge only sends the sample to the reference.)
+    const VP cx = hn::Mul(hn::Floor(hn::Mul(sx, b.inv_cw)), b.cw), cy = hn::Mul(hn::Floor(hn::Mul(sy, b.inv_ch)), b.ch);
+    lo_x = hn::Max(cx, b.x0), hi_x = hn::Sub(hn::Min(hn::Add(cx, b.cw), b.x1), k);
+    lo_y = hn::Max(cy, b.y0), hi_y = hn::Sub(hn::Min(hn::Add(cy, b.ch), b.y1), k);
+  }
   MP inside = hn::And(hn::And(ok, hn::And(hn::Ge(fx, lo_x), hn::Le(fx, hi_x))),
                       hn::And(hn::Ge(fy, lo_y), hn::Le(fy, hi_y)));
   // The reach test runs in the position type (float: with 1% margin for its rounding), the
@@ -198,6 +204,7 @@ HWY_INLINE bool PlanLanes(const SimdSource& s, const Bounds<DP>& b, VP sx, VP sy
   }
   blk.index = index;
   blk.m = m;
+  blk.any = any;
   blk.base = s.base + static_cast<int64_t>(y_min - static_cast<P>(s.y0)) * s.stride;
   if constexpr (!std::is_same_v<P, float>) {  // fewer lanes than phase 2 reads: the rest unused
     const hn::ScalableTag<int32_t> d32;
@@ -216,7 +223,6 @@ HWY_INLINE bool PlanLanes(const SimdSource& s, const Bounds<DP>& b, VP sx, VP sy
       hwy::Prefetch(blk.base + last + r * s.stride + (K - 1) * pb);
     }
   }
-  return any;
 }
 
 // Stores m pixels of pb <= 4 bytes from little-endian words, 4 bytes at a time while that stays
@@ -225,6 +231,39 @@ HWY_INLINE void StoreWords(const uint32_t* w, int64_t m, int pb, unsigned char* 
   int64_t l = 0;
   for (; l * pb + 4 <= m * pb; ++l) std::memcpy(p + l * pb, &w[l], 4);
   for (; l < m; ++l) std::memcpy(p + l * pb, &w[l], static_cast<size_t>(pb));
+}
+
+// Stores the m pixels of a vector of packed words (one per lane, pb <= 4 bytes used): a full RGB
+// vector packs each 128-bit block's four pixels into 12 bytes (byte shuffle), closes the gaps
+// between blocks (32-bit lane permutation) and stores the 3N bytes under a mask; RGBA is stored
+// as is; other cases go through StoreWords.
+template <class DU, class VU = hn::Vec<DU>>
+HWY_INLINE void StorePixels(DU du, VU word, int64_t m, int pb, unsigned char* p) {
+  const auto N = static_cast<int64_t>(hn::Lanes(du));
+#if HWY_TARGET != HWY_SCALAR
+  if (m == N && pb == 4) return hn::StoreU(word, du, reinterpret_cast<uint32_t*>(p));
+  if (m == N && pb == 3 && N % 4 == 0) {
+    const hn::Repartition<uint8_t, DU> d8;
+    HWY_ALIGN static constexpr uint8_t kPack[64] = {
+        0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, 0x80, 0x80, 0x80, 0x80, 0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, 0x80, 0x80, 0x80, 0x80,
+        0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, 0x80, 0x80, 0x80, 0x80, 0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, 0x80, 0x80, 0x80, 0x80};
+    // Lane i < 3N/4 takes the (i % 3)-th word of block i / 3; the rest take the blocks' spare words.
+    constexpr size_t kN = hn::MaxLanes(DU());
+    HWY_ALIGN static constexpr auto kGather = [] {
+      std::array<int32_t, kN> a{};
+      for (size_t i = 0; i < kN; ++i)
+        a[i] = static_cast<int32_t>(i < 3 * kN / 4 ? (i / 3) * 4 + i % 3 : (i - 3 * kN / 4) * 4 + 3);
+      return a;
+    }();
+    static_assert(HWY_MAX_BYTES <= 64);
+    const VU packed = hn::BitCast(du, hn::TableLookupBytes(hn::BitCast(d8, word), hn::Load(d8, kPack)));
+    const VU dense = hn::TableLookupLanes(packed, hn::SetTableIndices(du, kGather.data()));
+    return hn::BlendedStore(dense, hn::FirstN(du, static_cast<size_t>(3 * N / 4)), du, reinterpret_cast<uint32_t*>(p));
+  }
+#endif
+  HWY_ALIGN uint32_t w32[kMaxLanes];
+  hn::Store(word, du, w32);
+  StoreWords(w32, m, pb, p);
 }
 
 #if HWY_TARGET != HWY_SCALAR
@@ -283,11 +322,7 @@ HWY_INLINE void BilinearU8(const SimdSource& s, const TapBlock& blk, unsigned ch
   const V16 vo = hn::ShiftRight<8>(hn::Add(hn::Add(hn::MulHigh(odd[0], wy0), hn::MulHigh(odd[1], wy1)), half));
   VU word = hn::Or(hn::BitCast(du, ve), hn::ShiftLeft<8>(hn::BitCast(du, vo)));
   word = hn::IfThenElseZero(hn::RebindMask(du, hn::Gt(hn::Load(di, blk.off), hn::Set(di, -1))), word);
-  HWY_ALIGN uint32_t w32[kMaxLanes];
-  hn::Store(word, du, w32);
-  const int64_t m = blk.m;
-  unsigned char* p = o + blk.index * pb;
-  StoreWords(w32, m, pb, p);
+  StorePixels(du, word, blk.m, pb, o + blk.index * pb);
 }
 #endif
 
@@ -305,6 +340,10 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
   const int pb = nc * static_cast<int>(sizeof(T));
   const unsigned char* base = blk.base;
   const int64_t m = blk.m;
+  if (!blk.any) {
+    std::memset(out + blk.index * pb, 0, static_cast<size_t>(m * pb));
+    return;
+  }
 #if HWY_TARGET != HWY_SCALAR
   if constexpr (PT == PixelType::U8 && K == 2) {
     if (alpha < 0) return BilinearU8(s, blk, out);
@@ -355,9 +394,7 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
       for (int c2 = 0; c2 < nc; ++c2)
         word = hn::Or(word, hn::ShiftLeftSame(hn::NearestInt(hn::Min(hn::Max(acc[c2], hn::Zero(df)), hn::Set(df, unit))), 8 * c2));
       word = hn::IfThenElseZero(valid, word);
-      HWY_ALIGN uint32_t w32[kMaxLanes];
-      hn::Store(hn::BitCast(hn::RebindToUnsigned<DI>(), word), hn::RebindToUnsigned<DI>(), w32);
-      StoreWords(w32, m, pb, o);
+      StorePixels(hn::RebindToUnsigned<DI>(), hn::BitCast(hn::RebindToUnsigned<DI>(), word), m, pb, o);
     } else if constexpr (PT == PixelType::U16) {
       HWY_ALIGN int32_t q[4][kMaxLanes];
       for (int c2 = 0; c2 < nc; ++c2)
@@ -418,8 +455,8 @@ HWY_FLATTEN void SampleMapT(const SimdSource& s, const TileMap& tm, unsigned cha
         by[l] = l < m ? tm.ys[k + l] : 0.0;
         bo[l] = l < m && tm.ok[k + l] ? 1.0 : 0.0;
       }
-      n += PlanLanes<K>(s, b, hn::Load(dd, bx), hn::Load(dd, by), hn::Ne(hn::Load(dd, bo), hn::Zero(dd)),
-                        j * rect.w + i, m, blk[n], misses) ? 1 : 0;
+      PlanLanes<K>(s, b, hn::Load(dd, bx), hn::Load(dd, by), hn::Ne(hn::Load(dd, bo), hn::Zero(dd)), j * rect.w + i,
+                   m, blk[n++], misses);
     }
     return n;
   });
@@ -434,13 +471,14 @@ HWY_FLATTEN void ConvertT(const SimdGeometry& g, const TileRect& rect, const Sim
   const auto NF = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>()));
   // A coarse float vector becomes two or more double blocks.
   const int64_t per_row = 2 * ((rect.w + NF - 1) / NF) + 1;
+  const TileRows rows(g, rect.x0, rect.w);
   Chunked<PT, T, K>(s, rect, per_row, out, out_stride, [&](int64_t j, TapBlock* blk) {
     int n = 0;
-    RowPositions(g, rect.x0, rect.y0 + j, rect.w, [&](auto sx, auto sy, auto ok, int64_t i, int64_t m) {
+    rows.Row(rect.y0 + j, [&](auto sx, auto sy, auto ok, int64_t i, int64_t m) {
       if constexpr (std::is_same_v<hn::TFromV<decltype(sx)>, float>) {
-        n += PlanLanes<K>(s, bf, sx, sy, ok, j * rect.w + i, m, blk[n], misses) ? 1 : 0;
+        PlanLanes<K>(s, bf, sx, sy, ok, j * rect.w + i, m, blk[n++], misses);
       } else {
-        n += PlanLanes<K>(s, bd, sx, sy, ok, j * rect.w + i, m, blk[n], misses) ? 1 : 0;
+        PlanLanes<K>(s, bd, sx, sy, ok, j * rect.w + i, m, blk[n++], misses);
       }
     });
     return n;

@@ -22,7 +22,7 @@ struct SimdSource {
   int channels, alpha;        // alpha channel or -1
   PixelType type;
   int64_t x0, y0, x1, y1;     // the frame pixels [x0, x1) x [y0, y1) held in memory
-  int64_t cell_w, cell_h;     // taps must stay in one aligned cell of this size
+  int64_t cell_w, cell_h;     // taps must stay in one aligned cell of this size; 0: the frame
 };
 
 // Output pixels the kernels left (written as 0) for the reference sampler: pixel index in the

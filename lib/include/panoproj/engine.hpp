@@ -54,6 +54,10 @@ class Converter {
   // is called from the calling thread with the fraction of tiles done.
   Image run(const Image& src, EngineStats* stats = nullptr,
             const std::function<void(double)>& progress = {}) const;
+  // The same into out, reusing its buffer when it already has the output's size and layout
+  // (video frames, batches: no new memory per frame).
+  void run(const Image& src, Image& out, EngineStats* stats = nullptr,
+           const std::function<void(double)>& progress = {}) const;
 
   // The source pixels [x0, x1) x [y0, y1) that run() reads (with the kernel's taps and the
   // edge rules: a seam or pole crossing widens it to the full width; cubemaps read all). Read

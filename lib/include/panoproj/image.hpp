@@ -3,6 +3,8 @@
 // rows stored top to bottom with 64-bit offsets (no size limit but memory).
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "panoproj/projections/frame.hpp"
@@ -16,12 +18,33 @@ const char* name_of(PixelType t);
 // Largest sample value mapping to 1.0 (255, 65535; 1 for half and float).
 double unit_of(PixelType t);
 
+// Allocates without value-initializing (std::vector would zero every byte): for buffers that are
+// written whole before they are read.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... A>
+  void construct(U* p, A&&... a) {
+    ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+  }
+};
+
 class Image {
  public:
   static constexpr size_t kSlack = 16;
   Image() = default;
   // Zero-filled. alpha_channel: index of the alpha channel, or -1.
   Image(Size size, int channels, PixelType type, int alpha_channel = -1);
+  // Not filled: for outputs written whole (the engine's), saving a pass over memory.
+  struct Unfilled {};
+  Image(Size size, int channels, PixelType type, int alpha_channel, Unfilled);
 
   Size size() const { return size_; }
   int64_t width() const { return size_.width; }
@@ -72,7 +95,8 @@ class Image {
   int64_t ox_ = 0, oy_ = 0;
   Size frame_{};  // 0 x 0: the image is the whole frame
   size_t bytes_ = 0;
-  std::vector<unsigned char> pixels_;  // bytes_ + kSlack: SIMD gathers read a word past a pixel
+  // bytes_ + kSlack: SIMD gathers read up to 8 bytes from a pixel's start.
+  std::vector<unsigned char, UninitializedAllocator<unsigned char>> pixels_;
 };
 
 }  // namespace panoproj
