@@ -5,7 +5,7 @@
 //   cv::remap: remap only, given maps for free (float CV_32FC1 pairs, and fixed-point
 //   CV_16SC2 + CV_16UC1 from cv::convertMaps; the faster of the two is the reference).
 //   memcpy: copying a buffer the size of the output (the floor for any method).
-// Median of --runs runs (default 9). OpenCV has no Lanczos-3: its LANCZOS4 (8x8) stands in,
+// Median of --runs runs (default 9), the four taken in turns. OpenCV has no Lanczos-3: its LANCZOS4 (8x8) stands in,
 // labelled so. Usage: bench_remap [--threads N] [--runs N] [--case I] [--ours-only]
 // (--case runs only the I-th row, --ours-only skips the peers: for profiling).
 #include <sys/resource.h>
@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
@@ -28,17 +29,23 @@ using namespace panoproj;
 
 namespace {
 
-template <class F>
-double median_ms(int runs, F&& f) {
-  std::vector<double> t;
-  f();  // warm-up
-  for (int i = 0; i < runs; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    f();
-    t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+// Medians (ms) of runs of each function, taken in turns (f0, f1, ..., f0, f1, ...) so that a
+// load change on this shared machine hits all of them alike; one warm-up run each.
+std::vector<double> median_ms(int runs, const std::vector<std::function<void()>>& fs) {
+  std::vector<std::vector<double>> t(fs.size());
+  for (const auto& f : fs) f();
+  for (int i = 0; i < runs; ++i)
+    for (size_t k = 0; k < fs.size(); ++k) {
+      const auto t0 = std::chrono::steady_clock::now();
+      fs[k]();
+      t[k].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+  std::vector<double> med;
+  for (auto& v : t) {
+    std::sort(v.begin(), v.end());
+    med.push_back(v[v.size() / 2]);
   }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  return med;
 }
 
 // The exact map in cv::remap's convention (pixel centres at integers: subtract 0.5).
@@ -105,22 +112,23 @@ int main(int argc, char** argv) {
     const Projection dst = make_projection(parse_spec(c.dst), c.size);
     // Both sides write into an output buffer kept across runs (as a video or batch does).
     Image ours_out;
-    const double ours = median_ms(runs, [&] {
+    auto ours_run = [&] {
       Converter(*c.sp, dst, Eigen::Matrix3d::Identity(), c.interp, Engine::Simd, threads).run(*c.src, ours_out);
-    });
+    };
     if (ours_only) {
-      std::printf("| %s | %s | %.1f | | | | | |\n", c.name, name_of(c.interp), ours);
+      std::printf("| %s | %s | %.1f | | | | | |\n", c.name, name_of(c.interp), median_ms(runs, {ours_run})[0]);
       continue;
     }
     cv::Mat mx, my, fx, fy, out;
     cv_maps(*c.sp, dst, mx, my);
     cv::convertMaps(mx, my, fx, fy, CV_16SC2);
     const cv::Mat in = as_mat(*c.src);
-    const double cv_float = median_ms(runs, [&] { cv::remap(in, out, mx, my, c.cv_interp, cv::BORDER_CONSTANT); });
-    const double cv_fixed = median_ms(runs, [&] { cv::remap(in, out, fx, fy, c.cv_interp, cv::BORDER_CONSTANT); });
     const size_t bytes = static_cast<size_t>(c.size.width * c.size.height * 3);
     std::vector<unsigned char> a(bytes, 1), b(bytes);
-    const double copy = median_ms(runs, [&] { std::memcpy(b.data(), a.data(), bytes); });
+    const auto ms = median_ms(runs, {ours_run, [&] { cv::remap(in, out, mx, my, c.cv_interp, cv::BORDER_CONSTANT); },
+                                     [&] { cv::remap(in, out, fx, fy, c.cv_interp, cv::BORDER_CONSTANT); },
+                                     [&] { std::memcpy(b.data(), a.data(), bytes); }});
+    const double ours = ms[0], cv_float = ms[1], cv_fixed = ms[2], copy = ms[3];
     const double best_cv = std::min(cv_float, cv_fixed);
     std::printf("| %s | %s%s | %.1f | %.1f | %.1f | %.2f | %.2f | %.1f |\n", c.name, name_of(c.interp),
                 c.interp == Interp::Lanczos3 ? " (OpenCV: LANCZOS4 8x8)" : "", ours, cv_float, cv_fixed,
