@@ -419,6 +419,13 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
 #endif
   unsigned char* o = out + blk.index * pb;
   if constexpr (K == 1) {
+    if (pb <= 4) {  // one 32-bit gather per pixel, its first pb bytes kept
+      const VI at = hn::Load(di, blk.off);
+      const VI word = hn::IfThenElseZero(hn::Gt(at, hn::Set(di, -1)),
+                                         hn::GatherOffset(di, reinterpret_cast<const int32_t*>(base), hn::Max(at, hn::Zero(di))));
+      const hn::RebindToUnsigned<DI> du;
+      return StorePixels(du, hn::BitCast(du, word), m, pb, o);
+    }
     for (int64_t l = 0; l < m; ++l) {
       if (blk.off[l] >= 0) std::memcpy(o + l * pb, base + blk.off[l], static_cast<size_t>(pb));
       else std::memset(o + l * pb, 0, static_cast<size_t>(pb));
