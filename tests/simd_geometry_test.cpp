@@ -42,6 +42,16 @@ TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
       {"cubemap", {6 * 2048, 2048}, "equirect", {1024, 512}, 10, 20, 30},
       {"equirect", {2048, 1024}, "fisheye:fov=180,model=orthographic", {400, 400}, 0, 0, 0},
       {"equirect", {4096, 2048}, "fisheye:fov=360", {500, 500}, 0, 30, 0},
+      // Partial and cylindrical sources and targets, unclipped fisheyes (frame corners beyond
+      // the circle, and beyond the orthographic law's domain).
+      {"equirect:hfov=200,vfov=100,lon0=30", {1000, 500}, "pinhole:hfov=100", {400, 300}, 20, 10, 0},
+      {"cylindrical:vfov=100", {2048, 1000}, "pinhole:hfov=90", {400, 300}, 170, 20, 0},
+      {"cylindrical:hfov=180,vfov=150", {1024, 1200}, "equirect", {800, 400}, 0, 0, 0},
+      {"equirect", {2048, 1024}, "cylindrical:vfov=120", {1000, 500}, 0, 30, 10},
+      {"cubemap", {6 * 256, 256}, "cylindrical:hfov=300,vfov=160", {900, 700}, 0, 0, 0},
+      {"equirect", {2048, 1024}, "fisheye:fov=200,clip=none", {600, 400}, 0, 20, 0},
+      {"equirect", {2048, 1024}, "fisheye:fov=170,model=orthographic,clip=none", {500, 400}, 0, 0, 0},
+      {"equirect", {20000, 10000}, "fisheye:fov=250,model=stereographic,clip=none", {300, 300}, 10, 80, 0},
   };
   const auto targets = hwy::SupportedAndGeneratedTargets();
   for (int64_t target : targets) {

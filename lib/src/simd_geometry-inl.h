@@ -74,7 +74,7 @@ HWY_INLINE V Horner(D d, const std::array<float, N>& c, V q) {
 }
 
 // A fisheye target's rays in float lanes without inverse or direct trigonometry, from the law at
-// the clamped radius r (r^2 = r2 <= 1) and g = law(psi_max): with k = sin(psi) / r,
+// radius r (r^2 = r2; clamped as TargetRay does) and g = law(psi_max): with k = sin(psi) / r,
 //   equidistant  psi = g r:            k = g sinc(psi), cos psi, Taylor series in psi^2 <= pi^2
 //                                      (10 and 11 terms: truncation < 1e-8);
 //   equisolid    sin(psi/2) = s = g r/2: k = g sqrt(1 - s^2), cos psi = 1 - 2 s^2;
@@ -86,9 +86,16 @@ HWY_INLINE void FisheyeRayFloat(D d, const SimdGeometry& g, V u, V v, V r2, V& x
   static constexpr auto kSinc = TaylorInQ<10>(1);
   static constexpr auto kCos = TaylorInQ<11>(0);
   const V one = hn::Set(d, 1.0f), gv = hn::Set(d, g.pf.d[4]);
-  ok = hn::Not(hn::Gt(r2, one));
   coarse = hn::Lt(one, hn::Zero(d));  // none
-  const V q = hn::Mul(hn::Mul(gv, gv), hn::Min(r2, one));  // (g r)^2
+  V q = hn::Mul(hn::Mul(gv, gv), r2);  // (g r)^2
+  if (g.pf.d[5] != 0.0f) {  // clipped: inside the circle, the law at min(r, 1)
+    ok = hn::Not(hn::Gt(r2, one));
+    q = hn::Mul(hn::Mul(gv, gv), hn::Min(r2, one));
+  } else {  // wherever the law has an inverse: g r <= limit
+    const V limit2 = hn::Set(d, g.pf.d[6] * g.pf.d[6]);
+    ok = hn::Not(hn::Gt(q, limit2));
+    q = hn::Min(q, limit2);
+  }
   V k, cz;
   switch (g.law) {
     case 1: {
@@ -144,6 +151,14 @@ HWY_INLINE void TargetRay(D d, const SimdGeometry& g, V px, V py, V& x, V& y, V&
       z = hn::Mul(cl, hn::Cos(d, lon));
       return;
     }
+    case SimdGeometry::Dst::Cylindrical: {
+      // (sin lon, -t, cos lon), t = tan(lat) linear in y (not normalized).
+      const V lon = hn::MulAdd(px, hn::Set(d, p[6]), hn::Set(d, p[8]));
+      x = hn::Sin(d, lon);
+      y = hn::MulSub(py, hn::Set(d, p[7]), hn::Set(d, p[4]));  // -t = -(t_top - py dt)
+      z = hn::Cos(d, lon);
+      return;
+    }
     case SimdGeometry::Dst::CubeFace: {
       const V a = hn::MulSub(hn::Sub(px, hn::Set(d, p[1])), hn::Set(d, p[12]), hn::Set(d, T(1)));
       const V b = hn::MulSub(hn::Sub(py, hn::Set(d, p[2])), hn::Set(d, p[12]), hn::Set(d, T(1)));
@@ -161,8 +176,16 @@ HWY_INLINE void TargetRay(D d, const SimdGeometry& g, V px, V py, V& x, V& y, V&
         return;
       }
       const V r = hn::Sqrt(r2);
-      ok = hn::Not(hn::Gt(r, hn::Set(d, T(1.0 + 1e-9))));
-      const V gv = hn::Mul(hn::Min(r, hn::Set(d, T(1))), hn::Set(d, p[4]));
+      // Clipped: inside the circle, the law at min(r, 1). Not clipped: wherever the law has an
+      // inverse (g r <= p[6], with the same slack as Fisheye::inverse_law).
+      V gv = hn::Mul(r, hn::Set(d, p[4]));
+      if (p[5] != T(0)) {
+        ok = hn::Not(hn::Gt(r, hn::Set(d, T(1.0 + 1e-9))));
+        gv = hn::Mul(hn::Min(r, hn::Set(d, T(1))), hn::Set(d, p[4]));
+      } else {
+        ok = hn::Not(hn::Gt(gv, hn::Set(d, p[6] * T(1.0 + 1e-9))));
+        gv = hn::Min(gv, hn::Set(d, p[6]));
+      }
       V psi;
       switch (g.law) {
         case 1: psi = hn::Mul(hn::Set(d, T(2)), hn::Asin(d, hn::Min(hn::Mul(gv, hn::Set(d, T(0.5))), hn::Set(d, T(1))))); break;
@@ -181,28 +204,43 @@ HWY_INLINE void TargetRay(D d, const SimdGeometry& g, V px, V py, V& x, V& y, V&
 }
 
 // Source pixel of ray (x, y, z). coarse: lanes where float lanes would err by more than
-// SimdGeometry::kFloatTolerance (near an equirect pole the longitude divides the ray's
-// absolute error by cos(latitude): lanes with cos(latitude) < float_cos_min).
+// SimdGeometry::kFloatTolerance (near a pole the longitude divides the ray's absolute error by
+// cos(latitude), a cylinder's height by cos^2: lanes with cos^2(latitude) < s[9]).
 template <class D, class V = hn::Vec<D>, class M = hn::Mask<D>>
 HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V& sy, M& ok, M& coarse) {
   using T = hn::TFromD<D>;
   const T* s = g.params<T>().s;
   const V zero = hn::Zero(d);
-  if (g.src == SimdGeometry::Src::Equirect) {
+  if (g.src != SimdGeometry::Src::Cubemap) {
+    // Longitude axis (equirect, cylindrical): x from the longitude, wrapped into [0, W) on a full
+    // circle, else refused beyond the span (LongitudeAxis::to_x) and the frame.
     const V pi = hn::Set(d, T(kPiF)), two_pi = hn::Set(d, T(2 * kPiF));
     V lon = hn::Sub(Atan2(d, x, z), hn::Set(d, s[2]));
     lon = hn::IfThenElse(hn::Not(hn::Lt(lon, pi)), hn::Sub(lon, two_pi), lon);
     lon = hn::IfThenElse(hn::Lt(lon, hn::Neg(pi)), hn::Add(lon, two_pi), lon);
     sx = hn::MulAdd(lon, hn::Set(d, s[6]), hn::Set(d, s[8]));
     const V h2 = hn::MulAdd(x, x, hn::Mul(z, z));
-    const V lat = Atan2(d, hn::Neg(y), hn::Sqrt(h2));
     coarse = hn::Lt(h2, hn::Mul(hn::Set(d, s[9]), hn::MulAdd(y, y, h2)));
-    sy = hn::Mul(hn::Sub(hn::Set(d, s[4]), lat), hn::Set(d, s[7]));
-    const V slack = hn::Set(d, T(1e-9) * s[3]);
-    ok = hn::And(hn::Not(hn::Lt(sy, hn::Neg(slack))), hn::Not(hn::Gt(sy, hn::Add(hn::Set(d, s[3]), slack))));
-    // Keep x in [0, W) (the seam's far side is 0).
-    sx = hn::IfThenElse(hn::Not(hn::Lt(sx, hn::Set(d, s[0]))), hn::Sub(sx, hn::Set(d, s[0])), sx);
-    sx = hn::Max(sx, zero);
+    const V h = hn::Sqrt(h2);
+    if (g.src == SimdGeometry::Src::Equirect) {
+      sy = hn::Mul(hn::Sub(hn::Set(d, s[4]), Atan2(d, hn::Neg(y), h)), hn::Set(d, s[7]));
+      ok = hn::Eq(sy, sy);
+    } else {  // height on the unit cylinder; the poles are at infinity
+      ok = hn::Gt(h, zero);
+      sy = hn::Mul(hn::Sub(hn::Div(hn::Neg(y), hn::IfThenElse(ok, h, hn::Set(d, T(1)))), hn::Set(d, s[4])), hn::Set(d, s[7]));
+    }
+    // The closed frame with FramedBounds' slack.
+    const V slack_y = hn::Set(d, T(1e-9) * s[3]);
+    ok = hn::And(ok, hn::And(hn::Not(hn::Lt(sy, hn::Neg(slack_y))), hn::Not(hn::Gt(sy, hn::Add(hn::Set(d, s[3]), slack_y)))));
+    if (s[10] != T(0)) {
+      // Full circle: keep x in [0, W) (the seam's far side is 0).
+      sx = hn::IfThenElse(hn::Not(hn::Lt(sx, hn::Set(d, s[0]))), hn::Sub(sx, hn::Set(d, s[0])), sx);
+      sx = hn::Max(sx, zero);
+    } else {
+      const V slack_x = hn::Set(d, T(1e-9) * s[0]);
+      ok = hn::And(ok, hn::Not(hn::Gt(hn::Abs(lon), hn::Set(d, s[11]))));
+      ok = hn::And(ok, hn::And(hn::Not(hn::Lt(sx, hn::Neg(slack_x))), hn::Not(hn::Gt(sx, hn::Add(hn::Set(d, s[0]), slack_x)))));
+    }
     return;
   }
   // Cubemap: the face of the largest component (ties: x, then y, then z, as cube_face_of).
@@ -253,16 +291,17 @@ HWY_INLINE void SourceOfRays(D d, const SimdGeometry& g, V x, V y, V z, M ok_dst
   coarse = hn::And(ok, hn::Or(coarse_dst, coarse_src));
 }
 
-// The source positions of the rows of one tile (x0 .. x0 + n - 1). An equirect target's rays are
-// separable, (cos lat sin lon, -sin lat, cos lat cos lon): the sines and cosines of the tile's
-// longitudes and of each row's latitude come from std::sin/cos once (exact in double, rounded for
-// float), not from four vector sines per pixel.
+// The source positions of the rows of one tile (x0 .. x0 + n - 1). Equirect and cylindrical
+// targets' rays are separable, (cos lat sin lon, -sin lat, cos lat cos lon) and (sin lon, -t,
+// cos lon): the sines and cosines of the tile's longitudes and each row's latitude terms come
+// from std::sin/cos once (exact in double, rounded for float), not from vector sines per pixel.
 class TileRows {
  public:
   static constexpr int64_t kMaxTableWidth = 64;
 
   TileRows(const SimdGeometry& g, int64_t x0, int64_t n) : g_(g), x0_(x0), n_(n) {
-    table_ = g.dst == SimdGeometry::Dst::Equirect && n <= kMaxTableWidth;
+    cylinder_ = g.dst == SimdGeometry::Dst::Cylindrical;
+    table_ = (g.dst == SimdGeometry::Dst::Equirect || cylinder_) && n <= kMaxTableWidth;
     if (!table_) return;
     const double* p = g.pd.d;
     for (int64_t i = 0; i < kMaxTableWidth + kPad; ++i) {
@@ -279,8 +318,10 @@ class TileRows {
   HWY_INLINE void Row(int64_t y, Sink&& sink) const {
     const DD dd;
     const auto ND = static_cast<int64_t>(hn::Lanes(dd));
-    const double lat = g_.pd.d[4] - (static_cast<double>(y) + 0.5) * g_.pd.d[7];
-    const double sin_lat = table_ ? std::sin(lat) : 0.0, cos_lat = table_ ? std::cos(lat) : 0.0;
+    // Per row: equirect (cos lat, sin lat); cylindrical (1, t), t = tan(lat) linear in y.
+    const double v = g_.pd.d[4] - (static_cast<double>(y) + 0.5) * g_.pd.d[7];
+    const double sin_lat = !table_ ? 0.0 : cylinder_ ? v : std::sin(v);
+    const double cos_lat = !table_ ? 0.0 : cylinder_ ? 1.0 : std::cos(v);
     auto doubles = [&](int64_t i, int64_t end) {
       const VD py = hn::Set(dd, static_cast<double>(y) + 0.5);
       for (; i < end; i += ND) {
@@ -325,7 +366,7 @@ class TileRows {
       x = hn::Mul(cl, hn::LoadU(d, sin_lon));
       y = hn::Set(d, -sin_lat);
       z = hn::Mul(cl, hn::LoadU(d, cos_lon));
-      ok_dst = hn::Eq(x, x);  // every equirect target pixel has a ray
+      ok_dst = hn::Eq(x, x);  // every equirect and cylindrical target pixel has a ray
       coarse_dst = hn::Not(ok_dst);
     } else {
       TargetRay(d, g_, px, py, x, y, z, ok_dst, coarse_dst);
@@ -335,7 +376,7 @@ class TileRows {
 
   const SimdGeometry& g_;
   int64_t x0_, n_;
-  bool table_;
+  bool table_, cylinder_;
   HWY_ALIGN float sin_f_[kMaxTableWidth + kPad], cos_f_[kMaxTableWidth + kPad];
   HWY_ALIGN double sin_d_[kMaxTableWidth + kPad], cos_d_[kMaxTableWidth + kPad];
 };

@@ -65,21 +65,36 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
   // Float lanes: the tolerance holds per axis for the rounding of the position itself plus the
   // ray's error carried through the source projection.
   const double tol = SimdGeometry::kFloatTolerance;
-  // [0..5] W, hfov, lon0, H, lat_top, vfov; then for a target [6] hfov / W, [7] vfov / H,
-  // [8] lon0 - hfov / 2; for a source [6] W / hfov, [7] H / vfov, [8] W / 2, [9] cos^2 of the
-  // latitude beyond which float lanes are too coarse (multiplications in the kernels).
-  if (const auto* e = std::get_if<Equirect>(&src)) {
-    if (!e->full_longitude()) return false;
-    g.src = SimdGeometry::Src::Equirect;
-    const double w = static_cast<double>(e->size().width), h = static_cast<double>(e->size().height);
-    const double v[9] = {w, e->axis().hfov, e->axis().lon0, h, e->lat_top(), e->vfov(), w / e->axis().hfov,
-                         h / e->vfov(), 0.5 * w};
-    std::copy(v, v + 9, gs);
-    // x: longitude error (W / hfov) eps / cos(lat); y: latitude error (H / vfov) eps.
-    const double room = tol - w * kHalfUlp;
-    g.use_float = room > 0 && h * kHalfUlp + gs[7] * kFloatRayError <= tol;
-    const double cos_min = g.use_float ? std::min(1.0, gs[6] * kFloatRayError / room) : 1.0;
+  // Longitude-axis sources, equirect and cylindrical: [0] W, [1] hfov, [2] lon0, [3] H, [4] the
+  // top row's latitude (equirect) or height t = tan(lat) (cylindrical), [6] W / hfov, [7] H per
+  // unit of latitude or height (cylindrical: negative, t falls downwards), [8] W / 2, [9] cos^2 of
+  // the latitude beyond which float lanes are too coarse, [10] 1 for a full circle, [11] the half
+  // span with Fisheye's edge slack (multiplications in the kernels, not divisions).
+  auto longitude_source = [&](const LongitudeAxis& axis, Size size, double top, double per_unit, double y_gain) {
+    const double w = static_cast<double>(size.width), h = static_cast<double>(size.height);
+    const double v[12] = {w, axis.hfov, axis.lon0, h, top, 0.0, w / axis.hfov, per_unit, 0.5 * w, 0.0,
+                          axis.full ? 1.0 : 0.0, 0.5 * axis.hfov * (1.0 + kEdgeSlack)};
+    std::copy(v, v + 12, gs);
+    // x: longitude error (W / hfov) eps / cos(lat); y: (H per unit) eps / cos^y_gain(lat).
+    const double room = tol - w * kHalfUlp, room_y = tol - h * kHalfUlp;
+    const double y_error = std::fabs(per_unit) * kFloatRayError;
+    g.use_float = room > 0 && room_y > 0 && (y_gain > 0 || y_error <= room_y);
+    const double cos_x = gs[6] * kFloatRayError / std::max(room, 1e-300);
+    const double cos_y = y_gain > 0 ? std::pow(y_error / std::max(room_y, 1e-300), 1.0 / y_gain) : 0.0;
+    const double cos_min = g.use_float ? std::min(1.0, std::max(cos_x, cos_y)) : 1.0;
     gs[9] = cos_min * cos_min;
+  };
+  if (const auto* e = std::get_if<Equirect>(&src)) {
+    g.src = SimdGeometry::Src::Equirect;
+    longitude_source(e->axis(), e->size(), e->lat_top(), static_cast<double>(e->size().height) / e->vfov(), 0.0);
+    // A latitude band whose lanes all need double is no use for float (the check above is per lane).
+    g.use_float = g.use_float && gs[9] < 1.0;
+  } else if (const auto* cy = std::get_if<Cylindrical>(&src)) {
+    g.src = SimdGeometry::Src::Cylindrical;
+    // dt / dlat = 1 / cos^2(lat).
+    longitude_source(cy->axis(), cy->size(), cy->t_top(),
+                     static_cast<double>(cy->size().height) / (cy->t_bottom() - cy->t_top()), 2.0);
+    g.use_float = g.use_float && gs[9] < 1.0;
   } else if (const auto* c = std::get_if<Cubemap>(&src)) {
     g.src = SimdGeometry::Src::Cubemap;
     const double f = static_cast<double>(c->face_size());
@@ -101,11 +116,18 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
     const double v[4] = {1.0 / static_cast<double>(p->fx()), 1.0 / static_cast<double>(p->fy()), static_cast<double>(p->cx()),
                         static_cast<double>(p->cy())};
     std::copy(v, v + 4, gd);
-  } else if (const auto* e = std::get_if<Equirect>(&dst)) {
-    g.dst = SimdGeometry::Dst::Equirect;
-    const double w = static_cast<double>(e->size().width), h = static_cast<double>(e->size().height);
-    const double v[9] = {w, e->axis().hfov, e->axis().lon0, h, e->lat_top(), e->vfov(), e->axis().hfov / w,
-                         e->vfov() / h, e->axis().lon0 - 0.5 * e->axis().hfov};
+  } else if (std::holds_alternative<Equirect>(dst) || std::holds_alternative<Cylindrical>(dst)) {
+    // [0] W, [1] hfov, [2] lon0, [3] H, [4] the top row's latitude (equirect) or height t
+    // (cylindrical), [6] hfov / W, [7] the fall of latitude or t per row, [8] lon0 - hfov / 2.
+    const auto* e = std::get_if<Equirect>(&dst);
+    const auto* cy = std::get_if<Cylindrical>(&dst);
+    g.dst = e ? SimdGeometry::Dst::Equirect : SimdGeometry::Dst::Cylindrical;
+    const LongitudeAxis& axis = e ? e->axis() : cy->axis();
+    const Size size = e ? e->size() : cy->size();
+    const double w = static_cast<double>(size.width), h = static_cast<double>(size.height);
+    const double top = e ? e->lat_top() : cy->t_top();
+    const double fall = e ? e->vfov() / h : (cy->t_top() - cy->t_bottom()) / h;
+    const double v[9] = {w, axis.hfov, axis.lon0, h, top, 0.0, axis.hfov / w, fall, axis.lon0 - 0.5 * axis.hfov};
     std::copy(v, v + 9, gd);
   } else if (const auto* c = std::get_if<Cubemap>(&dst)) {
     // The whole tile inside one face's cell.
@@ -123,12 +145,14 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
                          2.0 / static_cast<double>(c->face_size())};
     std::copy(v, v + 13, gd);
   } else if (const auto* fe = std::get_if<Fisheye>(&dst)) {
-    if (!fe->clip()) return false;
     g.dst = SimdGeometry::Dst::Fisheye;
-    // [0..1] centre, [2..3] 1 / radii, [4] the law's value at the rim.
-    const double v[5] = {static_cast<double>(fe->cx()), static_cast<double>(fe->cy()), 1.0 / static_cast<double>(fe->rx()),
-                        1.0 / static_cast<double>(fe->ry()), static_cast<double>(fe->g_max())};
-    std::copy(v, v + 5, gd);
+    // [0..1] centre, [2..3] 1 / radii, [4] the law's value at the rim, [5] 1 if clipped to the
+    // circle, [6] the law's largest value (its inverse's domain; stereographic: unbounded).
+    const double limit[4] = {kPi, 2.0, 1.0, 1e300};
+    const double v[7] = {static_cast<double>(fe->cx()), static_cast<double>(fe->cy()), 1.0 / static_cast<double>(fe->rx()),
+                        1.0 / static_cast<double>(fe->ry()), static_cast<double>(fe->g_max()), fe->clip() ? 1.0 : 0.0,
+                        limit[static_cast<int>(fe->model())]};
+    std::copy(v, v + 7, gd);
     g.law = static_cast<int>(fe->model());
   } else {
     return false;

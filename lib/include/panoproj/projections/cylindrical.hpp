@@ -32,6 +32,9 @@ class Cylindrical : public FramedBounds {
 
   double center_density() const { return axis_.density(); }
   bool full_longitude() const { return axis_.full; }
+  const LongitudeAxis& axis() const { return axis_; }
+  double t_top() const { return t_top_; }  // heights of rows 0 and H on the unit cylinder
+  double t_bottom() const { return t_bottom_; }
 
  private:
   LongitudeAxis axis_;
