@@ -52,6 +52,10 @@ TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
       {"equirect", {2048, 1024}, "fisheye:fov=200,clip=none", {600, 400}, 0, 20, 0},
       {"equirect", {2048, 1024}, "fisheye:fov=170,model=orthographic,clip=none", {500, 400}, 0, 0, 0},
       {"equirect", {20000, 10000}, "fisheye:fov=250,model=stereographic,clip=none", {300, 300}, 10, 80, 0},
+      {"equirect", {2048, 1024}, "hammer", {800, 400}, 30, 20, 0},
+      {"equirect", {2048, 1024}, "eckert-greifendorff:lon0=40", {800, 400}, 0, 0, 0},
+      {"hammer", {2000, 1000}, "pinhole:hfov=120", {500, 400}, 175, -30, 0},
+      {"hammer:lon0=-60", {1000, 500}, "equirect", {800, 400}, 0, 0, 0},
   };
   const auto targets = hwy::SupportedAndGeneratedTargets();
   for (int64_t target : targets) {

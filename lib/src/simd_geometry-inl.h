@@ -159,6 +159,26 @@ HWY_INLINE void TargetRay(D d, const SimdGeometry& g, V px, V py, V& x, V& y, V&
       z = hn::Cos(d, lon);
       return;
     }
+    case SimdGeometry::Dst::Hammer: {
+      // Hammer.hpp's closed-form inverse: the unit vector (XW k, Y k, cos c) with
+      // k = sqrt(1 - rho^2/4), cos c = 1 - rho^2/2 gives sin phi = Y k, cos phi = |(XW k, cos c)|
+      // and lambda W = atan2(XW k, cos c); valid for rho^2 <= 4 and |lambda| <= pi (+ slack).
+      const V X = hn::MulAdd(px, hn::Set(d, p[1]), hn::Set(d, p[0]));
+      const V Y = hn::NegMulAdd(py, hn::Set(d, p[3]), hn::Set(d, p[2]));
+      const V xw = hn::Mul(X, hn::Set(d, p[4]));
+      const V rho2 = hn::MulAdd(xw, xw, hn::Mul(Y, Y));
+      const V k = hn::Sqrt(hn::Max(hn::NegMulAdd(rho2, hn::Set(d, T(0.25)), hn::Set(d, T(1))), hn::Zero(d)));
+      const V cos_c = hn::NegMulAdd(rho2, hn::Set(d, T(0.5)), hn::Set(d, T(1)));
+      const V a = hn::Mul(xw, k);
+      const V lam = hn::Mul(Atan2(d, a, cos_c), hn::Set(d, p[5]));
+      ok = hn::And(hn::Not(hn::Gt(rho2, hn::Set(d, T(4)))), hn::Not(hn::Gt(hn::Abs(lam), hn::Set(d, p[7]))));
+      const V cp = hn::Sqrt(hn::MulAdd(a, a, hn::Mul(cos_c, cos_c)));
+      const V lon = hn::Add(lam, hn::Set(d, p[6]));
+      x = hn::Mul(cp, hn::Sin(d, lon));
+      y = hn::Neg(hn::Mul(Y, k));
+      z = hn::Mul(cp, hn::Cos(d, lon));
+      return;
+    }
     case SimdGeometry::Dst::CubeFace: {
       const V a = hn::MulSub(hn::Sub(px, hn::Set(d, p[1])), hn::Set(d, p[12]), hn::Set(d, T(1)));
       const V b = hn::MulSub(hn::Sub(py, hn::Set(d, p[2])), hn::Set(d, p[12]), hn::Set(d, T(1)));
@@ -211,7 +231,7 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
   using T = hn::TFromD<D>;
   const T* s = g.params<T>().s;
   const V zero = hn::Zero(d);
-  if (g.src != SimdGeometry::Src::Cubemap) {
+  if (g.src == SimdGeometry::Src::Equirect || g.src == SimdGeometry::Src::Cylindrical) {
     // Longitude axis (equirect, cylindrical): x from the longitude, wrapped into [0, W) on a full
     // circle, else refused beyond the span (LongitudeAxis::to_x) and the frame.
     const V pi = hn::Set(d, T(kPiF)), two_pi = hn::Set(d, T(2 * kPiF));
@@ -241,6 +261,30 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
       ok = hn::And(ok, hn::Not(hn::Gt(hn::Abs(lon), hn::Set(d, s[11]))));
       ok = hn::And(ok, hn::And(hn::Not(hn::Lt(sx, hn::Neg(slack_x))), hn::Not(hn::Gt(sx, hn::Add(hn::Set(d, s[0]), slack_x)))));
     }
+    return;
+  }
+  if (g.src == SimdGeometry::Src::Hammer) {
+    // Hammer.hpp's forward equations on the normalized ray: lambda relative to lon0 (wrapped),
+    // cos phi = |(x, z)|, sin phi = -y; d = sqrt(2 / (1 + cos phi cos(lambda W))),
+    // X = d cos phi sin(lambda W) / W, Y = d sin phi; then the frame (MapFrame), closed.
+    // Near the poles an error in lambda is multiplied by cos phi: no coarse lanes.
+    coarse = hn::Lt(zero, zero);
+    const V pi = hn::Set(d, T(kPiF)), two_pi = hn::Set(d, T(2 * kPiF));
+    V lam = hn::Sub(Atan2(d, x, z), hn::Set(d, s[2]));
+    lam = hn::IfThenElse(hn::Not(hn::Lt(lam, pi)), hn::Sub(lam, two_pi), lam);  // [-pi, pi), as wrap_pi
+    lam = hn::IfThenElse(hn::Lt(lam, hn::Neg(pi)), hn::Add(lam, two_pi), lam);
+    const V h2 = hn::MulAdd(x, x, hn::Mul(z, z));
+    const V inv_n = hn::Div(hn::Set(d, T(1)), hn::Sqrt(hn::MulAdd(y, y, h2)));
+    const V cp = hn::Mul(hn::Sqrt(h2), inv_n), sp = hn::Neg(hn::Mul(y, inv_n));
+    const V lw = hn::Mul(lam, hn::Set(d, s[1]));
+    const V dd = hn::Sqrt(hn::Div(hn::Set(d, T(2)), hn::MulAdd(cp, hn::Cos(d, lw), hn::Set(d, T(1)))));
+    const V X = hn::Mul(hn::Mul(dd, cp), hn::Mul(hn::Sin(d, lw), hn::Set(d, s[8])));
+    const V Y = hn::Mul(dd, sp);
+    sx = hn::Mul(hn::Sub(X, hn::Set(d, s[4])), hn::Set(d, s[5]));
+    sy = hn::Mul(hn::Sub(hn::Set(d, s[6]), Y), hn::Set(d, s[7]));
+    const V slack_x = hn::Set(d, T(1e-9) * s[0]), slack_y = hn::Set(d, T(1e-9) * s[3]);
+    ok = hn::And(hn::And(hn::Not(hn::Lt(sx, hn::Neg(slack_x))), hn::Not(hn::Gt(sx, hn::Add(hn::Set(d, s[0]), slack_x)))),
+                 hn::And(hn::Not(hn::Lt(sy, hn::Neg(slack_y))), hn::Not(hn::Gt(sy, hn::Add(hn::Set(d, s[3]), slack_y)))));
     return;
   }
   // Cubemap: the face of the largest component (ties: x, then y, then z, as cube_face_of).

@@ -95,6 +95,18 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
     longitude_source(cy->axis(), cy->size(), cy->t_top(),
                      static_cast<double>(cy->size().height) / (cy->t_bottom() - cy->t_top()), 2.0);
     g.use_float = g.use_float && gs[9] < 1.0;
+  } else if (const auto* hm = std::get_if<Hammer>(&src)) {
+    // [0] W, [1] w, [2] lon0, [3] H, [4] xmin, [5] W / (xmax - xmin), [6] ymax,
+    // [7] H / (ymax - ymin), [8] 1 / w.
+    g.src = SimdGeometry::Src::Hammer;
+    const MapFrame& f = hm->frame();
+    const double w = static_cast<double>(f.size.width), h = static_cast<double>(f.size.height);
+    const double v[9] = {w, hm->w(), hm->lon0(), h, f.xmin, w / (f.xmax - f.xmin), f.ymax, h / (f.ymax - f.ymin),
+                         1.0 / hm->w()};
+    std::copy(v, v + 9, gs);
+    // The plane position's error is the ray's (unit scale at the centre, less elsewhere) times the
+    // pixels per plane unit; plus rounding.
+    g.use_float = std::max(w, h) * kHalfUlp + std::max(gs[5], gs[7]) * 2 * kFloatRayError <= tol;
   } else if (const auto* c = std::get_if<Cubemap>(&src)) {
     g.src = SimdGeometry::Src::Cubemap;
     const double f = static_cast<double>(c->face_size());
@@ -144,6 +156,15 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
                          static_cast<double>(cf.down.x()), static_cast<double>(cf.down.y()), static_cast<double>(cf.down.z()),
                          2.0 / static_cast<double>(c->face_size())};
     std::copy(v, v + 13, gd);
+  } else if (const auto* hm = std::get_if<Hammer>(&dst)) {
+    // [0] xmin, [1] plane units per pixel in x, [2] ymax, [3] in y, [4] w, [5] 1 / w, [6] lon0,
+    // [7] the outline |lambda| <= pi with the edge slack.
+    g.dst = SimdGeometry::Dst::Hammer;
+    const MapFrame& f = hm->frame();
+    const double v[8] = {f.xmin, (f.xmax - f.xmin) / static_cast<double>(f.size.width), f.ymax,
+                         (f.ymax - f.ymin) / static_cast<double>(f.size.height), hm->w(), 1.0 / hm->w(), hm->lon0(),
+                         kPi * (1.0 + kEdgeSlack)};
+    std::copy(v, v + 8, gd);
   } else if (const auto* fe = std::get_if<Fisheye>(&dst)) {
     g.dst = SimdGeometry::Dst::Fisheye;
     // [0..1] centre, [2..3] 1 / radii, [4] the law's value at the rim, [5] 1 if clipped to the

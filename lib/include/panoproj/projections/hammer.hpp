@@ -20,6 +20,9 @@ class Hammer : public MapProjection<Hammer> {
     frame_ = {size, -x_max, x_max, -std::sqrt(2.0), std::sqrt(2.0)};
   }
 
+  double w() const { return w_; }
+  double lon0() const { return lon0_; }
+
   // Plane coordinates of (lambda, phi) relative to the central meridian.
   void forward(double lam, double phi, double& X, double& Y) const {
     const double cp = std::cos(phi), lw = lam * w_;
