@@ -56,6 +56,15 @@ TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
       {"equirect", {2048, 1024}, "eckert-greifendorff:lon0=40", {800, 400}, 0, 0, 0},
       {"hammer", {2000, 1000}, "pinhole:hfov=120", {500, 400}, 175, -30, 0},
       {"hammer:lon0=-60", {1000, 500}, "equirect", {800, 400}, 0, 0, 0},
+      {"pinhole:hfov=100", {1600, 1200}, "equirect", {1000, 500}, 10, 5, 0},
+      {"pinhole:hfov=150", {3000, 2000}, "cubemap", {6 * 128, 128}, 0, 0, 0},
+      {"fisheye:fov=210", {2048, 2048}, "equirect", {1000, 500}, 0, -90, 0},
+      // (Rotated a little: unrotated, a run of output pixel centres falls exactly on the frame
+      // edge, where float rounding decides validity either way.)
+      {"fisheye:fov=180,model=equisolid,clip=none", {1500, 1000}, "equirect", {1000, 500}, 3, 2, 0},
+      {"fisheye:fov=360,model=equisolid", {1024, 1024}, "cubemap", {6 * 128, 128}, 0, 30, 0},
+      {"fisheye:fov=170,model=orthographic", {1024, 1024}, "pinhole:hfov=120", {400, 300}, 0, 0, 0},
+      {"fisheye:fov=270,model=stereographic", {1024, 1024}, "equirect", {800, 400}, 0, 0, 0},
   };
   const auto targets = hwy::SupportedAndGeneratedTargets();
   for (int64_t target : targets) {

@@ -263,6 +263,55 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
     }
     return;
   }
+  const V slack_x = hn::Set(d, T(1e-9) * s[0]), slack_y = hn::Set(d, T(1e-9) * s[3]);
+  // The closed frame [0, W] x [0, H] with FramedBounds' slack.
+  auto in_frame = [&](V px, V py) {
+    return hn::And(hn::And(hn::Not(hn::Lt(px, hn::Neg(slack_x))), hn::Not(hn::Gt(px, hn::Add(hn::Set(d, s[0]), slack_x)))),
+                   hn::And(hn::Not(hn::Lt(py, hn::Neg(slack_y))), hn::Not(hn::Gt(py, hn::Add(hn::Set(d, s[3]), slack_y)))));
+  };
+  if (g.src == SimdGeometry::Src::Pinhole) {
+    // x = cx + fx x / z, y = cy + fy y / z for z > 0. Float lanes err by f eps (1 + t^2) with
+    // t^2 = (x^2 + y^2) / z^2: coarse beyond s[9].
+    const M pos = hn::Gt(z, zero);
+    const V inv = hn::Div(hn::Set(d, T(1)), hn::IfThenElse(pos, z, hn::Set(d, T(1))));
+    sx = hn::MulAdd(hn::Mul(x, inv), hn::Set(d, s[1]), hn::Set(d, s[4]));
+    sy = hn::MulAdd(hn::Mul(y, inv), hn::Set(d, s[2]), hn::Set(d, s[5]));
+    ok = hn::And(pos, in_frame(sx, sy));
+    coarse = hn::Gt(hn::MulAdd(x, x, hn::Mul(y, y)), hn::Mul(hn::Set(d, s[9]), hn::Mul(z, z)));
+    return;
+  }
+  if (g.src == SimdGeometry::Src::Fisheye) {
+    // Fisheye::to_pixel: psi = atan2(|(x, y)|, z), r = law(psi) / g along (x, y) / |(x, y)|:
+    // position = centre + (rx, ry) k (x, y) with k = law(psi) / (g s), s = |(x, y)|, n = |ray|:
+    //   equidistant k = psi / (g s) (1 / (g z) on the axis), equisolid 2 sin(psi/2) / s =
+    //   1 / sqrt(n (n + z) / 2), orthographic sin psi / s = 1 / n, stereographic
+    //   2 tan(psi/2) / s = 2 / (n + z). Refused beyond psi_max (clipped), the law's limit, and
+    //   the frame. Float lanes: coarse near psi = pi (n + z or s small), where they lose digits.
+    const V s2 = hn::MulAdd(x, x, hn::Mul(y, y));
+    const V sv = hn::Sqrt(s2), n = hn::Sqrt(hn::MulAdd(z, z, s2));
+    const V psi = Atan2(d, sv, z);
+    ok = hn::And(hn::Not(hn::Gt(psi, hn::Set(d, s[6]))), hn::Not(hn::Gt(psi, hn::Set(d, s[7]))));
+    const V npz = hn::Add(n, z);
+    V k;
+    switch (static_cast<int>(s[10])) {
+      case 1: k = hn::Div(hn::Set(d, T(1)), hn::Sqrt(hn::Mul(hn::Mul(n, npz), hn::Set(d, T(0.5))))); break;
+      case 2: k = hn::Div(hn::Set(d, T(1)), n); break;
+      case 3:
+        ok = hn::And(ok, hn::Lt(psi, hn::Set(d, T(kPiF))));
+        k = hn::Div(hn::Set(d, T(2)), npz);
+        break;
+      default: {
+        const M axis = hn::Eq(sv, zero);
+        k = hn::Div(hn::IfThenElse(axis, hn::Set(d, T(1)), psi), hn::IfThenElse(axis, z, sv));
+        break;
+      }
+    }
+    coarse = hn::Or(hn::Lt(npz, hn::Mul(hn::Set(d, s[11]), n)), hn::Lt(sv, hn::Mul(hn::Set(d, s[12]), n)));
+    sx = hn::MulAdd(hn::Mul(k, x), hn::Set(d, s[4]), hn::Set(d, s[1]));
+    sy = hn::MulAdd(hn::Mul(k, y), hn::Set(d, s[5]), hn::Set(d, s[2]));
+    ok = hn::And(ok, in_frame(sx, sy));
+    return;
+  }
   if (g.src == SimdGeometry::Src::Hammer) {
     // Hammer.hpp's forward equations on the normalized ray: lambda relative to lon0 (wrapped),
     // cos phi = |(x, z)|, sin phi = -y; d = sqrt(2 / (1 + cos phi cos(lambda W))),
@@ -282,9 +331,7 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
     const V Y = hn::Mul(dd, sp);
     sx = hn::Mul(hn::Sub(X, hn::Set(d, s[4])), hn::Set(d, s[5]));
     sy = hn::Mul(hn::Sub(hn::Set(d, s[6]), Y), hn::Set(d, s[7]));
-    const V slack_x = hn::Set(d, T(1e-9) * s[0]), slack_y = hn::Set(d, T(1e-9) * s[3]);
-    ok = hn::And(hn::And(hn::Not(hn::Lt(sx, hn::Neg(slack_x))), hn::Not(hn::Gt(sx, hn::Add(hn::Set(d, s[0]), slack_x)))),
-                 hn::And(hn::Not(hn::Lt(sy, hn::Neg(slack_y))), hn::Not(hn::Gt(sy, hn::Add(hn::Set(d, s[3]), slack_y)))));
+    ok = in_frame(sx, sy);
     return;
   }
   // Cubemap: the face of the largest component (ties: x, then y, then z, as cube_face_of).

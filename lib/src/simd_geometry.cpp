@@ -59,7 +59,7 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
                        const TileRect& rect, SimdGeometry& g) {
   double* gd = g.pd.d;
   double* gs = g.pd.s;
-  std::fill(gd, gd + 16, 0.0);
+  std::fill(gd, gd + 16, 0.0);  // unused parameters are 0
   std::fill(gs, gs + 16, 0.0);
   for (int i = 0; i < 9; ++i) g.pd.r[i] = static_cast<double>(rotation(i / 3, i % 3));
   // Float lanes: the tolerance holds per axis for the rounding of the position itself plus the
@@ -107,6 +107,42 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
     // The plane position's error is the ray's (unit scale at the centre, less elsewhere) times the
     // pixels per plane unit; plus rounding.
     g.use_float = std::max(w, h) * kHalfUlp + std::max(gs[5], gs[7]) * 2 * kFloatRayError <= tol;
+  } else if (const auto* ph = std::get_if<Pinhole>(&src)) {
+    // [0] W, [1] fx, [2] fy, [3] H, [4] cx, [5] cy, [9] the largest (x^2 + y^2) / z^2 for float
+    // lanes: the error f eps (1 + t^2) plus rounding within the tolerance.
+    g.src = SimdGeometry::Src::Pinhole;
+    const double w = static_cast<double>(ph->size().width), h = static_cast<double>(ph->size().height);
+    const double f = std::max(ph->fx(), ph->fy());
+    const double t2 = (tol - std::max(w, h) * kHalfUlp) / (f * kFloatRayError) - 1.0;
+    const double v[10] = {w, ph->fx(), ph->fy(), h, ph->cx(), ph->cy(), 0.0, 0.0, 0.0, std::max(t2, 0.0)};
+    std::copy(v, v + 10, gs);
+    g.use_float = t2 > 1.0;  // at least out to 45 degrees
+  } else if (const auto* fs = std::get_if<Fisheye>(&src)) {
+    // [0] W, [1] cx, [2] cy, [3] H, [4] rx / g, [5] ry / g, [6] psi_max with slack if clipped
+    // (else unbounded), [7] the law's limit with slack, [10] the law, [11] (n + z) / n and [12]
+    // s / n below which float lanes are coarse.
+    g.src = SimdGeometry::Src::Fisheye;
+    const double w = static_cast<double>(fs->size().width), h = static_cast<double>(fs->size().height);
+    const double v[12] = {w, static_cast<double>(fs->cx()), static_cast<double>(fs->cy()), h, fs->rx() / fs->g_max(),
+                          fs->ry() / fs->g_max(), fs->clip() ? fs->psi_max() * (1.0 + kEdgeSlack) : 1e300,
+                          fs->psi_limit() * (1.0 + kEdgeSlack), 0.0, 0.0, static_cast<double>(static_cast<int>(fs->model())),
+                          0.0};
+    std::copy(v, v + 12, gs);
+    // Float lanes: pixels per radian (r / g) law'(psi) is rx / g at the centre; towards psi = pi
+    // the error grows where a small quantity carries the result, so those lanes are coarse:
+    //   equidistant: the azimuth (x, y) / s, error (rx/g) pi eps / sin(psi) -> [12] on s / n;
+    //   equisolid: n + z, relative error eps / q with q = (n + z) / n: (rx/g) eps / q -> [11];
+    //   stereographic: (rx/g) 2 sqrt(2) eps / q^1.5 -> [11]; orthographic stays below 90 deg.
+    const double scale = std::max(fs->rx(), fs->ry()) / fs->g_max();
+    const double room = tol - std::max(w, h) * kHalfUlp - scale * kFloatRayError;
+    g.use_float = room > 0;
+    const double e = scale * kFloatRayError / std::max(room, 1e-300);
+    switch (fs->model()) {
+      case FisheyeModel::Equidistant: gs[12] = kPi * e; break;
+      case FisheyeModel::Equisolid: gs[11] = e; break;
+      case FisheyeModel::Stereographic: gs[11] = std::pow(2.0 * std::sqrt(2.0) * e, 2.0 / 3.0); break;
+      case FisheyeModel::Orthographic: break;
+    }
   } else if (const auto* c = std::get_if<Cubemap>(&src)) {
     g.src = SimdGeometry::Src::Cubemap;
     const double f = static_cast<double>(c->face_size());

@@ -95,6 +95,7 @@ class Fisheye {
   double rx() const { return rx_; }
   double ry() const { return ry_; }
   double g_max() const { return g_max_; }
+  double psi_limit() const { return psi_limit_; }  // where the law stops being invertible
 
  private:
   // psi from g; false where the law has no inverse.
