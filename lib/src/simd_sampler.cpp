@@ -150,8 +150,8 @@ struct TapBlock {
 // the lowest tap row. Other valid lanes go to misses. Prefetches the taps' cache lines so that
 // phase 2, a few rows later, finds them in cache.
 // Float positions are exact integers + fractions up to 2^24 px (use_float allows far less).
-template <int K, class DP, class VP = hn::Vec<DP>, class MP = hn::Mask<DP>>
-HWY_INLINE void PlanLanes(const SimdSource& s, const Bounds<DP>& b, VP sx, VP sy, MP ok, int64_t index,
+template <class DP, class VP = hn::Vec<DP>, class MP = hn::Mask<DP>>
+HWY_INLINE void PlanLanes(const SimdSource& s, int K, const Bounds<DP>& b, VP sx, VP sy, MP ok, int64_t index,
                           int64_t m, TapBlock& blk, SimdMisses& misses) {
   using P = hn::TFromD<DP>;
   using DF = hn::Rebind<float, DP>;
@@ -211,7 +211,7 @@ HWY_INLINE void PlanLanes(const SimdSource& s, const Bounds<DP>& b, VP sx, VP sy
     hn::Store(hn::Set(d32, -1), d32, blk.off);
   }
   hn::Store(ioff, di, blk.off);
-  if constexpr (K > 1) {
+  if (K > 1) {
     hn::Store(ToFloat(df, hn::Sub(X, fx)), df, blk.tx);
     hn::Store(ToFloat(df, hn::Sub(Y, fy)), df, blk.ty);
   }
@@ -490,38 +490,41 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
   }
 }
 
-// Rows of a rect in chunks: phase 1 (plan(j, blocks) fills the blocks of row j, returns how
-// many) for kChunkBlocks blocks' worth of rows, then phase 2 for them. The chunk's planning time
-// is the prefetch distance.
+// Rows of a rect in chunks of kChunkBlocks blocks: phase 1 for the chunk's rows, then phase 2
+// for its blocks. The chunk's planning time is the prefetch distance. Phase 1 (the geometry, the
+// same for every pixel type and kernel: K is a value there) is compiled once per target; phase
+// 2 per type and kernel.
 constexpr int kChunkBlocks = 64;
 
-template <PixelType PT, class T, int K, class Plan>
-HWY_INLINE void Chunked(const SimdSource& s, const TileRect& rect, int64_t blocks_per_row, unsigned char* out,
-                        int64_t out_stride, Plan&& plan) {
-  TapBlock blocks[kChunkBlocks];
-  const int64_t rows = std::max<int64_t>(1, kChunkBlocks / blocks_per_row);
+template <PixelType PT, class T, int K>
+HWY_NOINLINE void GatherBlocks(const SimdSource& s, const TapBlock* blocks, int n, int64_t w, unsigned char* out,
+                               int64_t out_stride) {
   const int64_t pb = s.channels * static_cast<int64_t>(sizeof(T));
-  for (int64_t j0 = 0; j0 < rect.h; j0 += rows) {
-    const int64_t j1 = std::min(rect.h, j0 + rows);
-    int n = 0;
-    for (int64_t j = j0; j < j1; ++j) n += plan(j, blocks + n);
-    for (int q = 0; q < n; ++q) {
-      const int64_t j = blocks[q].index / rect.w;
-      GatherBlock<PT, T, K>(s, blocks[q], out + j * out_stride - j * rect.w * pb);
-    }
+  for (int q = 0; q < n; ++q) {
+    const int64_t j = blocks[q].index / w;
+    GatherBlock<PT, T, K>(s, blocks[q], out + j * out_stride - j * w * pb);
   }
 }
 
 template <PixelType PT, class T, int K>
-HWY_FLATTEN void SampleMapT(const SimdSource& s, const TileMap& tm, unsigned char* out, int64_t out_stride, SimdMisses& misses) {
+struct GatherF {
+  template <class... A>
+  static void run(A&&... a) { GatherBlocks<PT, T, K>(a...); }
+};
+
+template <template <PixelType, class, int> class F, class... A>
+void Dispatch(PixelType t, Interp k, A&&... args);
+
+// Phase 1 for rows [j0, j1) of a tile map's rect.
+HWY_NOINLINE int PlanMapRows(const SimdSource& s, int K, const TileMap& tm, int64_t j0, int64_t j1, TapBlock* blk,
+                             SimdMisses& misses) {
   const DD dd;
   const auto N = static_cast<int64_t>(hn::Lanes(dd));
   const TileRect& rect = tm.rect;
   const Bounds<DD> b(s);
-  const int64_t per_row = (rect.w + N - 1) / N;
-  Chunked<PT, T, K>(s, rect, per_row, out, out_stride, [&](int64_t j, TapBlock* blk) {
-    HWY_ALIGN double bx[kMaxLanes], by[kMaxLanes], bo[kMaxLanes];
-    int n = 0;
+  HWY_ALIGN double bx[kMaxLanes], by[kMaxLanes], bo[kMaxLanes];
+  int n = 0;
+  for (int64_t j = j0; j < j1; ++j)
     for (int64_t i = 0; i < rect.w; i += N) {
       const int64_t m = std::min(N, rect.w - i);
       const size_t k = static_cast<size_t>(j * rect.w + i);
@@ -530,35 +533,42 @@ HWY_FLATTEN void SampleMapT(const SimdSource& s, const TileMap& tm, unsigned cha
         by[l] = l < m ? tm.ys[k + l] : 0.0;
         bo[l] = l < m && tm.ok[k + l] ? 1.0 : 0.0;
       }
-      PlanLanes<K>(s, b, hn::Load(dd, bx), hn::Load(dd, by), hn::Ne(hn::Load(dd, bo), hn::Zero(dd)), j * rect.w + i,
-                   m, blk[n++], misses);
+      PlanLanes(s, K, b, hn::Load(dd, bx), hn::Load(dd, by), hn::Ne(hn::Load(dd, bo), hn::Zero(dd)), j * rect.w + i, m,
+                blk[n++], misses);
     }
-    return n;
-  });
+  return n;
 }
 
-// Flattened: the geometry, planning and gathering lambdas inline into one loop.
-template <PixelType PT, class T, int K>
-HWY_FLATTEN void ConvertT(const SimdGeometry& g, const TileRect& rect, const SimdSource& s, unsigned char* out,
-              int64_t out_stride, SimdMisses& misses) {
+// Phase 1 for rows [j0, j1) of a fused tile: the geometry in registers, then the taps.
+HWY_NOINLINE int PlanFusedRows(const SimdSource& s, int K, const TileRows& rows, const TileRect& rect, int64_t j0,
+                               int64_t j1, TapBlock* blk, SimdMisses& misses) {
   const Bounds<DD> bd(s);
   const Bounds<hn::ScalableTag<float>> bf(s);
-  const auto NF = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>()));
-  // A coarse float vector becomes two or more double blocks.
-  const int64_t per_row = 2 * ((rect.w + NF - 1) / NF) + 1;
-  const TileRows rows(g, rect.x0, rect.w);
-  Chunked<PT, T, K>(s, rect, per_row, out, out_stride, [&](int64_t j, TapBlock* blk) {
-    int n = 0;
+  int n = 0;
+  for (int64_t j = j0; j < j1; ++j)
     rows.Row(rect.y0 + j, [&](auto sx, auto sy, auto ok, int64_t i, int64_t m) {
       if constexpr (std::is_same_v<hn::TFromV<decltype(sx)>, float>) {
-        PlanLanes<K>(s, bf, sx, sy, ok, j * rect.w + i, m, blk[n++], misses);
+        PlanLanes(s, K, bf, sx, sy, ok, j * rect.w + i, m, blk[n++], misses);
       } else {
-        PlanLanes<K>(s, bd, sx, sy, ok, j * rect.w + i, m, blk[n++], misses);
+        PlanLanes(s, K, bd, sx, sy, ok, j * rect.w + i, m, blk[n++], misses);
       }
     });
-    return n;
-  });
+  return n;
 }
+
+// Chunks of rows of rect: plan(j0, j1, blocks) -> block count, then the gathers.
+template <class Plan>
+void Chunked(const SimdSource& s, Interp interp, const TileRect& rect, int64_t blocks_per_row, unsigned char* out,
+             int64_t out_stride, Plan&& plan) {
+  TapBlock blocks[kChunkBlocks];
+  const int64_t rows = std::max<int64_t>(1, kChunkBlocks / blocks_per_row);
+  for (int64_t j0 = 0; j0 < rect.h; j0 += rows) {
+    const int n = plan(j0, std::min(rect.h, j0 + rows), blocks);
+    Dispatch<GatherF>(s.type, interp, s, static_cast<const TapBlock*>(blocks), n, rect.w, out, out_stride);
+  }
+}
+
+int TapCount(Interp k) { return k == Interp::Nearest ? 1 : k == Interp::Bilinear ? 2 : k == Interp::Bicubic ? 4 : 6; }
 
 // Calls F<PT, T, K>::run(args...) for the source's type and the kernel.
 template <template <PixelType, class, int> class F, class... A>
@@ -581,25 +591,22 @@ void Dispatch(PixelType t, Interp k, A&&... args) {
   }
 }
 
-template <PixelType PT, class T, int K>
-struct SampleMapF {
-  template <class... A>
-  static void run(A&&... a) { SampleMapT<PT, T, K>(a...); }
-};
-template <PixelType PT, class T, int K>
-struct ConvertF {
-  template <class... A>
-  static void run(A&&... a) { ConvertT<PT, T, K>(a...); }
-};
-
 void SampleMap(const SimdSource& s, Interp k, const TileMap& tm, unsigned char* out, int64_t out_stride,
                SimdMisses& misses) {
-  Dispatch<SampleMapF>(s.type, k, s, tm, out, out_stride, misses);
+  const auto N = static_cast<int64_t>(hn::Lanes(DD()));
+  Chunked(s, k, tm.rect, (tm.rect.w + N - 1) / N, out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
+    return PlanMapRows(s, TapCount(k), tm, j0, j1, blk, misses);
+  });
 }
 
 void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& s, Interp k, unsigned char* out,
              int64_t out_stride, SimdMisses& misses) {
-  Dispatch<ConvertF>(s.type, k, g, rect, s, out, out_stride, misses);
+  const auto NF = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>()));
+  const TileRows rows(g, rect.x0, rect.w);
+  // A coarse float vector becomes two or more double blocks.
+  Chunked(s, k, rect, 2 * ((rect.w + NF - 1) / NF) + 1, out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
+    return PlanFusedRows(s, TapCount(k), rows, rect, j0, j1, blk, misses);
+  });
 }
 
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
