@@ -43,8 +43,10 @@ struct EngineStats {
 };
 
 // One geometry (projections, rotation, kernel), applied to any number of images of the source's
-// size. With cache_map, the tile maps (kCachedMapBytesPerPixel per output pixel) are built once,
-// on the first run, and reused: batches and video frames pay for the geometry once.
+// size. With cache_map, the tile maps of the tiles that are not fused (kCachedMapBytesPerPixel
+// per output pixel at most) are built once, on the first run, and reused: batches and video
+// frames pay for that geometry once. Fused tiles recompute theirs: in registers it costs less
+// than reading a stored map.
 class Converter {
  public:
   Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
