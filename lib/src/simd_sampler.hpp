@@ -1,7 +1,8 @@
 #pragma once
 // SIMD sampling (Google Highway, runtime dispatch). Internal to the engine. In chunks of a few
 // rows: phase 1 turns positions into first taps (int32 byte offsets) and float fractions and
-// prefetches the taps; phase 2 gathers and blends in float.
+// prefetches the taps; phase 2 gathers and blends (float; uint8 without alpha in 16-bit fixed
+// point).
 // A sample whose taps all lie inside its cell (one cube face, else the frame) and inside the
 // window of the source held in memory is computed here; any other valid sample (a seam, a pole,
 // a face edge, a window edge) is listed in SimdMisses for the reference sampler's edge rules.
