@@ -26,6 +26,14 @@ double max_diff(const Image& a, const Image& b) {
   return worst;
 }
 
+// Pixels whose bytes differ.
+int64_t differing_pixels(const Image& a, const Image& b) {
+  int64_t n = 0;
+  for (int64_t y = 0; y < a.height(); ++y)
+    for (int64_t x = 0; x < a.width(); ++x) n += std::memcmp(a.pixel(x, y), b.pixel(x, y), a.pixel_bytes()) != 0;
+  return n;
+}
+
 Image scene_image(const Projection& p, PixelType t, int channels) {
   const Image rgba = test::render(p, test::band_limited_scene(0.2, 512), t, true);
   if (channels == 4) return rgba;
@@ -112,10 +120,7 @@ TEST(Engine, FusedGeometryMatchesTheReferenceOnEveryTarget) {
           const Image b = remap(im, src, dst, r, {k, 2});
           EXPECT_EQ(st.fused_tiles, st.tiles) << c.src << " -> " << c.dst;
           if (k == Interp::Nearest) {
-            int64_t differ = 0;
-            for (int64_t y = 0; y < a.height(); ++y)
-              for (int64_t x = 0; x < a.width(); ++x) differ += std::memcmp(a.pixel(x, y), b.pixel(x, y), a.pixel_bytes()) != 0;
-            EXPECT_LE(differ, a.width() * a.height() / 1000 + 2) << c.src << " -> " << c.dst << " " << name_of(t);
+            EXPECT_LE(differing_pixels(a, b), a.width() * a.height() / 1000 + 2) << c.src << " -> " << c.dst << " " << name_of(t);
           } else {
             EXPECT_LE(max_diff(a, b), t == PixelType::F32 ? 1e-3 : 1.0)
                 << c.src << " -> " << c.dst << " " << name_of(t) << " " << nc << "ch " << name_of(k);
@@ -189,10 +194,7 @@ TEST(Engine, AgreesWithTheReference) {
       const Image fast = fast_remap(im, sp, dp, Eigen::Matrix3d::Identity(), k, Engine::Simd, 0);
       if (k == Interp::Nearest) {
         // A 1/256 px shift can move a sample across a pixel boundary: count, don't bound.
-        int64_t differ = 0;
-        for (int64_t y = 0; y < ref.height(); ++y)
-          for (int64_t x = 0; x < ref.width(); ++x) differ += std::memcmp(ref.pixel(x, y), fast.pixel(x, y), 4) != 0;
-        EXPECT_LT(differ, ref.width() * ref.height() / 100) << c.src << " -> " << c.dst;
+        EXPECT_LT(differing_pixels(ref, fast), ref.width() * ref.height() / 100) << c.src << " -> " << c.dst;
       } else {
         EXPECT_LE(max_diff(ref, fast), 1.0) << c.src << " -> " << c.dst << " " << name_of(k);
       }

@@ -52,6 +52,15 @@ HWY_INLINE V Atan2(D d, V y, V x) {
   return hn::IfThenElse(both_zero, zero, a);
 }
 
+// An angle in (-3 pi, 3 pi) brought into [-pi, pi), as wrap_pi.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE V WrapPi(D d, V a) {
+  using T = hn::TFromD<D>;
+  const V pi = hn::Set(d, T(kPiF)), two_pi = hn::Set(d, T(2 * kPiF));
+  a = hn::IfThenElse(hn::Not(hn::Lt(a, pi)), hn::Sub(a, two_pi), a);
+  return hn::IfThenElse(hn::Lt(a, hn::Neg(pi)), hn::Add(a, two_pi), a);
+}
+
 // Taylor coefficients (-1)^k / (2k + first)!, k = 0 .. N-1: sin(x)/x with first = 1, cos(x) with
 // first = 0, as polynomials in q = x^2.
 template <int N>
@@ -231,44 +240,38 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
   using T = hn::TFromD<D>;
   const T* s = g.params<T>().s;
   const V zero = hn::Zero(d);
+  // v in the closed [0, extent] with FramedBounds' slack (1e-9 of the extent), and the frame.
+  auto within = [&](V v, T extent) {
+    const V slack = hn::Set(d, T(1e-9) * extent);
+    return hn::And(hn::Not(hn::Lt(v, hn::Neg(slack))), hn::Not(hn::Gt(v, hn::Add(hn::Set(d, extent), slack))));
+  };
+  auto in_frame = [&](V px, V py) { return hn::And(within(px, s[0]), within(py, s[3])); };
   if (g.src == SimdGeometry::Src::Equirect || g.src == SimdGeometry::Src::Cylindrical) {
     // Longitude axis (equirect, cylindrical): x from the longitude, wrapped into [0, W) on a full
     // circle, else refused beyond the span (LongitudeAxis::to_x) and the frame.
-    const V pi = hn::Set(d, T(kPiF)), two_pi = hn::Set(d, T(2 * kPiF));
-    V lon = hn::Sub(Atan2(d, x, z), hn::Set(d, s[2]));
-    lon = hn::IfThenElse(hn::Not(hn::Lt(lon, pi)), hn::Sub(lon, two_pi), lon);
-    lon = hn::IfThenElse(hn::Lt(lon, hn::Neg(pi)), hn::Add(lon, two_pi), lon);
+    const V lon = WrapPi(d, hn::Sub(Atan2(d, x, z), hn::Set(d, s[2])));
     sx = hn::MulAdd(lon, hn::Set(d, s[6]), hn::Set(d, s[8]));
     const V h2 = hn::MulAdd(x, x, hn::Mul(z, z));
     coarse = hn::Lt(h2, hn::Mul(hn::Set(d, s[9]), hn::MulAdd(y, y, h2)));
     const V h = hn::Sqrt(h2);
     if (g.src == SimdGeometry::Src::Equirect) {
       sy = hn::Mul(hn::Sub(hn::Set(d, s[4]), Atan2(d, hn::Neg(y), h)), hn::Set(d, s[7]));
-      ok = hn::Eq(sy, sy);
+      ok = within(sy, s[3]);
     } else {  // height on the unit cylinder; the poles are at infinity
-      ok = hn::Gt(h, zero);
-      sy = hn::Mul(hn::Sub(hn::Div(hn::Neg(y), hn::IfThenElse(ok, h, hn::Set(d, T(1)))), hn::Set(d, s[4])), hn::Set(d, s[7]));
+      const M off_pole = hn::Gt(h, zero);
+      sy = hn::Mul(hn::Sub(hn::Div(hn::Neg(y), hn::IfThenElse(off_pole, h, hn::Set(d, T(1)))), hn::Set(d, s[4])),
+                   hn::Set(d, s[7]));
+      ok = hn::And(off_pole, within(sy, s[3]));
     }
-    // The closed frame with FramedBounds' slack.
-    const V slack_y = hn::Set(d, T(1e-9) * s[3]);
-    ok = hn::And(ok, hn::And(hn::Not(hn::Lt(sy, hn::Neg(slack_y))), hn::Not(hn::Gt(sy, hn::Add(hn::Set(d, s[3]), slack_y)))));
     if (s[10] != T(0)) {
       // Full circle: keep x in [0, W) (the seam's far side is 0).
       sx = hn::IfThenElse(hn::Not(hn::Lt(sx, hn::Set(d, s[0]))), hn::Sub(sx, hn::Set(d, s[0])), sx);
       sx = hn::Max(sx, zero);
     } else {
-      const V slack_x = hn::Set(d, T(1e-9) * s[0]);
-      ok = hn::And(ok, hn::Not(hn::Gt(hn::Abs(lon), hn::Set(d, s[11]))));
-      ok = hn::And(ok, hn::And(hn::Not(hn::Lt(sx, hn::Neg(slack_x))), hn::Not(hn::Gt(sx, hn::Add(hn::Set(d, s[0]), slack_x)))));
+      ok = hn::And(ok, hn::And(hn::Not(hn::Gt(hn::Abs(lon), hn::Set(d, s[11]))), within(sx, s[0])));
     }
     return;
   }
-  const V slack_x = hn::Set(d, T(1e-9) * s[0]), slack_y = hn::Set(d, T(1e-9) * s[3]);
-  // The closed frame [0, W] x [0, H] with FramedBounds' slack.
-  auto in_frame = [&](V px, V py) {
-    return hn::And(hn::And(hn::Not(hn::Lt(px, hn::Neg(slack_x))), hn::Not(hn::Gt(px, hn::Add(hn::Set(d, s[0]), slack_x)))),
-                   hn::And(hn::Not(hn::Lt(py, hn::Neg(slack_y))), hn::Not(hn::Gt(py, hn::Add(hn::Set(d, s[3]), slack_y)))));
-  };
   if (g.src == SimdGeometry::Src::Pinhole) {
     // x = cx + fx x / z, y = cy + fy y / z for z > 0. Float lanes err by f eps (1 + t^2) with
     // t^2 = (x^2 + y^2) / z^2: coarse beyond s[9].
@@ -318,10 +321,7 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
     // X = d cos phi sin(lambda W) / W, Y = d sin phi; then the frame (MapFrame), closed.
     // Near the poles an error in lambda is multiplied by cos phi: no coarse lanes.
     coarse = hn::Lt(zero, zero);
-    const V pi = hn::Set(d, T(kPiF)), two_pi = hn::Set(d, T(2 * kPiF));
-    V lam = hn::Sub(Atan2(d, x, z), hn::Set(d, s[2]));
-    lam = hn::IfThenElse(hn::Not(hn::Lt(lam, pi)), hn::Sub(lam, two_pi), lam);  // [-pi, pi), as wrap_pi
-    lam = hn::IfThenElse(hn::Lt(lam, hn::Neg(pi)), hn::Add(lam, two_pi), lam);
+    const V lam = WrapPi(d, hn::Sub(Atan2(d, x, z), hn::Set(d, s[2])));
     const V h2 = hn::MulAdd(x, x, hn::Mul(z, z));
     const V inv_n = hn::Div(hn::Set(d, T(1)), hn::Sqrt(hn::MulAdd(y, y, h2)));
     const V cp = hn::Mul(hn::Sqrt(h2), inv_n), sp = hn::Neg(hn::Mul(y, inv_n));
@@ -384,8 +384,8 @@ HWY_INLINE void SourceOfRays(D d, const SimdGeometry& g, V x, V y, V z, M ok_dst
 
 // The source positions of the rows of one tile (x0 .. x0 + n - 1). Equirect and cylindrical
 // targets' rays are separable, (cos lat sin lon, -sin lat, cos lat cos lon) and (sin lon, -t,
-// cos lon): the sines and cosines of the tile's longitudes and each row's latitude terms come
-// from std::sin/cos once (exact in double, rounded for float), not from vector sines per pixel.
+// cos lon): the sines and cosines of the tile's longitudes (vector, once per tile) and each
+// row's latitude terms (std::sin/cos, once per row) replace the sines of every pixel.
 class TileRows {
  public:
   static constexpr int64_t kMaxTableWidth = 64;
@@ -394,11 +394,18 @@ class TileRows {
     cylinder_ = g.dst == SimdGeometry::Dst::Cylindrical;
     table_ = (g.dst == SimdGeometry::Dst::Equirect || cylinder_) && n <= kMaxTableWidth;
     if (!table_) return;
+    // Vector sines (a few ulp), every entry: rows read whole vectors past n.
+    const DD dd;
+    const hn::Rebind<float, DD> df;
+    const auto ND = static_cast<int64_t>(hn::Lanes(dd));
     const double* p = g.pd.d;
-    for (int64_t i = 0; i < kMaxTableWidth + kPad; ++i) {
-      const double lon = (static_cast<double>(x0 + std::min(i, n - 1)) + 0.5) * p[6] + p[8];
-      sin_d_[i] = std::sin(lon), cos_d_[i] = std::cos(lon);
-      sin_f_[i] = static_cast<float>(sin_d_[i]), cos_f_[i] = static_cast<float>(cos_d_[i]);
+    for (int64_t i = 0; i < kMaxTableWidth + kPad; i += ND) {
+      const VD lon = hn::MulAdd(hn::Iota(dd, static_cast<double>(x0 + i) + 0.5), hn::Set(dd, p[6]), hn::Set(dd, p[8]));
+      const VD sn = hn::Sin(dd, lon), cs = hn::Cos(dd, lon);
+      hn::Store(sn, dd, sin_d_ + i);
+      hn::Store(cs, dd, cos_d_ + i);
+      hn::StoreU(hn::DemoteTo(df, sn), df, sin_f_ + i);
+      hn::StoreU(hn::DemoteTo(df, cs), df, cos_f_ + i);
     }
   }
 

@@ -239,8 +239,8 @@ HWY_INLINE void StoreWords(const uint32_t* w, int64_t m, int pb, unsigned char* 
 // as is; other cases go through StoreWords.
 template <class DU, class VU = hn::Vec<DU>>
 HWY_INLINE void StorePixels(DU du, VU word, int64_t m, int pb, unsigned char* p) {
-  const auto N = static_cast<int64_t>(hn::Lanes(du));
 #if HWY_TARGET != HWY_SCALAR
+  const auto N = static_cast<int64_t>(hn::Lanes(du));
   if (m == N && pb == 4) return hn::StoreU(word, du, reinterpret_cast<uint32_t*>(p));
   if (m == N && pb == 3 && N % 4 == 0) {
     const hn::Repartition<uint8_t, DU> d8;
@@ -267,6 +267,50 @@ HWY_INLINE void StorePixels(DU du, VU word, int64_t m, int pb, unsigned char* p)
 }
 
 #if HWY_TARGET != HWY_SCALAR
+// The fixed-point uint8 kernels' reads: for a byte offset from each lane's first tap, one 64-bit
+// gather per lane fetches 8 bytes, split into two words: the pixel there and the next one (pb
+// bytes on), channels in their low pb bytes. Also their common end: invalid lanes 0, then stored.
+class TapPairs {
+ public:
+  using DU = hn::RebindToUnsigned<hn::ScalableTag<float>>;
+  using VU = hn::Vec<DU>;
+
+  TapPairs(const SimdSource& s, const TapBlock& blk)
+      : pb_(s.channels), base_(reinterpret_cast<const uint64_t*>(blk.base)), blk_(blk) {
+    const hn::RebindToSigned<DU> di;
+    const hn::Half<decltype(di)> dih;
+    const auto off = hn::Max(hn::Load(di, blk.off), hn::Zero(di));
+    lo_ = hn::PromoteTo(DI64(), hn::LowerHalf(dih, off));
+    hi_ = hn::PromoteTo(DI64(), hn::UpperHalf(dih, off));
+  }
+
+  void Get(int64_t bytes, VU& first, VU& second) const {
+    const D64 d64;
+    const DU du;
+    const auto at = hn::Set(DI64(), bytes);
+    const auto lo = hn::GatherOffset(d64, base_, hn::Add(lo_, at)), hi = hn::GatherOffset(d64, base_, hn::Add(hi_, at));
+    first = hn::ConcatEven(du, hn::BitCast(du, hi), hn::BitCast(du, lo));
+    second = hn::ConcatEven(du, hn::BitCast(du, hn::ShiftRightSame(hi, 8 * pb_)),
+                            hn::BitCast(du, hn::ShiftRightSame(lo, 8 * pb_)));
+  }
+
+  // Stores the block's pixels from one packed word per lane; lanes not sampled here are 0.
+  void Store(VU word, unsigned char* out) const {
+    const DU du;
+    const hn::RebindToSigned<DU> di;
+    word = hn::IfThenElseZero(hn::RebindMask(du, hn::Gt(hn::Load(di, blk_.off), hn::Set(di, -1))), word);
+    StorePixels(du, word, blk_.m, pb_, out + blk_.index * pb_);
+  }
+
+ private:
+  using D64 = hn::Repartition<uint64_t, DU>;
+  using DI64 = hn::RebindToSigned<D64>;
+  int pb_;
+  const uint64_t* base_;
+  const TapBlock& blk_;
+  hn::Vec<DI64> lo_, hi_;  // 64-bit first-tap offsets of lanes [0, N/2) and [N/2, N)
+};
+
 // Phase 2 for bilinear uint8 without alpha (the common photo case), all channels at once in
 // 16-bit fixed point: one 64-bit gather per pixel and row fetches both taps (8 bytes from the
 // first; the second starts pb bytes in). Channels 0, 2 and 1, 3 of each RGBx word sit in the
@@ -275,31 +319,14 @@ HWY_INLINE void StorePixels(DU du, VU word, int64_t m, int pb, unsigned char* p)
 // before the final rounding, so it stays within 1 LSB of the exact blend.
 HWY_INLINE void BilinearU8(const SimdSource& s, const TapBlock& blk, unsigned char* o) {
   using DF = hn::ScalableTag<float>;
-  using DI = hn::RebindToSigned<DF>;
-  using DU = hn::RebindToUnsigned<DF>;
+  using DU = TapPairs::DU;
+  using VU = TapPairs::VU;
   using D16 = hn::Repartition<uint16_t, DU>;
-  using D64 = hn::Repartition<uint64_t, DU>;
-  using DI64 = hn::RebindToSigned<D64>;
-  using VU = hn::Vec<DU>;
   using V16 = hn::Vec<D16>;
   const DF df;
-  const DI di;
   const DU du;
   const D16 d16;
-  const D64 d64;
-  const DI64 di64;
-  const hn::Half<DI> dih;
-  const int pb = s.channels;
-  const auto* base = reinterpret_cast<const uint64_t*>(blk.base);
-  const auto off = hn::Max(hn::Load(di, blk.off), hn::Zero(di));
-  const auto off_lo = hn::PromoteTo(di64, hn::LowerHalf(dih, off)), off_hi = hn::PromoteTo(di64, hn::UpperHalf(dih, off));
-  // Both taps of row r as RGBx words: p0 from the first pixel, p1 from the second.
-  auto taps = [&](int r, VU& p0, VU& p1) {
-    const auto rs = hn::Set(di64, static_cast<int64_t>(r) * s.stride);
-    const auto lo = hn::GatherOffset(d64, base, hn::Add(off_lo, rs)), hi = hn::GatherOffset(d64, base, hn::Add(off_hi, rs));
-    p0 = hn::ConcatEven(du, hn::BitCast(du, hi), hn::BitCast(du, lo));
-    p1 = hn::ConcatEven(du, hn::BitCast(du, hn::ShiftRightSame(hi, 8 * pb)), hn::BitCast(du, hn::ShiftRightSame(lo, 8 * pb)));
-  };
+  const TapPairs taps(s, blk);
   auto weight = [&](const float* t) {
     const VU w = hn::BitCast(du, hn::NearestInt(hn::Mul(hn::Load(df, t), hn::Set(df, 65535.0f))));
     return hn::BitCast(d16, hn::Or(w, hn::ShiftLeft<16>(w)));
@@ -309,8 +336,8 @@ HWY_INLINE void BilinearU8(const SimdSource& s, const TapBlock& blk, unsigned ch
   const VU high_bytes = hn::Set(du, 0xFF00FF00u);
   V16 even[2], odd[2];  // horizontal blends of rows 0 and 1: channels 0, 2 and 1, 3, x 256
   for (int r = 0; r < 2; ++r) {
-    VU p0, p1;
-    taps(r, p0, p1);
+    VU p0, p1;  // both taps of row r
+    taps.Get(static_cast<int64_t>(r) * s.stride, p0, p1);
     const V16 e0 = hn::BitCast(d16, hn::And(hn::ShiftLeft<8>(p0), high_bytes));
     const V16 e1 = hn::BitCast(d16, hn::And(hn::ShiftLeft<8>(p1), high_bytes));
     const V16 o0 = hn::BitCast(d16, hn::And(p0, high_bytes)), o1 = hn::BitCast(d16, hn::And(p1, high_bytes));
@@ -320,9 +347,7 @@ HWY_INLINE void BilinearU8(const SimdSource& s, const TapBlock& blk, unsigned ch
   const V16 half = hn::Set(d16, 128);
   const V16 ve = hn::ShiftRight<8>(hn::Add(hn::Add(hn::MulHigh(even[0], wy0), hn::MulHigh(even[1], wy1)), half));
   const V16 vo = hn::ShiftRight<8>(hn::Add(hn::Add(hn::MulHigh(odd[0], wy0), hn::MulHigh(odd[1], wy1)), half));
-  VU word = hn::Or(hn::BitCast(du, ve), hn::ShiftLeft<8>(hn::BitCast(du, vo)));
-  word = hn::IfThenElseZero(hn::RebindMask(du, hn::Gt(hn::Load(di, blk.off), hn::Set(di, -1))), word);
-  StorePixels(du, word, blk.m, pb, o + blk.index * pb);
+  taps.Store(hn::Or(hn::BitCast(du, ve), hn::ShiftLeft<8>(hn::BitCast(du, vo))), o);
 }
 
 // Phase 2 for bicubic and Lanczos-3 uint8 without alpha, in 16-bit fixed point: 64-bit gathers
@@ -334,24 +359,15 @@ HWY_INLINE void BilinearU8(const SimdSource& s, const TapBlock& blk, unsigned ch
 template <int K>
 HWY_INLINE void SeparableU8(const SimdSource& s, const TapBlock& blk, unsigned char* o) {
   using DF = hn::ScalableTag<float>;
-  using DI = hn::RebindToSigned<DF>;
-  using DU = hn::RebindToUnsigned<DF>;
+  using DU = TapPairs::DU;
+  using VU = TapPairs::VU;
   using D16 = hn::Repartition<int16_t, DU>;
-  using D64 = hn::Repartition<uint64_t, DU>;
-  using DI64 = hn::RebindToSigned<D64>;
-  using VU = hn::Vec<DU>;
   using V16 = hn::Vec<D16>;
   const DF df;
-  const DI di;
   const DU du;
   const D16 d16;
-  const D64 d64;
-  const DI64 di64;
-  const hn::Half<DI> dih;
   const int pb = s.channels;
-  const auto* base = reinterpret_cast<const uint64_t*>(blk.base);
-  const auto off = hn::Max(hn::Load(di, blk.off), hn::Zero(di));
-  const auto off_lo = hn::PromoteTo(di64, hn::LowerHalf(dih, off)), off_hi = hn::PromoteTo(di64, hn::UpperHalf(dih, off));
+  const TapPairs taps(s, blk);
   auto q15 = [&](hn::Vec<DF> w) {  // both 16-bit halves of each lane
     const auto q = hn::BitCast(du, hn::NearestInt(hn::Min(hn::Mul(w, hn::Set(df, 32768.0f)), hn::Set(df, 32767.0f))));
     return hn::BitCast(d16, hn::Or(hn::And(q, hn::Set(du, 0xFFFFu)), hn::ShiftLeft<16>(q)));
@@ -366,11 +382,8 @@ HWY_INLINE void SeparableU8(const SimdSource& s, const TapBlock& blk, unsigned c
   for (int r = 0; r < K; ++r) {
     V16 he = hn::Zero(d16), ho = hn::Zero(d16);
     for (int q = 0; q < K / 2; ++q) {
-      const auto at = hn::Set(di64, static_cast<int64_t>(r) * s.stride + 2 * q * pb);
-      const auto lo = hn::GatherOffset(d64, base, hn::Add(off_lo, at)), hi = hn::GatherOffset(d64, base, hn::Add(off_hi, at));
-      const VU t[2] = {hn::ConcatEven(du, hn::BitCast(du, hi), hn::BitCast(du, lo)),
-                       hn::ConcatEven(du, hn::BitCast(du, hn::ShiftRightSame(hi, 8 * pb)),
-                                      hn::BitCast(du, hn::ShiftRightSame(lo, 8 * pb)))};
+      VU t[2];  // taps 2q and 2q + 1 of row r
+      taps.Get(static_cast<int64_t>(r) * s.stride + 2 * q * pb, t[0], t[1]);
       for (int k = 0; k < 2; ++k) {
         const V16 e = hn::BitCast(d16, hn::And(hn::ShiftLeft<6>(t[k]), mask));
         const V16 od = hn::BitCast(d16, hn::And(hn::ShiftRight<2>(t[k]), mask));
@@ -386,9 +399,7 @@ HWY_INLINE void SeparableU8(const SimdSource& s, const TapBlock& blk, unsigned c
   const V16 lo = hn::Zero(d16), top = hn::Set(d16, int16_t{255 * 64}), half = hn::Set(d16, int16_t{32});
   ve = hn::ShiftRight<6>(hn::Add(hn::Min(hn::Max(ve, lo), top), half));
   vo = hn::ShiftRight<6>(hn::Add(hn::Min(hn::Max(vo, lo), top), half));
-  VU word = hn::Or(hn::BitCast(du, ve), hn::ShiftLeft<8>(hn::BitCast(du, vo)));
-  word = hn::IfThenElseZero(hn::RebindMask(du, hn::Gt(hn::Load(di, blk.off), hn::Set(di, -1))), word);
-  StorePixels(du, word, blk.m, pb, o + blk.index * pb);
+  taps.Store(hn::Or(hn::BitCast(du, ve), hn::ShiftLeft<8>(hn::BitCast(du, vo))), o);
 }
 #endif
 
@@ -471,7 +482,7 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
       word = hn::IfThenElseZero(valid, word);
       StorePixels(hn::RebindToUnsigned<DI>(), hn::BitCast(hn::RebindToUnsigned<DI>(), word), m, pb, o);
     } else if constexpr (PT == PixelType::U16) {
-      HWY_ALIGN int32_t q[4][kMaxLanes];
+      HWY_ALIGN int32_t q[4][kMaxLanes] = {};  // (zeroed: gcc cannot see nc <= 4 stores cover it)
       for (int c2 = 0; c2 < nc; ++c2)
         hn::Store(hn::IfThenElseZero(valid, hn::NearestInt(hn::Min(hn::Max(acc[c2], hn::Zero(df)), hn::Set(df, unit)))), di, q[c2]);
       for (int64_t l = 0; l < m; ++l) {
