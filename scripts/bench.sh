@@ -1,10 +1,20 @@
 #!/usr/bin/env bash
 # Benchmarks panoproj against OpenCV's cv::remap and memcpy (bench/bench_remap.cpp);
-# with "big" first, the 40000x20000 demonstration instead (bench/bench_big.cpp, ~4.5 GB).
+# with "big" first, the 40000x20000 demonstration instead (bench/bench_big.cpp, ~4.5 GB); with
+# "python" first, the Python module against py360convert (bench/bench_python.py).
 # Installs what is missing, builds in build-bench/, runs.
 # Usage: scripts/bench.sh [--threads N] [--runs N]  |  scripts/bench.sh big [--threads N]
+#        scripts/bench.sh python [--runs N]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+if [[ ${1:-} == python ]]; then
+  shift
+  bash "$root/scripts/install-deps.sh"
+  read -ra py_args < <(bash "$root/scripts/python-env.sh" --cmake-args)
+  "$root/.venv/bin/python" -c "import py360convert" 2>/dev/null || "$root/.venv/bin/python" -m pip install -q py360convert
+  bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF "${py_args[@]}"
+  PYTHONPATH="$root/build-bench/python" exec "$root/.venv/bin/python" "$root/bench/bench_python.py" "$@"
+fi
 bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF
 if [[ ${1:-} == big ]]; then
   shift

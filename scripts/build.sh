@@ -6,8 +6,11 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-"$root/build"}
 shift || true
 bash "$root/scripts/install-deps.sh"
-if [[ ! -f "$build/build.ninja" ]]; then
+# Configure on the first build, and again when the extra arguments change.
+stamp="$build/.panoproj-cmake-args"
+if [[ ! -f "$build/build.ninja" || "$(cat "$stamp" 2>/dev/null)" != "$*" ]]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+  echo "$*" >"$stamp"
 fi
 # Two cores here; Ninja's default (cores + 2) is right.
 ninja -C "$build" | grep -v '^ninja: no work to do' || true

@@ -11,7 +11,7 @@ pkgs=(
   libhwy-dev                         # SIMD kernels (Google Highway)
   libgtest-dev                       # ctest suite
   libopencv-core-dev libopencv-imgproc-dev  # test oracle and bench peer (not the library)
-  python3 python3-venv               # Python side (venv for Debian's own python3)
+  python3 python3-venv python3-dev   # Python module (venv for Debian's own python3; headers)
   ccache                             # fast rebuilds; used only when present
 )
 

@@ -1,12 +1,20 @@
 #!/usr/bin/env bash
-# A virtual environment for the Python side (.venv): Debian's own python3 refuses pip installs
-# outside one. Works with this machine's python3 and with Debian's. Idempotent.
+# A virtual environment for the Python side (.venv) with python/requirements-test.txt: Debian's
+# own python3 refuses pip installs outside one. Works with this machine's python3 and with
+# Debian's. Idempotent: a second run only checks (about a second).
+# Usage: scripts/python-env.sh [--cmake-args]   (prints the CMake arguments that build the
+# module against this environment)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 venv="$root/.venv"
 if [[ ! -x "$venv/bin/python" ]]; then
   python3 -m venv "$venv"
 fi
-if ! "$venv/bin/python" -c "import pytest" 2>/dev/null; then
-  "$venv/bin/python" -m pip install -q pytest
+if ! "$venv/bin/python" -c "import pybind11, numpy, pytest, cv2, dask.distributed, scikit_build_core" 2>/dev/null; then
+  "$venv/bin/python" -m pip install -q -r "$root/python/requirements-test.txt" >&2
+fi
+if [[ ${1:-} == --cmake-args ]]; then
+  echo "-DPANOPROJ_BUILD_PYTHON=ON" \
+    "-DPython_EXECUTABLE=$("$venv/bin/python" -c 'import sys; print(sys.executable)')" \
+    "-Dpybind11_DIR=$("$venv/bin/python" -m pybind11 --cmakedir)"
 fi

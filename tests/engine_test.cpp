@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <cstring>
 
 #include "panoproj/error.hpp"
 #include "panoproj/resample.hpp"
@@ -130,6 +134,50 @@ TEST(Engine, FusedGeometryMatchesTheReferenceOnEveryTarget) {
     }
   }
   hwy::SetSupportedTargetsForTest(0);
+}
+
+// Pixels in memory whose last byte is followed by an unreadable page: a read past the end faults.
+class GuardedPixels {
+ public:
+  explicit GuardedPixels(size_t bytes) {
+    const auto page = static_cast<size_t>(sysconf(_SC_PAGESIZE));
+    size_ = (bytes + page - 1) / page * page + page;
+    map_ = mmap(nullptr, size_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    EXPECT_NE(map_, MAP_FAILED);
+    EXPECT_EQ(mprotect(static_cast<char*>(map_) + size_ - page, page, PROT_NONE), 0);
+    data_ = static_cast<unsigned char*>(map_) + (size_ - page - bytes);
+  }
+  ~GuardedPixels() { munmap(map_, size_); }
+  unsigned char* data() const { return data_; }
+
+ private:
+  void* map_;
+  size_t size_;
+  unsigned char* data_;
+};
+
+TEST(Engine, ViewsOfExactBuffersAreNeverReadPastTheirEnd) {
+  // Identity and a part-pixel turn of an equirect: pixels of the last row's right end are taps
+  // inside the frame, which the gathers (8 bytes from a tap) would read past. On a view whose
+  // buffer ends at an unreadable page, every kernel, type and channel count must still give the
+  // bytes of the owning image.
+  const Projection src = make("equirect", {61, 30});
+  for (double yaw : {0.0, 0.3 * 360.0 / 61}) {
+    const Eigen::Matrix3d r = rotation_from_ypr(yaw, 0, 0);
+    for (PixelType t : {PixelType::U8, PixelType::U16, PixelType::F16, PixelType::F32})
+      for (int nc : {1, 2, 3, 4}) {
+        const Image im = scene_image(src, t, nc);
+        GuardedPixels guarded(im.byte_size());
+        std::memcpy(guarded.data(), im.data(), im.byte_size());
+        const Image view = Image::view(guarded.data(), im.size(), nc, t, im.alpha_channel());
+        ASSERT_TRUE(view.is_view());
+        for (Interp k : {Interp::Nearest, Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3}) {
+          SCOPED_TRACE(std::string(name_of(t)) + " x" + std::to_string(nc) + " " + name_of(k));
+          const Image a = fast_remap(view, src, src, r, k, Engine::Simd, 1);
+          EXPECT_TRUE(a == fast_remap(im, src, src, r, k, Engine::Simd, 1));
+        }
+      }
+  }
 }
 
 TEST(Engine, ThreadCountDoesNotChangeOneBit) {

@@ -101,7 +101,7 @@ Converter::Region Converter::source_footprint() const {
   const Region all{0, 0, frame.width, frame.height};
   if (std::holds_alternative<Cubemap>(source_)) return all;
   // Bounding box of the valid positions, over the kept maps or maps made one tile at a time.
-  if (cache_map_ && cache_.empty()) build_cache();
+  if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });
   const int64_t n_tiles = tile_count();
   const int n_workers = workers_for(n_tiles, threads_);
   std::vector<std::array<double, 4>> box(static_cast<size_t>(n_workers), {HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL});
@@ -159,7 +159,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
   const bool use_simd = engine_ == Engine::Simd;
   const int64_t n_tiles = tile_count();
   const int n_workers = workers_for(n_tiles, threads_);
-  if (cache_map_ && cache_.empty()) build_cache();
+  if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });
   struct Worker {
     TileMap map;
     SimdMisses misses;

@@ -39,8 +39,9 @@ Image::Image(Size size, int channels, PixelType type, int alpha_channel)
   std::fill(pixels_.begin(), pixels_.end(), 0);
 }
 
-Image::Image(Size size, int channels, PixelType type, int alpha_channel, Unfilled)
-    : size_(size), channels_(channels), type_(type), alpha_(alpha_channel) {
+namespace {
+
+void check_layout(Size size, int channels, int alpha_channel) {
   if (channels < 1 || channels > 4)
     throw Error("channels: " + std::to_string(channels) + " (expected 1 to 4)");
   if (size.width < 1 || size.height < 1)
@@ -49,9 +50,40 @@ Image::Image(Size size, int channels, PixelType type, int alpha_channel, Unfille
   if (alpha_channel >= channels || alpha_channel < -1)
     throw Error("alpha channel: " + std::to_string(alpha_channel) + " (expected -1 or < " +
                 std::to_string(channels) + ")");
+}
+
+}  // namespace
+
+Image::Image(Size size, int channels, PixelType type, int alpha_channel, Unfilled)
+    : size_(size), channels_(channels), type_(type), alpha_(alpha_channel) {
+  check_layout(size, channels, alpha_channel);
   bytes_ = static_cast<size_t>(size.width) * static_cast<size_t>(size.height) * pixel_bytes();
-  pixels_.resize(bytes_ + kSlack);
-  std::fill(pixels_.end() - kSlack, pixels_.end(), 0);  // the slack is read (and ignored) by gathers
+  pixels_.resize(bytes_);
+  data_ = pixels_.data();
+}
+
+Image Image::view(unsigned char* pixels, Size size, int channels, PixelType type, int alpha_channel) {
+  check_layout(size, channels, alpha_channel);
+  Image v;
+  v.size_ = size, v.channels_ = channels, v.type_ = type, v.alpha_ = alpha_channel;
+  v.bytes_ = static_cast<size_t>(size.width) * static_cast<size_t>(size.height) * v.pixel_bytes();
+  v.data_ = pixels;
+  v.view_ = true;
+  return v;
+}
+
+Image& Image::operator=(const Image& o) {
+  if (this == &o) return *this;
+  size_ = o.size_, channels_ = o.channels_, type_ = o.type_, alpha_ = o.alpha_;
+  ox_ = o.ox_, oy_ = o.oy_, frame_ = o.frame_, bytes_ = o.bytes_, view_ = o.view_;
+  pixels_ = o.pixels_;
+  data_ = view_ ? o.data_ : pixels_.data();
+  return *this;
+}
+
+bool Image::operator==(const Image& o) const {
+  return size_ == o.size_ && channels_ == o.channels_ && type_ == o.type_ && alpha_ == o.alpha_ &&
+         std::equal(data_, data_ + bytes_, o.data_, o.data_ + o.bytes_);
 }
 
 }  // namespace panoproj

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <climits>
 #include <cstring>
 #include <filesystem>
 #include <system_error>
@@ -89,6 +90,20 @@ void write_file(const Image& in, const std::string& tmp, const std::string& show
   spec.alpha_channel = alpha;
   spec.attribute("oiio:UnassociatedAlpha", 1);  // colours are straight, as read
   if (static_cast<int>(options.channel_names.size()) == nch) spec.channelnames = options.channel_names;
+  for (const Attribute& a : options.metadata) {
+    if (const auto* i = std::get_if<int64_t>(&a.value)) {
+      spec.attribute(a.name, static_cast<int>(std::clamp<int64_t>(*i, INT32_MIN, INT32_MAX)));
+    } else if (const auto* d = std::get_if<double>(&a.value)) {
+      spec.attribute(a.name, static_cast<float>(*d));
+    } else if (const auto* t = std::get_if<std::string>(&a.value)) {
+      spec.attribute(a.name, *t);
+    } else if (const auto* v = std::get_if<std::vector<double>>(&a.value)) {
+      const std::vector<float> f(v->begin(), v->end());
+      spec.attribute(a.name, OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, static_cast<int>(f.size())), f.data());
+    } else if (const auto* b = std::get_if<std::vector<uint8_t>>(&a.value)) {
+      spec.attribute(a.name, OIIO::TypeDesc(OIIO::TypeDesc::UINT8, static_cast<int>(b->size())), b->data());
+    }
+  }
   if (fs::path(shown_path).extension() == ".jpg" || fs::path(shown_path).extension() == ".jpeg")
     spec.attribute("Compression", "jpeg:95");
   bool ok = out->open(tmp, spec);
@@ -153,6 +168,36 @@ Image read_image(const std::string& path) {
     throw Error("cannot read " + path + ": " + one_line(in->geterror()) +
                 " (the file is damaged or truncated)");
   return image;
+}
+
+Metadata read_metadata(const std::string& path) {
+  const auto in = open_input(path);
+  Metadata out;
+  for (const OIIO::ParamValue& p : in->spec().extra_attribs) {
+    const std::string name = p.name().string();
+    if (name.rfind("oiio:", 0) == 0) continue;
+    const OIIO::TypeDesc t = p.type();
+    const int n = p.nvalues() * static_cast<int>(t.aggregate) * std::max(1, t.arraylen);
+    if (t.basetype == OIIO::TypeDesc::STRING && n == 1) {
+      out.push_back({name, p.get_string()});
+    } else if (t.basetype == OIIO::TypeDesc::UINT8 && n > 1) {
+      const auto* b = static_cast<const uint8_t*>(p.data());
+      out.push_back({name, std::vector<uint8_t>(b, b + n)});
+    } else if (t.basetype == OIIO::TypeDesc::STRING || t.basetype == OIIO::TypeDesc::PTR) {
+      continue;  // string arrays and pointers: no portable value
+    } else if (t == OIIO::TypeRational) {
+      out.push_back({name, p.get_float()});
+    } else if (n == 1 && t.is_floating_point()) {
+      out.push_back({name, static_cast<double>(p.get_float())});
+    } else if (n == 1) {
+      out.push_back({name, static_cast<int64_t>(p.get_int())});
+    } else {
+      std::vector<double> v(static_cast<size_t>(n));
+      for (int i = 0; i < n; ++i) v[static_cast<size_t>(i)] = p.get_float(i);
+      out.push_back({name, std::move(v)});
+    }
+  }
+  return out;
 }
 
 Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1) {

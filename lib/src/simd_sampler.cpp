@@ -114,11 +114,18 @@ HWY_INLINE void StoreSample(unsigned char* p, float v) {
 // loads from the SimdSource past the stores, which may alias anything).
 template <class DP, class VP = hn::Vec<DP>>
 struct Bounds {
-  VP cw, ch, inv_cw, inv_ch, x0, x1, y0, y1;
+  VP cw, ch, inv_cw, inv_ch, x0, x1, y0, y1, tail;
   bool cells;
-  explicit Bounds(const SimdSource& s) : cells(s.cell_w > 0) {
+  bool whole;  // every byte of the window within int32 offsets of its start
+  explicit Bounds(const SimdSource& s)
+      : cells(s.cell_w > 0), whole(static_cast<double>(s.y1 - s.y0) * static_cast<double>(s.stride) < 2147483647.0) {
     using P = hn::TFromD<DP>;
     const DP dp;
+    // The buffer ends with the window's last row, and nothing may be read past it: the gathers
+    // read up to max(8, pb + 2) bytes from a tap's start (pb + 2: a 32-bit read of a uint16
+    // pixel's last channel), so that row's last taps stay this many pixels before its end.
+    const int pb = s.channels * static_cast<int>(bytes_of(s.type));
+    tail = hn::Set(dp, static_cast<P>((std::max(8, pb + 2) - 1) / pb));
     cw = hn::Set(dp, static_cast<P>(s.cell_w)), ch = hn::Set(dp, static_cast<P>(s.cell_h));
     inv_cw = hn::Set(dp, static_cast<P>(cells ? 1.0 / static_cast<double>(s.cell_w) : 0.0));
     inv_ch = hn::Set(dp, static_cast<P>(cells ? 1.0 / static_cast<double>(s.cell_h) : 0.0));
@@ -174,17 +181,24 @@ HWY_INLINE void PlanLanes(const SimdSource& s, int K, const Bounds<DP>& b, VP sx
   }
   MP inside = hn::And(hn::And(ok, hn::And(hn::Ge(fx, lo_x), hn::Le(fx, hi_x))),
                       hn::And(hn::Ge(fy, lo_y), hn::Le(fy, hi_y)));
+  const VP last_y = hn::Sub(b.y1, k), tail_x = hn::Sub(hn::Sub(b.x1, k), b.tail);
+  inside = hn::And(inside, hn::Or(hn::Lt(fy, last_y), hn::Le(fx, tail_x)));
   // The reach test runs in the position type (float: with 1% margin for its rounding), the
   // offsets themselves in exact integers.
   P y_min = 0;
   VI ioff = hn::Set(di, -1);
   const bool any = !hn::AllFalse(dp, inside);
   if (any) {
-    y_min = hn::GetLane(hn::MinOfLanes(dp, hn::IfThenElse(inside, fy, hn::Set(dp, std::numeric_limits<P>::max()))));
+    // A window under 2 GB takes offsets from its first row; a larger one from the block's
+    // lowest row, and lanes beyond int32 reach from there go to the reference.
+    y_min = b.whole ? static_cast<P>(s.y0)
+                    : hn::GetLane(hn::MinOfLanes(dp, hn::IfThenElse(inside, fy, hn::Set(dp, std::numeric_limits<P>::max()))));
     const VP row = hn::Sub(fy, hn::Set(dp, y_min)), col = hn::Sub(fx, b.x0);
-    const double reach = 2147483647.0 - (K - 1) * static_cast<double>(s.stride) - (K + 1) * pb;
     const VP off = hn::MulAdd(row, hn::Set(dp, static_cast<P>(s.stride)), hn::Mul(col, hn::Set(dp, static_cast<P>(pb))));
-    inside = hn::And(inside, hn::Le(off, hn::Set(dp, static_cast<P>(std::is_same_v<P, float> ? 0.99 * reach : reach))));
+    if (!b.whole) {
+      const double reach = 2147483647.0 - (K - 1) * static_cast<double>(s.stride) - (K + 1) * pb;
+      inside = hn::And(inside, hn::Le(off, hn::Set(dp, static_cast<P>(std::is_same_v<P, float> ? 0.99 * reach : reach))));
+    }
     if constexpr (std::is_same_v<P, float>) {
       const VI o = hn::Add(hn::Mul(hn::ConvertTo(di, row), hn::Set(di, static_cast<int32_t>(s.stride))),
                            hn::Mul(hn::ConvertTo(di, col), hn::Set(di, pb)));

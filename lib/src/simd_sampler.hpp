@@ -36,8 +36,8 @@ struct SimdMisses {
 
 // Samples the positions of a tile map (panoproj pixel convention, frame coordinates) with any
 // kernel; samples with ok = 0 are 0. Writes interleaved pixels of src's type: the rect's row j
-// at out + j * out_stride. Reads up to 3 bytes past the last pixel it touches (Image keeps that
-// slack).
+// at out + j * out_stride. Reads nothing past the window's last pixel (the last row's final taps
+// go to misses), so the source may be a view of someone else's exact-sized buffer.
 void simd_sample(const SimdSource& src, Interp interp, const TileMap& tm, unsigned char* out, int64_t out_stride,
                  SimdMisses& misses);
 

@@ -11,6 +11,7 @@
 // same bytes.
 #include <Eigen/Core>
 #include <functional>
+#include <mutex>
 #include <vector>
 
 #include "panoproj/image.hpp"
@@ -46,7 +47,7 @@ struct EngineStats {
 // size. With cache_map, the tile maps of the tiles that are not fused (kCachedMapBytesPerPixel
 // per output pixel at most) are built once, on the first run, and reused: batches and video
 // frames pay for that geometry once. Fused tiles recompute theirs: in registers it costs less
-// than reading a stored map.
+// than reading a stored map. run() may be called from several threads at once.
 class Converter {
  public:
   Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
@@ -81,6 +82,7 @@ class Converter {
   int threads_;
   bool cache_map_;
   mutable std::vector<TileMap> cache_;  // one per tile (empty for fused tiles), built on first use
+  mutable std::once_flag cache_once_;   // so that threads sharing a Converter build it once
   void build_cache() const;
   TileRect tile(int64_t t) const;  // tiles in row-major order
   int64_t tile_count() const;

@@ -38,13 +38,21 @@ struct UninitializedAllocator : std::allocator<T> {
 
 class Image {
  public:
-  static constexpr size_t kSlack = 16;
   Image() = default;
   // Zero-filled. alpha_channel: index of the alpha channel, or -1.
   Image(Size size, int channels, PixelType type, int alpha_channel = -1);
   // Not filled: for outputs written whole (the engine's), saving a pass over memory.
   struct Unfilled {};
   Image(Size size, int channels, PixelType type, int alpha_channel, Unfilled);
+  // A view of pixels owned elsewhere (e.g. a numpy array): rows of width * pixel_bytes() bytes,
+  // back to back, exactly byte_size() bytes, alive and unmoved for as long as the view is used.
+  // Nothing is copied; copies of a view are views of the same pixels.
+  static Image view(unsigned char* pixels, Size size, int channels, PixelType type, int alpha_channel = -1);
+  bool is_view() const { return view_; }
+  Image(const Image& o) { *this = o; }
+  Image& operator=(const Image& o);
+  Image(Image&&) noexcept = default;  // a vector's move keeps its buffer, so data_ stays valid
+  Image& operator=(Image&&) noexcept = default;
 
   Size size() const { return size_; }
   int64_t width() const { return size_.width; }
@@ -56,12 +64,10 @@ class Image {
   size_t row_bytes() const { return static_cast<size_t>(size_.width) * pixel_bytes(); }
   size_t byte_size() const { return bytes_; }
 
-  unsigned char* data() { return pixels_.data(); }
-  const unsigned char* data() const { return pixels_.data(); }
-  unsigned char* row(int64_t y) { return pixels_.data() + static_cast<size_t>(y) * row_bytes(); }
-  const unsigned char* row(int64_t y) const {
-    return pixels_.data() + static_cast<size_t>(y) * row_bytes();
-  }
+  unsigned char* data() { return data_; }
+  const unsigned char* data() const { return data_; }
+  unsigned char* row(int64_t y) { return data_ + static_cast<size_t>(y) * row_bytes(); }
+  const unsigned char* row(int64_t y) const { return data_ + static_cast<size_t>(y) * row_bytes(); }
   unsigned char* pixel(int64_t x, int64_t y) {
     return row(y) + static_cast<size_t>(x) * pixel_bytes();
   }
@@ -82,10 +88,7 @@ class Image {
   Size frame_size() const { return frame_.width ? frame_ : size_; }
   const unsigned char* at(int64_t frame_x, int64_t frame_y) const { return pixel(frame_x - ox_, frame_y - oy_); }
 
-  bool operator==(const Image& o) const {
-    return size_ == o.size_ && channels_ == o.channels_ && type_ == o.type_ && alpha_ == o.alpha_ &&
-           pixels_ == o.pixels_;
-  }
+  bool operator==(const Image& o) const;
 
  private:
   Size size_{};
@@ -95,8 +98,9 @@ class Image {
   int64_t ox_ = 0, oy_ = 0;
   Size frame_{};  // 0 x 0: the image is the whole frame
   size_t bytes_ = 0;
-  // bytes_ + kSlack: SIMD gathers read up to 8 bytes from a pixel's start.
-  std::vector<unsigned char, UninitializedAllocator<unsigned char>> pixels_;
+  std::vector<unsigned char, UninitializedAllocator<unsigned char>> pixels_;  // empty for a view
+  unsigned char* data_ = nullptr;  // pixels_.data(), or the viewed pixels
+  bool view_ = false;
 };
 
 }  // namespace panoproj

@@ -6,19 +6,31 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include "panoproj/image.hpp"
 
 namespace panoproj {
 
+// A file's attributes besides its pixels, by OpenImageIO's names ("Make", "Exif:FocalLength",
+// "XResolution", "ICCProfile", "XMP" ...): integers, reals, text, real arrays, or bytes.
+struct Attribute {
+  std::string name;
+  std::variant<int64_t, double, std::string, std::vector<double>, std::vector<uint8_t>> value;
+};
+using Metadata = std::vector<Attribute>;
+
 struct WriteOptions {
   bool overwrite = false;
   std::optional<PixelType> type;  // convert samples before writing; default: keep
   std::vector<std::string> channel_names;  // default: the format's (R, G, B, A)
+  Metadata metadata;  // written where the format has a place for them, else dropped by it
 };
 
 Image read_image(const std::string& path);
+// The file's attributes (OpenImageIO's own "oiio:*" bookkeeping left out); throws like read_image.
+Metadata read_metadata(const std::string& path);
 // The image's size from its header only (no pixels decoded); throws like read_image.
 Size read_image_size(const std::string& path);
 // Reads at least the pixels [x0, x1) x [y0, y1) as a window of the file's frame (image.hpp):

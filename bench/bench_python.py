@@ -1,0 +1,136 @@
+"""panoproj's Python module against py360convert (with opencv-python-headless: its cv2.remap path),
+in one process, on the Jordan Pond equirect (4096x2048 uint8 RGB), bilinear, compute only.
+
+    scripts/bench.sh python [--runs N]
+
+- cold: nothing cached. py360convert's lru caches are cleared before each call; panoproj.convert
+  builds its geometry each time (it keeps nothing).
+- warm: the geometry cached. py360convert's caches kept; a panoproj.Plan after its first run.
+- two threads: 8 warm conversions, split over two Python threads at once, each library limited
+  to one core (panoproj threads=1; cv2.setNumThreads(1)), against the 8 on one thread. The
+  speed-up shows whether the GIL is released while converting.
+Each library uses its defaults otherwise (panoproj: every core; OpenCV: its own pool).
+"""
+import argparse
+import functools
+import inspect
+import pathlib
+import statistics
+import sys
+import threading
+import time
+
+import cv2
+import numpy as np
+import py360convert
+import py360convert.utils
+
+import panoproj as pp
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+FACE = 1024
+HFOV, OUT_W, OUT_H = 90.0, 1920, 1080
+VFOV = float(np.degrees(2 * np.arctan(np.tan(np.radians(HFOV / 2)) * OUT_H / OUT_W)))
+
+
+def clear_py360_caches():
+    """Every functools.lru_cache in py360convert.utils (functions and classmethods)."""
+    for obj in vars(py360convert.utils).values():
+        if hasattr(obj, "cache_clear"):
+            obj.cache_clear()
+        if inspect.isclass(obj):
+            for attr in vars(obj).values():
+                f = getattr(attr, "__func__", attr)
+                if hasattr(f, "cache_clear"):
+                    f.cache_clear()
+
+
+def median_ms(fn, runs, before=None):
+    times = []
+    for _ in range(runs):
+        if before:
+            before()
+        t = time.perf_counter()
+        fn()
+        times.append((time.perf_counter() - t) * 1e3)
+    return statistics.median(times)
+
+
+def two_threads_speedup(fn, n=8):
+    """Time of n calls on one thread over the time of n calls split across two threads."""
+    t = time.perf_counter()
+    for _ in range(n):
+        fn()
+    one = time.perf_counter() - t
+    threads = [threading.Thread(target=lambda: [fn() for _ in range(n // 2)]) for _ in range(2)]
+    t = time.perf_counter()
+    for th in threads:
+        th.start()
+    for th in threads:
+        th.join()
+    return one / (time.perf_counter() - t)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--runs", type=int, default=5)
+    a = ap.parse_args()
+    e = pp.read(str(ROOT / "samples/images/jordan_pond_4096x2048.jpg"))
+    h, w = e.shape[:2]
+    cube = pp.convert(e, "equirect", "cubemap", size=(6 * FACE, FACE), interp="bilinear")
+    assert np.array_equal(np.concatenate(pp.split_faces(cube), axis=1), cube)
+
+    plans = {
+        "e2c": (pp.Plan("equirect", "cubemap", (w, h), size=(6 * FACE, FACE), interp="bilinear"), e),
+        "c2e": (pp.Plan("cubemap", "equirect", (6 * FACE, FACE), size=(w, h), interp="bilinear"), cube),
+        "e2p": (pp.Plan("equirect", f"pinhole:hfov={HFOV}", (w, h), size=(OUT_W, OUT_H), interp="bilinear"), e),
+    }
+    ours_cold = {
+        "e2c": lambda: pp.convert(e, "equirect", "cubemap", size=(6 * FACE, FACE), interp="bilinear"),
+        "c2e": lambda: pp.convert(cube, "cubemap", "equirect", size=(w, h), interp="bilinear"),
+        "e2p": lambda: pp.convert(e, "equirect", f"pinhole:hfov={HFOV}", size=(OUT_W, OUT_H), interp="bilinear"),
+    }
+    theirs = {
+        "e2c": lambda: py360convert.e2c(e, face_w=FACE, mode="bilinear", cube_format="horizon"),
+        "c2e": lambda: py360convert.c2e(cube, h, w, mode="bilinear", cube_format="horizon"),
+        "e2p": lambda: py360convert.e2p(e, (HFOV, VFOV), 0, 0, (OUT_H, OUT_W), mode="bilinear"),
+    }
+    print(f"panoproj {pp.simd_target()} vs py360convert {py360convert.__version__} "
+          f"(OpenCV {cv2.__version__}), 4096x2048 uint8 RGB, bilinear, median of {a.runs}")
+    print()
+    print("| conversion | py360convert cold ms | panoproj cold ms | cold speed-up | "
+          "py360convert warm ms | panoproj warm ms | warm speed-up |")
+    print("|---|---|---|---|---|---|---|")
+    for name in ("e2c", "c2e", "e2p"):
+        plan, src = plans[name]
+        plan(src)  # its map, if any, is built once
+        their_cold = median_ms(theirs[name], a.runs, before=clear_py360_caches)
+        our_cold = median_ms(ours_cold[name], a.runs)
+        theirs[name]()
+        their_warm = median_ms(theirs[name], a.runs)
+        our_warm = median_ms(functools.partial(plan, src), a.runs)
+        print(f"| {name} | {their_cold:.1f} | {our_cold:.1f} | {their_cold / our_cold:.1f}x | "
+              f"{their_warm:.1f} | {our_warm:.1f} | {their_warm / our_warm:.1f}x |")
+    print()
+    cv2.setNumThreads(1)
+    one_core = pp.Plan("equirect", "cubemap", (w, h), size=(6 * FACE, FACE), interp="bilinear", threads=1)
+    one_core(e)
+    buffers = threading.local()  # one output buffer per thread, as a video loop would keep
+
+    def into_buffer():
+        if not hasattr(buffers, "out"):
+            buffers.out = one_core(e)
+        one_core.run(e, out=buffers.out)
+
+    ours = [two_threads_speedup(functools.partial(one_core, e)) for _ in range(3)]
+    ours_kept = [two_threads_speedup(into_buffer) for _ in range(3)]
+    py = [two_threads_speedup(theirs["e2c"]) for _ in range(3)]
+    print(f"two Python threads at once, one core each (e2c, 8 conversions, median of 3): the "
+          f"one-thread throughput x {statistics.median(ours):.2f} for panoproj (new output arrays), "
+          f"x {statistics.median(ours_kept):.2f} (outputs written into kept arrays), "
+          f"x {statistics.median(py):.2f} for py360convert")
+    sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,278 @@
+"""panoproj: convert images between projections (pinhole, fisheye, equirect, cylindrical, cubemap,
+Aitoff, Hammer / Eckert-Greifendorff, Bonne) at native speed, from numpy.
+
+Conventions (the same as the ``panoproj`` command; see docs/projections.md):
+
+- Images are numpy arrays, ``HxW`` or ``HxWxC`` with C in 1..4, dtype uint8, uint16, float16 or
+  float32. With 2 or 4 channels the last one is alpha. A C-contiguous array is read in place,
+  never copied; any other layout is copied once to C order.
+- A cubemap in memory is one image in its layout (6x1 by default: front, right, back, left, up,
+  down); :func:`convert` also takes a list of six face arrays, and :func:`split_faces` gives
+  the faces of a cubemap image as views.
+- Sizes are ``(width, height)`` like OpenCV's ``dsize`` (or ``"WxH"``); angles in degrees.
+- Pixel coordinates put pixel centres at ``i + 0.5`` (panoproj's convention); rays are unit
+  vectors, x right, y down, z forward.
+- Every heavy call releases the GIL. Errors: ``ValueError`` (bad parameters or shapes),
+  ``TypeError`` (dtype, argument types), ``OSError`` (files), with the command's one-line message.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _core
+
+__all__ = [
+    "Projection", "Pinhole", "Fisheye", "Equirect", "Cylindrical", "Cubemap", "Aitoff", "Hammer",
+    "EckertGreifendorff", "Bonne", "projection", "convert", "build_map", "Plan", "read", "write",
+    "to_ray", "to_pixel", "split_faces", "simd_target",
+]
+
+SizeLike = Union[Tuple[int, int], str, None]
+
+
+class Projection:
+    """A projection spec: a name and parameters, as in ``"fisheye:fov=180,model=equisolid"``.
+
+    Build one from keywords with the subclass (``Fisheye(fov=180, model="equisolid")``) or from
+    spec text with :func:`projection`. Parameters not given take their defaults, some derived
+    from the image size when the projection is used (``panoproj info`` lists them all).
+    """
+
+    name: str = ""
+    _keys: Tuple[str, ...] = ()
+
+    def __init__(self, **params: Any) -> None:
+        unknown = [k for k in params if k not in self._keys]
+        if unknown:
+            raise TypeError(f"{type(self).__name__}: unknown parameter {unknown[0]!r} "
+                            f"(expected one of {', '.join(self._keys)})")
+        parts = [f"{k}={_text(v)}" for k, v in params.items() if v is not None]
+        self._text = _core.canonical(self.name + (":" + ",".join(parts) if parts else ""))
+
+    @property
+    def params(self) -> Dict[str, Union[float, str]]:
+        """The parameters given (not the defaults), by name."""
+        _, _, rest = self._text.partition(":")
+        return {k: _value(v) for k, v in (p.split("=", 1) for p in rest.split(",") if p)}
+
+    def __str__(self) -> str:
+        return self._text
+
+    def __repr__(self) -> str:
+        args = ", ".join(f"{k}={v!r}" for k, v in self.params.items())
+        return f"{type(self).__name__}({args})"
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Projection) and self._text == other._text
+
+    def __hash__(self) -> int:
+        return hash(self._text)
+
+    def __reduce__(self):
+        return (projection, (self._text,))
+
+
+def _text(v: Any) -> str:
+    if isinstance(v, bool):
+        raise TypeError(f"parameter value {v!r}: expected a number or a name")
+    if isinstance(v, float):
+        return repr(v)  # shortest text that reads back to the same double
+    return str(v)
+
+
+def _value(text: str) -> Union[float, int, str]:
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def _class_name(spec_name: str) -> str:
+    return "".join(part.capitalize() for part in spec_name.split("-"))
+
+
+_CLASSES: Dict[str, type] = {}
+for _def in _core.catalog():
+    _doc = _def["summary"] + ".\n\nParameters (degrees, pixels):\n" + "\n".join(
+        f"    {p['key']}: {p['help']}" + (f" (default {p['default']})" if p["default"] else "")
+        for p in _def["params"])
+    _CLASSES[_def["name"]] = type(_class_name(_def["name"]), (Projection,), {
+        "name": _def["name"], "_keys": tuple(p["key"] for p in _def["params"]), "__doc__": _doc,
+        "__module__": __name__})
+    globals()[_class_name(_def["name"])] = _CLASSES[_def["name"]]
+del _def, _doc
+
+
+def projection(spec: Union[str, Projection]) -> Projection:
+    """The projection of spec text (``"pinhole:hfov=90"``), as an instance of its class."""
+    if isinstance(spec, Projection):
+        return spec
+    if not isinstance(spec, str):
+        raise TypeError(f"projection: {spec!r} (expected spec text or a Projection)")
+    text = _core.canonical(spec)
+    p = _CLASSES[text.partition(":")[0]].__new__(_CLASSES[text.partition(":")[0]])
+    p._text = text
+    return p
+
+
+def _spec(p: Union[str, Projection, None]) -> Optional[str]:
+    return None if p is None else str(projection(p))
+
+
+def _size(size: SizeLike) -> Optional[Tuple[int, int]]:
+    if size is None:
+        return None
+    if isinstance(size, str):
+        m = re.fullmatch(r"\s*(\d+)\s*x\s*(\d+)\s*", size)
+        if not m:
+            raise ValueError(f"size: {size!r} (expected WxH, e.g. 4096x2048)")
+        return int(m.group(1)), int(m.group(2))
+    try:
+        w, h = size
+    except (TypeError, ValueError):
+        raise TypeError(f"size: {size!r} (expected (width, height))") from None
+    if not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in (w, h)):
+        raise TypeError(f"size: {size!r} (expected two integers, (width, height))")
+    return int(w), int(h)
+
+
+def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Projection, None],
+            dst: Union[str, Projection], *, size: SizeLike = None, yaw: float = 0.0,
+            pitch: float = 0.0, roll: float = 0.0, interp: str = "bicubic", threads: int = 0,
+            engine: str = "simd") -> np.ndarray:
+    """Converts ``image`` from projection ``src`` to ``dst`` and returns the new image.
+
+    ``src=None`` takes a 2:1 image as a full equirect (as the command does); a list of six
+    arrays is a cubemap's faces. ``size`` is the output's (width, height); by default the
+    output keeps the source's resolution at its centre. ``yaw`` turns the view right, ``pitch``
+    up, ``roll`` clockwise (applied roll, pitch, then yaw). ``interp``: nearest, bilinear,
+    bicubic or lanczos3. ``threads=0`` uses every core. The result has the input's dtype and
+    channels; pixels without a source are 0 (alpha 0).
+    """
+    return _core.convert(image, _spec(src), _spec(dst), _size(size), float(yaw), float(pitch),
+                         float(roll), interp, int(threads), engine)
+
+
+def build_map(src: Union[str, Projection], dst: Union[str, Projection],
+              source_size: SizeLike, *, size: SizeLike = None, yaw: float = 0.0,
+              pitch: float = 0.0, roll: float = 0.0, convention: str = "opencv",
+              threads: int = 0) -> Tuple[np.ndarray, np.ndarray]:
+    """Source-coordinate maps ``(map_x, map_y)``, float32 arrays of the output's shape.
+
+    With ``convention="opencv"`` (pixel centres at integers, -1 where no source) they go straight
+    into ``cv2.remap(img, map_x, map_y, cv2.INTER_LINEAR)``; ``"panoproj"`` gives centres at
+    i + 0.5 and NaN where no source. Within 1/256 px of the exact map; cv2.remap itself rounds
+    positions to 1/32 px and cannot wrap seams, poles or cube edges.
+    """
+    return _core.build_map(_spec(src), _spec(dst), _size(source_size), _size(size), float(yaw),
+                           float(pitch), float(roll), convention, int(threads))
+
+
+class Plan:
+    """One conversion geometry for many images of one source size (batches, video frames).
+
+    The first run builds and keeps the map of the tiles whose geometry is not computed in
+    registers; later runs reuse it. ``plan(image)`` or ``plan.run(image, out=array)`` (writes
+    into a C-contiguous array of the output's shape and dtype). Safe to call from several
+    threads at once. Pickles as its parameters, so it can be sent to multiprocessing, Dask or
+    Ray workers (each rebuilds its map on its first run).
+    """
+
+    __slots__ = ("_args", "_plan")
+
+    def __init__(self, src: Union[str, Projection], dst: Union[str, Projection],
+                 source_size: SizeLike, *, size: SizeLike = None, yaw: float = 0.0,
+                 pitch: float = 0.0, roll: float = 0.0, interp: str = "bicubic",
+                 threads: int = 0, engine: str = "simd") -> None:
+        self._args = (_spec(src), _spec(dst), _size(source_size), _size(size), float(yaw),
+                      float(pitch), float(roll), interp, int(threads), engine)
+        self._plan = _core.Plan(*self._args)
+
+    @property
+    def src(self) -> Projection:
+        return projection(self._args[0])
+
+    @property
+    def dst(self) -> Projection:
+        return projection(self._args[1])
+
+    @property
+    def source_size(self) -> Tuple[int, int]:
+        return self._args[2]
+
+    @property
+    def size(self) -> Tuple[int, int]:
+        """The output's (width, height)."""
+        return tuple(self._plan.size)
+
+    def run(self, image: Union[np.ndarray, Sequence[np.ndarray]],
+            out: Optional[np.ndarray] = None) -> np.ndarray:
+        return self._plan.run(image, out)
+
+    __call__ = run
+
+    def __getstate__(self):
+        return self._args
+
+    def __setstate__(self, args) -> None:
+        self._args = tuple(args)
+        self._plan = _core.Plan(*self._args)
+
+    def __repr__(self) -> str:
+        src, dst, source_size, size, yaw, pitch, roll, interp, threads, engine = self._args
+        return (f"Plan({src!r}, {dst!r}, source_size={source_size}, size={self.size}, yaw={yaw}, "
+                f"pitch={pitch}, roll={roll}, interp={interp!r}, threads={threads}, "
+                f"engine={engine!r})")
+
+
+def read(path: str, *, metadata: bool = False):
+    """Reads an image file (JPEG, PNG, TIFF, EXR, HDR ...) through OpenImageIO as an array of the
+    file's sample type (other types become float32). A path with ``{face}`` or ``{index}`` reads
+    six cube face files as one 6x1 cubemap. With ``metadata=True`` returns ``(array, dict)``, the
+    dict holding the file's attributes by OpenImageIO's names (EXIF, XMP, ICC profile ...)."""
+    path = str(path)
+    array = _core.read_faces(path) if re.search(r"\{(face|index)\}", path) else _core.read(path)
+    if metadata:
+        return array, _core.read_metadata(path.replace("{face}", "front").replace("{index}", "0"))
+    return array
+
+
+def write(path: str, array: np.ndarray, *, overwrite: bool = False, dtype: Optional[str] = None,
+          metadata: Optional[Dict[str, Any]] = None) -> None:
+    """Writes an array atomically (a temporary file, then a rename): the format follows the
+    extension. An existing file is replaced only with ``overwrite=True``. ``dtype`` converts the
+    samples first (e.g. ``"uint8"`` for a JPEG of a float image); ``metadata`` attributes are
+    written where the format has a place for them. A path with ``{face}``/``{index}`` writes a
+    6x1 cubemap as six files."""
+    _core.write(str(path), array, bool(overwrite), dtype, dict(metadata or {}))
+
+
+def to_ray(proj: Union[str, Projection], size: SizeLike, x, y) -> Tuple[np.ndarray, np.ndarray]:
+    """Unit rays through pixel positions (x, y) of ``proj`` at ``size``: ``(rays[..., 3], ok)``;
+    where ``ok`` is False (outside the projection) the ray is NaN."""
+    return _core.to_ray(_spec(proj), _size(size), x, y)
+
+
+def to_pixel(proj: Union[str, Projection], size: SizeLike,
+             rays) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pixel positions of rays (``[..., 3]``, any length but 0) in ``proj`` at ``size``:
+    ``(x, y, ok)``; NaN where ``ok`` is False (the ray has no pixel)."""
+    return _core.to_pixel(_spec(proj), _size(size), rays)
+
+
+def split_faces(image: np.ndarray, layout: Union[str, Projection] = "cubemap") -> List[np.ndarray]:
+    """The six faces (front, right, back, left, up, down) of a cubemap image, as views."""
+    spec = _spec(layout)
+    face, origins = _core.face_origins(spec, (image.shape[1], image.shape[0]))
+    return [image[y:y + face, x:x + face] for x, y in origins]
+
+
+def simd_target() -> str:
+    """The SIMD instruction set the engine dispatches to on this machine (e.g. ``AVX3``)."""
+    return _core.simd_target()

@@ -1,0 +1,479 @@
+// The compiled core of the Python module (panoproj._core); python/panoproj/__init__.py builds
+// the public API on it. numpy arrays in, numpy arrays out:
+//   - a C-contiguous input is viewed in place (Image::view), never copied; other layouts are
+//     copied once to C order;
+//   - outputs are the engine's own buffers, handed to numpy with a capsule that frees them;
+//   - every heavy call releases the GIL;
+//   - panoproj::Error becomes ValueError (OSError from read/write), a wrong dtype TypeError.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <Imath/half.h>
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "panoproj/convert.hpp"
+#include "panoproj/engine.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/io.hpp"
+#include "panoproj/maps.hpp"
+
+namespace py = pybind11;
+using namespace panoproj;
+
+namespace {
+
+// Errors of file I/O, raised as OSError.
+struct IoError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+PixelType pixel_type(const py::dtype& dt) {
+  if (dt.is(py::dtype::of<uint8_t>())) return PixelType::U8;
+  if (dt.is(py::dtype::of<uint16_t>())) return PixelType::U16;
+  if (dt.is(py::dtype("float16"))) return PixelType::F16;
+  if (dt.is(py::dtype::of<float>())) return PixelType::F32;
+  throw py::type_error("array dtype: " + py::str(dt).cast<std::string>() +
+                       " (expected uint8, uint16, float16 or float32)");
+}
+
+py::dtype dtype_of(PixelType t) {
+  switch (t) {
+    case PixelType::U8: return py::dtype::of<uint8_t>();
+    case PixelType::U16: return py::dtype::of<uint16_t>();
+    case PixelType::F16: return py::dtype("float16");
+    case PixelType::F32: return py::dtype::of<float>();
+  }
+  return py::dtype::of<uint8_t>();
+}
+
+// 2 and 4 channels carry alpha last (grey + alpha, RGBA), as the image files do.
+int alpha_for(int channels) { return channels == 2 || channels == 4 ? channels - 1 : -1; }
+
+// An array as an Image: a view of its pixels when C-contiguous, else of a C-order copy (kept in
+// `keep`). HxW or HxWxC, C in 1..4.
+Image image_of(const py::array& a, py::object& keep) {
+  const PixelType t = pixel_type(a.dtype());
+  if (a.ndim() != 2 && a.ndim() != 3)
+    throw py::value_error("array shape: " + std::to_string(a.ndim()) +
+                          " dimensions (expected HxW or HxWxC)");
+  const int channels = a.ndim() == 3 ? static_cast<int>(a.shape(2)) : 1;
+  if (channels < 1 || channels > 4)
+    throw py::value_error("array shape: " + std::to_string(channels) + " channels (expected 1 to 4)");
+  if (a.shape(0) < 1 || a.shape(1) < 1)
+    throw py::value_error("array shape: " + std::to_string(a.shape(1)) + "x" + std::to_string(a.shape(0)) +
+                          " pixels (expected at least 1x1)");
+  py::array c = a;
+  if (!(a.flags() & py::array::c_style)) c = py::array::ensure(a, py::array::c_style);
+  keep = c;
+  auto* data = static_cast<unsigned char*>(const_cast<void*>(c.data()));
+  return Image::view(data, {c.shape(1), c.shape(0)}, channels, t, alpha_for(channels));
+}
+
+// Hands an image's buffer to numpy (no copy): HxWxC, or HxW for one channel when flat.
+py::array array_of(Image&& image, bool flat) {
+  auto* owner = new Image(std::move(image));
+  py::capsule free_it(owner, [](void* p) { delete static_cast<Image*>(p); });
+  const auto h = static_cast<py::ssize_t>(owner->height()), w = static_cast<py::ssize_t>(owner->width());
+  const auto c = static_cast<py::ssize_t>(owner->channels()), b = static_cast<py::ssize_t>(bytes_of(owner->type()));
+  std::vector<py::ssize_t> shape{h, w}, strides{w * c * b, c * b};
+  if (!flat || c > 1) shape.push_back(c), strides.push_back(b);
+  return py::array(dtype_of(owner->type()), shape, strides, owner->data(), free_it);
+}
+
+// Six faces (front, right, back, left, up, down) of one shape and dtype as the 6x1 strip.
+Image strip_of(const py::sequence& faces) {
+  if (py::len(faces) != 6)
+    throw py::value_error("cube faces: " + std::to_string(py::len(faces)) + " arrays (expected 6)");
+  std::vector<Image> views;
+  std::vector<py::object> keep(6);
+  for (size_t f = 0; f < 6; ++f) {
+    views.push_back(image_of(faces[f].cast<py::array>(), keep[f]));
+    const Image& v = views.back();
+    if (v.width() != v.height())
+      throw py::value_error("cube face " + std::string(kFaceNames[f]) + ": " + std::to_string(v.width()) + "x" +
+                            std::to_string(v.height()) + " (expected square faces)");
+    if (v.size() != views[0].size() || v.channels() != views[0].channels() || v.type() != views[0].type())
+      throw py::value_error("cube face " + std::string(kFaceNames[f]) + ": " + std::to_string(v.width()) + "x" +
+                            std::to_string(v.height()) + "x" + std::to_string(v.channels()) + " " +
+                            name_of(v.type()) + " differs from the front face's " +
+                            std::to_string(views[0].width()) + "x" + std::to_string(views[0].height()) + "x" +
+                            std::to_string(views[0].channels()) + " " + name_of(views[0].type()) +
+                            " (expected six faces of one size and dtype)");
+  }
+  const Image& f0 = views[0];
+  Image strip({6 * f0.width(), f0.height()}, f0.channels(), f0.type(), f0.alpha_channel(), Image::Unfilled{});
+  for (int f = 0; f < 6; ++f)
+    for (int64_t y = 0; y < f0.height(); ++y)
+      std::memcpy(strip.pixel(f * f0.width(), y), views[static_cast<size_t>(f)].row(y), f0.row_bytes());
+  return strip;
+}
+
+// The source as an Image: one array, or a sequence of six cube faces (then the spec must be a
+// cubemap laid out as 6x1 or files).
+Image source_of(const py::object& src, py::object& keep, std::optional<ProjectionSpec>& spec) {
+  if (py::isinstance<py::array>(src)) return image_of(src.cast<py::array>(), keep);
+  if (!py::isinstance<py::sequence>(src) || py::isinstance<py::str>(src))
+    throw py::type_error("image: expected a numpy array or a list of six cube faces");
+  if (!spec) spec = parse_spec("cubemap");
+  if (spec->kind() != Kind::Cubemap || (spec->choice("layout") != "6x1" && spec->choice("layout") != "files"))
+    throw py::value_error("src: " + spec->str() + " with six face arrays (expected cubemap, layout 6x1 or files)");
+  return strip_of(src.cast<py::sequence>());
+}
+
+std::optional<ProjectionSpec> spec_of(const std::optional<std::string>& text) {
+  if (!text) return std::nullopt;
+  return parse_spec(*text);
+}
+
+ConvertOptions options_of(std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
+                          const std::string& interp, int threads, const std::string& engine) {
+  ConvertOptions o;
+  o.yaw = yaw, o.pitch = pitch, o.roll = roll;
+  o.interp = parse_interp(interp);
+  o.engine = parse_engine(engine);
+  o.threads = threads;
+  if (size) o.size = Size{size->first, size->second};
+  return o;
+}
+
+Size size_pair(std::pair<int64_t, int64_t> s) {
+  if (s.first < 1 || s.second < 1)
+    throw Error("size: " + std::to_string(s.first) + "x" + std::to_string(s.second) + " (expected at least 1x1)");
+  return {s.first, s.second};
+}
+
+// A conversion bound to one source size: the map of non-fused tiles is built once and reused
+// (panoproj.Plan wraps it and pickles its parameters). run() may be called from several threads.
+class PyPlan {
+ public:
+  struct Params {
+    std::string src, dst;
+    std::pair<int64_t, int64_t> source_size;
+    std::optional<std::pair<int64_t, int64_t>> size;
+    double yaw, pitch, roll;
+    std::string interp;
+    int threads;
+    std::string engine;
+  };
+  explicit PyPlan(Params p)
+      : p_(std::move(p)),
+        options_(options_of(p_.size, p_.yaw, p_.pitch, p_.roll, p_.interp, p_.threads, p_.engine)),
+        plan_(make_plan(size_pair(p_.source_size), parse_spec(p_.src), parse_spec(p_.dst), options_)),
+        converter_(plan_.source, plan_.target, plan_.rotation, options_.interp, options_.engine, options_.threads,
+                   true) {}
+  const Plan& plan() const { return plan_; }
+
+  py::array run(const py::object& src, std::optional<py::array> out) const {
+    py::object keep;
+    std::optional<ProjectionSpec> spec = parse_spec(p_.src);
+    const Image in = source_of(src, keep, spec);
+    const bool flat = py::isinstance<py::array>(src) && src.cast<py::array>().ndim() == 2;
+    if (out) {
+      // Written in place: must be C-contiguous, writable, of the output's shape and dtype.
+      const Size s = size_of(plan_.target);
+      if (!(out->flags() & py::array::c_style) || !out->writeable() || out->dtype().not_equal(dtype_of(in.type())) ||
+          out->shape(0) != s.height || out->shape(1) != s.width ||
+          (out->ndim() == 3 ? out->shape(2) : 1) != in.channels())
+        throw py::value_error("out: expected a writable C-contiguous " + std::string(name_of(in.type())) + " array of " +
+                              std::to_string(s.height) + "x" + std::to_string(s.width) + "x" +
+                              std::to_string(in.channels()));
+      Image o = Image::view(static_cast<unsigned char*>(out->mutable_data()), s, in.channels(), in.type(),
+                            in.alpha_channel());
+      {
+        py::gil_scoped_release unlocked;
+        converter_.run(in, o);
+      }
+      return *out;
+    }
+    Image result;
+    {
+      py::gil_scoped_release unlocked;
+      result = converter_.run(in);
+    }
+    return array_of(std::move(result), flat);
+  }
+
+ private:
+  Params p_;
+  ConvertOptions options_;
+  Plan plan_;
+  Converter converter_;
+};
+
+std::pair<py::array, py::array> split_map(Image&& map) {
+  const int64_t w = map.width(), h = map.height();
+  Image x({w, h}, 1, PixelType::F32, -1, Image::Unfilled{}), y({w, h}, 1, PixelType::F32, -1, Image::Unfilled{});
+  {
+    py::gil_scoped_release unlocked;
+    const auto* m = reinterpret_cast<const float*>(map.data());
+    auto* px = reinterpret_cast<float*>(x.data());
+    auto* py_ = reinterpret_cast<float*>(y.data());
+    for (int64_t i = 0; i < w * h; ++i) px[i] = m[2 * i], py_[i] = m[2 * i + 1];
+  }
+  return {array_of(std::move(x), true), array_of(std::move(y), true)};
+}
+
+py::object metadata_value(const Attribute& a) {
+  return std::visit(
+      [](const auto& v) -> py::object {
+        using V = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<V, std::vector<uint8_t>>) {
+          return py::bytes(reinterpret_cast<const char*>(v.data()), v.size());
+        } else if constexpr (std::is_same_v<V, std::vector<double>>) {
+          return py::tuple(py::cast(v));
+        } else {
+          return py::cast(v);
+        }
+      },
+      a.value);
+}
+
+Attribute attribute_of(const std::string& name, const py::handle& v) {
+  if (py::isinstance<py::bool_>(v) || py::isinstance<py::int_>(v)) return {name, v.cast<int64_t>()};
+  if (py::isinstance<py::float_>(v)) return {name, v.cast<double>()};
+  if (py::isinstance<py::str>(v)) return {name, v.cast<std::string>()};
+  if (py::isinstance<py::bytes>(v)) {
+    const std::string b = v.cast<std::string>();
+    return {name, std::vector<uint8_t>(b.begin(), b.end())};
+  }
+  if (py::isinstance<py::sequence>(v)) return {name, v.cast<std::vector<double>>()};
+  throw py::type_error("metadata " + name + ": " + py::repr(v).cast<std::string>() +
+                       " (expected int, float, str, bytes or a sequence of numbers)");
+}
+
+// Finite x, y arrays of one shape as flat double vectors.
+using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "panoproj's compiled core; use the panoproj package.";
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const IoError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+    } catch (const Error& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+
+  m.def("catalog", [] {
+    py::list out;
+    for (const ProjectionDef& d : projection_catalog()) {
+      py::list params;
+      for (const ParamDef& p : d.params)
+        params.append(py::dict(py::arg("key") = p.key,
+                               py::arg("type") = p.type == ParamType::Number    ? "number"
+                                                 : p.type == ParamType::Integer ? "integer"
+                                                                                : "choice",
+                               py::arg("default") = p.default_text, py::arg("lo") = p.lo, py::arg("hi") = p.hi,
+                               py::arg("choices") = p.choices ? p.choices : "", py::arg("help") = p.help));
+      out.append(py::dict(py::arg("name") = d.name, py::arg("summary") = d.summary, py::arg("params") = params));
+    }
+    return out;
+  });
+  m.def("canonical", [](const std::string& text) { return parse_spec(text).str(); },
+        "The canonical text of a spec; raises ValueError naming a bad part.");
+  m.def("simd_target", &simd_target);
+
+  m.def(
+      "convert",
+      [](const py::object& src_image, std::optional<std::string> src, const std::string& dst,
+         std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
+         const std::string& interp, int threads, const std::string& engine) {
+        std::optional<ProjectionSpec> from = spec_of(src);
+        py::object keep;
+        const Image in = source_of(src_image, keep, from);
+        if (!from && in.width() != 2 * in.height())
+          throw Error("src: None, and a " + std::to_string(in.width()) + "x" + std::to_string(in.height()) +
+                      " image is not a 2:1 equirect (give src, e.g. 'fisheye:fov=180')");
+        if (!from) from = parse_spec("equirect");
+        const ProjectionSpec to = parse_spec(dst);
+        const ConvertOptions o = options_of(size, yaw, pitch, roll, interp, threads, engine);
+        const bool flat = py::isinstance<py::array>(src_image) && src_image.cast<py::array>().ndim() == 2;
+        Image out;
+        {
+          py::gil_scoped_release unlocked;
+          out = convert(in, *from, to, o);
+        }
+        return array_of(std::move(out), flat);
+      },
+      py::arg("image"), py::arg("src"), py::arg("dst"), py::arg("size"), py::arg("yaw"), py::arg("pitch"),
+      py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"));
+
+  m.def(
+      "build_map",
+      [](const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size,
+         std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
+         const std::string& convention, int threads) {
+        const ConvertOptions o = options_of(size, yaw, pitch, roll, "bilinear", threads, "simd");
+        const Plan plan = make_plan(size_pair(source_size), parse_spec(src), parse_spec(dst), o);
+        MapConvention c;
+        if (convention == "opencv") c = MapConvention::OpenCV;
+        else if (convention == "panoproj") c = MapConvention::Panoproj;
+        else throw Error("convention: " + convention + " (expected opencv or panoproj)");
+        Image map;
+        {
+          py::gil_scoped_release unlocked;
+          map = build_map(plan.source, plan.target, plan.rotation, c, threads);
+        }
+        return split_map(std::move(map));
+      },
+      py::arg("src"), py::arg("dst"), py::arg("source_size"), py::arg("size"), py::arg("yaw"), py::arg("pitch"),
+      py::arg("roll"), py::arg("convention"), py::arg("threads"));
+
+  py::class_<PyPlan>(m, "Plan")
+      .def(py::init([](const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size,
+                       std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
+                       const std::string& interp, int threads, const std::string& engine) {
+             return std::make_unique<PyPlan>(
+                 PyPlan::Params{src, dst, source_size, size, yaw, pitch, roll, interp, threads, engine});
+           }),
+           py::arg("src"), py::arg("dst"), py::arg("source_size"), py::arg("size"), py::arg("yaw"),
+           py::arg("pitch"), py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"))
+      .def("run", &PyPlan::run, py::arg("image"), py::arg("out") = std::nullopt)
+      .def_property_readonly("size", [](const PyPlan& p) {
+        const Size s = size_of(p.plan().target);
+        return std::pair{s.width, s.height};
+      });
+
+  m.def(
+      "read",
+      [](const std::string& path) {
+        Image im;
+        {
+          py::gil_scoped_release unlocked;
+          try {
+            im = read_image(path);
+          } catch (const Error& e) {
+            throw IoError(e.what());
+          }
+        }
+        return array_of(std::move(im), true);
+      },
+      py::arg("path"));
+  m.def(
+      "read_metadata",
+      [](const std::string& path) {
+        Metadata md;
+        try {
+          md = read_metadata(path);
+        } catch (const Error& e) {
+          throw IoError(e.what());
+        }
+        py::dict out;
+        for (const Attribute& a : md) out[py::str(a.name)] = metadata_value(a);
+        return out;
+      },
+      py::arg("path"));
+  m.def(
+      "write",
+      [](const std::string& path, const py::array& array, bool overwrite, std::optional<std::string> dtype,
+         const py::dict& metadata) {
+        py::object keep;
+        const Image im = image_of(array, keep);
+        WriteOptions w;
+        w.overwrite = overwrite;
+        if (dtype) w.type = pixel_type(py::dtype(*dtype));
+        for (const auto& [k, v] : metadata) w.metadata.push_back(attribute_of(k.cast<std::string>(), v));
+        py::gil_scoped_release unlocked;
+        try {
+          if (is_face_pattern(path)) write_cube_faces(im, path, w);
+          else write_image(im, path, w);
+        } catch (const Error& e) {
+          throw IoError(e.what());
+        }
+      },
+      py::arg("path"), py::arg("array"), py::arg("overwrite"), py::arg("dtype"), py::arg("metadata"));
+  m.def(
+      "read_faces",
+      [](const std::string& pattern) {
+        Image im;
+        {
+          py::gil_scoped_release unlocked;
+          try {
+            im = read_cube_faces(pattern);
+          } catch (const Error& e) {
+            throw IoError(e.what());
+          }
+        }
+        return array_of(std::move(im), true);
+      },
+      py::arg("pattern"));
+
+  m.def(
+      "to_ray",
+      [](const std::string& spec, std::pair<int64_t, int64_t> size, const Doubles& x, const Doubles& y) {
+        if (x.ndim() != y.ndim() || !std::equal(x.shape(), x.shape() + x.ndim(), y.shape()))
+          throw py::value_error("x and y: shapes differ (expected arrays of one shape)");
+        const Projection p = make_projection(parse_spec(spec), size_pair(size));
+        std::vector<py::ssize_t> shape(x.shape(), x.shape() + x.ndim());
+        const py::ssize_t n = x.size();
+        shape.push_back(3);
+        py::array_t<double> rays(shape);
+        std::vector<py::ssize_t> flat(x.shape(), x.shape() + x.ndim());
+        py::array_t<bool> ok(flat);
+        const double *px = x.data(), *py_ = y.data();
+        double* r = rays.mutable_data();
+        bool* o = ok.mutable_data();
+        {
+          py::gil_scoped_release unlocked;
+          for (py::ssize_t i = 0; i < n; ++i) {
+            Ray d;
+            o[i] = std::isfinite(px[i]) && std::isfinite(py_[i]) && to_ray(p, px[i], py_[i], d);
+            for (int k = 0; k < 3; ++k) r[3 * i + k] = o[i] ? d[k] : NAN;
+          }
+        }
+        return py::make_tuple(rays, ok);
+      },
+      py::arg("spec"), py::arg("size"), py::arg("x"), py::arg("y"));
+  m.def(
+      "to_pixel",
+      [](const std::string& spec, std::pair<int64_t, int64_t> size, const Doubles& rays) {
+        if (rays.ndim() < 1 || rays.shape(rays.ndim() - 1) != 3)
+          throw py::value_error("rays: last dimension " +
+                                std::to_string(rays.ndim() ? rays.shape(rays.ndim() - 1) : 0) + " (expected 3)");
+        const Projection p = make_projection(parse_spec(spec), size_pair(size));
+        std::vector<py::ssize_t> shape(rays.shape(), rays.shape() + rays.ndim() - 1);
+        const py::ssize_t n = rays.size() / 3;
+        py::array_t<double> xs(shape), ys(shape);
+        py::array_t<bool> ok(shape);
+        const double* r = rays.data();
+        double *px = xs.mutable_data(), *py_ = ys.mutable_data();
+        bool* o = ok.mutable_data();
+        {
+          py::gil_scoped_release unlocked;
+          for (py::ssize_t i = 0; i < n; ++i) {
+            const Ray d(r[3 * i], r[3 * i + 1], r[3 * i + 2]);
+            const double len = d.norm();
+            double x = NAN, y = NAN;
+            o[i] = std::isfinite(len) && len > 0 && to_pixel(p, d / len, x, y);
+            px[i] = o[i] ? x : NAN, py_[i] = o[i] ? y : NAN;
+          }
+        }
+        return py::make_tuple(xs, ys, ok);
+      },
+      py::arg("spec"), py::arg("size"), py::arg("rays"));
+  m.def(
+      "face_origins",
+      [](const std::string& spec, std::pair<int64_t, int64_t> size) {
+        const Projection p = make_projection(parse_spec(spec), size_pair(size));
+        const auto* c = std::get_if<Cubemap>(&p);
+        if (!c) throw Error("spec: " + spec + " (expected a cubemap)");
+        py::list out;
+        for (int f = 0; f < 6; ++f) out.append(py::make_tuple(c->face_origin(f)[0], c->face_origin(f)[1]));
+        return py::make_tuple(c->face_size(), out);
+      },
+      py::arg("spec"), py::arg("size"));
+  // For tests of the no-copy rule: the address of the pixels the engine would read.
+  m.def("_pixels_address", [](const py::array& a) {
+    py::object keep;
+    return reinterpret_cast<uintptr_t>(image_of(a, keep).data());
+  });
+}

@@ -1,0 +1,44 @@
+"""Shared fixtures: the sample images (in the repository) and the CLI built beside the module."""
+import os
+import pathlib
+import shutil
+
+import numpy as np
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SAMPLES = ROOT / "samples" / "images"
+
+
+@pytest.fixture(scope="session")
+def cli():
+    """The panoproj command of the same build (scripts/test.sh sets PANOPROJ_CLI)."""
+    path = os.environ.get("PANOPROJ_CLI") or shutil.which("panoproj")
+    if not path:
+        pytest.fail("PANOPROJ_CLI is not set and panoproj is not on PATH (run scripts/test.sh)")
+    return path
+
+
+@pytest.fixture(scope="session")
+def pond():
+    return str(SAMPLES / "jordan_pond_4096x2048.jpg")
+
+
+@pytest.fixture(scope="session")
+def pond_faces():
+    return str(SAMPLES / "cubemap_jordan_pond" / "face{index}_{face}.jpg")
+
+
+def smooth_equirect(w, h, dtype=np.uint8, channels=3):
+    """A smooth scene on the sphere, sampled at equirect pixel centres: slopes up to ~9 per
+    radian (at 1024 px: ~0.05 per pixel, so half a pixel moves it by ~2.5 LSB) and curvature so
+    small that bilinear interpolation is near exact and cv2.remap's 1/32 px rounding < 0.2 LSB."""
+    lon = (np.arange(w) + 0.5) / w * 2 * np.pi - np.pi
+    lat = np.pi / 2 - (np.arange(h) + 0.5) / h * np.pi
+    lon, lat = np.meshgrid(lon, lat)
+    x, y, z = np.cos(lat) * np.sin(lon), np.sin(lat), np.cos(lat) * np.cos(lon)
+    planes = [0.5 + 0.4 * np.sin(6.0 * x + 5.0 * y + c) * np.cos(4.0 * z - c) for c in range(channels)]
+    img = np.stack(planes, axis=-1)
+    if np.issubdtype(dtype, np.integer):
+        img = np.round(img * np.iinfo(dtype).max)
+    return np.ascontiguousarray(img.astype(dtype))

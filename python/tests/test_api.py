@@ -1,0 +1,117 @@
+"""Projections from keywords and spec text, every dtype and layout, rays and pixels, files with
+metadata, plans and pickling."""
+import pickle
+
+import numpy as np
+import pytest
+
+import panoproj as pp
+from conftest import smooth_equirect
+
+ALL = ["pinhole:hfov=100", "fisheye:fov=250,model=equisolid", "fisheye:fov=180,model=orthographic",
+       "equirect:hfov=200,vfov=120,lon0=30", "cylindrical", "cubemap", "cubemap:layout=cross", "aitoff",
+       "hammer", "eckert-greifendorff", "bonne:phi1=30"]
+
+
+def test_keyword_constructors_and_spec_text_agree():
+    f = pp.Fisheye(fov=180, model="equisolid")
+    assert str(f) == "fisheye:fov=180,model=equisolid"
+    assert repr(f) == "Fisheye(fov=180, model='equisolid')"
+    assert pp.projection("fisheye:model=equisolid,fov=180") == f
+    assert isinstance(pp.projection("eckert-greifendorff"), pp.EckertGreifendorff)
+    assert repr(pp.Pinhole(hfov=97.5)) == "Pinhole(hfov=97.5)"
+    assert pickle.loads(pickle.dumps(f)) == f
+    for spec in ALL:
+        p = pp.projection(spec)
+        assert eval(repr(p), vars(pp)) == p  # the repr is the constructor call
+    assert "fov" in pp.Fisheye.__doc__
+
+
+@pytest.mark.parametrize("spec", ALL)
+def test_to_pixel_inverts_to_ray_on_every_projection(spec):
+    size = (600, 100) if "cubemap" in spec and "cross" not in spec else (400, 300) if "cross" in spec else (320, 200)
+    rng = np.random.default_rng(1)
+    x = rng.uniform(0, size[0], 5000)
+    y = rng.uniform(0, size[1], 5000)
+    rays, ok = pp.to_ray(spec, size, x, y)
+    assert ok.sum() > 1000
+    assert np.allclose(np.linalg.norm(rays[ok], axis=-1), 1, atol=1e-12)
+    x2, y2, ok2 = pp.to_pixel(spec, size, rays[ok])
+    assert ok2.all()
+    assert np.abs(x2 - x[ok]).max() < 1e-6 and np.abs(y2 - y[ok]).max() < 1e-6
+    # Shapes are kept: a 2-D grid of positions gives a 2-D grid of rays.
+    r2, ok3 = pp.to_ray(spec, size, x[:20].reshape(4, 5), y[:20].reshape(4, 5))
+    assert r2.shape == (4, 5, 3) and ok3.shape == (4, 5)
+
+
+@pytest.mark.parametrize("dtype,bound", [(np.uint8, 1), (np.uint16, 1), (np.float16, 4.9e-4), (np.float32, 2e-3)])
+@pytest.mark.parametrize("channels", [1, 2, 3, 4])
+def test_every_dtype_and_channel_count_against_the_exact_engine(dtype, channels, bound):
+    img = smooth_equirect(256, 128, dtype, channels)
+    if channels == 1:
+        img = img[..., 0].copy()  # HxW in, HxW out
+    fast = pp.convert(img, "equirect", "fisheye:fov=190", size=(96, 96), yaw=20, interp="bicubic")
+    exact = pp.convert(img, "equirect", "fisheye:fov=190", size=(96, 96), yaw=20, interp="bicubic",
+                       engine="reference")
+    assert fast.dtype == img.dtype and fast.shape == exact.shape
+    assert fast.shape == ((96, 96) if channels == 1 else (96, 96, channels))
+    assert np.abs(fast.astype(np.float64) - exact.astype(np.float64)).max() <= bound
+    assert fast.astype(np.float64).max() > 0.3 * (np.iinfo(dtype).max if np.issubdtype(dtype, np.integer) else 1)
+
+
+def test_round_trip_through_a_cube_of_faces():
+    img = smooth_equirect(512, 256)
+    cube = pp.convert(img, "equirect", "cubemap", size=(6 * 160, 160), interp="bicubic")
+    faces = pp.split_faces(cube)
+    assert len(faces) == 6 and all(f.shape == (160, 160, 3) for f in faces)
+    assert all(np.shares_memory(f, cube) for f in faces)
+    back = pp.convert(faces, "cubemap", "equirect", size=(512, 256), interp="bicubic")
+    assert np.array_equal(back, pp.convert(cube, "cubemap", "equirect", size=(512, 256), interp="bicubic"))
+    err = np.abs(back.astype(int) - img.astype(int))
+    assert np.percentile(err, 99) <= 2
+
+
+def test_plan_equals_convert_and_survives_pickling():
+    img = smooth_equirect(512, 256)
+    kw = dict(size=(200, 150), yaw=10, pitch=5, roll=2, interp="lanczos3")
+    plan = pp.Plan(pp.Equirect(), pp.Pinhole(hfov=80), (512, 256), **kw)
+    assert plan.size == (200, 150) and plan.src == pp.Equirect() and plan.source_size == (512, 256)
+    expected = pp.convert(img, "equirect", "pinhole:hfov=80", **kw)
+    assert np.array_equal(plan(img), expected)
+    assert np.array_equal(plan(img), expected)  # second run: the kept map
+    clone = pickle.loads(pickle.dumps(plan))
+    assert repr(clone) == repr(plan)
+    assert np.array_equal(clone(img), expected)
+
+
+def test_build_map_panoproj_convention_is_the_opencv_one_shifted():
+    mx, my = pp.build_map("equirect", "pinhole", (512, 256), size=(64, 48))
+    px, py = pp.build_map("equirect", "pinhole", (512, 256), size=(64, 48), convention="panoproj")
+    assert np.allclose(px - 0.5, mx) and np.allclose(py - 0.5, my)
+    fx, _ = pp.build_map("equirect", "fisheye", (512, 256), size=(64, 64), convention="panoproj")
+    assert np.isnan(fx[0, 0]) and not np.isnan(fx[32, 32])  # the corner is outside the circle
+
+
+@pytest.mark.parametrize("ext,dtype", [("png", np.uint16), ("tif", np.uint8), ("exr", np.float16),
+                                       ("exr", np.float32), ("jpg", np.uint8)])
+def test_write_read_round_trip_with_metadata(tmp_path, ext, dtype):
+    img = smooth_equirect(64, 32, dtype)
+    path = str(tmp_path / f"x.{ext}")
+    pp.write(path, img, metadata={"ImageDescription": "panoproj test", "Artist": "someone"})
+    back, md = pp.read(path, metadata=True)
+    assert back.dtype == img.dtype and back.shape == img.shape
+    if ext != "jpg":
+        assert np.array_equal(back, img)
+    assert md.get("ImageDescription") == "panoproj test" and md.get("Artist") == "someone"
+    pp.write(path, img[:, :, :1].copy(), overwrite=True)
+    assert pp.read(path).shape == (32, 64)
+
+
+def test_write_converts_samples_and_cube_faces_as_files(tmp_path):
+    img = smooth_equirect(64, 32, np.float32)
+    pp.write(str(tmp_path / "a.png"), img, dtype="uint8")
+    assert pp.read(str(tmp_path / "a.png")).dtype == np.uint8
+    cube = pp.convert(smooth_equirect(256, 128), "equirect", "cubemap", size=(6 * 32, 32))
+    pp.write(str(tmp_path / "{face}.png"), cube)
+    assert np.array_equal(pp.read(str(tmp_path / "{face}.png")), cube)
+    assert np.array_equal(pp.read(str(tmp_path / "up.png")), pp.split_faces(cube)[4])
