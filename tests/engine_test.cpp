@@ -65,10 +65,10 @@ double bound(PixelType t, Interp k) {
 }
 
 TEST(Engine, SimdMatchesScalarOnEveryTarget) {
-  // A map projection source: the SIMD geometry does not take it, so both engines map with the
-  // tile mapper and only the sampling differs.
-  const Projection src = make("aitoff", {517, 259});  // odd: rows start unaligned
-  const Projection dst = make("fisheye:fov=170", {203, 203});
+  // An Aitoff target: the SIMD geometry does not take it, so both engines map with the tile
+  // mapper and only the sampling differs.
+  const Projection src = make("equirect", {517, 259});  // odd: rows start unaligned
+  const Projection dst = make("aitoff", {203, 103});
   const Eigen::Matrix3d r = rotation_from_ypr(20, -10, 5);
   const auto targets = hwy::SupportedAndGeneratedTargets();
   ASSERT_FALSE(targets.empty());
@@ -108,7 +108,9 @@ TEST(Engine, FusedGeometryMatchesTheReferenceOnEveryTarget) {
   const Pair pairs[] = {{"equirect", {517, 259}, "cubemap", {6 * 128, 128}},
                         {"equirect", {517, 259}, "fisheye:fov=190,model=equisolid", {203, 203}},
                         {"cubemap", {6 * 61, 61}, "pinhole:hfov=100", {151, 101}},
-                        {"cubemap", {6 * 61, 61}, "equirect", {301, 151}}};
+                        {"cubemap", {6 * 61, 61}, "equirect", {301, 151}},
+                        {"aitoff", {517, 259}, "pinhole:hfov=120", {151, 101}},
+                        {"equirect", {517, 259}, "bonne:phi1=30", {203, 151}}};
   const Eigen::Matrix3d r = rotation_from_ypr(20, -10, 5);
   const auto targets = hwy::SupportedAndGeneratedTargets();
   for (int64_t target : targets) {

@@ -65,6 +65,21 @@ TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
       {"fisheye:fov=360,model=equisolid", {1024, 1024}, "cubemap", {6 * 128, 128}, 0, 30, 0},
       {"fisheye:fov=170,model=orthographic", {1024, 1024}, "pinhole:hfov=120", {400, 300}, 0, 0, 0},
       {"fisheye:fov=270,model=stereographic", {1024, 1024}, "equirect", {800, 400}, 0, 0, 0},
+      // Aitoff and Bonne sources (every form: phi1 regular, small, zero, southern, Werner's),
+      // Bonne targets; rotated over the poles and the antipode of the centre.
+      {"aitoff", {2048, 1024}, "pinhole:hfov=120", {500, 400}, 175, -30, 0},
+      {"aitoff:lon0=60", {1024, 512}, "equirect", {800, 400}, 0, 0, 0},
+      {"aitoff", {4096, 2048}, "cubemap", {6 * 128, 128}, 10, 80, 0},
+      {"bonne", {2048, 1500}, "fisheye:fov=200", {500, 500}, 30, 50, 0},
+      {"bonne:phi1=5,lon0=-20", {1024, 700}, "equirect", {800, 400}, 0, 0, 0},
+      {"bonne:phi1=0", {1024, 600}, "cubemap", {6 * 128, 128}, 0, -60, 0},
+      {"bonne:phi1=-60", {1024, 900}, "equirect", {800, 400}, 170, 0, 10},
+      {"bonne:phi1=90", {1024, 900}, "pinhole:hfov=140", {500, 400}, 0, 85, 0},
+      {"equirect", {2048, 1024}, "bonne", {800, 600}, 30, 20, 0},
+      {"cubemap", {6 * 256, 256}, "bonne:phi1=5", {800, 500}, 0, 0, 0},
+      {"equirect", {2048, 1024}, "bonne:phi1=0", {800, 500}, 0, -89, 0},
+      {"fisheye:fov=220", {1024, 1024}, "bonne:phi1=-30,lon0=45", {700, 600}, 0, 90, 0},
+      {"bonne:phi1=90", {1024, 900}, "bonne:phi1=20", {700, 600}, 0, 0, 0},
   };
   const auto targets = hwy::SupportedAndGeneratedTargets();
   for (int64_t target : targets) {

@@ -188,6 +188,41 @@ HWY_INLINE void TargetRay(D d, const SimdGeometry& g, V px, V py, V& x, V& y, V&
       z = hn::Mul(cp, hn::Cos(d, lon));
       return;
     }
+    case SimdGeometry::Dst::Bonne: {
+      // bonne.hpp's inverse: [0] xmin, [1] plane units per pixel in x, [2] ymax, [3] in y, [6]
+      // lon0, [8] |phi1|, [9] the mirror sign, [10] tan, [11] cot, [12] 1 for the 1/rho form.
+      const V one = hn::Set(d, T(1));
+      const V X = hn::MulAdd(px, hn::Set(d, p[1]), hn::Set(d, p[0]));
+      const V Y = hn::Mul(hn::NegMulAdd(py, hn::Set(d, p[3]), hn::Set(d, p[2])), hn::Set(d, p[9]));
+      const V p1 = hn::Set(d, p[8]);
+      V phi, rec;  // latitude, and rho E (lambda cos phi)
+      if (p[12] != T(0)) {
+        const V t = hn::Set(d, p[10]);
+        const V a = hn::NegMulAdd(t, Y, one);
+        const V tx = hn::Mul(t, X);
+        const V root = hn::Sqrt(hn::MulAdd(tx, tx, hn::Mul(a, a)));
+        const V num = hn::NegMulAdd(t, hn::MulAdd(X, X, hn::Mul(Y, Y)), hn::Add(Y, Y));
+        phi = hn::Add(p1, hn::Div(num, hn::Add(one, root)));
+        rec = hn::Mul(root, p[10] > T(1e-150) ? hn::Div(Atan2(d, tx, a), t) : X);
+      } else {
+        const V cy = hn::Sub(hn::Set(d, p[11]), Y);
+        const V rho = hn::Sqrt(hn::MulAdd(X, X, hn::Mul(cy, cy)));
+        phi = hn::Sub(hn::Add(hn::Set(d, p[11]), p1), rho);
+        rec = hn::Mul(rho, Atan2(d, X, cy));
+      }
+      const V half_pi = hn::Set(d, T(0.5 * kPiF));
+      ok = hn::Not(hn::Gt(hn::Abs(phi), hn::Set(d, T(0.5 * kPiF * (1.0 + kEdgeSlack)))));
+      phi = hn::Min(half_pi, hn::Max(hn::Neg(half_pi), phi));
+      const V cp = hn::Cos(d, phi);
+      const hn::Mask<D> pole = hn::Not(hn::Gt(cp, hn::Set(d, T(1e-15))));
+      const V lam = hn::IfThenElseZero(hn::Not(pole), hn::Div(rec, hn::IfThenElse(pole, one, cp)));
+      ok = hn::And(ok, hn::Not(hn::Gt(hn::Abs(lam), hn::Set(d, T(kPiF * (1.0 + kEdgeSlack))))));
+      const V lon = hn::Add(lam, hn::Set(d, p[6]));
+      x = hn::Mul(cp, hn::Sin(d, lon));
+      y = hn::Neg(hn::Mul(hn::Sin(d, phi), hn::Set(d, p[9])));
+      z = hn::Mul(cp, hn::Cos(d, lon));
+      return;
+    }
     case SimdGeometry::Dst::CubeFace: {
       const V a = hn::MulSub(hn::Sub(px, hn::Set(d, p[1])), hn::Set(d, p[12]), hn::Set(d, T(1)));
       const V b = hn::MulSub(hn::Sub(py, hn::Set(d, p[2])), hn::Set(d, p[12]), hn::Set(d, T(1)));
@@ -315,20 +350,69 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
     ok = hn::And(ok, in_frame(sx, sy));
     return;
   }
-  if (g.src == SimdGeometry::Src::Hammer) {
-    // Hammer.hpp's forward equations on the normalized ray: lambda relative to lon0 (wrapped),
-    // cos phi = |(x, z)|, sin phi = -y; d = sqrt(2 / (1 + cos phi cos(lambda W))),
-    // X = d cos phi sin(lambda W) / W, Y = d sin phi; then the frame (MapFrame), closed.
-    // Near the poles an error in lambda is multiplied by cos phi: no coarse lanes.
+  if (g.src == SimdGeometry::Src::Hammer || g.src == SimdGeometry::Src::Aitoff || g.src == SimdGeometry::Src::Bonne) {
+    // The maps' forward equations on the normalized ray: lambda relative to lon0 (wrapped),
+    // cos phi = |(x, z)| / n, sin phi = -y / n; then the frame (MapFrame: [4] xmin, [5] pixels
+    // per unit in x, [6] ymax, [7] in y), closed. Near the poles an error in lambda is multiplied
+    // by cos phi.
     coarse = hn::Lt(zero, zero);
+    const V one = hn::Set(d, T(1));
     const V lam = WrapPi(d, hn::Sub(Atan2(d, x, z), hn::Set(d, s[2])));
     const V h2 = hn::MulAdd(x, x, hn::Mul(z, z));
-    const V inv_n = hn::Div(hn::Set(d, T(1)), hn::Sqrt(hn::MulAdd(y, y, h2)));
+    const V n = hn::Sqrt(hn::MulAdd(y, y, h2)), inv_n = hn::Div(one, n);
     const V cp = hn::Mul(hn::Sqrt(h2), inv_n), sp = hn::Neg(hn::Mul(y, inv_n));
-    const V lw = hn::Mul(lam, hn::Set(d, s[1]));
-    const V dd = hn::Sqrt(hn::Div(hn::Set(d, T(2)), hn::MulAdd(cp, hn::Cos(d, lw), hn::Set(d, T(1)))));
-    const V X = hn::Mul(hn::Mul(dd, cp), hn::Mul(hn::Sin(d, lw), hn::Set(d, s[8])));
-    const V Y = hn::Mul(dd, sp);
+    V X, Y;
+    if (g.src == SimdGeometry::Src::Hammer) {
+      // d = sqrt(2 / (1 + cos phi cos(lambda W))), X = d cos phi sin(lambda W) / W, Y = d sin phi.
+      const V lw = hn::Mul(lam, hn::Set(d, s[1]));
+      const V dd = hn::Sqrt(hn::Div(hn::Set(d, T(2)), hn::MulAdd(cp, hn::Cos(d, lw), one)));
+      X = hn::Mul(hn::Mul(dd, cp), hn::Mul(hn::Sin(d, lw), hn::Set(d, s[8])));
+      Y = hn::Mul(dd, sp);
+    } else if (g.src == SimdGeometry::Src::Aitoff) {
+      // aitoff.hpp: h = sin^2(phi/2) + cos phi sin^2(lambda/4) = sin^2(alpha/2), written without
+      // cancellation: sin^2(phi/2) = y^2 / (2 n (n + |(x, z)|)), sin^2(lambda/4) = sin^2(lambda/2)
+      // / (2 (1 + cos(lambda/2))). g = alpha / sin alpha = asin(r) / (r sqrt(1 - h)), r = sqrt(h);
+      // X = 2 cos phi sin(lambda/2) g, Y = sin phi g. Float lanes: coarse where 1 - h < s[8]
+      // (g grows as 1 / sqrt(1 - h) towards the outline's antipode, and with it the error).
+      const V half = hn::Mul(lam, hn::Set(d, T(0.5)));
+      const V sl = hn::Sin(d, half), cl = hn::Cos(d, half);
+      const V s2 = hn::Div(hn::Mul(y, y), hn::Mul(hn::Set(d, T(2)), hn::Mul(n, hn::Add(n, hn::Sqrt(h2)))));
+      const V s4 = hn::Div(hn::Mul(sl, sl), hn::Mul(hn::Set(d, T(2)), hn::Add(one, cl)));
+      const V hh = hn::Min(one, hn::MulAdd(cp, s4, s2));
+      const V r = hn::Sqrt(hh), rest = hn::Sub(one, hh);
+      const hn::Mask<D> tiny = hn::Lt(r, hn::Set(d, T(1e-4)));
+      // asin(r) / r: the series 1 + r^2 / 6 below 1e-4 (error < r^4 3/40).
+      const V a_over_r = hn::IfThenElse(tiny, hn::MulAdd(hh, hn::Set(d, T(1.0 / 6)), one),
+                                        hn::Div(hn::Asin(d, r), hn::IfThenElse(tiny, one, r)));
+      const V gg = hn::Div(a_over_r, hn::Sqrt(hn::Max(rest, hn::Set(d, std::numeric_limits<T>::min()))));
+      X = hn::Mul(hn::Mul(hn::Set(d, T(2)), cp), hn::Mul(sl, gg));
+      Y = hn::Mul(sp, gg);
+      coarse = hn::Lt(rest, hn::Set(d, s[8]));
+    } else {
+      // bonne.hpp, phi mirrored by s[9] (a southern phi1), [8] |phi1|, [10] tan, [11] cot, [12] 1
+      // for the 1/rho form of small |phi1|. coarse: float lanes near Werner's apex (rho < s[13]).
+      const V phi = hn::Mul(Atan2(d, sp, cp), hn::Set(d, s[9]));
+      const V p1 = hn::Set(d, s[8]);
+      auto sinc = [&](V e) {
+        const hn::Mask<D> at0 = hn::Lt(hn::Abs(e), hn::Set(d, T(1e-30)));
+        return hn::IfThenElse(at0, one, hn::Div(hn::Sin(d, e), hn::IfThenElse(at0, one, e)));
+      };
+      if (s[12] != T(0)) {
+        const V t = hn::Set(d, s[10]);
+        const V q = hn::Div(t, hn::MulAdd(t, hn::Sub(p1, phi), one));
+        const V lc = hn::Mul(lam, cp), e = hn::Mul(lc, q), eh = hn::Mul(e, hn::Set(d, T(0.5)));
+        X = hn::Mul(lc, sinc(e));
+        Y = hn::MulAdd(lc, hn::Mul(hn::Sin(d, eh), sinc(eh)), hn::Sub(phi, p1));
+      } else {
+        const V rho = hn::Sub(hn::Add(hn::Set(d, s[11]), p1), phi);
+        const hn::Mask<D> apex = hn::Not(hn::Gt(rho, hn::Set(d, T(1e-300))));
+        const V e = hn::IfThenElse(apex, lam, hn::Div(hn::Mul(lam, cp), hn::IfThenElse(apex, one, rho)));
+        X = hn::Mul(rho, hn::Sin(d, e));
+        Y = hn::NegMulAdd(rho, hn::Cos(d, e), hn::Set(d, s[11]));
+        coarse = hn::Lt(rho, hn::Set(d, s[13]));
+      }
+      Y = hn::Mul(Y, hn::Set(d, s[9]));
+    }
     sx = hn::Mul(hn::Sub(X, hn::Set(d, s[4])), hn::Set(d, s[5]));
     sy = hn::Mul(hn::Sub(hn::Set(d, s[6]), Y), hn::Set(d, s[7]));
     ok = in_frame(sx, sy);

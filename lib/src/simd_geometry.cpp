@@ -107,6 +107,32 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
     // The plane position's error is the ray's (unit scale at the centre, less elsewhere) times the
     // pixels per plane unit; plus rounding.
     g.use_float = std::max(w, h) * kHalfUlp + std::max(gs[5], gs[7]) * 2 * kFloatRayError <= tol;
+  } else if (std::holds_alternative<Aitoff>(src) || std::holds_alternative<Bonne>(src)) {
+    // [0] W, [2] lon0, [3] H, [4] xmin, [5] W / (xmax - xmin), [6] ymax, [7] H / (ymax - ymin);
+    // Aitoff: [8] the 1 - h below which float lanes are coarse; Bonne: [8] |phi1|, [9] the
+    // mirror sign, [10] tan, [11] cot, [12] 1 for the small form, [13] the rho below which
+    // float lanes are coarse.
+    const auto* ai = std::get_if<Aitoff>(&src);
+    const auto* bo = std::get_if<Bonne>(&src);
+    g.src = ai ? SimdGeometry::Src::Aitoff : SimdGeometry::Src::Bonne;
+    const MapFrame& f = ai ? ai->frame() : bo->frame();
+    const double w = static_cast<double>(f.size.width), h = static_cast<double>(f.size.height);
+    const double v[8] = {w, 0.0, ai ? ai->lon0() : bo->lon0(), h, f.xmin, w / (f.xmax - f.xmin), f.ymax,
+                         h / (f.ymax - f.ymin)};
+    std::copy(v, v + 8, gs);
+    // The plane position's error: the ray's through plane scales of a few units (measured in
+    // tests/simd_geometry_test.cpp), plus rounding.
+    const double density = std::max(gs[5], gs[7]);
+    const double room = tol - std::max(w, h) * kHalfUlp - density * 4 * kFloatRayError;
+    g.use_float = room > 0;
+    if (ai) {
+      // X and Y scale with g ~ 1 / sqrt(1 - h): their error with eps / (1 - h).
+      gs[8] = density * 4 * kFloatRayError / std::max(room, 1e-300);
+    } else {
+      const double v2[6] = {bo->abs_phi1(), bo->mirror(), bo->tan_phi1(), bo->cot_phi1(), bo->small_form() ? 1.0 : 0.0,
+                            0.1};  // rho < 0.1: E = lambda cos phi / rho loses digits near the apex
+      std::copy(v2, v2 + 6, gs + 8);
+    }
   } else if (const auto* ph = std::get_if<Pinhole>(&src)) {
     // [0] W, [1] fx, [2] fy, [3] H, [4] cx, [5] cy, [9] the largest (x^2 + y^2) / z^2 for float
     // lanes: the error f eps (1 + t^2) plus rounding within the tolerance.
@@ -201,6 +227,17 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
                          (f.ymax - f.ymin) / static_cast<double>(f.size.height), hm->w(), 1.0 / hm->w(), hm->lon0(),
                          kPi * (1.0 + kEdgeSlack)};
     std::copy(v, v + 8, gd);
+  } else if (const auto* bo = std::get_if<Bonne>(&dst)) {
+    // [0] xmin, [1] plane units per pixel in x, [2] ymax, [3] in y, [6] lon0, [8] |phi1|, [9] the
+    // mirror sign, [10] tan, [11] cot, [12] 1 for the small form. Double lanes only: phi =
+    // cot + phi1 - rho cancels digits of rho (up to ~3 + cot), beyond float rays' error budget.
+    g.dst = SimdGeometry::Dst::Bonne;
+    const MapFrame& f = bo->frame();
+    const double v[13] = {f.xmin, (f.xmax - f.xmin) / static_cast<double>(f.size.width), f.ymax,
+                          (f.ymax - f.ymin) / static_cast<double>(f.size.height), 0.0, 0.0, bo->lon0(), 0.0,
+                          bo->abs_phi1(), bo->mirror(), bo->tan_phi1(), bo->cot_phi1(), bo->small_form() ? 1.0 : 0.0};
+    std::copy(v, v + 13, gd);
+    g.use_float = false;
   } else if (const auto* fe = std::get_if<Fisheye>(&dst)) {
     g.dst = SimdGeometry::Dst::Fisheye;
     // [0..1] centre, [2..3] 1 / radii, [4] the law's value at the rim, [5] 1 if clipped to the

@@ -1,8 +1,10 @@
 #pragma once
-// Source positions of pixel rows in SIMD (Google Highway), for the common pairs: targets pinhole,
-// equirect, cylindrical, fisheye (any law, clipped or not), Hammer / Eckert-Greifendorff and cube
-// tiles inside one face; sources equirect, cylindrical (full or partial), cubemap, Hammer, pinhole
-// and fisheye. Float lanes where they stay within kFloatTolerance, double
+// Source positions of pixel rows in SIMD (Google Highway): targets pinhole, equirect,
+// cylindrical, fisheye (any law, clipped or not), Hammer / Eckert-Greifendorff, Bonne and cube
+// tiles inside one face; sources equirect, cylindrical (full or partial), cubemap, Hammer,
+// Aitoff, Bonne, pinhole and fisheye. Aitoff as a target has no closed-form inverse (a Newton
+// iteration per pixel costs more than the tile mapper's interpolation between exact nodes) and
+// stays with the tile mapper. Float lanes where they stay within kFloatTolerance, double
 // lanes elsewhere: near an equirect pole the longitude atan2(x, z) divides float's ~1e-7 absolute
 // ray error by cos(latitude) (float everywhere erred by 0.1 px at 32768 px, measured), and float
 // positions themselves are coarse beyond a few thousand pixels. Tested against the exact map in
@@ -20,8 +22,8 @@ struct SimdGeometry {
   // Error bound of float lanes, in source pixels: lanes that could exceed it are computed in
   // double (see use_float and the coarse masks of simd_geometry-inl.h).
   static constexpr double kFloatTolerance = 1.0 / 1024;
-  enum class Dst { Pinhole, Equirect, Cylindrical, CubeFace, Fisheye, Hammer } dst;
-  enum class Src { Equirect, Cylindrical, Cubemap, Hammer, Pinhole, Fisheye } src;
+  enum class Dst { Pinhole, Equirect, Cylindrical, CubeFace, Fisheye, Hammer, Bonne } dst;
+  enum class Src { Equirect, Cylindrical, Cubemap, Hammer, Aitoff, Bonne, Pinhole, Fisheye } src;
   int law;  // fisheye law (FisheyeModel as int)
   // Float lanes (twice as many per vector, shorter polynomials) where the source is small enough
   // for float positions to stay within kFloatTolerance; double lanes otherwise.

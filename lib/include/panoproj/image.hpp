@@ -18,14 +18,21 @@ const char* name_of(PixelType t);
 // Largest sample value mapping to 1.0 (255, 65535; 1 for half and float).
 double unit_of(PixelType t);
 
-// Allocates without value-initializing (std::vector would zero every byte): for buffers that are
-// written whole before they are read.
+// Pixel memory: allocated without value-initializing (std::vector would zero every byte), for
+// buffers written whole before they are read; buffers of 4 MB and more start on a 2 MB boundary
+// and are advised for transparent huge pages, so that the gathers of a remap over a large source
+// do not miss the TLB on nearly every row (one 4 KB page holds a third of a 4096-px RGB row).
+void* allocate_pixels(size_t bytes);
+void free_pixels(void* p, size_t bytes) noexcept;
+
 template <class T>
-struct UninitializedAllocator : std::allocator<T> {
+struct PixelAllocator {
+  using value_type = T;
+  PixelAllocator() = default;
   template <class U>
-  struct rebind {
-    using other = UninitializedAllocator<U>;
-  };
+  PixelAllocator(const PixelAllocator<U>&) noexcept {}
+  T* allocate(size_t n) { return static_cast<T*>(allocate_pixels(n * sizeof(T))); }
+  void deallocate(T* p, size_t n) noexcept { free_pixels(p, n * sizeof(T)); }
   template <class U>
   void construct(U* p) noexcept {
     ::new (static_cast<void*>(p)) U;
@@ -34,6 +41,8 @@ struct UninitializedAllocator : std::allocator<T> {
   void construct(U* p, A&&... a) {
     ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
   }
+  template <class U>
+  bool operator==(const PixelAllocator<U>&) const noexcept { return true; }
 };
 
 class Image {
@@ -98,7 +107,7 @@ class Image {
   int64_t ox_ = 0, oy_ = 0;
   Size frame_{};  // 0 x 0: the image is the whole frame
   size_t bytes_ = 0;
-  std::vector<unsigned char, UninitializedAllocator<unsigned char>> pixels_;  // empty for a view
+  std::vector<unsigned char, PixelAllocator<unsigned char>> pixels_;  // empty for a view
   unsigned char* data_ = nullptr;  // pixels_.data(), or the viewed pixels
   bool view_ = false;
 };

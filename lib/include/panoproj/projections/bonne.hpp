@@ -64,6 +64,13 @@ class Bonne : public MapProjection<Bonne> {
     return std::fabs(lam) <= kPi * (1.0 + kEdgeSlack);
   }
 
+  // The parameters of the forms above (for the vector geometry): |phi1|, the mirror sign,
+  // tan |phi1|, cot |phi1| (0 in the small form), and whether the 1/rho form is used.
+  double abs_phi1() const { return p1_; }
+  double mirror() const { return sign_; }
+  double tan_phi1() const { return t_; }
+  double cot_phi1() const { return cot_; }
+  bool small_form() const { return small_; }
 
  private:
   double p1_, sign_, t_, cot_;

@@ -21,7 +21,6 @@ class Hammer : public MapProjection<Hammer> {
   }
 
   double w() const { return w_; }
-  double lon0() const { return lon0_; }
 
   // Plane coordinates of (lambda, phi) relative to the central meridian.
   void forward(double lam, double phi, double& X, double& Y) const {

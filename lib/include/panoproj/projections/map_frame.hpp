@@ -60,6 +60,7 @@ class MapProjection {
   Size size() const { return frame_.size; }
   double center_density() const { return frame_.density(); }
   const MapFrame& frame() const { return frame_; }
+  double lon0() const { return lon0_; }
 
  protected:
   explicit MapProjection(double lon0, MapFrame frame = {}) : lon0_(lon0), frame_(frame) {}
