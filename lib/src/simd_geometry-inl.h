@@ -34,10 +34,23 @@ constexpr double kPiF = 3.14159265358979323846;
 // The geometry below is written once for float and double lanes (D); its parameters come from
 // SimdGeometry in the lane type (params<T>()).
 
+// num / den. Float lanes: the 14-bit reciprocal estimate and one Newton step (within 2 ulp;
+// a division takes several times longer); double lanes divide.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE V Ratio(D d, V num, V den) {
+  if constexpr (std::is_same_v<hn::TFromD<D>, float> && HWY_TARGET != HWY_SCALAR) {
+    const V r0 = hn::ApproximateReciprocal(den);
+    const V r1 = hn::Mul(r0, hn::NegMulAdd(den, r0, hn::Set(d, 2.0f)));  // r (2 - den r)
+    return hn::Mul(num, r1);
+  } else {
+    return hn::Div(num, den);
+  }
+}
+
 // atan2(y, x) from the smaller-over-larger ratio in [0, 1], Highway's atan polynomial for that
 // range (the reduction inside hn::Atan would cost a second division), and a quadrant fix-up
-// (Highway 1.0.3 has no Atan2); 0 where x = y = 0.
-template <class D, class V = hn::Vec<D>>
+// (Highway 1.0.3 has no Atan2); 0 where x = y = 0. kXNonNegative: x >= 0 is known (no fix-up).
+template <bool kXNonNegative = false, class D, class V = hn::Vec<D>>
 HWY_INLINE V Atan2(D d, V y, V x) {
   using T = hn::TFromD<D>;
   const V zero = hn::Zero(d);
@@ -45,9 +58,9 @@ HWY_INLINE V Atan2(D d, V y, V x) {
   const auto swap = hn::Lt(ax, ay);
   const V num = hn::IfThenElse(swap, ax, ay), den = hn::IfThenElse(swap, ay, ax);
   const auto both_zero = hn::Eq(den, zero);
-  V a = hn::impl::AtanImpl<T>().AtanPoly(d, hn::Div(num, hn::IfThenElse(both_zero, hn::Set(d, T(1)), den)));
+  V a = hn::impl::AtanImpl<T>().AtanPoly(d, Ratio(d, num, hn::IfThenElse(both_zero, hn::Set(d, T(1)), den)));
   a = hn::IfThenElse(swap, hn::Sub(hn::Set(d, T(0.5 * kPiF)), a), a);  // [0, pi/2]
-  a = hn::IfThenElse(hn::Lt(x, zero), hn::Sub(hn::Set(d, T(kPiF)), a), a);  // [0, pi]
+  if (!kXNonNegative) a = hn::IfThenElse(hn::Lt(x, zero), hn::Sub(hn::Set(d, T(kPiF)), a), a);  // [0, pi]
   a = hn::IfThenElse(hn::Lt(y, zero), hn::Neg(a), a);
   return hn::IfThenElse(both_zero, zero, a);
 }
@@ -146,11 +159,15 @@ HWY_INLINE void TargetRay(D d, const SimdGeometry& g, V px, V py, V& x, V& y, V&
   coarse = hn::Not(ok);
   x = y = z = hn::Zero(d);
   switch (g.dst) {
-    case SimdGeometry::Dst::Pinhole:
-      x = hn::Mul(hn::Sub(px, hn::Set(d, p[2])), hn::Set(d, p[0]));
-      y = hn::Mul(hn::Sub(py, hn::Set(d, p[3])), hn::Set(d, p[1]));
-      z = hn::Set(d, T(1));
+    case SimdGeometry::Dst::Pinhole: {
+      // The rotated ray u R[:, 0] + v R[:, 1] + R[:, 2] ([4..12], column by column).
+      const V u = hn::Mul(hn::Sub(px, hn::Set(d, p[2])), hn::Set(d, p[0]));
+      const V v = hn::Mul(hn::Sub(py, hn::Set(d, p[3])), hn::Set(d, p[1]));
+      x = hn::MulAdd(v, hn::Set(d, p[7]), hn::MulAdd(u, hn::Set(d, p[4]), hn::Set(d, p[10])));
+      y = hn::MulAdd(v, hn::Set(d, p[8]), hn::MulAdd(u, hn::Set(d, p[5]), hn::Set(d, p[11])));
+      z = hn::MulAdd(v, hn::Set(d, p[9]), hn::MulAdd(u, hn::Set(d, p[6]), hn::Set(d, p[12])));
       return;
+    }
     case SimdGeometry::Dst::Equirect: {
       const V lon = hn::MulAdd(px, hn::Set(d, p[6]), hn::Set(d, p[8]));
       const V lat = hn::NegMulAdd(py, hn::Set(d, p[7]), hn::Set(d, p[4]));
@@ -284,14 +301,15 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
   if (g.src == SimdGeometry::Src::Equirect || g.src == SimdGeometry::Src::Cylindrical) {
     // Longitude axis (equirect, cylindrical): x from the longitude, wrapped into [0, W) on a full
     // circle, else refused beyond the span (LongitudeAxis::to_x) and the frame.
-    const V lon = WrapPi(d, hn::Sub(Atan2(d, x, z), hn::Set(d, s[2])));
+    const V lon = s[2] != T(0) ? WrapPi(d, hn::Sub(Atan2(d, x, z), hn::Set(d, s[2]))) : Atan2(d, x, z);
     sx = hn::MulAdd(lon, hn::Set(d, s[6]), hn::Set(d, s[8]));
     const V h2 = hn::MulAdd(x, x, hn::Mul(z, z));
     coarse = hn::Lt(h2, hn::Mul(hn::Set(d, s[9]), hn::MulAdd(y, y, h2)));
     const V h = hn::Sqrt(h2);
     if (g.src == SimdGeometry::Src::Equirect) {
-      sy = hn::Mul(hn::Sub(hn::Set(d, s[4]), Atan2(d, hn::Neg(y), h)), hn::Set(d, s[7]));
-      ok = within(sy, s[3]);
+      sy = hn::Mul(hn::Sub(hn::Set(d, s[4]), Atan2<true>(d, hn::Neg(y), h)), hn::Set(d, s[7]));
+      // A full sphere's latitude is always in the frame ([12] = 1).
+      ok = s[12] != T(0) ? hn::Eq(sy, sy) : within(sy, s[3]);
     } else {  // height on the unit cylinder; the poles are at infinity
       const M off_pole = hn::Gt(h, zero);
       sy = hn::Mul(hn::Sub(hn::Div(hn::Neg(y), hn::IfThenElse(off_pole, h, hn::Set(d, T(1)))), hn::Set(d, s[4])),
@@ -357,7 +375,7 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
     // by cos phi.
     coarse = hn::Lt(zero, zero);
     const V one = hn::Set(d, T(1));
-    const V lam = WrapPi(d, hn::Sub(Atan2(d, x, z), hn::Set(d, s[2])));
+    const V lam = s[2] != T(0) ? WrapPi(d, hn::Sub(Atan2(d, x, z), hn::Set(d, s[2]))) : Atan2(d, x, z);
     const V h2 = hn::MulAdd(x, x, hn::Mul(z, z));
     const V n = hn::Sqrt(hn::MulAdd(y, y, h2)), inv_n = hn::Div(one, n);
     const V cp = hn::Mul(hn::Sqrt(h2), inv_n), sp = hn::Neg(hn::Mul(y, inv_n));
@@ -391,7 +409,7 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
     } else {
       // bonne.hpp, phi mirrored by s[9] (a southern phi1), [8] |phi1|, [10] tan, [11] cot, [12] 1
       // for the 1/rho form of small |phi1|. coarse: float lanes near Werner's apex (rho < s[13]).
-      const V phi = hn::Mul(Atan2(d, sp, cp), hn::Set(d, s[9]));
+      const V phi = hn::Mul(Atan2<true>(d, sp, cp), hn::Set(d, s[9]));
       const V p1 = hn::Set(d, s[8]);
       auto sinc = [&](V e) {
         const hn::Mask<D> at0 = hn::Lt(hn::Abs(e), hn::Set(d, T(1e-30)));
@@ -458,10 +476,14 @@ HWY_INLINE void SourceOfRays(D d, const SimdGeometry& g, V x, V y, V z, M ok_dst
   using T = hn::TFromD<D>;
   const T* r = g.params<T>().r;
   M ok_src, coarse_src;
-  const V rx = hn::MulAdd(hn::Set(d, r[0]), x, hn::MulAdd(hn::Set(d, r[1]), y, hn::Mul(hn::Set(d, r[2]), z)));
-  const V ry = hn::MulAdd(hn::Set(d, r[3]), x, hn::MulAdd(hn::Set(d, r[4]), y, hn::Mul(hn::Set(d, r[5]), z)));
-  const V rz = hn::MulAdd(hn::Set(d, r[6]), x, hn::MulAdd(hn::Set(d, r[7]), y, hn::Mul(hn::Set(d, r[8]), z)));
-  SourcePixel(d, g, rx, ry, rz, sx, sy, ok_src, coarse_src);
+  if (g.rotated_rays) {  // the target's rays come rotated (its basis holds the rotation)
+    SourcePixel(d, g, x, y, z, sx, sy, ok_src, coarse_src);
+  } else {
+    const V rx = hn::MulAdd(hn::Set(d, r[0]), x, hn::MulAdd(hn::Set(d, r[1]), y, hn::Mul(hn::Set(d, r[2]), z)));
+    const V ry = hn::MulAdd(hn::Set(d, r[3]), x, hn::MulAdd(hn::Set(d, r[4]), y, hn::Mul(hn::Set(d, r[5]), z)));
+    const V rz = hn::MulAdd(hn::Set(d, r[6]), x, hn::MulAdd(hn::Set(d, r[7]), y, hn::Mul(hn::Set(d, r[8]), z)));
+    SourcePixel(d, g, rx, ry, rz, sx, sy, ok_src, coarse_src);
+  }
   ok = hn::And(ok_dst, ok_src);
   coarse = hn::And(ok, hn::Or(coarse_dst, coarse_src));
 }
@@ -552,6 +574,11 @@ class TileRows {
       coarse_dst = hn::Not(ok_dst);
     } else {
       TargetRay(d, g_, px, py, x, y, z, ok_dst, coarse_dst);
+      if (hn::AllFalse(d, ok_dst)) {  // outside a fisheye's circle or a map's outline: no source
+        sx = sy = hn::Zero(d);
+        ok = coarse = ok_dst;
+        return;
+      }
     }
     SourceOfRays(d, g_, x, y, z, ok_dst, coarse_dst, sx, sy, ok, coarse);
   }

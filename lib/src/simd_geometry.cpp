@@ -62,6 +62,7 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
   std::fill(gd, gd + 16, 0.0);  // unused parameters are 0
   std::fill(gs, gs + 16, 0.0);
   for (int i = 0; i < 9; ++i) g.pd.r[i] = static_cast<double>(rotation(i / 3, i % 3));
+  g.rotated_rays = false;
   // Float lanes: the tolerance holds per axis for the rounding of the position itself plus the
   // ray's error carried through the source projection.
   const double tol = SimdGeometry::kFloatTolerance;
@@ -87,6 +88,7 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
   if (const auto* e = std::get_if<Equirect>(&src)) {
     g.src = SimdGeometry::Src::Equirect;
     longitude_source(e->axis(), e->size(), e->lat_top(), static_cast<double>(e->size().height) / e->vfov(), 0.0);
+    gs[12] = e->vfov() == kPi && e->lat_top() == kHalfPi ? 1.0 : 0.0;  // a full sphere
     // A latitude band whose lanes all need double is no use for float (the check above is per lane).
     g.use_float = g.use_float && gs[9] < 1.0;
   } else if (const auto* cy = std::get_if<Cylindrical>(&src)) {
@@ -186,10 +188,13 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
     return false;
   }
   if (const auto* p = std::get_if<Pinhole>(&dst)) {
+    // [0] 1 / fx, [1] 1 / fy, [2] cx, [3] cy, [4..12] the rotation's columns (rays come rotated).
     g.dst = SimdGeometry::Dst::Pinhole;
     const double v[4] = {1.0 / static_cast<double>(p->fx()), 1.0 / static_cast<double>(p->fy()), static_cast<double>(p->cx()),
                         static_cast<double>(p->cy())};
     std::copy(v, v + 4, gd);
+    for (int i = 0; i < 9; ++i) gd[4 + i] = static_cast<double>(rotation(i % 3, i / 3));
+    g.rotated_rays = true;
   } else if (std::holds_alternative<Equirect>(dst) || std::holds_alternative<Cylindrical>(dst)) {
     // [0] W, [1] hfov, [2] lon0, [3] H, [4] the top row's latitude (equirect) or height t
     // (cylindrical), [6] hfov / W, [7] the fall of latitude or t per row, [8] lon0 - hfov / 2.
@@ -211,13 +216,15 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
     if (rect.x0 + rect.w > o[0] + c->face_size() || rect.y0 + rect.h > o[1] + c->face_size()) return false;
     g.dst = SimdGeometry::Dst::CubeFace;
     const CubeFace& cf = cube_faces()[f];
-    // [0] F, [1..2] face origin, [3..5] forward, [6..8] right, [9..11] down, [12] 2 / F.
+    // [0] F, [1..2] face origin, [3..5] forward, [6..8] right, [9..11] down, all rotated (the
+    // rays come rotated), [12] 2 / F.
+    const Eigen::Vector3d fwd = rotation * cf.fwd, right = rotation * cf.right,
+                          down = rotation * cf.down;
     const double v[13] = {static_cast<double>(c->face_size()), static_cast<double>(o[0]), static_cast<double>(o[1]),
-                         static_cast<double>(cf.fwd.x()), static_cast<double>(cf.fwd.y()), static_cast<double>(cf.fwd.z()),
-                         static_cast<double>(cf.right.x()), static_cast<double>(cf.right.y()), static_cast<double>(cf.right.z()),
-                         static_cast<double>(cf.down.x()), static_cast<double>(cf.down.y()), static_cast<double>(cf.down.z()),
-                         2.0 / static_cast<double>(c->face_size())};
+                          fwd.x(), fwd.y(), fwd.z(), right.x(), right.y(), right.z(), down.x(), down.y(), down.z(),
+                          2.0 / static_cast<double>(c->face_size())};
     std::copy(v, v + 13, gd);
+    g.rotated_rays = true;
   } else if (const auto* hm = std::get_if<Hammer>(&dst)) {
     // [0] xmin, [1] plane units per pixel in x, [2] ymax, [3] in y, [4] w, [5] 1 / w, [6] lon0,
     // [7] the outline |lambda| <= pi with the edge slack.

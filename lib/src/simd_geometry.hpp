@@ -28,6 +28,9 @@ struct SimdGeometry {
   // Float lanes (twice as many per vector, shorter polynomials) where the source is small enough
   // for float positions to stay within kFloatTolerance; double lanes otherwise.
   bool use_float;
+  // The target's rays come out rotated (pinhole and cube faces fold the rotation into their
+  // basis vectors: 9 operations a vector fewer).
+  bool rotated_rays;
   template <class T>
   struct Params {
     T d[16];  // target parameters (see simd_geometry.cpp)
