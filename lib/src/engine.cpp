@@ -69,14 +69,6 @@ bool Converter::fused(const TileRect& rect, SimdGeometry& g) const {
   return engine_ == Engine::Simd && simd_geometry_for(source_, target_, rotation_, rect, g);
 }
 
-void Converter::map(const TileRect& rect, TileMap& out) const {
-  SimdGeometry g;
-  if (fused(rect, g)) {
-    simd_map_tile(g, rect, out);
-  } else {
-    map_tile(source_, target_, rotation_, rect, out);
-  }
-}
 
 void Converter::build_cache() const {
   // Fused tiles recompute their geometry in registers faster than they could read a map: only the
@@ -100,16 +92,20 @@ Converter::Region Converter::source_footprint() const {
   const Size frame = size_of(source_);
   const Region all{0, 0, frame.width, frame.height};
   if (std::holds_alternative<Cubemap>(source_)) return all;
-  // Bounding box of the valid positions, over the kept maps or maps made one tile at a time.
+  // Bounding box of the valid positions: over the kept maps, the fused tiles' vector geometry
+  // (reduced in registers, nothing stored), or maps made one tile at a time.
   if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });
   const int64_t n_tiles = tile_count();
   const int n_workers = workers_for(n_tiles, threads_);
   std::vector<std::array<double, 4>> box(static_cast<size_t>(n_workers), {HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL});
   std::vector<TileMap> local(static_cast<size_t>(n_workers));
   parallel_tasks(n_tiles, threads_, [&](int64_t t, int w) {
-    const TileMap* tm = cached(t);
-    if (!tm) map(tile(t), local[static_cast<size_t>(w)]), tm = &local[static_cast<size_t>(w)];
     auto& b = box[static_cast<size_t>(w)];
+    const TileRect rect = tile(t);
+    const TileMap* tm = cached(t);
+    SimdGeometry g;
+    if (!tm && fused(rect, g)) return simd_tile_bounds(g, rect, b);
+    if (!tm) map_tile(source_, target_, rotation_, rect, local[static_cast<size_t>(w)]), tm = &local[static_cast<size_t>(w)];
     for (size_t i = 0; i < tm->ok.size(); ++i) {
       if (!tm->ok[i]) continue;
       b[0] = std::min(b[0], tm->xs[i]), b[2] = std::max(b[2], tm->xs[i]);
@@ -174,7 +170,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     SimdGeometry g;
     const TileMap* tm = cached(t);
     const bool in_registers = !tm && fused(rect, g);
-    if (!tm && !in_registers) map(rect, wk.map), tm = &wk.map;
+    if (!tm && !in_registers) map_tile(source_, target_, rotation_, rect, wk.map), tm = &wk.map;
     if (tm) wk.stats.interpolated_cells += tm->interpolated_cells, wk.stats.exact_cells += tm->exact_cells;
     wk.stats.fused_tiles += in_registers;
     if (!use_simd) {

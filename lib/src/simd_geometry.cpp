@@ -7,7 +7,9 @@
 #include <hwy/highway.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 
 #include "simd_geometry-inl.h"
 #include "simd_geometry.hpp"
@@ -40,6 +42,44 @@ void MapTile(const SimdGeometry& g, const TileRect& rect, TileMap& out) {
   }
 }
 
+// Lane-wise running minima and maxima of valid positions, reduced across lanes once.
+template <class D>
+struct Extent {
+  using V = hn::Vec<D>;
+  using T = hn::TFromD<D>;
+  V lo_x, lo_y, hi_x, hi_y;
+  Extent() {
+    lo_x = lo_y = hn::Set(D(), std::numeric_limits<T>::max());
+    hi_x = hi_y = hn::Neg(lo_x);
+  }
+  void add(V sx, V sy, hn::Mask<D> ok) {
+    lo_x = hn::Min(lo_x, hn::IfThenElse(ok, sx, lo_x)), lo_y = hn::Min(lo_y, hn::IfThenElse(ok, sy, lo_y));
+    hi_x = hn::Max(hi_x, hn::IfThenElse(ok, sx, hi_x)), hi_y = hn::Max(hi_y, hn::IfThenElse(ok, sy, hi_y));
+  }
+  void widen(double* box) const {  // (no valid lane: the limits, which do not widen it)
+    const D d;
+    box[0] = std::min(box[0], static_cast<double>(hn::GetLane(hn::MinOfLanes(d, lo_x))));
+    box[1] = std::min(box[1], static_cast<double>(hn::GetLane(hn::MinOfLanes(d, lo_y))));
+    box[2] = std::max(box[2], static_cast<double>(hn::GetLane(hn::MaxOfLanes(d, hi_x))));
+    box[3] = std::max(box[3], static_cast<double>(hn::GetLane(hn::MaxOfLanes(d, hi_y))));
+  }
+};
+
+// Widens box (x0, y0, x1, y1) to the valid source positions of rect's pixels: the same
+// positions as MapTile, reduced in registers instead of stored.
+void TileBounds(const SimdGeometry& g, const TileRect& rect, double* box) {
+  const TileRows rows(g, rect.x0, rect.w);
+  Extent<hn::ScalableTag<float>> ef;
+  Extent<DD> ed;
+  for (int64_t j = 0; j < rect.h; ++j)
+    rows.Row(rect.y0 + j, [&](auto sx, auto sy, auto ok, int64_t, int64_t) {
+      if constexpr (std::is_same_v<hn::TFromV<decltype(sx)>, float>) ef.add(sx, sy, ok);
+      else ed.add(sx, sy, ok);
+    });
+  ef.widen(box);
+  ed.widen(box);
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace panoproj
 HWY_AFTER_NAMESPACE();
@@ -47,6 +87,7 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace panoproj {
 HWY_EXPORT(MapTile);
+HWY_EXPORT(TileBounds);
 
 namespace {
 // Largest absolute error of a float unit ray after the target's projection and the rotation
@@ -268,6 +309,10 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
   round(g.pd.s, g.pf.s, 16);
   round(g.pd.r, g.pf.r, 9);
   return true;
+}
+
+void simd_tile_bounds(const SimdGeometry& g, const TileRect& rect, std::array<double, 4>& box) {
+  HWY_DYNAMIC_DISPATCH(TileBounds)(g, rect, box.data());
 }
 
 void simd_map_tile(const SimdGeometry& g, const TileRect& rect, TileMap& out) {

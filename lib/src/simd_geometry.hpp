@@ -10,6 +10,7 @@
 // positions themselves are coarse beyond a few thousand pixels. Tested against the exact map in
 // tests/simd_geometry_test.cpp; other pairs use the tile mapper. Internal.
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <type_traits>
 
@@ -53,5 +54,9 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
 
 // Fills out (a TileMap of rect's size) with the source positions of the tile's pixel centres.
 void simd_map_tile(const SimdGeometry& g, const TileRect& rect, TileMap& out);
+
+// Widens box {x0, y0, x1, y1} to the tile's valid source positions (the same positions, nothing
+// stored: the footprint of a fused tile).
+void simd_tile_bounds(const SimdGeometry& g, const TileRect& rect, std::array<double, 4>& box);
 
 }  // namespace panoproj

@@ -89,9 +89,6 @@ class Converter {
   // True (and g filled) where the tile's geometry runs in registers fused with the sampling.
   bool fused(const TileRect& rect, SimdGeometry& g) const;
   const TileMap* cached(int64_t t) const;  // the kept map of a tile that has one, else null
-  // The tile's source positions: SIMD double geometry where the pair supports it (simd engine),
-  // else the tile mapper.
-  void map(const TileRect& rect, TileMap& out) const;
 };
 
 // A one-off conversion (a Converter without a cache).
