@@ -151,6 +151,22 @@ struct TapBlock {
   HWY_ALIGN float tx[kMaxLanes], ty[kMaxLanes];  // fractions from the first-but-(K/2 - 1) tap
 };
 
+constexpr int kChunkBlocks = 64;  // blocks per chunk (see Chunked)
+
+// The missed samples of one chunk, kept on the stack while the chunk is planned: the planning
+// loop then makes no calls (a vector's growth would be one), so the compiler keeps the geometry's
+// parameters in registers across it. Appended to SimdMisses after the chunk.
+struct ChunkMisses {
+  int n = 0;
+  int64_t index[kChunkBlocks * kMaxLanes];
+  double xs[kChunkBlocks * kMaxLanes], ys[kChunkBlocks * kMaxLanes];
+  void append_to(SimdMisses& m) const {
+    m.index.insert(m.index.end(), index, index + n);
+    m.xs.insert(m.xs.end(), xs, xs + n);
+    m.ys.insert(m.ys.end(), ys, ys + n);
+  }
+};
+
 // Phase 1 for one vector of positions: first taps and fractions (floor(s) for nearest, else
 // floor(s - 0.5) - (K/2 - 1), as interpolator.cpp), and the check that all taps lie in the
 // sample's cell (a cube face, else the frame) and in the window, within int32 byte offsets of
@@ -159,7 +175,7 @@ struct TapBlock {
 // Float positions are exact integers + fractions up to 2^24 px (use_float allows far less).
 template <class DP, class VP = hn::Vec<DP>, class MP = hn::Mask<DP>>
 HWY_INLINE void PlanLanes(const SimdSource& s, int K, const Bounds<DP>& b, VP sx, VP sy, MP ok, int64_t index,
-                          int64_t m, TapBlock& blk, SimdMisses& misses) {
+                          int64_t m, TapBlock& blk, ChunkMisses& misses) {
   using P = hn::TFromD<DP>;
   using DF = hn::Rebind<float, DP>;
   using DI = hn::Rebind<int32_t, DP>;
@@ -214,7 +230,7 @@ HWY_INLINE void PlanLanes(const SimdSource& s, int K, const Bounds<DP>& b, VP sx
     hn::Store(sy, dp, by);
     hn::Store(hn::IfThenElseZero(missed, hn::Set(dp, P(1))), dp, bm);
     for (int64_t l = 0; l < m; ++l)
-      if (bm[l] != P(0)) misses.index.push_back(index + l), misses.xs.push_back(bx[l]), misses.ys.push_back(by[l]);
+      if (bm[l] != P(0)) misses.index[misses.n] = index + l, misses.xs[misses.n] = bx[l], misses.ys[misses.n++] = by[l];
   }
   blk.index = index;
   blk.m = m;
@@ -519,8 +535,6 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
 // for its blocks. The chunk's planning time is the prefetch distance. Phase 1 (the geometry, the
 // same for every pixel type and kernel: K is a value there) is compiled once per target; phase
 // 2 per type and kernel.
-constexpr int kChunkBlocks = 64;
-
 template <PixelType PT, class T, int K>
 HWY_NOINLINE void GatherBlocks(const SimdSource& s, const TapBlock* blocks, int n, int64_t w, unsigned char* out,
                                int64_t out_stride) {
@@ -548,6 +562,7 @@ HWY_NOINLINE int PlanMapRows(const SimdSource& s, int K, const TileMap& tm, int6
   const TileRect& rect = tm.rect;
   const Bounds<DD> b(s);
   HWY_ALIGN double bx[kMaxLanes], by[kMaxLanes], bo[kMaxLanes];
+  ChunkMisses chunk;
   int n = 0;
   for (int64_t j = j0; j < j1; ++j)
     for (int64_t i = 0; i < rect.w; i += N) {
@@ -559,8 +574,9 @@ HWY_NOINLINE int PlanMapRows(const SimdSource& s, int K, const TileMap& tm, int6
         bo[l] = l < m && tm.ok[k + l] ? 1.0 : 0.0;
       }
       PlanLanes(s, K, b, hn::Load(dd, bx), hn::Load(dd, by), hn::Ne(hn::Load(dd, bo), hn::Zero(dd)), j * rect.w + i, m,
-                blk[n++], misses);
+                blk[n++], chunk);
     }
+  chunk.append_to(misses);
   return n;
 }
 
@@ -569,15 +585,17 @@ HWY_NOINLINE int PlanFusedRows(const SimdSource& s, int K, const TileRows& rows,
                                int64_t j1, TapBlock* blk, SimdMisses& misses) {
   const Bounds<DD> bd(s);
   const Bounds<hn::ScalableTag<float>> bf(s);
+  ChunkMisses chunk;
   int n = 0;
   for (int64_t j = j0; j < j1; ++j)
     rows.Row(rect.y0 + j, [&](auto sx, auto sy, auto ok, int64_t i, int64_t m) {
       if constexpr (std::is_same_v<hn::TFromV<decltype(sx)>, float>) {
-        PlanLanes(s, K, bf, sx, sy, ok, j * rect.w + i, m, blk[n++], misses);
+        PlanLanes(s, K, bf, sx, sy, ok, j * rect.w + i, m, blk[n++], chunk);
       } else {
-        PlanLanes(s, K, bd, sx, sy, ok, j * rect.w + i, m, blk[n++], misses);
+        PlanLanes(s, K, bd, sx, sy, ok, j * rect.w + i, m, blk[n++], chunk);
       }
     });
+  chunk.append_to(misses);
   return n;
 }
 
