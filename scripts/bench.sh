@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Benchmarks panoproj against OpenCV's cv::remap and memcpy (bench/bench_remap.cpp);
 # with "big" first, the 40000x20000 demonstration instead (bench/bench_big.cpp, ~4.5 GB); with
-# "python" first, the Python module against py360convert (bench/bench_python.py).
+# "python" first, the Python module against py360convert (bench/bench_python.py); with "plot"
+# first, bench_remap then its chart in docs/bench_remap.png (bench/plot_remap.py, matplotlib).
 # Installs what is missing, builds in build-bench/, runs.
 # Usage: scripts/bench.sh [--threads N] [--runs N]  |  scripts/bench.sh big [--threads N]
-#        scripts/bench.sh python [--runs N]
+#        scripts/bench.sh python [--runs N]  |  scripts/bench.sh plot [--runs N]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [[ ${1:-} == python ]]; then
@@ -16,6 +17,13 @@ if [[ ${1:-} == python ]]; then
   PYTHONPATH="$root/build-bench/python" exec "$root/.venv/bin/python" "$root/bench/bench_python.py" "$@"
 fi
 bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF
+if [[ ${1:-} == plot ]]; then
+  shift
+  bash "$root/scripts/python-env.sh"
+  "$root/.venv/bin/python" -c "import matplotlib" 2>/dev/null || "$root/.venv/bin/python" -m pip install -q matplotlib
+  "$root/build-bench/bench/bench_remap" "$@" | tee /dev/stderr | "$root/.venv/bin/python" "$root/bench/plot_remap.py" "$root/docs/bench_remap.png"
+  exit
+fi
 if [[ ${1:-} == big ]]; then
   shift
   "$root/build-bench/bench/bench_big" "$@"
