@@ -488,17 +488,18 @@ HWY_INLINE void SourceOfRays(D d, const SimdGeometry& g, V x, V y, V z, M ok_dst
   coarse = hn::And(ok, hn::Or(coarse_dst, coarse_src));
 }
 
-// The source positions of the rows of one tile (x0 .. x0 + n - 1). Equirect and cylindrical
-// targets' rays are separable, (cos lat sin lon, -sin lat, cos lat cos lon) and (sin lon, -t,
-// cos lon): the sines and cosines of the tile's longitudes (vector, once per tile) and each
-// row's latitude terms (std::sin/cos, once per row) replace the sines of every pixel.
+// The source positions of the rows of one tile. Equirect and cylindrical targets' rays are
+// separable, (cos lat sin lon, -sin lat, cos lat cos lon) and (sin lon, -t, cos lon): the sines
+// and cosines of the tile's longitudes and latitudes (vector, once per tile) replace the sines of
+// every pixel.
 class TileRows {
  public:
   static constexpr int64_t kMaxTableWidth = 64;
 
-  TileRows(const SimdGeometry& g, int64_t x0, int64_t n) : g_(g), x0_(x0), n_(n) {
+  TileRows(const SimdGeometry& g, const TileRect& rect) : g_(g), x0_(rect.x0), y0_(rect.y0), n_(rect.w) {
     cylinder_ = g.dst == SimdGeometry::Dst::Cylindrical;
-    table_ = (g.dst == SimdGeometry::Dst::Equirect || cylinder_) && n <= kMaxTableWidth;
+    table_ = (g.dst == SimdGeometry::Dst::Equirect || cylinder_) && rect.w <= kMaxTableWidth &&
+             rect.h <= kMaxTableWidth;
     if (!table_) return;
     // Vector sines (a few ulp), every entry: rows read whole vectors past n.
     const DD dd;
@@ -506,12 +507,16 @@ class TileRows {
     const auto ND = static_cast<int64_t>(hn::Lanes(dd));
     const double* p = g.pd.d;
     for (int64_t i = 0; i < kMaxTableWidth + kPad; i += ND) {
-      const VD lon = hn::MulAdd(hn::Iota(dd, static_cast<double>(x0 + i) + 0.5), hn::Set(dd, p[6]), hn::Set(dd, p[8]));
+      const VD lon = hn::MulAdd(hn::Iota(dd, static_cast<double>(x0_ + i) + 0.5), hn::Set(dd, p[6]), hn::Set(dd, p[8]));
       const VD sn = hn::Sin(dd, lon), cs = hn::Cos(dd, lon);
       hn::Store(sn, dd, sin_d_ + i);
       hn::Store(cs, dd, cos_d_ + i);
       hn::StoreU(hn::DemoteTo(df, sn), df, sin_f_ + i);
       hn::StoreU(hn::DemoteTo(df, cs), df, cos_f_ + i);
+      // Rows: equirect (sin, cos) of the latitude; cylindrical (t, 1), t = tan(lat) linear in y.
+      const VD v = hn::NegMulAdd(hn::Iota(dd, static_cast<double>(y0_ + i) + 0.5), hn::Set(dd, p[7]), hn::Set(dd, p[4]));
+      hn::Store(cylinder_ ? v : hn::Sin(dd, v), dd, sin_lat_ + i);
+      hn::Store(cylinder_ ? hn::Set(dd, 1.0) : hn::Cos(dd, v), dd, cos_lat_ + i);
     }
   }
 
@@ -522,10 +527,7 @@ class TileRows {
   HWY_INLINE void Row(int64_t y, Sink&& sink) const {
     const DD dd;
     const auto ND = static_cast<int64_t>(hn::Lanes(dd));
-    // Per row: equirect (cos lat, sin lat); cylindrical (1, t), t = tan(lat) linear in y.
-    const double v = g_.pd.d[4] - (static_cast<double>(y) + 0.5) * g_.pd.d[7];
-    const double sin_lat = !table_ ? 0.0 : cylinder_ ? v : std::sin(v);
-    const double cos_lat = !table_ ? 0.0 : cylinder_ ? 1.0 : std::cos(v);
+    const double sin_lat = table_ ? sin_lat_[y - y0_] : 0.0, cos_lat = table_ ? cos_lat_[y - y0_] : 0.0;
     auto doubles = [&](int64_t i, int64_t end) {
       const VD py = hn::Set(dd, static_cast<double>(y) + 0.5);
       for (; i < end; i += ND) {
@@ -584,8 +586,9 @@ class TileRows {
   }
 
   const SimdGeometry& g_;
-  int64_t x0_, n_;
+  int64_t x0_, y0_, n_;
   bool table_, cylinder_;
+  HWY_ALIGN double sin_lat_[kMaxTableWidth + kPad], cos_lat_[kMaxTableWidth + kPad];  // per row
   HWY_ALIGN float sin_f_[kMaxTableWidth + kPad], cos_f_[kMaxTableWidth + kPad];
   HWY_ALIGN double sin_d_[kMaxTableWidth + kPad], cos_d_[kMaxTableWidth + kPad];
 };

@@ -21,7 +21,7 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 // The positions the fused converter computes (TileRows), stored in double.
 void MapTile(const SimdGeometry& g, const TileRect& rect, TileMap& out) {
-  const TileRows rows(g, rect.x0, rect.w);
+  const TileRows rows(g, rect);
   for (int64_t j = 0; j < rect.h; ++j) {
     const size_t row = static_cast<size_t>(j * rect.w);
     rows.Row(rect.y0 + j, [&](auto sx, auto sy, auto ok, int64_t i, int64_t m) {
@@ -68,7 +68,7 @@ struct Extent {
 // Widens box (x0, y0, x1, y1) to the valid source positions of rect's pixels: the same
 // positions as MapTile, reduced in registers instead of stored.
 void TileBounds(const SimdGeometry& g, const TileRect& rect, double* box) {
-  const TileRows rows(g, rect.x0, rect.w);
+  const TileRows rows(g, rect);
   Extent<hn::ScalableTag<float>> ef;
   Extent<DD> ed;
   for (int64_t j = 0; j < rect.h; ++j)

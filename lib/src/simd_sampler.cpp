@@ -645,7 +645,7 @@ void SampleMap(const SimdSource& s, Interp k, const TileMap& tm, unsigned char* 
 void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& s, Interp k, unsigned char* out,
              int64_t out_stride, SimdMisses& misses) {
   const auto NF = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>()));
-  const TileRows rows(g, rect.x0, rect.w);
+  const TileRows rows(g, rect);
   // A coarse float vector becomes two or more double blocks.
   Chunked(s, k, rect, 2 * ((rect.w + NF - 1) / NF) + 1, out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
     return PlanFusedRows(s, TapCount(k), rows, rect, j0, j1, blk, misses);
