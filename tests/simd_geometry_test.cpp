@@ -65,6 +65,13 @@ TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
       {"fisheye:fov=360,model=equisolid", {1024, 1024}, "cubemap", {6 * 128, 128}, 0, 30, 0},
       {"fisheye:fov=170,model=orthographic", {1024, 1024}, "pinhole:hfov=120", {400, 300}, 0, 0, 0},
       {"fisheye:fov=270,model=stereographic", {1024, 1024}, "equirect", {800, 400}, 0, 0, 0},
+      // Turned about the vertical only: the separable form (column tables, one arctangent).
+      {"equirect", {4096, 2048}, "pinhole:hfov=100", {600, 500}, 75, 0, 0},
+      {"equirect", {2048, 1024}, "pinhole:hfov=150", {800, 400}, -120, 0, 0},
+      {"equirect:hfov=200,vfov=100,lon0=30", {1000, 500}, "pinhole:hfov=100", {400, 300}, 20, 0, 0},
+      {"cylindrical:vfov=100", {2048, 1000}, "cubemap", {6 * 128, 128}, 33, 0, 0},
+      {"equirect", {8192, 4096}, "cubemap", {6 * 256, 256}, 45, 0, 0},
+      {"equirect", {40000, 20000}, "pinhole:hfov=60", {300, 200}, 10, 0, 0},
       // Aitoff and Bonne sources (every form: phi1 regular, small, zero, southern, Werner's),
       // Bonne targets; rotated over the poles and the antipode of the centre.
       {"aitoff", {2048, 1024}, "pinhole:hfov=120", {500, 400}, 175, -30, 0},
@@ -118,6 +125,27 @@ TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
     }
   }
   hwy::SetSupportedTargetsForTest(0);
+}
+
+TEST(SimdGeometry, SeparableFormOnlyForTurnsAboutTheVertical) {
+  const Projection e = make_projection(parse_spec("equirect"), {2048, 1024});
+  const Projection pin = make_projection(parse_spec("pinhole"), {256, 256});
+  const Projection cube = make_projection(parse_spec("cubemap"), {6 * 64, 64});
+  const Projection fish = make_projection(parse_spec("fisheye"), {256, 256});
+  const TileRect first{0, 0, 64, 64}, up{4 * 64, 0, 64, 64};  // the front and the up face
+  auto separable = [&](const Projection& dst, const TileRect& rect, double yaw, double pitch, double roll) {
+    SimdGeometry g;
+    EXPECT_TRUE(simd_geometry_for(e, dst, rotation_from_ypr(yaw, pitch, roll), rect, g));
+    return g.separable;
+  };
+  EXPECT_TRUE(separable(pin, first, 0, 0, 0));
+  EXPECT_TRUE(separable(pin, first, 123, 0, 0));
+  EXPECT_FALSE(separable(pin, first, 0, 10, 0));
+  EXPECT_FALSE(separable(pin, first, 0, 0, 5));
+  EXPECT_TRUE(separable(cube, first, 30, 0, 0));
+  EXPECT_FALSE(separable(cube, up, 30, 0, 0));
+  EXPECT_FALSE(separable(cube, first, 30, 1, 0));
+  EXPECT_FALSE(separable(fish, first, 0, 0, 0));
 }
 
 }  // namespace

@@ -284,6 +284,52 @@ HWY_INLINE void TargetRay(D d, const SimdGeometry& g, V px, V py, V& x, V& y, V&
   }
 }
 
+// v in the closed [0, extent] with FramedBounds' slack (1e-9 of the extent).
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE hn::Mask<D> Within(D d, V v, hn::TFromD<D> extent) {
+  using T = hn::TFromD<D>;
+  const V slack = hn::Set(d, T(1e-9) * extent);
+  return hn::And(hn::Not(hn::Lt(v, hn::Neg(slack))), hn::Not(hn::Gt(v, hn::Add(hn::Set(d, extent), slack))));
+}
+
+// Longitude-axis sources (equirect, cylindrical), x from the ray's (x, z): wrapped into [0, W)
+// on a full circle, else refused beyond the span (LongitudeAxis::to_x) and the frame.
+template <class D, class V = hn::Vec<D>, class M = hn::Mask<D>>
+HWY_INLINE void LongitudeX(D d, const SimdGeometry& g, V x, V z, V& sx, M& ok) {
+  using T = hn::TFromD<D>;
+  const T* s = g.params<T>().s;
+  const V lon = s[2] != T(0) ? WrapPi(d, hn::Sub(Atan2(d, x, z), hn::Set(d, s[2]))) : Atan2(d, x, z);
+  sx = hn::MulAdd(lon, hn::Set(d, s[6]), hn::Set(d, s[8]));
+  if (s[10] != T(0)) {
+    // Full circle: keep x in [0, W) (the seam's far side is 0).
+    sx = hn::IfThenElse(hn::Not(hn::Lt(sx, hn::Set(d, s[0]))), hn::Sub(sx, hn::Set(d, s[0])), sx);
+    sx = hn::Max(sx, hn::Zero(d));
+    ok = hn::Eq(sx, sx);
+  } else {
+    ok = hn::And(hn::Not(hn::Gt(hn::Abs(lon), hn::Set(d, s[11]))), Within(d, sx, s[0]));
+  }
+}
+
+// Their y from the ray's y and h2 = x^2 + z^2. coarse: float lanes near a pole (cos^2(latitude)
+// = h2 / n^2 < s[9]), where the longitude divides the ray's absolute error by cos(latitude).
+template <class D, class V = hn::Vec<D>, class M = hn::Mask<D>>
+HWY_INLINE void LatitudeY(D d, const SimdGeometry& g, V y, V h2, V& sy, M& ok, M& coarse) {
+  using T = hn::TFromD<D>;
+  const T* s = g.params<T>().s;
+  coarse = hn::Lt(h2, hn::Mul(hn::Set(d, s[9]), hn::MulAdd(y, y, h2)));
+  const V h = hn::Sqrt(h2);
+  if (g.src == SimdGeometry::Src::Equirect) {
+    sy = hn::Mul(hn::Sub(hn::Set(d, s[4]), Atan2<true>(d, hn::Neg(y), h)), hn::Set(d, s[7]));
+    // A full sphere's latitude is always in the frame ([12] = 1).
+    ok = s[12] != T(0) ? hn::Eq(sy, sy) : Within(d, sy, s[3]);
+  } else {  // height on the unit cylinder; the poles are at infinity
+    const M off_pole = hn::Gt(h, hn::Zero(d));
+    sy = hn::Mul(hn::Sub(hn::Div(hn::Neg(y), hn::IfThenElse(off_pole, h, hn::Set(d, T(1)))), hn::Set(d, s[4])),
+                 hn::Set(d, s[7]));
+    ok = hn::And(off_pole, Within(d, sy, s[3]));
+  }
+}
+
 // Source pixel of ray (x, y, z). coarse: lanes where float lanes would err by more than
 // SimdGeometry::kFloatTolerance (near a pole the longitude divides the ray's absolute error by
 // cos(latitude), a cylinder's height by cos^2: lanes with cos^2(latitude) < s[9]).
@@ -292,37 +338,12 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
   using T = hn::TFromD<D>;
   const T* s = g.params<T>().s;
   const V zero = hn::Zero(d);
-  // v in the closed [0, extent] with FramedBounds' slack (1e-9 of the extent), and the frame.
-  auto within = [&](V v, T extent) {
-    const V slack = hn::Set(d, T(1e-9) * extent);
-    return hn::And(hn::Not(hn::Lt(v, hn::Neg(slack))), hn::Not(hn::Gt(v, hn::Add(hn::Set(d, extent), slack))));
-  };
-  auto in_frame = [&](V px, V py) { return hn::And(within(px, s[0]), within(py, s[3])); };
+  auto in_frame = [&](V px, V py) { return hn::And(Within(d, px, s[0]), Within(d, py, s[3])); };
   if (g.src == SimdGeometry::Src::Equirect || g.src == SimdGeometry::Src::Cylindrical) {
-    // Longitude axis (equirect, cylindrical): x from the longitude, wrapped into [0, W) on a full
-    // circle, else refused beyond the span (LongitudeAxis::to_x) and the frame.
-    const V lon = s[2] != T(0) ? WrapPi(d, hn::Sub(Atan2(d, x, z), hn::Set(d, s[2]))) : Atan2(d, x, z);
-    sx = hn::MulAdd(lon, hn::Set(d, s[6]), hn::Set(d, s[8]));
-    const V h2 = hn::MulAdd(x, x, hn::Mul(z, z));
-    coarse = hn::Lt(h2, hn::Mul(hn::Set(d, s[9]), hn::MulAdd(y, y, h2)));
-    const V h = hn::Sqrt(h2);
-    if (g.src == SimdGeometry::Src::Equirect) {
-      sy = hn::Mul(hn::Sub(hn::Set(d, s[4]), Atan2<true>(d, hn::Neg(y), h)), hn::Set(d, s[7]));
-      // A full sphere's latitude is always in the frame ([12] = 1).
-      ok = s[12] != T(0) ? hn::Eq(sy, sy) : within(sy, s[3]);
-    } else {  // height on the unit cylinder; the poles are at infinity
-      const M off_pole = hn::Gt(h, zero);
-      sy = hn::Mul(hn::Sub(hn::Div(hn::Neg(y), hn::IfThenElse(off_pole, h, hn::Set(d, T(1)))), hn::Set(d, s[4])),
-                   hn::Set(d, s[7]));
-      ok = hn::And(off_pole, within(sy, s[3]));
-    }
-    if (s[10] != T(0)) {
-      // Full circle: keep x in [0, W) (the seam's far side is 0).
-      sx = hn::IfThenElse(hn::Not(hn::Lt(sx, hn::Set(d, s[0]))), hn::Sub(sx, hn::Set(d, s[0])), sx);
-      sx = hn::Max(sx, zero);
-    } else {
-      ok = hn::And(ok, hn::And(hn::Not(hn::Gt(hn::Abs(lon), hn::Set(d, s[11]))), within(sx, s[0])));
-    }
+    M ok_x;
+    LongitudeX(d, g, x, z, sx, ok_x);
+    LatitudeY(d, g, y, hn::MulAdd(x, x, hn::Mul(z, z)), sy, ok, coarse);
+    ok = hn::And(ok, ok_x);
     return;
   }
   if (g.src == SimdGeometry::Src::Pinhole) {
@@ -488,35 +509,67 @@ HWY_INLINE void SourceOfRays(D d, const SimdGeometry& g, V x, V y, V z, M ok_dst
   coarse = hn::And(ok, hn::Or(coarse_dst, coarse_src));
 }
 
-// The source positions of the rows of one tile. Equirect and cylindrical targets' rays are
-// separable, (cos lat sin lon, -sin lat, cos lat cos lon) and (sin lon, -t, cos lon): the sines
-// and cosines of the tile's longitudes and latitudes (vector, once per tile) replace the sines of
-// every pixel.
+// The source positions of the rows of one tile, with per-tile tables where the geometry
+// separates into a column part and a row part:
+//   - equirect and cylindrical targets: rays (cos lat sin lon, -sin lat, cos lat cos lon) and
+//     (sin lon, -t, cos lon); the sines and cosines of the tile's longitudes and latitudes
+//     (vector, once per tile) replace the sines of every pixel;
+//   - equirect and cylindrical sources seen from pinhole or cube-face targets turned only about
+//     the vertical (g.separable): the ray's (x, z) depends on the column alone and y on the row
+//     alone, so the source x and x^2 + z^2 come from a column table and each pixel computes the
+//     latitude only (one arctangent instead of two).
 class TileRows {
  public:
   static constexpr int64_t kMaxTableWidth = 64;
 
   TileRows(const SimdGeometry& g, const TileRect& rect) : g_(g), x0_(rect.x0), y0_(rect.y0), n_(rect.w) {
+    const bool fits = rect.w <= kMaxTableWidth && rect.h <= kMaxTableWidth;
     cylinder_ = g.dst == SimdGeometry::Dst::Cylindrical;
-    table_ = (g.dst == SimdGeometry::Dst::Equirect || cylinder_) && rect.w <= kMaxTableWidth &&
-             rect.h <= kMaxTableWidth;
-    if (!table_) return;
-    // Vector sines (a few ulp), every entry: rows read whole vectors past n.
+    table_ = (g.dst == SimdGeometry::Dst::Equirect || cylinder_) && fits;
+    separable_ = g.separable && fits;
+    // Vector functions (a few ulp), every entry: rows read whole vectors past n.
     const DD dd;
     const hn::Rebind<float, DD> df;
     const auto ND = static_cast<int64_t>(hn::Lanes(dd));
     const double* p = g.pd.d;
-    for (int64_t i = 0; i < kMaxTableWidth + kPad; i += ND) {
+    auto store = [&](VD v, double* to_d, float* to_f, int64_t i) {
+      hn::Store(v, dd, to_d + i);
+      hn::StoreU(hn::DemoteTo(df, v), df, to_f + i);
+    };
+    for (int64_t i = 0; table_ && i < kMaxTableWidth + kPad; i += ND) {
       const VD lon = hn::MulAdd(hn::Iota(dd, static_cast<double>(x0_ + i) + 0.5), hn::Set(dd, p[6]), hn::Set(dd, p[8]));
-      const VD sn = hn::Sin(dd, lon), cs = hn::Cos(dd, lon);
-      hn::Store(sn, dd, sin_d_ + i);
-      hn::Store(cs, dd, cos_d_ + i);
-      hn::StoreU(hn::DemoteTo(df, sn), df, sin_f_ + i);
-      hn::StoreU(hn::DemoteTo(df, cs), df, cos_f_ + i);
+      store(hn::Sin(dd, lon), col_a_d_, col_a_f_, i);
+      store(hn::Cos(dd, lon), col_b_d_, col_b_f_, i);
       // Rows: equirect (sin, cos) of the latitude; cylindrical (t, 1), t = tan(lat) linear in y.
       const VD v = hn::NegMulAdd(hn::Iota(dd, static_cast<double>(y0_ + i) + 0.5), hn::Set(dd, p[7]), hn::Set(dd, p[4]));
-      hn::Store(cylinder_ ? v : hn::Sin(dd, v), dd, sin_lat_ + i);
-      hn::Store(cylinder_ ? hn::Set(dd, 1.0) : hn::Cos(dd, v), dd, cos_lat_ + i);
+      hn::Store(cylinder_ ? v : hn::Sin(dd, v), dd, row_a_ + i);
+      hn::Store(cylinder_ ? hn::Set(dd, 1.0) : hn::Cos(dd, v), dd, row_b_ + i);
+    }
+    for (int64_t i = 0; separable_ && i < kMaxTableWidth + kPad; i += ND) {
+      // Columns: (x, z) of the rotated ray (cube face: fwd + a right; pinhole: u c0 + c2) ->
+      // source x (a) and x^2 + z^2 (b), with the longitude's validity (ok_x). Rows: the ray's y.
+      const VD px = hn::Iota(dd, static_cast<double>(x0_ + i) + 0.5), py = hn::Iota(dd, static_cast<double>(y0_ + i) + 0.5);
+      VD x, z, y;
+      if (g.dst == SimdGeometry::Dst::CubeFace) {
+        const VD a = hn::MulSub(hn::Sub(px, hn::Set(dd, p[1])), hn::Set(dd, p[12]), hn::Set(dd, 1.0));
+        const VD b = hn::MulSub(hn::Sub(py, hn::Set(dd, p[2])), hn::Set(dd, p[12]), hn::Set(dd, 1.0));
+        x = hn::MulAdd(a, hn::Set(dd, p[6]), hn::Set(dd, p[3]));
+        z = hn::MulAdd(a, hn::Set(dd, p[8]), hn::Set(dd, p[5]));
+        y = hn::Mul(b, hn::Set(dd, p[10]));
+      } else {
+        const VD u = hn::Mul(hn::Sub(px, hn::Set(dd, p[2])), hn::Set(dd, p[0]));
+        const VD v = hn::Mul(hn::Sub(py, hn::Set(dd, p[3])), hn::Set(dd, p[1]));
+        x = hn::MulAdd(u, hn::Set(dd, p[4]), hn::Set(dd, p[10]));
+        z = hn::MulAdd(u, hn::Set(dd, p[6]), hn::Set(dd, p[12]));
+        y = hn::Mul(v, hn::Set(dd, p[8]));
+      }
+      VD sx;
+      MD ok_x;
+      LongitudeX(dd, g, x, z, sx, ok_x);
+      store(sx, col_a_d_, col_a_f_, i);
+      store(hn::MulAdd(x, x, hn::Mul(z, z)), col_b_d_, col_b_f_, i);
+      store(hn::IfThenElseZero(ok_x, hn::Set(dd, 1.0)), col_ok_d_, col_ok_f_, i);
+      hn::Store(y, dd, row_a_ + i);
     }
   }
 
@@ -527,15 +580,15 @@ class TileRows {
   HWY_INLINE void Row(int64_t y, Sink&& sink) const {
     const DD dd;
     const auto ND = static_cast<int64_t>(hn::Lanes(dd));
-    const double sin_lat = table_ ? sin_lat_[y - y0_] : 0.0, cos_lat = table_ ? cos_lat_[y - y0_] : 0.0;
+    const bool rows = table_ || separable_;
+    const double ra = rows ? row_a_[y - y0_] : 0.0, rb = table_ ? row_b_[y - y0_] : 0.0;
     auto doubles = [&](int64_t i, int64_t end) {
       const VD py = hn::Set(dd, static_cast<double>(y) + 0.5);
       for (; i < end; i += ND) {
         const int64_t m = std::min(ND, end - i);
         VD sx, sy;
         MD ok, coarse;
-        Positions(dd, hn::Iota(dd, static_cast<double>(x0_ + i) + 0.5), py, sin_d_ + i, cos_d_ + i, sin_lat, cos_lat,
-                  sx, sy, ok, coarse);
+        Positions(dd, hn::Iota(dd, static_cast<double>(x0_ + i) + 0.5), py, i, ra, rb, sx, sy, ok, coarse);
         sink(sx, sy, hn::And(ok, hn::FirstN(dd, static_cast<size_t>(m))), i, m);
       }
     };
@@ -548,8 +601,8 @@ class TileRows {
       const int64_t m = std::min(NF, n_ - i);
       hn::Vec<DF32> sx, sy;
       hn::Mask<DF32> ok, coarse;
-      Positions(df, hn::Iota(df, static_cast<float>(x0_ + i) + 0.5f), py, sin_f_ + i, cos_f_ + i,
-                static_cast<float>(sin_lat), static_cast<float>(cos_lat), sx, sy, ok, coarse);
+      Positions(df, hn::Iota(df, static_cast<float>(x0_ + i) + 0.5f), py, i, static_cast<float>(ra),
+                static_cast<float>(rb), sx, sy, ok, coarse);
       ok = hn::And(ok, hn::FirstN(df, static_cast<size_t>(m)));
       if (HWY_LIKELY(hn::AllFalse(df, hn::And(coarse, ok)))) {
         sink(sx, sy, ok, i, m);
@@ -562,16 +615,31 @@ class TileRows {
  private:
   static constexpr int64_t kPad = HWY_MAX_BYTES / sizeof(float);  // a vector read past n
 
+  // The tables in the lane type.
+  template <class T>
+  const T* col(const double* d, const float* f) const {
+    if constexpr (std::is_same_v<T, float>) return f;
+    else return d;
+  }
+
+  // Positions of the pixels from column i on, with the row's values ra, rb (see the tables).
   template <class D, class T, class V = hn::Vec<D>, class M = hn::Mask<D>>
-  HWY_INLINE void Positions(D d, V px, V py, const T* sin_lon, const T* cos_lon, T sin_lat, T cos_lat, V& sx, V& sy,
-                            M& ok, M& coarse) const {
+  HWY_INLINE void Positions(D d, V px, V py, int64_t i, T ra, T rb, V& sx, V& sy, M& ok, M& coarse) const {
+    const T* a = col<T>(col_a_d_, col_a_f_) + i;
+    const T* b = col<T>(col_b_d_, col_b_f_) + i;
+    if (separable_) {
+      sx = hn::LoadU(d, a);
+      LatitudeY(d, g_, hn::Set(d, ra), hn::LoadU(d, b), sy, ok, coarse);
+      ok = hn::And(ok, hn::Ne(hn::LoadU(d, col<T>(col_ok_d_, col_ok_f_) + i), hn::Zero(d)));
+      return;
+    }
     V x, y, z;
     M ok_dst, coarse_dst;
     if (table_) {
-      const V cl = hn::Set(d, cos_lat);
-      x = hn::Mul(cl, hn::LoadU(d, sin_lon));
-      y = hn::Set(d, -sin_lat);
-      z = hn::Mul(cl, hn::LoadU(d, cos_lon));
+      const V cl = hn::Set(d, rb);  // (sin, cos) of the longitude (a, b) and the latitude (ra, rb)
+      x = hn::Mul(cl, hn::LoadU(d, a));
+      y = hn::Set(d, -ra);
+      z = hn::Mul(cl, hn::LoadU(d, b));
       ok_dst = hn::Eq(x, x);  // every equirect and cylindrical target pixel has a ray
       coarse_dst = hn::Not(ok_dst);
     } else {
@@ -587,10 +655,11 @@ class TileRows {
 
   const SimdGeometry& g_;
   int64_t x0_, y0_, n_;
-  bool table_, cylinder_;
-  HWY_ALIGN double sin_lat_[kMaxTableWidth + kPad], cos_lat_[kMaxTableWidth + kPad];  // per row
-  HWY_ALIGN float sin_f_[kMaxTableWidth + kPad], cos_f_[kMaxTableWidth + kPad];
-  HWY_ALIGN double sin_d_[kMaxTableWidth + kPad], cos_d_[kMaxTableWidth + kPad];
+  bool table_, cylinder_, separable_;
+  // Per column, two values a, b (and the separable form's ok), in both lane types; per row two.
+  HWY_ALIGN double col_a_d_[kMaxTableWidth + kPad], col_b_d_[kMaxTableWidth + kPad], col_ok_d_[kMaxTableWidth + kPad];
+  HWY_ALIGN float col_a_f_[kMaxTableWidth + kPad], col_b_f_[kMaxTableWidth + kPad], col_ok_f_[kMaxTableWidth + kPad];
+  HWY_ALIGN double row_a_[kMaxTableWidth + kPad], row_b_[kMaxTableWidth + kPad];
 };
 
 }  // namespace HWY_NAMESPACE

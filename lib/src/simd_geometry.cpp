@@ -299,6 +299,15 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
   } else {
     return false;
   }
+  // Separable: (x, z) of the rotated ray independent of the row, y of the column. Pinhole rays
+  // u c0 + v c1 + c2 ([4..12] by column): c1 = (0, c1y, 0), c0y = c2y = 0; cube rays fwd + a right
+  // + b down ([3..11]): fwd y = right y = 0, down = (0, down y, 0). Exact zeros: a rotation about
+  // the vertical has them.
+  const bool axis_src = g.src == SimdGeometry::Src::Equirect || g.src == SimdGeometry::Src::Cylindrical;
+  g.separable = axis_src && ((g.dst == SimdGeometry::Dst::Pinhole && gd[7] == 0 && gd[9] == 0 && gd[5] == 0 &&
+                              gd[11] == 0) ||
+                             (g.dst == SimdGeometry::Dst::CubeFace && gd[4] == 0 && gd[7] == 0 && gd[9] == 0 &&
+                              gd[11] == 0));
   // Target pixel coordinates are exact in float up to 2^23.
   const Size ts = size_of(dst);
   g.use_float = g.use_float && std::max(ts.width, ts.height) < (int64_t{1} << 23);

@@ -32,6 +32,9 @@ struct SimdGeometry {
   // The target's rays come out rotated (pinhole and cube faces fold the rotation into their
   // basis vectors: 9 operations a vector fewer).
   bool rotated_rays;
+  // A longitude-axis source and a pinhole or cube-face target turned only about the vertical:
+  // the ray's (x, z) follows the column and y the row (TileRows' column tables).
+  bool separable;
   template <class T>
   struct Params {
     T d[16];  // target parameters (see simd_geometry.cpp)
