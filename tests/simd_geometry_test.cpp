@@ -72,6 +72,8 @@ TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
       {"cylindrical:vfov=100", {2048, 1000}, "cubemap", {6 * 128, 128}, 33, 0, 0},
       {"equirect", {8192, 4096}, "cubemap", {6 * 256, 256}, 45, 0, 0},
       {"equirect", {40000, 20000}, "pinhole:hfov=60", {300, 200}, 10, 0, 0},
+      {"cubemap", {6 * 256, 256}, "equirect", {1000, 500}, 130, 0, 0},  // the turn in the longitudes
+      {"fisheye:fov=200", {1024, 1024}, "cylindrical:hfov=270", {900, 500}, -95, 0, 0},
       // Aitoff and Bonne sources (every form: phi1 regular, small, zero, southern, Werner's),
       // Bonne targets; rotated over the poles and the antipode of the centre.
       {"aitoff", {2048, 1024}, "pinhole:hfov=120", {500, 400}, 175, -30, 0},

@@ -462,22 +462,20 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
   const V ax = hn::Abs(x), ay = hn::Abs(y), az = hn::Abs(z);
   const M xf = hn::And(hn::Not(hn::Lt(ax, ay)), hn::Not(hn::Lt(ax, az)));
   const M yf = hn::AndNot(xf, hn::Not(hn::Lt(ay, az)));
-  // Per face: depth, numerators of a and b, face index (0 front, 1 right, 2 back, 3 left, 4 up, 5 down).
+  // Per face (0 front, 1 right, 2 back, 3 left, 4 up, 5 down): depth, numerators of a and b.
   const M xp = hn::Gt(x, zero), yp = hn::Gt(y, zero), zp = hn::Gt(z, zero);
   const V depth = hn::IfThenElse(xf, ax, hn::IfThenElse(yf, ay, az));
   const V an = hn::IfThenElse(xf, hn::IfThenElse(xp, hn::Neg(z), z), hn::IfThenElse(yf, x, hn::IfThenElse(zp, x, hn::Neg(x))));
   const V bn = hn::IfThenElse(xf, y, hn::IfThenElse(yf, hn::IfThenElse(yp, hn::Neg(z), z), y));
-  const V face = hn::IfThenElse(xf, hn::IfThenElse(xp, hn::Set(d, T(1)), hn::Set(d, T(3))),
-                                hn::IfThenElse(yf, hn::IfThenElse(yp, hn::Set(d, T(5)), hn::Set(d, T(4))),
-                                               hn::IfThenElse(zp, zero, hn::Set(d, T(2)))));
+  // The face's origin (s[1 + f], s[7 + f]) chosen by the same masks.
+  auto origin = [&](const T* o) {
+    return hn::IfThenElse(xf, hn::IfThenElse(xp, hn::Set(d, o[1]), hn::Set(d, o[3])),
+                          hn::IfThenElse(yf, hn::IfThenElse(yp, hn::Set(d, o[5]), hn::Set(d, o[4])),
+                                         hn::IfThenElse(zp, hn::Set(d, o[0]), hn::Set(d, o[2]))));
+  };
   const V inv = hn::Div(hn::Set(d, T(1)), depth);
   const V a = hn::Mul(an, inv), b = hn::Mul(bn, inv);
-  V ox = hn::Set(d, s[1]), oy = hn::Set(d, s[7]);
-  for (int f = 1; f < 6; ++f) {
-    const M is = hn::Eq(face, hn::Set(d, static_cast<T>(f)));
-    ox = hn::IfThenElse(is, hn::Set(d, s[1 + f]), ox);
-    oy = hn::IfThenElse(is, hn::Set(d, s[7 + f]), oy);
-  }
+  const V ox = origin(s + 1), oy = origin(s + 7);
   // Within the face's cell [o, o + F): the far edge becomes the largest value below o + F in the
   // lane type (s[0] = F, s[14] = F / 2).
   const V half_f = hn::Set(d, s[14]), f = hn::Set(d, s[0]);

@@ -249,6 +249,12 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
     const double fall = e ? e->vfov() / h : (cy->t_top() - cy->t_bottom()) / h;
     const double v[9] = {w, axis.hfov, axis.lon0, h, top, 0.0, axis.hfov / w, fall, axis.lon0 - 0.5 * axis.hfov};
     std::copy(v, v + 9, gd);
+    // A turn about the vertical only shifts the longitudes: fold it into [8] (rays come rotated).
+    if (rotation(1, 1) > 0 && rotation(0, 1) == 0 && rotation(1, 0) == 0 && rotation(1, 2) == 0 &&
+        rotation(2, 1) == 0) {
+      gd[8] += std::atan2(rotation(0, 2), rotation(0, 0));
+      g.rotated_rays = true;
+    }
   } else if (const auto* c = std::get_if<Cubemap>(&dst)) {
     // The whole tile inside one face's cell.
     const int f = c->face_at(static_cast<double>(rect.x0) + 0.5, static_cast<double>(rect.y0) + 0.5);
