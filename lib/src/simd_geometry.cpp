@@ -103,7 +103,7 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
   std::fill(gd, gd + 16, 0.0);  // unused parameters are 0
   std::fill(gs, gs + 16, 0.0);
   for (int i = 0; i < 9; ++i) g.pd.r[i] = static_cast<double>(rotation(i / 3, i % 3));
-  g.rotated_rays = false;
+  g.rotated_rays = rotation == Eigen::Matrix3d::Identity();  // nothing to turn
   // Float lanes: the tolerance holds per axis for the rounding of the position itself plus the
   // ray's error carried through the source projection.
   const double tol = SimdGeometry::kFloatTolerance;

@@ -29,8 +29,9 @@ struct SimdGeometry {
   // Float lanes (twice as many per vector, shorter polynomials) where the source is small enough
   // for float positions to stay within kFloatTolerance; double lanes otherwise.
   bool use_float;
-  // The target's rays come out rotated (pinhole and cube faces fold the rotation into their
-  // basis vectors: 9 operations a vector fewer).
+  // The target's rays need no rotation (9 operations a vector fewer): the identity, or folded
+  // into the target (pinhole and cube-face bases; equirect and cylindrical longitudes for a turn
+  // about the vertical).
   bool rotated_rays;
   // A longitude-axis source and a pinhole or cube-face target turned only about the vertical:
   // the ray's (x, z) follows the column and y the row (TileRows' column tables).
