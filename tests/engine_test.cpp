@@ -232,6 +232,20 @@ TEST(Engine, FootprintIsTheSameWithOrWithoutAKeptMap) {
   }
 }
 
+TEST(Engine, TargetsShowingTheWholeSphereNeedTheWholeSource) {
+  const Projection pin = make("pinhole:hfov=90", {400, 300}), pano = make("equirect", {2048, 1024});
+  const Eigen::Matrix3d r = rotation_from_ypr(30, 10, 0);
+  for (const char* spec : {"cubemap", "equirect", "aitoff", "hammer", "bonne"}) {
+    const Size size = std::string(spec) == "cubemap" ? Size{600, 100} : Size{600, 300};
+    const auto f = Converter(pin, make(spec, size), r, Interp::Bilinear, Engine::Simd, 2).source_footprint();
+    EXPECT_TRUE(f.x0 == 0 && f.y0 == 0 && f.x1 == 400 && f.y1 == 300) << spec;
+  }
+  // A partial equirect view shows part of the sphere: only part of the source.
+  const auto f = Converter(pano, make("equirect:hfov=90,vfov=60", {300, 200}), r, Interp::Bilinear, Engine::Simd, 2)
+                     .source_footprint();
+  EXPECT_LT((f.x1 - f.x0) * (f.y1 - f.y0), 2048 * 1024 / 4);
+}
+
 TEST(Engine, AgreesWithTheReference) {
   // Coordinates within 1/256 px and float sampling: within 1 LSB of the exact double path on a
   // band-limited scene (a steeper image moves more per 1/256 px).

@@ -63,7 +63,8 @@ class Converter {
            const std::function<void(double)>& progress = {}) const;
 
   // The source pixels [x0, x1) x [y0, y1) that run() reads (with the kernel's taps and the
-  // edge rules: a seam or pole crossing widens it to the full width; cubemaps read all). Read
+  // edge rules: a seam or pole crossing widens it to the full width; cubemap sources and targets
+  // showing the whole sphere (cubemap, full equirect, the world maps) read all). Read
   // only this part of a large source. With cache_map it builds and keeps the tile maps (run()
   // then reuses them); without, it maps tile by tile and keeps nothing.
   struct Region {
