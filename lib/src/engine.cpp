@@ -91,13 +91,8 @@ const TileMap* Converter::cached(int64_t t) const {
 Converter::Region Converter::source_footprint() const {
   const Size frame = size_of(source_);
   const Region all{0, 0, frame.width, frame.height};
-  if (std::holds_alternative<Cubemap>(source_)) return all;
-  // A target showing the whole sphere reaches (nearly) every source pixel: no need to map it.
-  const auto* e = std::get_if<Equirect>(&target_);
-  if (std::holds_alternative<Cubemap>(target_) || std::holds_alternative<Aitoff>(target_) ||
-      std::holds_alternative<Hammer>(target_) || std::holds_alternative<Bonne>(target_) ||
-      (e && e->reaches_north_pole() && e->reaches_south_pole()))
-    return all;
+  // A cube source is read whole; a target showing the whole sphere needs no mapping to know.
+  if (std::holds_alternative<Cubemap>(source_) || shows_whole_sphere(target_)) return all;
   // Bounding box of the valid positions: over the kept maps, the fused tiles' vector geometry
   // (reduced in registers, nothing stored), or maps made one tile at a time.
   if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });

@@ -186,7 +186,7 @@ Metadata read_metadata(const std::string& path) {
     } else if (t.basetype == OIIO::TypeDesc::STRING || t.basetype == OIIO::TypeDesc::PTR) {
       continue;  // string arrays and pointers: no portable value
     } else if (t == OIIO::TypeRational) {
-      out.push_back({name, p.get_float()});
+      out.push_back({name, static_cast<double>(p.get_float())});  // numerator / denominator
     } else if (n == 1 && t.is_floating_point()) {
       out.push_back({name, static_cast<double>(p.get_float())});
     } else if (n == 1) {

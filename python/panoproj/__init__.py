@@ -116,7 +116,8 @@ def projection(spec: Union[str, Projection]) -> Projection:
     if not isinstance(spec, str):
         raise TypeError(f"projection: {spec!r} (expected spec text or a Projection)")
     text = _core.canonical(spec)
-    p = _CLASSES[text.partition(":")[0]].__new__(_CLASSES[text.partition(":")[0]])
+    cls = _CLASSES[text.partition(":")[0]]
+    p = cls.__new__(cls)
     p._text = text
     return p
 

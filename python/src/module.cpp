@@ -12,6 +12,7 @@
 #include <Imath/half.h>
 
 #include <cmath>
+#include <cstring>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +32,17 @@ namespace {
 struct IoError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// Runs a file operation, its panoproj::Error raised as OSError.
+template <class F>
+auto file_op(F&& f) {
+  try {
+    return f();
+  } catch (const Error& e) {
+    throw IoError(e.what());
+  }
+}
+
 
 PixelType pixel_type(const py::dtype& dt) {
   if (dt.is(py::dtype::of<uint8_t>())) return PixelType::U8;
@@ -83,6 +95,17 @@ py::array array_of(Image&& image, bool flat) {
   std::vector<py::ssize_t> shape{h, w}, strides{w * c * b, c * b};
   if (!flat || c > 1) shape.push_back(c), strides.push_back(b);
   return py::array(dtype_of(owner->type()), shape, strides, owner->data(), free_it);
+}
+
+// An image read by read() without the GIL, as an array.
+template <class Read>
+py::array read_array(Read&& read) {
+  Image im;
+  {
+    py::gil_scoped_release unlocked;
+    im = file_op(read);
+  }
+  return array_of(std::move(im), true);
 }
 
 // Six faces (front, right, back, left, up, down) of one shape and dtype as the 6x1 strip.
@@ -343,32 +366,15 @@ PYBIND11_MODULE(_core, m) {
         return std::pair{s.width, s.height};
       });
 
+  m.def("read", [](const std::string& path) { return read_array([&] { return read_image(path); }); }, py::arg("path"));
   m.def(
-      "read",
-      [](const std::string& path) {
-        Image im;
-        {
-          py::gil_scoped_release unlocked;
-          try {
-            im = read_image(path);
-          } catch (const Error& e) {
-            throw IoError(e.what());
-          }
-        }
-        return array_of(std::move(im), true);
-      },
-      py::arg("path"));
+      "read_faces", [](const std::string& pattern) { return read_array([&] { return read_cube_faces(pattern); }); },
+      py::arg("pattern"));
   m.def(
       "read_metadata",
       [](const std::string& path) {
-        Metadata md;
-        try {
-          md = read_metadata(path);
-        } catch (const Error& e) {
-          throw IoError(e.what());
-        }
         py::dict out;
-        for (const Attribute& a : md) out[py::str(a.name)] = metadata_value(a);
+        for (const Attribute& a : file_op([&] { return read_metadata(path); })) out[py::str(a.name)] = metadata_value(a);
         return out;
       },
       py::arg("path"));
@@ -383,29 +389,9 @@ PYBIND11_MODULE(_core, m) {
         if (dtype) w.type = pixel_type(py::dtype(*dtype));
         for (const auto& [k, v] : metadata) w.metadata.push_back(attribute_of(k.cast<std::string>(), v));
         py::gil_scoped_release unlocked;
-        try {
-          if (is_face_pattern(path)) write_cube_faces(im, path, w);
-          else write_image(im, path, w);
-        } catch (const Error& e) {
-          throw IoError(e.what());
-        }
+        file_op([&] { is_face_pattern(path) ? write_cube_faces(im, path, w) : write_image(im, path, w); });
       },
       py::arg("path"), py::arg("array"), py::arg("overwrite"), py::arg("dtype"), py::arg("metadata"));
-  m.def(
-      "read_faces",
-      [](const std::string& pattern) {
-        Image im;
-        {
-          py::gil_scoped_release unlocked;
-          try {
-            im = read_cube_faces(pattern);
-          } catch (const Error& e) {
-            throw IoError(e.what());
-          }
-        }
-        return array_of(std::move(im), true);
-      },
-      py::arg("pattern"));
 
   m.def(
       "to_ray",

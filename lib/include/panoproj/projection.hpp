@@ -45,6 +45,13 @@ inline bool to_pixel(const Projection& p, const Ray& d, double& x, double& y) {
 
 // Rays through the pixel centres (x0 + i + 0.5, y), i < n; ok[i] = 0 where there is none.
 void to_ray_row(const Projection& p, double y, int64_t x0, int64_t n, Ray* rays, uint8_t* ok);
+// Whether the projection shows the whole sphere (cubemap, full equirect, the world maps): a
+// conversion to it reaches (nearly) every pixel of any source.
+inline bool shows_whole_sphere(const Projection& p) {
+  if (const auto* e = std::get_if<Equirect>(&p)) return e->reaches_north_pole() && e->reaches_south_pole();
+  return std::holds_alternative<Cubemap>(p) || std::holds_alternative<Aitoff>(p) || std::holds_alternative<Hammer>(p) ||
+         std::holds_alternative<Bonne>(p);
+}
 // Pixels of rays[i] where ok[i] (in/out: cleared where the ray has no pixel).
 void to_pixel_row(const Projection& p, const Ray* rays, int64_t n, double* xs, double* ys,
                   uint8_t* ok);
