@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "panoproj/io.hpp"
@@ -165,6 +166,46 @@ TEST_F(Cli, BadParameters) {
   expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to equirect --yaw nan", "yaw: nan");
   expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to equirect --size 0x5", "size: 0x5");
   expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to equirect --interp cubic", "interpolator 'cubic'");
+  expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to equirect --antialias 40", "antialias '40'");
+  expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to equirect --engine reference --antialias auto",
+                 "needs the simd or scalar engine");
+}
+
+TEST_F(Cli, AccuracyReportsErrorAgainstTime) {
+  // A small sweep: the table, CSV, JSON and plot; antialiasing beats none on the shrunk chart.
+  const std::string base = "accuracy --from-size 512x256 --to fisheye:fov=180 --size 64x64 --runs 1 --threads 2 "
+                           "--interp bilinear --truth-supersample 6 ";
+  const CliRun r = run(base + "--csv " + p("a.csv") + " --json " + p("a.json") + " --plot " + p("a.png"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("| bilinear | auto | simd |"), std::string::npos) << r.out;
+  std::ifstream csv(p("a.csv"));
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "kernel,antialias,engine,median_ms,psnr_db,rmse,max_abs,ssim,pixels,pareto");
+  std::map<std::string, double> psnr;
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    ASSERT_EQ(f.size(), 10u) << line;
+    psnr[f[1] + "/" + f[2]] = std::stod(f[4]);
+    ++rows;
+  }
+  EXPECT_EQ(rows, 4);  // off, auto, 4 on simd; off on reference
+  EXPECT_GT(psnr["auto/simd"], psnr["off/simd"] + 3) << r.out;
+  EXPECT_GT(psnr["4/simd"], psnr["off/simd"] + 3) << r.out;
+  EXPECT_NEAR(psnr["off/reference"], psnr["off/simd"], 0.05) << "exact and float geometry agree";
+  std::ifstream json(p("a.json"));
+  const std::string js((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(std::count(js.begin(), js.end(), '{'), 5) << js;
+  EXPECT_NE(js.find("\"about\": \"scene chart, equirect 512x256 -> fisheye:fov=180 64x64"), std::string::npos) << js;
+  EXPECT_EQ(read_image(p("a.png")).width(), 960);
+  // Existing outputs are kept unless --overwrite; bad lists name the item.
+  expect_refused(base + "--csv " + p("a.csv"), "a.csv exists");
+  expect_refused(base + "--antialias off,sometimes", "antialias 'sometimes'");
+  expect_refused(base + "--scene clouds", "scene 'clouds'");
+  expect_refused(base + "--type keep", "type: keep");
 }
 
 TEST_F(Cli, MissingFile) {

@@ -74,11 +74,14 @@ TEST_F(RealCubemap, MatchesTheEquirectAndOnlyInTheDocumentedOrientation) {
 // Face W/4 has 512 px/rad at its centre against the photo's 652 px/rad: a sharp photo loses
 // detail there, so this is a reported figure with a regression floor, not a quality claim. The
 // default face size (density-matched, 1304 px) is reported beside it; what remains is two
-// Catmull-Rom resamplings of near-Nyquist JPEG detail at arbitrary sub-pixel offsets.
+// Catmull-Rom resamplings of near-Nyquist JPEG detail at arbitrary sub-pixel offsets. Without
+// antialiasing: it removes, by design, the detail the cube's polar faces cannot hold (the way
+// back then differs more from the photo: 29.7 instead of 30.3 dB at face 1304).
 TEST_F(RealCubemap, PhotoRoundTripThroughCubemap) {
   for (int64_t face : {int64_t{1024}, int64_t{0}}) {
     ConvertOptions o;
     o.interp = Interp::Bicubic;
+    o.antialias = Antialias{};
     if (face > 0) o.size = Size{6 * face, face};
     const Image cube = convert(*photo_, parse_spec("equirect"), parse_spec("cubemap"), o);
     o.size = Size{4096, 2048};

@@ -6,10 +6,14 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
+#include "panoproj/accuracy.hpp"
 #include "panoproj/convert_job.hpp"
+#include "panoproj/io.hpp"
+#include "panoproj/rotation.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/parallel.hpp"
 #include "panoproj/spec.hpp"
@@ -94,6 +98,19 @@ class ProgressBar {
   int last_ = -1;
 };
 
+// Comma-separated items, each through parse.
+template <class F>
+auto parse_list(const std::string& text, F&& parse) {
+  std::vector<decltype(parse(std::string_view{}))> v;
+  std::string_view rest = text;
+  while (!rest.empty()) {
+    const size_t comma = rest.find(',');
+    v.push_back(parse(rest.substr(0, comma)));
+    rest = comma == std::string_view::npos ? std::string_view{} : rest.substr(comma + 1);
+  }
+  return v;
+}
+
 void print_info() {
   std::cout << "Projections (spec: name[:key=value,...], angles in degrees, sizes in pixels):\n";
   for (const auto& d : projection_catalog()) {
@@ -145,6 +162,10 @@ int main(int argc, char** argv) {
   convert->add_option("--threads", job.options.threads, "worker threads (default: all cores)");
   convert->add_option("--engine", engine_text,
                       "simd (default) | scalar (same tiles, no SIMD) | reference (exact, slow)");
+  std::string antialias_text;
+  convert->add_option("--antialias", antialias_text,
+                      "auto (default: mip levels where the output shrinks the source) | off | N (N x N "
+                      "sub-pixels, 2..16); the reference engine has none");
   convert->add_option("--depth", depth_text, "output samples: keep|uint8|uint16|half|float");
   convert->add_flag("--overwrite", job.write.overwrite, "replace an existing output");
   bool quiet = false, verbose = false;
@@ -168,6 +189,37 @@ int main(int argc, char** argv) {
   maps->add_option("--threads", maps_job.options.threads, "worker threads (default: all cores)");
   maps->add_flag("--overwrite", maps_job.write.overwrite, "replace an existing output");
 
+  SweepSetup sweep;
+  std::string acc_scene = "chart", acc_from = "equirect", acc_from_size = "4096x2048", acc_to, acc_size,
+              acc_type = "uint8", acc_interp = "nearest,bilinear,bicubic,lanczos3", acc_antialias = "off,auto,4",
+              acc_engine = "simd,reference", acc_csv, acc_json, acc_plot;
+  double acc_yaw = 0, acc_pitch = 0, acc_roll = 0;
+  bool acc_overwrite = false;
+  auto* accuracy = app.add_subcommand(
+      "accuracy", "measure error against time: a synthetic scene converted with each option, against its truth");
+  accuracy->add_option("--scene", acc_scene, "waves | chart (default) | gradient | sun (HDR: use --type float)");
+  accuracy->add_option("--from", acc_from, "source projection spec (default equirect)");
+  accuracy->add_option("--from-size", acc_from_size, "source size WxH (default 4096x2048)");
+  accuracy->add_option("--to", acc_to, "target projection spec")->required();
+  accuracy->add_option("--size", acc_size, "target size WxH (default: as for convert)");
+  accuracy->add_option("--yaw", acc_yaw, "degrees, positive looks right");
+  accuracy->add_option("--pitch", acc_pitch, "degrees, positive looks up");
+  accuracy->add_option("--roll", acc_roll, "degrees, positive turns the view clockwise");
+  accuracy->add_option("--type", acc_type, "samples: uint8 (default) | uint16 | half | float");
+  accuracy->add_option("--interp", acc_interp, "kernels to sweep (default nearest,bilinear,bicubic,lanczos3)");
+  accuracy->add_option("--antialias", acc_antialias, "antialiasing to sweep (default off,auto,4)");
+  accuracy->add_option("--engine", acc_engine,
+                       "engines to sweep: simd (float geometry where within 1/1024 px), reference (exact double, "
+                       "no antialiasing); default both");
+  accuracy->add_option("--runs", sweep.runs, "timed runs per option, median reported (default 5)");
+  accuracy->add_option("--threads", sweep.threads, "worker threads (default: all cores)");
+  accuracy->add_option("--truth-supersample", sweep.truth_supersample,
+                       "rays per axis of each truth pixel (default 8: its area average)");
+  accuracy->add_option("--csv", acc_csv, "also write the results as CSV");
+  accuracy->add_option("--json", acc_json, "also write the results as JSON");
+  accuracy->add_option("--plot", acc_plot, "also write PSNR against time, Pareto front marked (PNG)");
+  accuracy->add_flag("--overwrite", acc_overwrite, "replace existing outputs");
+
   auto* info = app.add_subcommand("info", "list projections, their parameters and defaults");
 
   try {
@@ -179,6 +231,38 @@ int main(int argc, char** argv) {
   try {
     if (info->parsed()) {
       print_info();
+      return 0;
+    }
+    if (accuracy->parsed()) {
+      ConvertOptions o;
+      o.yaw = acc_yaw, o.pitch = acc_pitch, o.roll = acc_roll;
+      if (!acc_size.empty()) o.size = parse_size(acc_size);
+      const Plan plan = make_plan(parse_size(acc_from_size), parse_spec(acc_from), parse_spec(acc_to), o);
+      sweep.scene = parse_scene(acc_scene);
+      const auto type = parse_depth(acc_type);
+      if (!type) throw Error("type: keep (expected uint8, uint16, half or float)");
+      sweep.type = *type;
+      const auto options = sweep_options(parse_list(acc_interp, [](std::string_view t) { return parse_interp(t); }),
+                                         parse_list(acc_antialias, parse_antialias),
+                                         parse_list(acc_engine, [](std::string_view t) { return parse_engine(t); }));
+      for (const std::string* path : {&acc_csv, &acc_json, &acc_plot})
+        if (!path->empty() && std::filesystem::exists(*path) && !acc_overwrite)
+          throw Error("output " + *path + " exists (pass --overwrite to replace it)");
+      const Size fs = size_of(plan.source), ts = size_of(plan.target);
+      const std::string about = std::string("scene ") + acc_scene + ", " + acc_from + " " + std::to_string(fs.width) + "x" +
+                                std::to_string(fs.height) + " -> " + acc_to + " " + std::to_string(ts.width) + "x" +
+                                std::to_string(ts.height) + ", " + acc_type + ", " +
+                                std::to_string(resolve_threads(sweep.threads)) + " threads, median of " +
+                                std::to_string(sweep.runs) + " runs, SIMD " + simd_target();
+      const auto results = run_sweep(plan.source, plan.target, plan.rotation, sweep, options);
+      std::printf("%s\n\n%s", about.c_str(), sweep_table(results).c_str());
+      if (!acc_csv.empty()) write_text(sweep_csv(results), acc_csv, acc_overwrite);
+      if (!acc_json.empty()) write_text(sweep_json(results, about), acc_json, acc_overwrite);
+      if (!acc_plot.empty()) {
+        WriteOptions w;
+        w.overwrite = acc_overwrite;
+        write_image(plot_sweep(results, about), acc_plot, w);
+      }
       return 0;
     }
     if (maps->parsed()) {
@@ -196,6 +280,7 @@ int main(int argc, char** argv) {
     if (!size_text.empty()) job.options.size = parse_size(size_text);
     job.options.interp = parse_interp(interp_text);
     job.options.engine = parse_engine(engine_text);
+    if (!antialias_text.empty()) job.options.antialias = parse_antialias(antialias_text);
     job.write.type = parse_depth(depth_text);
     job.output = files.back();
     job.inputs.assign(files.begin(), files.end() - 1);
@@ -209,11 +294,11 @@ int main(int argc, char** argv) {
         job,
         [&](const ConvertReport& r) {
           if (quiet) return;
-          std::printf("\r%s (%s, %s) -> %s (%s, %s): %.3f s, %s, %s engine (%s), %d threads, "
+          std::printf("\r%s (%s, %s) -> %s (%s, %s): %.3f s, %s, antialias %s, %s engine (%s), %d threads, "
                       "read %.0f%% of the source\n",
                       r.input.c_str(), dims(r.input_size, r.input_faces).c_str(), r.from.c_str(),
                       r.output.c_str(), dims(r.output_size, r.output_faces).c_str(), r.to.c_str(),
-                      r.seconds, interp_text.c_str(), engine_text.c_str(), simd_target(),
+                      r.seconds, interp_text.c_str(), name_of(antialias_of(job.options)).c_str(), engine_text.c_str(), simd_target(),
                       resolve_threads(job.options.threads), 100 * r.read_fraction);
           std::fflush(stdout);
         },

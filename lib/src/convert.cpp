@@ -33,11 +33,17 @@ Plan make_plan(Size source_size, const ProjectionSpec& from, const ProjectionSpe
   return {std::move(source), std::move(target), rotation_from_ypr(o.yaw, o.pitch, o.roll)};
 }
 
+Antialias antialias_of(const ConvertOptions& options) {
+  if (options.antialias) return *options.antialias;
+  return {options.engine == Engine::Reference ? Antialias::Mode::Off : Antialias::Mode::Auto, 1};
+}
+
 Image convert(const Image& source, const ProjectionSpec& from, const ProjectionSpec& to,
               const ConvertOptions& options) {
   const Plan plan = make_plan(source.size(), from, to, options);
-  return fast_remap(source, plan.source, plan.target, plan.rotation, options.interp, options.engine,
-                    options.threads);
+  return Converter(plan.source, plan.target, plan.rotation, options.interp, options.engine, options.threads, false,
+                   antialias_of(options))
+      .run(source);
 }
 
 }  // namespace panoproj

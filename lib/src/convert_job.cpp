@@ -134,7 +134,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const bool cache = out_size.width * out_size.height * kCachedMapBytesPerPixel <= kMapCacheBudget;
   const auto t_map = std::chrono::steady_clock::now();
   const Converter converter(plan.source, plan.target, plan.rotation, options.interp, options.engine,
-                            options.threads, cache);
+                            options.threads, cache, antialias_of(options));
   const Converter::Region need = converter.source_footprint();
   const double map_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count();
   Image out;  // one buffer for every frame of a batch

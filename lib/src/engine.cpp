@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cmath>
 #include <array>
+#include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,9 +13,12 @@
 #include "panoproj/resample.hpp"
 #include "panoproj/source_edges.hpp"
 #include "panoproj/tile_map.hpp"
+#include "mip_sampler.hpp"
+#include "pyramid.hpp"
 #include "reference_sampler.hpp"
 #include "simd_geometry.hpp"
 #include "simd_sampler.hpp"
+#include "subpixels.hpp"
 
 namespace panoproj {
 
@@ -46,12 +50,27 @@ SimdSource simd_source(const Image& src, const Projection& sp) {
           src.origin_x(), src.origin_y(), src.origin_x() + src.width(), src.origin_y() + src.height(), cw, ch};
 }
 
+// The frame width where x wraps around a full circle of longitude (mip footprints measure steps
+// across the seam the short way), else 0.
+double wrap_width(const Projection& p) {
+  if (const auto* e = std::get_if<Equirect>(&p); e && e->full_longitude()) return static_cast<double>(size_of(p).width);
+  if (const auto* c = std::get_if<Cylindrical>(&p); c && c->full_longitude()) return static_cast<double>(size_of(p).width);
+  return 0.0;
+}
+
 }  // namespace
 
 Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation,
-                     Interp interp, Engine engine, int threads, bool cache_map)
-    : source_(std::move(source)), target_(std::move(target)), rotation_(rotation), interp_(interp),
-      engine_(engine), threads_(threads), cache_map_(cache_map) {}
+                     Interp interp, Engine engine, int threads, bool cache_map, Antialias antialias)
+    : source_(std::move(source)), target_(std::move(target)), antialias_(antialias), sub_target_(target_),
+      rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), cache_map_(cache_map) {
+  if (antialias_.mode != Antialias::Mode::Off && engine_ == Engine::Reference)
+    throw Error("antialias " + name_of(antialias_) + " needs the simd or scalar engine (or --antialias off)");
+  if (antialias_.mode == Antialias::Mode::Supersample) {
+    const Size s = size_of(target_);
+    sub_target_ = rescaled(target_, {s.width * antialias_.n, s.height * antialias_.n});
+  }
+}
 
 TileRect Converter::tile(int64_t t) const {
   const Size size = size_of(target_);
@@ -65,8 +84,8 @@ int64_t Converter::tile_count() const {
   return ((size.width + kTile - 1) / kTile) * ((size.height + kTile - 1) / kTile);
 }
 
-bool Converter::fused(const TileRect& rect, SimdGeometry& g) const {
-  return engine_ == Engine::Simd && simd_geometry_for(source_, target_, rotation_, rect, g);
+bool Converter::fused(const Projection& target, const TileRect& rect, SimdGeometry& g) const {
+  return engine_ == Engine::Simd && simd_geometry_for(source_, target, rotation_, rect, g);
 }
 
 
@@ -99,19 +118,30 @@ Converter::Region Converter::source_footprint() const {
   const int64_t n_tiles = tile_count();
   const int n_workers = workers_for(n_tiles, threads_);
   std::vector<std::array<double, 4>> box(static_cast<size_t>(n_workers), {HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL});
+  std::vector<double> spread(static_cast<size_t>(n_workers), 0.0);  // largest source px per output px
   std::vector<TileMap> local(static_cast<size_t>(n_workers));
   parallel_tasks(n_tiles, threads_, [&](int64_t t, int w) {
-    auto& b = box[static_cast<size_t>(w)];
+    std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};  // this tile's
     const TileRect rect = tile(t);
     const TileMap* tm = cached(t);
     SimdGeometry g;
-    if (!tm && fused(rect, g)) return simd_tile_bounds(g, rect, b);
-    if (!tm) map_tile(source_, target_, rotation_, rect, local[static_cast<size_t>(w)]), tm = &local[static_cast<size_t>(w)];
-    for (size_t i = 0; i < tm->ok.size(); ++i) {
-      if (!tm->ok[i]) continue;
-      b[0] = std::min(b[0], tm->xs[i]), b[2] = std::max(b[2], tm->xs[i]);
-      b[1] = std::min(b[1], tm->ys[i]), b[3] = std::max(b[3], tm->ys[i]);
+    if (!tm && fused(rect, g)) {
+      simd_tile_bounds(g, rect, b);
+    } else {
+      if (!tm) map_tile(source_, target_, rotation_, rect, local[static_cast<size_t>(w)]), tm = &local[static_cast<size_t>(w)];
+      for (size_t i = 0; i < tm->ok.size(); ++i) {
+        if (!tm->ok[i]) continue;
+        b[0] = std::min(b[0], tm->xs[i]), b[2] = std::max(b[2], tm->xs[i]);
+        b[1] = std::min(b[1], tm->ys[i]), b[3] = std::max(b[3], tm->ys[i]);
+      }
     }
+    if (b[0] > b[2]) return;
+    auto& all = box[static_cast<size_t>(w)];
+    all = {std::min(all[0], b[0]), std::min(all[1], b[1]), std::max(all[2], b[2]), std::max(all[3], b[3])};
+    // The tile's extent over its size bounds its mean step (antialiasing's reach below).
+    const double s = std::max((b[2] - b[0]) / static_cast<double>(std::max<int64_t>(rect.w - 1, 1)),
+                              (b[3] - b[1]) / static_cast<double>(std::max<int64_t>(rect.h - 1, 1)));
+    spread[static_cast<size_t>(w)] = std::max(spread[static_cast<size_t>(w)], s);
   });
   double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
   for (const auto& b : box) x0 = std::min(x0, b[0]), y0 = std::min(y0, b[1]), x1 = std::max(x1, b[2]), y1 = std::max(y1, b[3]);
@@ -120,6 +150,15 @@ Converter::Region Converter::source_footprint() const {
   // Taps (first_tap is monotonic), one pixel of margin for the 1/256 px map tolerance.
   Region r{first_tap(interp_, x0) - 1, first_tap(interp_, y0) - 1, first_tap(interp_, x1) + n + 1,
            first_tap(interp_, y1) + n + 1};
+  if (antialias_.mode != Antialias::Mode::Off) {
+    // Sub-pixels reach half an output pixel further (rho / 2 source px); mip level k (2^k <=
+    // rho / 2) reaches its taps' n / 2 level pixels of 2^k source px, and one more for a block
+    // cut by the window's edge (which averages only what it holds).
+    const double rho = std::max(1.0, *std::max_element(spread.begin(), spread.end()));
+    const auto level_px = static_cast<int64_t>(std::exp2(std::ceil(std::log2(rho))));
+    const int64_t m = level_px * (n / 2 + 2);
+    r = {r.x0 - m, r.y0 - m, r.x1 + m, r.y1 + m};
+  }
   // Where taps leave the frame, the edge rules read elsewhere: wrap (full width), pole crossing
   // (full width, rows from the pole), clamp (the edge row or column, inside the clamp).
   if (r.x0 < 0 || r.x1 > frame.width) r.x0 = 0, r.x1 = frame.width;
@@ -157,45 +196,88 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
   const int64_t n_tiles = tile_count();
   const int n_workers = workers_for(n_tiles, threads_);
   if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });
+  std::optional<Pyramid> pyramid;
+  if (antialias_.mode == Antialias::Mode::Auto) pyramid.emplace(src, source_, threads_);
   struct Worker {
     TileMap map;
     SimdMisses misses;
     EngineStats stats;
+    MipScratch mip;
+    std::vector<unsigned char> sub;  // a tile's sub-pixel samples
   };
   std::vector<Worker> workers(static_cast<size_t>(n_workers));
+  // The samples the SIMD kernels left in wk.misses (rect's pixel indices) by the edge rules.
+  auto resolve_misses = [&](const Image& im, const SourceEdges& e, const TileRect& r, unsigned char* out_at,
+                            int64_t stride, Worker& wk) {
+    const uint8_t one = 1;
+    const auto pb = static_cast<int64_t>(im.pixel_bytes());
+    const SimdMisses& m = wk.misses;
+    for (size_t q = 0; q < m.index.size(); ++q)
+      sample_reference(im, e, interp_, &m.xs[q], &m.ys[q], &one, 1, out_at + m.index[q] / r.w * stride + m.index[q] % r.w * pb);
+    wk.stats.edge_samples += static_cast<int64_t>(m.index.size());
+  };
+  // Samples positions map m of image im (edges e, SIMD view ss) into out: the SIMD kernels, and
+  // the reference's edge rules for the samples they leave (seams, poles, face edges, the
+  // window); the scalar engine samples all with the reference.
+  auto sample_map = [&](const Image& im, const SourceEdges& e, const SimdSource& ss, const TileMap& m,
+                        unsigned char* out_at, int64_t stride, Worker& wk) {
+    if (!use_simd) {
+      for (int64_t j = 0; j < m.rect.h; ++j) {
+        const size_t k = static_cast<size_t>(j * m.rect.w);
+        sample_reference(im, e, interp_, m.xs.data() + k, m.ys.data() + k, m.ok.data() + k, m.rect.w, out_at + j * stride);
+      }
+      return;
+    }
+    wk.misses.clear();
+    simd_sample(ss, interp_, m, out_at, stride, wk.misses);
+    resolve_misses(im, e, m.rect, out_at, stride, wk);
+  };
+  // The tile rect of target t into out: fused where the SIMD geometry takes it, else from its
+  // map (the kept one, or made now).
+  auto sample_rect = [&](const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out_at,
+                         int64_t stride, Worker& wk) {
+    SimdGeometry g;
+    const bool in_registers = !tm && fused(t, rect, g);
+    if (!tm && !in_registers) map_tile(source_, t, rotation_, rect, wk.map), tm = &wk.map;
+    if (tm) wk.stats.interpolated_cells += tm->interpolated_cells, wk.stats.exact_cells += tm->exact_cells;
+    wk.stats.fused_tiles += in_registers;
+    if (!in_registers) return sample_map(src, edges, simd_src, *tm, out_at, stride, wk);
+    wk.misses.clear();
+    simd_convert(g, rect, simd_src, interp_, out_at, stride, wk.misses);
+    resolve_misses(src, edges, rect, out_at, stride, wk);
+  };
   std::atomic<int64_t> done{0};
   int64_t last_percent = -1;
   parallel_tasks(n_tiles, threads_, [&](int64_t t, int w) {
     Worker& wk = workers[static_cast<size_t>(w)];
     const TileRect rect = tile(t);
-    SimdGeometry g;
-    const TileMap* tm = cached(t);
-    const bool in_registers = !tm && fused(rect, g);
-    if (!tm && !in_registers) map_tile(source_, target_, rotation_, rect, wk.map), tm = &wk.map;
-    if (tm) wk.stats.interpolated_cells += tm->interpolated_cells, wk.stats.exact_cells += tm->exact_cells;
-    wk.stats.fused_tiles += in_registers;
-    if (!use_simd) {
-      for (int64_t j = 0; j < rect.h; ++j) {
-        const size_t k = static_cast<size_t>(j * rect.w);
-        sample_reference(src, edges, interp_, tm->xs.data() + k, tm->ys.data() + k, tm->ok.data() + k, rect.w,
-                         out.pixel(rect.x0, rect.y0 + j));
+    unsigned char* corner = out.pixel(rect.x0, rect.y0);
+    const auto stride = static_cast<int64_t>(out.row_bytes());
+    if (antialias_.mode == Antialias::Mode::Supersample) {
+      // The tile's n x n sub-pixels in the n-times target, then their means.
+      const int64_t n = antialias_.n;
+      const TileRect sub{rect.x0 * n, rect.y0 * n, rect.w * n, rect.h * n};
+      const auto sub_stride = static_cast<int64_t>(sub.w * src.pixel_bytes());
+      wk.sub.resize(static_cast<size_t>(sub_stride * sub.h));
+      sample_rect(sub_target_, sub, nullptr, wk.sub.data(), sub_stride, wk);
+      average_subpixels(src, wk.sub.data(), sub_stride, rect, static_cast<int>(n), corner, stride);
+    } else if (pyramid) {
+      const TileMap* tm = cached(t);
+      SimdGeometry g;
+      if (!tm) {
+        if (fused(rect, g)) simd_map_tile(g, rect, wk.map);
+        else map_tile(source_, target_, rotation_, rect, wk.map);
+        tm = &wk.map;
       }
+      sample_mip_tile(*pyramid, *tm, wrap_width(source_),
+                      [&](int k, const TileMap& m, unsigned char* o, int64_t st) {
+                        const Pyramid::Level& l = pyramid->level(k);
+                        const Image& im = pyramid->image(k);
+                        sample_map(im, l.edges, simd_source(im, l.projection), m, o, st, wk);
+                      },
+                      corner, stride, wk.mip);
     } else {
-      SimdMisses& m = wk.misses;
-      m.clear();
-      unsigned char* corner = out.pixel(rect.x0, rect.y0);
-      const auto stride = static_cast<int64_t>(out.row_bytes());
-      if (in_registers) {
-        simd_convert(g, rect, simd_src, interp_, corner, stride, m);
-      } else {
-        simd_sample(simd_src, interp_, *tm, corner, stride, m);
-      }
-      // Samples whose taps cross a seam, pole, face edge or the window: the edge rules.
-      const uint8_t one = 1;
-      for (size_t q = 0; q < m.index.size(); ++q)
-        sample_reference(src, edges, interp_, &m.xs[q], &m.ys[q], &one, 1,
-                         out.pixel(rect.x0 + m.index[q] % rect.w, rect.y0 + m.index[q] / rect.w));
-      wk.stats.edge_samples += static_cast<int64_t>(m.index.size());
+      sample_rect(target_, rect, cached(t), corner, stride, wk);
     }
     const int64_t d = ++done;
     if (w == 0 && progress && d * 100 / n_tiles != last_percent) {

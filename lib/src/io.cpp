@@ -10,6 +10,7 @@
 #include <climits>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <system_error>
 #include <vector>
 
@@ -150,6 +151,23 @@ std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
   return in;
 }
 }  // namespace
+
+void write_text(const std::string& text, const std::string& path, bool overwrite) {
+  WriteOptions options;
+  options.overwrite = overwrite;
+  check_target(path, options);
+  const std::string tmp = temp_path(path);
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    if (!out.flush()) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw Error("cannot write " + path + " (disk full or no permission?)");
+    }
+  }
+  commit(tmp, path);
+}
 
 Size read_image_size(const std::string& path) {
   const auto in = open_input(path);

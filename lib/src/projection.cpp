@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
+#include <type_traits>
 
 #include "panoproj/error.hpp"
 
@@ -303,6 +305,40 @@ void to_pixel_row(const Projection& p, const Ray* rays, int64_t n, double* xs, d
       [&](const auto& q) {
         for (int64_t i = 0; i < n; ++i) {
           if (ok[i]) ok[i] = q.to_pixel(rays[i], xs[i], ys[i]) ? 1 : 0;
+        }
+      },
+      p);
+}
+
+// ---- Rescaling --------------------------------------------------------------------------------
+Projection rescaled(const Projection& p, Size size) {
+  const Size old = size_of(p);
+  const double sx = static_cast<double>(size.width) / static_cast<double>(old.width);
+  const double sy = static_cast<double>(size.height) / static_cast<double>(old.height);
+  return std::visit(
+      [&](const auto& q) -> Projection {
+        using P = std::decay_t<decltype(q)>;
+        if constexpr (std::is_same_v<P, Pinhole>) {
+          return Pinhole(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy);
+        } else if constexpr (std::is_same_v<P, Fisheye>) {
+          return Fisheye(size, q.psi_max(), q.model(), q.clip(), q.cx() * sx, q.cy() * sy, q.rx() * sx, q.ry() * sy);
+        } else if constexpr (std::is_same_v<P, Equirect>) {
+          return Equirect(size, q.axis().hfov, q.vfov(), q.axis().lon0, q.lat_top() - 0.5 * q.vfov());
+        } else if constexpr (std::is_same_v<P, Cylindrical>) {
+          const double top = std::atan(q.t_top()), bottom = std::atan(q.t_bottom());
+          return Cylindrical(size, q.axis().hfov, top - bottom, q.axis().lon0, 0.5 * (top + bottom));
+        } else if constexpr (std::is_same_v<P, Cubemap>) {
+          const auto g = Cubemap::grid(q.layout());
+          if (size.width % g[0] != 0 || size.width / g[0] * g[1] != size.height || size.width < g[0])
+            throw Error("a cubemap of " + std::to_string(size.width) + "x" + std::to_string(size.height) +
+                        " px does not hold whole square faces in its layout");
+          return Cubemap(size.width / g[0], q.layout());
+        } else if constexpr (std::is_same_v<P, Aitoff>) {
+          return Aitoff(size, q.lon0());
+        } else if constexpr (std::is_same_v<P, Hammer>) {
+          return Hammer(size, q.w(), q.lon0());
+        } else {
+          return Bonne(size, q.mirror() * q.abs_phi1(), q.lon0());
         }
       },
       p);

@@ -11,29 +11,10 @@
 #include "panoproj/parallel.hpp"
 #include "panoproj/source_edges.hpp"
 #include "reference_sampler.hpp"
+#include "sample_io.hpp"
 
 namespace panoproj {
 namespace {
-
-template <class T>
-double load(const unsigned char* p) {
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  if constexpr (std::is_same_v<T, Imath::half>) return static_cast<float>(v);
-  else return static_cast<double>(v);
-}
-
-template <class T>
-void store(unsigned char* p, double v) {
-  if constexpr (std::is_integral_v<T>) {
-    constexpr double kMax = static_cast<double>(std::numeric_limits<T>::max());
-    const T t = static_cast<T>(std::clamp(std::nearbyint(v), 0.0, kMax));
-    std::memcpy(p, &t, sizeof(T));
-  } else {
-    const T t = static_cast<T>(static_cast<float>(v));
-    std::memcpy(p, &t, sizeof(T));
-  }
-}
 
 // One output row: samples at (xs[i], ys[i]) where ok[i].
 template <class T>
@@ -100,12 +81,7 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
 
 void sample_reference(const Image& src, const SourceEdges& edges, Interp interp, const double* xs,
                       const double* ys, const uint8_t* ok, int64_t n, unsigned char* out) {
-  switch (src.type()) {
-    case PixelType::U8: return sample_row<uint8_t>(src, edges, interp, xs, ys, ok, n, out);
-    case PixelType::U16: return sample_row<uint16_t>(src, edges, interp, xs, ys, ok, n, out);
-    case PixelType::F16: return sample_row<Imath::half>(src, edges, interp, xs, ys, ok, n, out);
-    case PixelType::F32: return sample_row<float>(src, edges, interp, xs, ys, ok, n, out);
-  }
+  with_sample_type(src.type(), [&](auto t) { sample_row<decltype(t)>(src, edges, interp, xs, ys, ok, n, out); });
 }
 
 Image remap(const Image& src, const Projection& src_proj, const Projection& dst_proj,

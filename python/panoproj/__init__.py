@@ -143,21 +143,31 @@ def _size(size: SizeLike) -> Optional[Tuple[int, int]]:
     return int(w), int(h)
 
 
+def _antialias(antialias: Union[str, int, None]) -> Optional[str]:
+    if antialias is None or isinstance(antialias, str):
+        return antialias
+    if isinstance(antialias, (int, np.integer)) and not isinstance(antialias, bool):
+        return str(int(antialias))
+    raise TypeError(f"antialias: {antialias!r} (expected 'auto', 'off', a sub-pixel count or None)")
+
+
 def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Projection, None],
             dst: Union[str, Projection], *, size: SizeLike = None, yaw: float = 0.0,
             pitch: float = 0.0, roll: float = 0.0, interp: str = "bicubic", threads: int = 0,
-            engine: str = "simd") -> np.ndarray:
+            engine: str = "simd", antialias: Union[str, int, None] = None) -> np.ndarray:
     """Converts ``image`` from projection ``src`` to ``dst`` and returns the new image.
 
     ``src=None`` takes a 2:1 image as a full equirect (as the command does); a list of six
     arrays is a cubemap's faces. ``size`` is the output's (width, height); by default the
     output keeps the source's resolution at its centre. ``yaw`` turns the view right, ``pitch``
     up, ``roll`` clockwise (applied roll, pitch, then yaw). ``interp``: nearest, bilinear,
-    bicubic or lanczos3. ``threads=0`` uses every core. The result has the input's dtype and
-    channels; pixels without a source are 0 (alpha 0).
+    bicubic or lanczos3. ``threads=0`` uses every core. ``antialias``: ``"auto"`` (mip levels where
+    the output shrinks the source), ``"off"`` or ``"N"`` (N x N sub-pixels); None: auto, off for
+    the reference engine. The result has the input's dtype and channels; pixels without a
+    source are 0 (alpha 0).
     """
     return _core.convert(image, _spec(src), _spec(dst), _size(size), float(yaw), float(pitch),
-                         float(roll), interp, int(threads), engine)
+                         float(roll), interp, int(threads), engine, _antialias(antialias))
 
 
 def build_map(src: Union[str, Projection], dst: Union[str, Projection],
@@ -190,9 +200,9 @@ class Plan:
     def __init__(self, src: Union[str, Projection], dst: Union[str, Projection],
                  source_size: SizeLike, *, size: SizeLike = None, yaw: float = 0.0,
                  pitch: float = 0.0, roll: float = 0.0, interp: str = "bicubic",
-                 threads: int = 0, engine: str = "simd") -> None:
+                 threads: int = 0, engine: str = "simd", antialias: Union[str, int, None] = None) -> None:
         self._args = (_spec(src), _spec(dst), _size(source_size), _size(size), float(yaw),
-                      float(pitch), float(roll), interp, int(threads), engine)
+                      float(pitch), float(roll), interp, int(threads), engine, _antialias(antialias))
         self._plan = _core.Plan(*self._args)
 
     @property
@@ -226,10 +236,10 @@ class Plan:
         self._plan = _core.Plan(*self._args)
 
     def __repr__(self) -> str:
-        src, dst, source_size, size, yaw, pitch, roll, interp, threads, engine = self._args
+        src, dst, source_size, size, yaw, pitch, roll, interp, threads, engine, antialias = self._args
         return (f"Plan({src!r}, {dst!r}, source_size={source_size}, size={self.size}, yaw={yaw}, "
                 f"pitch={pitch}, roll={roll}, interp={interp!r}, threads={threads}, "
-                f"engine={engine!r})")
+                f"engine={engine!r}, antialias={antialias!r})")
 
 
 def read(path: str, *, metadata: bool = False):

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "panoproj/convert.hpp"
+#include "panoproj/antialias.hpp"
 #include "panoproj/engine.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
@@ -154,11 +155,13 @@ std::optional<ProjectionSpec> spec_of(const std::optional<std::string>& text) {
 }
 
 ConvertOptions options_of(std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
-                          const std::string& interp, int threads, const std::string& engine) {
+                          const std::string& interp, int threads, const std::string& engine,
+                          const std::optional<std::string>& antialias) {
   ConvertOptions o;
   o.yaw = yaw, o.pitch = pitch, o.roll = roll;
   o.interp = parse_interp(interp);
   o.engine = parse_engine(engine);
+  if (antialias) o.antialias = parse_antialias(*antialias);
   o.threads = threads;
   if (size) o.size = Size{size->first, size->second};
   return o;
@@ -182,13 +185,14 @@ class PyPlan {
     std::string interp;
     int threads;
     std::string engine;
+    std::optional<std::string> antialias;
   };
   explicit PyPlan(Params p)
       : p_(std::move(p)),
-        options_(options_of(p_.size, p_.yaw, p_.pitch, p_.roll, p_.interp, p_.threads, p_.engine)),
+        options_(options_of(p_.size, p_.yaw, p_.pitch, p_.roll, p_.interp, p_.threads, p_.engine, p_.antialias)),
         plan_(make_plan(size_pair(p_.source_size), parse_spec(p_.src), parse_spec(p_.dst), options_)),
         converter_(plan_.source, plan_.target, plan_.rotation, options_.interp, options_.engine, options_.threads,
-                   true) {}
+                   true, antialias_of(options_)) {}
   const Plan& plan() const { return plan_; }
 
   py::array run(const py::object& src, std::optional<py::array> out) const {
@@ -309,7 +313,7 @@ PYBIND11_MODULE(_core, m) {
       "convert",
       [](const py::object& src_image, std::optional<std::string> src, const std::string& dst,
          std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
-         const std::string& interp, int threads, const std::string& engine) {
+         const std::string& interp, int threads, const std::string& engine, const std::optional<std::string>& antialias) {
         std::optional<ProjectionSpec> from = spec_of(src);
         py::object keep;
         const Image in = source_of(src_image, keep, from);
@@ -318,7 +322,7 @@ PYBIND11_MODULE(_core, m) {
                       " image is not a 2:1 equirect (give src, e.g. 'fisheye:fov=180')");
         if (!from) from = parse_spec("equirect");
         const ProjectionSpec to = parse_spec(dst);
-        const ConvertOptions o = options_of(size, yaw, pitch, roll, interp, threads, engine);
+        const ConvertOptions o = options_of(size, yaw, pitch, roll, interp, threads, engine, antialias);
         const bool flat = py::isinstance<py::array>(src_image) && src_image.cast<py::array>().ndim() == 2;
         Image out;
         {
@@ -328,14 +332,14 @@ PYBIND11_MODULE(_core, m) {
         return array_of(std::move(out), flat);
       },
       py::arg("image"), py::arg("src"), py::arg("dst"), py::arg("size"), py::arg("yaw"), py::arg("pitch"),
-      py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"));
+      py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"), py::arg("antialias"));
 
   m.def(
       "build_map",
       [](const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size,
          std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
          const std::string& convention, int threads) {
-        const ConvertOptions o = options_of(size, yaw, pitch, roll, "bilinear", threads, "simd");
+        const ConvertOptions o = options_of(size, yaw, pitch, roll, "bilinear", threads, "simd", std::nullopt);
         const Plan plan = make_plan(size_pair(source_size), parse_spec(src), parse_spec(dst), o);
         MapConvention c;
         if (convention == "opencv") c = MapConvention::OpenCV;
@@ -354,12 +358,14 @@ PYBIND11_MODULE(_core, m) {
   py::class_<PyPlan>(m, "Plan")
       .def(py::init([](const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size,
                        std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
-                       const std::string& interp, int threads, const std::string& engine) {
+                       const std::string& interp, int threads, const std::string& engine,
+                       std::optional<std::string> antialias) {
              return std::make_unique<PyPlan>(
-                 PyPlan::Params{src, dst, source_size, size, yaw, pitch, roll, interp, threads, engine});
+                 PyPlan::Params{src, dst, source_size, size, yaw, pitch, roll, interp, threads, engine, antialias});
            }),
            py::arg("src"), py::arg("dst"), py::arg("source_size"), py::arg("size"), py::arg("yaw"),
-           py::arg("pitch"), py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"))
+           py::arg("pitch"), py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"),
+           py::arg("antialias"))
       .def("run", &PyPlan::run, py::arg("image"), py::arg("out") = std::nullopt)
       .def_property_readonly("size", [](const PyPlan& p) {
         const Size s = size_of(p.plan().target);

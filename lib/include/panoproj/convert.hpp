@@ -2,6 +2,7 @@
 // One conversion, in memory: plan (projections bound to sizes, rotation) then remap.
 #include <optional>
 
+#include "panoproj/antialias.hpp"
 #include "panoproj/engine.hpp"
 #include "panoproj/image.hpp"
 #include "panoproj/interpolator.hpp"
@@ -14,6 +15,8 @@ struct ConvertOptions {
   Interp interp = Interp::Bicubic;
   int threads = 0;                      // 0: all cores
   Engine engine = Engine::Simd;         // see engine.hpp
+  std::optional<Antialias> antialias;   // see antialias.hpp; default: auto, off for the
+                                        // reference engine (which has none)
   std::optional<Size> size;             // output size; default: default_size() at the source's
                                         // centre density (square pixels)
 };
@@ -22,6 +25,9 @@ struct Plan {
   Projection source, target;
   Eigen::Matrix3d rotation;
 };
+
+// options.antialias, or its default for options.engine.
+Antialias antialias_of(const ConvertOptions& options);
 
 // Throws panoproj::Error on bad parameters (non-finite angles, sizes, specs).
 Plan make_plan(Size source_size, const ProjectionSpec& from, const ProjectionSpec& to,

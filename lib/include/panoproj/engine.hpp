@@ -14,6 +14,7 @@
 #include <mutex>
 #include <vector>
 
+#include "panoproj/antialias.hpp"
 #include "panoproj/image.hpp"
 #include "panoproj/interpolator.hpp"
 #include "panoproj/projection.hpp"
@@ -47,11 +48,13 @@ struct EngineStats {
 // size. With cache_map, the tile maps of the tiles that are not fused (kCachedMapBytesPerPixel
 // per output pixel at most) are built once, on the first run, and reused: batches and video
 // frames pay for that geometry once. Fused tiles recompute theirs: in registers it costs less
-// than reading a stored map. run() may be called from several threads at once.
+// than reading a stored map. run() may be called from several threads at once. antialias
+// (antialias.hpp; off by default here, auto in the command and the Python module) needs the
+// simd or scalar engine; auto builds the source's mip levels on each run.
 class Converter {
  public:
   Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
-            Engine engine, int threads, bool cache_map = false);
+            Engine engine, int threads, bool cache_map = false, Antialias antialias = {});
 
   // Throws panoproj::Error if src's size is not the source projection's. progress, if given,
   // is called from the calling thread with the fraction of tiles done.
@@ -74,9 +77,12 @@ class Converter {
 
   const Projection& source() const { return source_; }
   const Projection& target() const { return target_; }
+  const Antialias& antialias() const { return antialias_; }
 
  private:
   Projection source_, target_;
+  Antialias antialias_;
+  Projection sub_target_;  // the target at n times its size (supersampling), else the target
   Eigen::Matrix3d rotation_;
   Interp interp_;
   Engine engine_;
@@ -87,8 +93,10 @@ class Converter {
   void build_cache() const;
   TileRect tile(int64_t t) const;  // tiles in row-major order
   int64_t tile_count() const;
-  // True (and g filled) where the tile's geometry runs in registers fused with the sampling.
-  bool fused(const TileRect& rect, SimdGeometry& g) const;
+  // True (and g filled) where the tile's geometry (of target_, or of the given target) runs in
+  // registers fused with the sampling.
+  bool fused(const TileRect& rect, SimdGeometry& g) const { return fused(target_, rect, g); }
+  bool fused(const Projection& target, const TileRect& rect, SimdGeometry& g) const;
   const TileMap* cached(int64_t t) const;  // the kept map of a tile that has one, else null
 };
 

@@ -41,6 +41,8 @@ Size read_image_size(const std::string& path);
 // is read_image.
 Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1);
 void write_image(const Image& image, const std::string& path, const WriteOptions& options);
+// A text file (CSV, JSON ...), written like images: to a temporary file, then renamed.
+void write_text(const std::string& text, const std::string& path, bool overwrite);
 
 // Converts samples to another type (integers scale by their unit: 255 <-> 65535 <-> 1.0;
 // floats are clamped to [0, 1] when going to integers).

@@ -52,6 +52,10 @@ inline bool shows_whole_sphere(const Projection& p) {
   return std::holds_alternative<Cubemap>(p) || std::holds_alternative<Aitoff>(p) || std::holds_alternative<Hammer>(p) ||
          std::holds_alternative<Bonne>(p);
 }
+// The same projection on a frame of `size` showing the same field: pixel positions scale by
+// size / size_of(p) per axis (mip levels, supersampled targets). A cubemap's size must hold
+// whole faces in its layout. Throws panoproj::Error otherwise.
+Projection rescaled(const Projection& p, Size size);
 // Pixels of rays[i] where ok[i] (in/out: cleared where the ray has no pixel).
 void to_pixel_row(const Projection& p, const Ray* rays, int64_t n, double* xs, double* ys,
                   uint8_t* ok);

@@ -1,0 +1,44 @@
+#pragma once
+// Mip levels of a source for antialiasing (antialias.hpp's auto). Level k + 1 is level k shrunk
+// 2 times on each axis, each pixel the mean of a 2x2 block (integers rounded to nearest; colour
+// weighted by alpha where there is one); the projection of level k is the source's rescaled to
+// its size, so a position x at level 0 is x / 2^k there. Levels exist while the frame (and a cubemap's faces, which then start on even
+// pixels: blocks never straddle a face edge) stay even. Built on first use, each by all threads;
+// safe to call from several threads. Internal.
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "panoproj/image.hpp"
+#include "panoproj/projection.hpp"
+#include "panoproj/source_edges.hpp"
+
+namespace panoproj {
+
+// Halvings p allows (0: none).
+int deepest_level(const Projection& p);
+
+class Pyramid {
+ public:
+  // src: the source image (may be a window of its frame: a level holds the blocks the window
+  // touches, a block half outside averaging the pixels held), which must outlive the pyramid.
+  Pyramid(const Image& src, const Projection& p, int threads);
+  int levels() const { return static_cast<int>(levels_.size()); }  // including level 0
+
+  struct Level {
+    Projection projection;
+    SourceEdges edges;  // refers to projection: levels never move
+    Image image;        // empty at level 0 (the source itself)
+  };
+  // Level k, built (with the levels before it) on first use.
+  const Level& level(int k) const;
+  const Image& image(int k) const { return k == 0 ? src_ : level(k).image; }
+
+ private:
+  const Image& src_;
+  int threads_;
+  std::vector<std::unique_ptr<Level>> levels_;
+  std::unique_ptr<std::once_flag[]> built_;
+};
+
+}  // namespace panoproj
