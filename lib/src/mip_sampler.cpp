@@ -18,16 +18,18 @@ constexpr float kNone = HUGE_VALF;
 // Squared steps between horizontal (h[j w + i]: pixels i, i + 1) and vertical (v[j w + i]: rows
 // j, j + 1) neighbours; kNone where either has no position. x steps wrap on a full circle.
 void steps(const TileMap& tm, double wrap, float* h, float* v) {
-  const int64_t w = tm.rect.w, n = w * tm.rect.h;
+  const int64_t w = tm.rect.w, rows = tm.rect.h;
   auto step = [&](int64_t a, int64_t b) {
-    double dx = tm.xs[b] - tm.xs[a];
-    const double dy = tm.ys[b] - tm.ys[a];
+    double dx = tm.xs[a] - tm.xs[b];
+    const double dy = tm.ys[a] - tm.ys[b];
     if (wrap > 0) dx += dx > 0.5 * wrap ? -wrap : (dx < -0.5 * wrap ? wrap : 0.0);
     return tm.ok[a] && tm.ok[b] ? static_cast<float>(dx * dx + dy * dy) : kNone;
   };
-  for (int64_t k = 0; k < n; ++k) {
-    h[k] = k % w + 1 < w ? step(k, k + 1) : kNone;
-    v[k] = k + w < n ? step(k, k + w) : kNone;
+  for (int64_t j = 0; j < rows; ++j) {
+    const int64_t k0 = j * w;
+    for (int64_t i = 0; i + 1 < w; ++i) h[k0 + i] = step(k0 + i + 1, k0 + i);
+    h[k0 + w - 1] = kNone;
+    for (int64_t i = 0; i < w; ++i) v[k0 + i] = j + 1 < rows ? step(k0 + w + i, k0 + i) : kNone;
   }
 }
 
@@ -54,26 +56,33 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
   // that level alone.
   s.level.resize(static_cast<size_t>(n));
   float* f = s.rho.data();
-  int top = 0;  // the deepest level in use
-  for (int64_t k = 0; k < n; ++k) {
-    const int64_t i = k % w;
-    const float sx = std::min(h[k], i > 0 ? h[k - 1] : kNone), sy = std::min(v[k], k >= w ? v[k - w] : kNone);
-    const float r = 0.5f * std::sqrt(std::sqrt(std::max(finite(sx), 1e-12f) * std::max(finite(sy), 1e-12f)));
-    const auto bits = std::bit_cast<uint32_t>(r);
-    const int j = r > 1.0f ? static_cast<int>(bits >> 23) - 127 : 0;
-    const bool last = j >= deepest;
-    s.level[k] = static_cast<int8_t>(last ? deepest : j);
-    f[k] = r > 1.0f && !last ? std::bit_cast<float>((bits & 0x7fffffu) | 0x3f800000u) - 1.0f : 0.0f;
-    if (tm.ok[k]) top = std::max(top, s.level[k] + (f[k] > 0.0f));
-  }
+  int top = 0;           // the deepest level in use
+  bool level0 = false;  // some pixel uses level 0
+  for (int64_t j = 0; j < rect.h; ++j)
+    for (int64_t i = 0; i < w; ++i) {
+      const int64_t k = j * w + i;
+      const float sx = std::min(h[k], i > 0 ? h[k - 1] : kNone), sy = std::min(v[k], j > 0 ? v[k - w] : kNone);
+      const float r = 0.5f * std::sqrt(std::sqrt(std::max(finite(sx), 1e-12f) * std::max(finite(sy), 1e-12f)));
+      const auto bits = std::bit_cast<uint32_t>(r);
+      const int lo = r > 1.0f ? static_cast<int>(bits >> 23) - 127 : 0;
+      const bool last = lo >= deepest;
+      s.level[k] = static_cast<int8_t>(last ? deepest : lo);
+      f[k] = r > 1.0f && !last ? std::bit_cast<float>((bits & 0x7fffffu) | 0x3f800000u) - 1.0f : 0.0f;
+      if (tm.ok[k]) top = std::max(top, s.level[k] + (f[k] > 0.0f)), level0 |= s.level[k] == 0;
+    }
   TileMap& lm = s.level_map;
   lm.rect = rect;
   lm.xs.resize(static_cast<size_t>(n)), lm.ys.resize(static_cast<size_t>(n)), lm.ok.resize(static_cast<size_t>(n));
-  // Level 0 straight into the tile (pixels with r <= 1 are then done, as without antialiasing).
-  for (int64_t k = 0; k < n; ++k) lm.ok[k] = tm.ok[k] && s.level[k] == 0;
-  std::copy(tm.xs.begin(), tm.xs.end(), lm.xs.begin());
-  std::copy(tm.ys.begin(), tm.ys.end(), lm.ys.begin());
-  sample(0, lm, out, out_stride);
+  // Level 0 straight into the tile (pixels with r <= 1 are then done, as without antialiasing;
+  // the sampler writes 0 where no level-0 sample is taken); without level 0, zeros.
+  if (level0) {
+    for (int64_t k = 0; k < n; ++k) lm.ok[k] = tm.ok[k] && s.level[k] == 0;
+    std::copy(tm.xs.begin(), tm.xs.end(), lm.xs.begin());
+    std::copy(tm.ys.begin(), tm.ys.end(), lm.ys.begin());
+    sample(0, lm, out, out_stride);
+  } else {
+    for (int64_t j = 0; j < rect.h; ++j) std::memset(out + j * out_stride, 0, static_cast<size_t>(w * pb));
+  }
   if (top == 0) return;
   // The others: weighted sums per channel, colour premultiplied by alpha where there is one.
   s.acc.assign(static_cast<size_t>(n * nc), 0.0f);
@@ -81,18 +90,26 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
   with_sample_type(src.type(), [&](auto tag) {
     using T = decltype(tag);
     const double unit = unit_of(src.type());
-    auto add = [&](int64_t k, const unsigned char* p, float wt) {
-      float* a = s.acc.data() + k * nc;
-      if (alpha < 0) {
-        for (int c = 0; c < nc; ++c) a[c] += wt * static_cast<float>(load<T>(p + c * sizeof(T)));
-        return;
+    // Adds weight wt (per pixel of the rows, 0: none) times the samples of rows [0, h) of `from`.
+    auto add = [&](const unsigned char* from, int64_t stride, auto&& weight) {
+      for (int64_t j = 0; j < rect.h; ++j) {
+        const unsigned char* p = from + j * stride;
+        float* a = s.acc.data() + j * w * nc;
+        for (int64_t i = 0; i < w; ++i, p += pb, a += nc) {
+          const float wt = weight(j * w + i);
+          if (wt == 0.0f) continue;
+          if (alpha < 0) {
+            for (int c = 0; c < nc; ++c) a[c] += wt * static_cast<float>(load<T>(p + c * sizeof(T)));
+            continue;
+          }
+          const double cover = load<T>(p + alpha * sizeof(T)) / unit;
+          for (int c = 0; c < nc; ++c)
+            a[c] += wt * static_cast<float>(c == alpha ? cover * unit : load<T>(p + c * sizeof(T)) * cover);
+        }
       }
-      const double cover = load<T>(p + alpha * sizeof(T)) / unit;
-      for (int c = 0; c < nc; ++c)
-        a[c] += wt * static_cast<float>(c == alpha ? cover * unit : load<T>(p + c * sizeof(T)) * cover);
     };
-    for (int64_t k = 0; k < n; ++k)
-      if (tm.ok[k] && s.level[k] == 0 && f[k] > 0.0f) add(k, out + (k / w) * out_stride + (k % w) * pb, 1.0f - f[k]);
+    if (level0)
+      add(out, out_stride, [&](int64_t k) { return tm.ok[k] && s.level[k] == 0 ? 1.0f - f[k] : 0.0f; });
     for (int level = 1; level <= top; ++level) {
       const double scale = std::ldexp(1.0, -level);
       bool any = false;
@@ -103,27 +120,31 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
       }
       if (!any) continue;
       sample(level, lm, s.samples.data(), w * pb);
-      for (int64_t k = 0; k < n; ++k)
-        if (lm.ok[k]) add(k, s.samples.data() + k * pb, s.level[k] == level ? 1.0f - f[k] : f[k]);
+      add(s.samples.data(), w * pb, [&](int64_t k) {
+        return lm.ok[k] ? (s.level[k] == level ? 1.0f - f[k] : f[k]) : 0.0f;
+      });
     }
-    for (int64_t k = 0; k < n; ++k) {
-      if (!tm.ok[k] || (s.level[k] == 0 && f[k] == 0.0f)) continue;
-      const float* a = s.acc.data() + k * nc;
-      unsigned char* p = out + (k / w) * out_stride + (k % w) * pb;
-      if constexpr (std::is_integral_v<T>) {
-        if (alpha < 0) {  // rounded and clamped in float
-          constexpr float kMax = static_cast<float>(std::numeric_limits<T>::max());
-          for (int c = 0; c < nc; ++c) {
-            const T t = static_cast<T>(std::min(std::max(a[c] + 0.5f, 0.0f), kMax));
-            std::memcpy(p + c * sizeof(T), &t, sizeof(T));
+    for (int64_t j = 0; j < rect.h; ++j) {
+      unsigned char* p = out + j * out_stride;
+      const float* a = s.acc.data() + j * w * nc;
+      for (int64_t i = 0; i < w; ++i, p += pb, a += nc) {
+        const int64_t k = j * w + i;
+        if (!tm.ok[k] || (s.level[k] == 0 && f[k] == 0.0f)) continue;
+        if constexpr (std::is_integral_v<T>) {
+          if (alpha < 0) {  // rounded and clamped in float
+            constexpr float kMax = static_cast<float>(std::numeric_limits<T>::max());
+            for (int c = 0; c < nc; ++c) {
+              const T t = static_cast<T>(std::min(std::max(a[c] + 0.5f, 0.0f), kMax));
+              std::memcpy(p + c * sizeof(T), &t, sizeof(T));
+            }
+            continue;
           }
-          continue;
         }
-      }
-      const double cover = alpha >= 0 ? a[alpha] / unit : 1.0;
-      for (int c = 0; c < nc; ++c) {
-        const double value = c == alpha || alpha < 0 ? a[c] : (cover > 1e-12 ? a[c] / cover : 0.0);
-        store<T>(p + c * sizeof(T), value);
+        const double cover = alpha >= 0 ? a[alpha] / unit : 1.0;
+        for (int c = 0; c < nc; ++c) {
+          const double value = c == alpha || alpha < 0 ? a[c] : (cover > 1e-12 ? a[c] / cover : 0.0);
+          store<T>(p + c * sizeof(T), value);
+        }
       }
     }
   });

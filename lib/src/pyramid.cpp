@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <type_traits>
-#include <vector>
 
 #include "panoproj/parallel.hpp"
 #include "sample_io.hpp"
@@ -10,14 +9,13 @@
 namespace panoproj {
 namespace {
 
-// Integer samples of NC channels without alpha, the common case: row sums first (a loop that
-// vectorizes), then pairs of columns; (a + b + c + d + 2) / 4 rounds to nearest. Columns
-// [x0, x1) of `to`, whose pixel pairs are all held in `from` (the caller clamps the edges).
+// Integer samples of NC channels without alpha, the common case, in one pass over the pairs;
+// (a + b + c + d + 2) / 4 rounds to nearest. All of the n_pairs column pairs are held.
 template <class T, int NC>
-void shrink_row_interior(const T* r0, const T* r1, T* out, int64_t n_pairs, uint32_t* sums) {
-  for (int64_t k = 0; k < 2 * NC * n_pairs; ++k) sums[k] = uint32_t{r0[k]} + r1[k];
-  for (int64_t x = 0; x < n_pairs; ++x)
-    for (int c = 0; c < NC; ++c) out[x * NC + c] = static_cast<T>((sums[2 * x * NC + c] + sums[(2 * x + 1) * NC + c] + 2) >> 2);
+void shrink_row_interior(const T* __restrict r0, const T* __restrict r1, T* __restrict out, int64_t n_pairs) {
+  for (int64_t x = 0; x < n_pairs; ++x, r0 += 2 * NC, r1 += 2 * NC, out += NC)
+    for (int c = 0; c < NC; ++c)
+      out[c] = static_cast<T>((uint32_t{r0[c]} + r0[NC + c] + r1[c] + r1[NC + c] + 2) >> 2);
 }
 
 // Rows [y0, y1) of `to` (a level's window) from `from` (the level before): each pixel the mean of
@@ -33,7 +31,6 @@ void shrink_rows(const Image& from, Image& to, int64_t y0, int64_t y1) {
   // The columns of `to` whose both source columns are held: [i0, i1).
   const int64_t i0 = std::clamp((fx0 + 1) / 2 - to.origin_x(), int64_t{0}, to.width());
   const int64_t i1 = std::clamp((fx1 + 1) / 2 - to.origin_x(), i0, to.width());
-  std::vector<uint32_t> sums(static_cast<size_t>(std::is_integral_v<T> && alpha < 0 ? 2 * nc * (i1 - i0) : 0));
   for (int64_t y = y0; y < y1; ++y) {
     const int64_t Y = to.origin_y() + y;
     const unsigned char* r0 = from.at(fx0, std::clamp(2 * Y, fy0, fy1));
@@ -47,7 +44,7 @@ void shrink_rows(const Image& from, Image& to, int64_t y0, int64_t y1) {
           auto run = [&](auto nc_tag) {
             constexpr int N = decltype(nc_tag)::value;
             shrink_row_interior<T, N>(reinterpret_cast<const T*>(r0 + at), reinterpret_cast<const T*>(r1 + at),
-                                      reinterpret_cast<T*>(out + x * pb), i1 - i0, sums.data());
+                                      reinterpret_cast<T*>(out + x * pb), i1 - i0);
           };
           switch (nc) {
             case 1: run(std::integral_constant<int, 1>{}); break;
