@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages panoproj needs, only those missing (about a second when none is).
-# Usage: scripts/install-deps.sh
+# Usage: scripts/install-deps.sh [more packages, e.g. clang for the fuzz build]
 set -euo pipefail
 
 pkgs=(
@@ -13,6 +13,8 @@ pkgs=(
   libopencv-core-dev libopencv-imgproc-dev  # test oracle and bench peer (not the library)
   python3 python3-venv python3-dev   # Python module (venv for Debian's own python3; headers)
   ccache                             # fast rebuilds; used only when present
+  fonts-dejavu-core                  # the labels of panoproj accuracy's plots
+  "$@"
 )
 
 missing=()

@@ -197,7 +197,8 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
   const int n_workers = workers_for(n_tiles, threads_);
   if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });
   std::optional<Pyramid> pyramid;
-  if (antialias_.mode == Antialias::Mode::Auto) pyramid.emplace(src, source_, threads_);
+  if (antialias_.mode == Antialias::Mode::Auto) pyramid.emplace(src, source_);
+  const bool cube_source = std::holds_alternative<Cubemap>(source_);
   struct Worker {
     TileMap map;
     SimdMisses misses;
@@ -246,6 +247,17 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     simd_convert(g, rect, simd_src, interp_, out_at, stride, wk.misses);
     resolve_misses(src, edges, rect, out_at, stride, wk);
   };
+  // A fused tile whose source extent is at most 1.5 times its size (mean step <= 1.5, r <= 3/4)
+  // takes the fused path, as without antialiasing: a pixel there reaches r > 1 only where the
+  // scale grows by a third within 64 pixels (near a singular point, where tiles span far more:
+  // at a pole the whole width), and then barely (level 1's weight is r - 1).
+  auto within_scale = [&](int64_t t, const TileRect& rect) {
+    SimdGeometry g;
+    if (cached(t) || !fused(rect, g)) return false;
+    std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    simd_tile_bounds(g, rect, b);
+    return b[2] - b[0] <= 1.5 * static_cast<double>(rect.w) && b[3] - b[1] <= 1.5 * static_cast<double>(rect.h);
+  };
   std::atomic<int64_t> done{0};
   int64_t last_percent = -1;
   parallel_tasks(n_tiles, threads_, [&](int64_t t, int w) {
@@ -261,7 +273,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
       wk.sub.resize(static_cast<size_t>(sub_stride * sub.h));
       sample_rect(sub_target_, sub, nullptr, wk.sub.data(), sub_stride, wk);
       average_subpixels(src, wk.sub.data(), sub_stride, rect, static_cast<int>(n), corner, stride);
-    } else if (pyramid) {
+    } else if (pyramid && !within_scale(t, rect)) {
       const TileMap* tm = cached(t);
       SimdGeometry g;
       if (!tm) {
@@ -271,6 +283,15 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
       }
       sample_mip_tile(*pyramid, *tm, wrap_width(source_),
                       [&](int k, const TileMap& m, unsigned char* o, int64_t st) {
+                        // The level's rows the taps reach (the edge rules stay within them,
+                        // but a cube's, which read neighbouring faces anywhere: all rows).
+                        double y0 = HUGE_VAL, y1 = -HUGE_VAL;
+                        for (size_t i = 0; i < m.ok.size(); ++i)
+                          if (m.ok[i]) y0 = std::min(y0, m.ys[i]), y1 = std::max(y1, m.ys[i]);
+                        const int reach = support(interp_) / 2 + 1;
+                        if (cube_source) y0 = -HUGE_VAL, y1 = HUGE_VAL;
+                        pyramid->build_rows(k, static_cast<int64_t>(std::max(-1e15, std::floor(y0))) - reach,
+                                            static_cast<int64_t>(std::min(1e15, std::ceil(y1))) + reach + 1);
                         const Pyramid::Level& l = pyramid->level(k);
                         const Image& im = pyramid->image(k);
                         sample_map(im, l.edges, simd_source(im, l.projection), m, o, st, wk);

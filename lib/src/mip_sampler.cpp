@@ -19,17 +19,26 @@ constexpr float kNone = HUGE_VALF;
 // j, j + 1) neighbours; kNone where either has no position. x steps wrap on a full circle.
 void steps(const TileMap& tm, double wrap, float* h, float* v) {
   const int64_t w = tm.rect.w, rows = tm.rect.h;
+  const float fw = static_cast<float>(wrap), half = 0.5f * fw;
+  const double* xs = tm.xs.data();
+  const double* ys = tm.ys.data();
+  const uint8_t* ok = tm.ok.data();
+  // Branch-free, so that the compiler vectorizes it (positions within float's reach of a step).
   auto step = [&](int64_t a, int64_t b) {
-    double dx = tm.xs[a] - tm.xs[b];
-    const double dy = tm.ys[a] - tm.ys[b];
-    if (wrap > 0) dx += dx > 0.5 * wrap ? -wrap : (dx < -0.5 * wrap ? wrap : 0.0);
-    return tm.ok[a] && tm.ok[b] ? static_cast<float>(dx * dx + dy * dy) : kNone;
+    float dx = static_cast<float>(xs[a] - xs[b]);
+    const float dy = static_cast<float>(ys[a] - ys[b]);
+    dx += (dx < -half ? fw : 0.0f) - (dx > half ? fw : 0.0f);
+    return (ok[a] & ok[b]) ? dx * dx + dy * dy : kNone;
   };
   for (int64_t j = 0; j < rows; ++j) {
     const int64_t k0 = j * w;
     for (int64_t i = 0; i + 1 < w; ++i) h[k0 + i] = step(k0 + i + 1, k0 + i);
     h[k0 + w - 1] = kNone;
-    for (int64_t i = 0; i < w; ++i) v[k0 + i] = j + 1 < rows ? step(k0 + w + i, k0 + i) : kNone;
+    if (j + 1 < rows) {
+      for (int64_t i = 0; i < w; ++i) v[k0 + i] = step(k0 + w + i, k0 + i);
+    } else {
+      std::fill(v + k0, v + k0 + w, kNone);
+    }
   }
 }
 
@@ -50,7 +59,6 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
   float* h = s.rho.data() + n;
   float* v = h + n;
   steps(tm, wrap_width, h, v);
-  auto finite = [](float a) { return a == kNone ? 0.0f : a; };
   // Levels and weights: 2^j <= r < 2^(j+1) blends levels j and j + 1 linearly in r (f = r / 2^j
   // - 1, read off r's exponent and mantissa); r <= 1 is level 0 alone; from the deepest level on,
   // that level alone.
@@ -62,12 +70,21 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
     for (int64_t i = 0; i < w; ++i) {
       const int64_t k = j * w + i;
       const float sx = std::min(h[k], i > 0 ? h[k - 1] : kNone), sy = std::min(v[k], j > 0 ? v[k - w] : kNone);
-      const float r = 0.5f * std::sqrt(std::sqrt(std::max(finite(sx), 1e-12f) * std::max(finite(sy), 1e-12f)));
+      const float q = (sx == kNone ? 0.0f : sx) * (sy == kNone ? 0.0f : sy);  // (2 r)^4
+      s.level[k] = 0, f[k] = 0.0f;
+      if (!(q > 16.0f)) {  // r <= 1, most pixels of most conversions: no roots
+        level0 |= tm.ok[k] != 0;
+        continue;
+      }
+      const float r = 0.5f * std::sqrt(std::sqrt(q));
       const auto bits = std::bit_cast<uint32_t>(r);
-      const int lo = r > 1.0f ? static_cast<int>(bits >> 23) - 127 : 0;
-      const bool last = lo >= deepest;
-      s.level[k] = static_cast<int8_t>(last ? deepest : lo);
-      f[k] = r > 1.0f && !last ? std::bit_cast<float>((bits & 0x7fffffu) | 0x3f800000u) - 1.0f : 0.0f;
+      const int lo = static_cast<int>(bits >> 23) - 127;
+      if (lo >= deepest) {
+        s.level[k] = static_cast<int8_t>(deepest);
+      } else {
+        s.level[k] = static_cast<int8_t>(lo);
+        f[k] = std::bit_cast<float>((bits & 0x7fffffu) | 0x3f800000u) - 1.0f;
+      }
       if (tm.ok[k]) top = std::max(top, s.level[k] + (f[k] > 0.0f)), level0 |= s.level[k] == 0;
     }
   TileMap& lm = s.level_map;

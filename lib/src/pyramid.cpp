@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <type_traits>
 
-#include "panoproj/parallel.hpp"
 #include "sample_io.hpp"
 
 namespace panoproj {
@@ -95,34 +94,38 @@ int deepest_level(const Projection& p) {
   return k;
 }
 
-Pyramid::Pyramid(const Image& src, const Projection& p, int threads) : src_(src), threads_(threads) {
+Pyramid::Pyramid(const Image& src, const Projection& p) : src_(src) {
   const int n = deepest_level(p) + 1;
   Size s = size_of(p);
+  const Image* from = &src;
   for (int k = 0; k < n; ++k, s = {s.width / 2, s.height / 2}) {
     Projection q = k == 0 ? p : rescaled(p, s);
-    levels_.push_back(std::make_unique<Level>(Level{q, SourceEdges(q), Image()}));
+    auto l = std::make_unique<Level>(Level{q, SourceEdges(q), Image(), nullptr});
+    l->edges = SourceEdges(l->projection);  // it keeps a pointer into the projection: its final place
+    if (k > 0) {
+      const int64_t x0 = from->origin_x() / 2, y0 = from->origin_y() / 2;
+      const int64_t x1 = (from->origin_x() + from->width() + 1) / 2, y1 = (from->origin_y() + from->height() + 1) / 2;
+      l->image = Image({x1 - x0, y1 - y0}, from->channels(), from->type(), from->alpha_channel(), Image::Unfilled{});
+      l->image.set_window(x0, y0, s);
+      l->bands = std::make_unique<std::once_flag[]>(static_cast<size_t>((y1 - y0 + kBand - 1) / kBand));
+    }
+    levels_.push_back(std::move(l));
+    if (k > 0) from = &levels_.back()->image;
   }
-  // SourceEdges keeps a pointer into its projection: rebuild it where the level now lives.
-  for (auto& l : levels_) l->edges = SourceEdges(l->projection);
-  built_ = std::make_unique<std::once_flag[]>(static_cast<size_t>(n));
 }
 
-const Pyramid::Level& Pyramid::level(int k) const {
-  Level& l = *levels_[static_cast<size_t>(k)];
-  if (k == 0) return l;
-  std::call_once(built_[static_cast<size_t>(k)], [&] {
-    const Image& from = image(k - 1);
-    const int64_t x0 = from.origin_x() / 2, y0 = from.origin_y() / 2;
-    const int64_t x1 = (from.origin_x() + from.width() + 1) / 2, y1 = (from.origin_y() + from.height() + 1) / 2;
-    const Size frame = size_of(l.projection);
-    Image to({x1 - x0, y1 - y0}, from.channels(), from.type(), from.alpha_channel(), Image::Unfilled{});
-    to.set_window(x0, y0, frame);
-    with_sample_type(from.type(), [&](auto t) {
-      parallel_rows(to.height(), threads_, [&](int64_t r0, int64_t r1) { shrink_rows<decltype(t)>(from, to, r0, r1); });
+void Pyramid::build_rows(int k, int64_t y0, int64_t y1) const {
+  if (k == 0) return;
+  const Level& l = level(k);
+  Image& to = const_cast<Image&>(l.image);  // rows are written once, under their band's flag
+  const int64_t oy = to.origin_y();
+  const int64_t b0 = std::max<int64_t>(0, y0 - oy) / kBand, b1 = (std::min(y1 - oy, to.height()) + kBand - 1) / kBand;
+  for (int64_t b = b0; b < b1; ++b)
+    std::call_once(l.bands[static_cast<size_t>(b)], [&] {
+      const int64_t r0 = b * kBand, r1 = std::min(to.height(), r0 + kBand);
+      build_rows(k - 1, 2 * (oy + r0), 2 * (oy + r1));
+      with_sample_type(to.type(), [&](auto t) { shrink_rows<decltype(t)>(image(k - 1), to, r0, r1); });
     });
-    l.image = std::move(to);
-  });
-  return l;
 }
 
 }  // namespace panoproj

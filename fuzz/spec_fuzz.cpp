@@ -1,0 +1,34 @@
+// Fuzzes the projection spec parser and the factory: any text, any size. Only panoproj::Error
+// may leave them (a bad spec's one-line message); a crash, a sanitizer report or another
+// exception is a bug.
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+#include "panoproj/error.hpp"
+#include "panoproj/projection.hpp"
+#include "panoproj/spec.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  // First 4 bytes: the size (two 16-bit numbers, 0 included); the rest: the spec text.
+  if (size < 4) return 0;
+  uint16_t w, h;
+  std::memcpy(&w, data, 2);
+  std::memcpy(&h, data + 2, 2);
+  const std::string text(reinterpret_cast<const char*>(data + 4), size - 4);
+  try {
+    const panoproj::ProjectionSpec spec = panoproj::parse_spec(text);
+    (void)spec.str();
+    const panoproj::Projection p = panoproj::make_projection(spec, {w, h});
+    // A few rays through the frame and back: must not crash on whatever was accepted.
+    for (double y : {0.0, 0.5 * h, static_cast<double>(h)})
+      for (double x : {0.0, 0.5 * w, static_cast<double>(w)}) {
+        panoproj::Ray d;
+        double px, py;
+        if (panoproj::to_ray(p, x, y, d)) (void)panoproj::to_pixel(p, d.normalized(), px, py);
+      }
+  } catch (const panoproj::Error&) {
+  }
+  return 0;
+}

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Error against run time at the sample sizes (README "Error against run time"): `panoproj
+# accuracy` on equirect -> cubemap, equirect -> fisheye and cubemap -> equirect, for the sharp
+# chart scene; tables (Markdown), CSV, JSON and plots in docs/accuracy/ (or $1).
+# Installs what is missing and builds first. Takes a few minutes (the truth is supersampled).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+out=${1:-"$root/docs/accuracy"}
+bash "$root/scripts/build.sh"
+pp="$root/build/tools/panoproj"
+mkdir -p "$out"
+sweep() {  # name, then the command's arguments
+  local name=$1
+  shift
+  "$pp" accuracy "$@" --csv "$out/$name.csv" --json "$out/$name.json" --plot "$out/$name.png" --overwrite |
+    tee "$out/$name.md"
+}
+sweep equirect_to_cubemap --from equirect --from-size 4096x2048 --to cubemap --size 6144x1024 --truth-supersample 4
+sweep equirect_to_fisheye --from equirect --from-size 4096x2048 --to fisheye:fov=180 --size 512x512
+sweep cubemap_to_equirect --from cubemap --from-size 6144x1024 --to equirect --size 4096x2048 --truth-supersample 4

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Fuzzes the spec parser and the image-reading path with libFuzzer under ASan and UBSan (fuzz/):
+# installs clang if missing, builds in build-fuzz/, runs each target SECONDS (default 30) from
+# the seed corpora in fuzz/corpus/ (new inputs go to a scratch copy, the repository's stay as
+# they are). A crash leaves its input in build-fuzz/ and fails.
+# Usage: scripts/fuzz.sh [SECONDS]
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+seconds=${1:-30}
+bash "$root/scripts/install-deps.sh" clang libclang-rt-14-dev
+build="$root/build-fuzz"
+[[ -f "$build/build.ninja" ]] ||
+  CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPANOPROJ_BUILD_FUZZ=ON \
+    -DPANOPROJ_BUILD_TESTS=OFF >/dev/null
+ninja -C "$build" spec_fuzz read_fuzz | grep -v '^ninja: no work to do' || true
+for t in spec read; do
+  work="$build/corpus-$t"
+  rm -rf "$work" && mkdir -p "$work"
+  cp "$root/fuzz/corpus/$t/"* "$work/"
+  echo "fuzz: ${t}_fuzz for ${seconds} s"
+  # Allocations over 2 GB fail (bad_alloc) instead of ending the run as out-of-memory.
+  (cd "$build" && UBSAN_OPTIONS=halt_on_error=1 ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
+    "./fuzz/${t}_fuzz" -max_total_time="$seconds" -max_len=4096 -malloc_limit_mb=2048 -rss_limit_mb=4096 \
+    -print_final_stats=1 "$work" 2>&1 | tail -n 12)
+done
