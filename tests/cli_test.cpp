@@ -208,6 +208,14 @@ TEST_F(Cli, AccuracyReportsErrorAgainstTime) {
   expect_refused(base + "--type keep", "type: keep");
 }
 
+TEST_F(Cli, StabilityReportPasses) {
+  const CliRun r = run("stability");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("| fisheye:fov=359.99,model=equisolid | 40000x40000 |"), std::string::npos);
+  EXPECT_NE(r.out.find(" 0 outside their bounds"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("| NO |"), std::string::npos) << r.out;
+}
+
 TEST_F(Cli, MissingFile) {
   expect_refused("convert " + p("nope.png") + " " + p("o.png") + " --to equirect", "nope.png does not exist");
 }

@@ -14,6 +14,7 @@
 #include "panoproj/convert_job.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/rotation.hpp"
+#include "panoproj/stability.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/parallel.hpp"
 #include "panoproj/spec.hpp"
@@ -220,6 +221,9 @@ int main(int argc, char** argv) {
   accuracy->add_option("--plot", acc_plot, "also write PSNR against time, Pareto front marked (PNG)");
   accuracy->add_flag("--overwrite", acc_overwrite, "replace existing outputs");
 
+  auto* stability = app.add_subcommand(
+      "stability", "round-trip every projection at its extremes and singular points; exit 1 if a bound fails");
+
   auto* info = app.add_subcommand("info", "list projections, their parameters and defaults");
 
   try {
@@ -232,6 +236,14 @@ int main(int argc, char** argv) {
     if (info->parsed()) {
       print_info();
       return 0;
+    }
+    if (stability->parsed()) {
+      std::vector<StabilityResult> results;
+      for (const StabilityCase& c : stability_cases()) results.push_back(run_stability_case(c));
+      std::printf("%s", stability_table(results).c_str());
+      const auto failed = std::count_if(results.begin(), results.end(), [](const auto& r) { return !r.pass(); });
+      std::printf("\n%zu cases, %lld outside their bounds\n", results.size(), static_cast<long long>(failed));
+      return failed ? 1 : 0;
     }
     if (accuracy->parsed()) {
       ConvertOptions o;

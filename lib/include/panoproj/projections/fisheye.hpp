@@ -59,7 +59,9 @@ class Fisheye {
   bool to_pixel(const Ray& d, double& x, double& y) const {
     const double s = std::hypot(d.x(), d.y());
     const double psi = std::atan2(s, d.z());
-    if (clip_ && psi > psi_max_ * (1.0 + kEdgeSlack)) return false;
+    // The rim's slack in psi, or as to_ray gives it, in r: where the law flattens (equisolid
+    // near 360 degrees), r's 1e-9 is far more than psi's (found by the stability report).
+    if (clip_ && psi > psi_max_ * (1.0 + kEdgeSlack) && law(psi) > g_max_ * (1.0 + kEdgeSlack)) return false;
     if (psi > psi_limit_ * (1.0 + kEdgeSlack) || (model_ == FisheyeModel::Stereographic && psi >= kPi))
       return false;
     const double r = law(psi) / g_max_;
