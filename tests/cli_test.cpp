@@ -192,13 +192,14 @@ TEST_F(Cli, AccuracyReportsErrorAgainstTime) {
     psnr[f[1] + "/" + f[2]] = std::stod(f[4]);
     ++rows;
   }
-  EXPECT_EQ(rows, 4);  // off, auto, 4 on simd; off on reference
+  EXPECT_EQ(rows, 5);  // off, auto, mip, 4 on simd; off on reference
   EXPECT_GT(psnr["auto/simd"], psnr["off/simd"] + 3) << r.out;
   EXPECT_GT(psnr["4/simd"], psnr["off/simd"] + 3) << r.out;
+  EXPECT_GT(psnr["mip/simd"], psnr["off/simd"] + 3) << r.out;
   EXPECT_NEAR(psnr["off/reference"], psnr["off/simd"], 0.05) << "exact and float geometry agree";
   std::ifstream json(p("a.json"));
   const std::string js((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
-  EXPECT_EQ(std::count(js.begin(), js.end(), '{'), 5) << js;
+  EXPECT_EQ(std::count(js.begin(), js.end(), '{'), 6) << js;
   EXPECT_NE(js.find("\"about\": \"scene chart, equirect 512x256 -> fisheye:fov=180 64x64"), std::string::npos) << js;
   EXPECT_EQ(read_image(p("a.png")).width(), 960);
   // Existing outputs are kept unless --overwrite; bad lists name the item.

@@ -165,8 +165,8 @@ int main(int argc, char** argv) {
                       "simd (default) | scalar (same tiles, no SIMD) | reference (exact, slow)");
   std::string antialias_text;
   convert->add_option("--antialias", antialias_text,
-                      "auto (default: mip levels where the output shrinks the source) | off | N (N x N "
-                      "sub-pixels, 2..16); the reference engine has none");
+                      "auto (default: sub-pixels where the output shrinks the source) | off | mip (mip "
+                      "levels) | N (N x N sub-pixels, 2..16); the reference engine has none");
   convert->add_option("--depth", depth_text, "output samples: keep|uint8|uint16|half|float");
   convert->add_flag("--overwrite", job.write.overwrite, "replace an existing output");
   bool quiet = false, verbose = false;
@@ -192,7 +192,7 @@ int main(int argc, char** argv) {
 
   SweepSetup sweep;
   std::string acc_scene = "chart", acc_from = "equirect", acc_from_size = "4096x2048", acc_to, acc_size,
-              acc_type = "uint8", acc_interp = "nearest,bilinear,bicubic,lanczos3", acc_antialias = "off,auto,4",
+              acc_type = "uint8", acc_interp = "nearest,bilinear,bicubic,lanczos3", acc_antialias = "off,auto,mip,4",
               acc_engine = "simd,reference", acc_csv, acc_json, acc_plot;
   double acc_yaw = 0, acc_pitch = 0, acc_roll = 0;
   bool acc_overwrite = false;
@@ -208,7 +208,7 @@ int main(int argc, char** argv) {
   accuracy->add_option("--roll", acc_roll, "degrees, positive turns the view clockwise");
   accuracy->add_option("--type", acc_type, "samples: uint8 (default) | uint16 | half | float");
   accuracy->add_option("--interp", acc_interp, "kernels to sweep (default nearest,bilinear,bicubic,lanczos3)");
-  accuracy->add_option("--antialias", acc_antialias, "antialiasing to sweep (default off,auto,4)");
+  accuracy->add_option("--antialias", acc_antialias, "antialiasing to sweep (default off,auto,mip,4)");
   accuracy->add_option("--engine", acc_engine,
                        "engines to sweep: simd (float geometry where within 1/1024 px), reference (exact double, "
                        "no antialiasing); default both");

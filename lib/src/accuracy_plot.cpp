@@ -52,8 +52,8 @@ Image plot_sweep(const std::vector<SweepResult>& results, const std::string& tit
   text(left + (W - left - right) / 2 - 70, H - 15, "median time (ms, log)", black);
   text(10, top - 15, "PSNR (dB)", black);
   text(left, 25, title, black, 16);
-  // The Pareto front, then the points: a filled square (off), a ring (auto), a cross (N x N),
-  // a diamond of lines (the reference engine).
+  // The Pareto front, then the points: a filled square (off), a ring (auto), a triangle (mip),
+  // a cross (N x N), a diamond of lines (the reference engine).
   const auto front = pareto_front(results);
   for (size_t i = 1; i < front.size(); ++i)
     OIIO::ImageBufAlgo::render_line(buf, X(results[front[i - 1]].median_ms), Y(results[front[i - 1]].error.psnr),
@@ -68,6 +68,9 @@ Image plot_sweep(const std::vector<SweepResult>& results, const std::string& tit
       OIIO::ImageBufAlgo::render_box(buf, x - 4, y - 4, x + 4, y + 4, c, true);
     } else if (r.option.antialias.mode == Antialias::Mode::Auto) {
       OIIO::ImageBufAlgo::render_box(buf, x - 5, y - 5, x + 5, y + 5, c), OIIO::ImageBufAlgo::render_box(buf, x - 4, y - 4, x + 4, y + 4, c);
+    } else if (r.option.antialias.mode == Antialias::Mode::Mip) {
+      OIIO::ImageBufAlgo::render_line(buf, x - 6, y + 5, x + 6, y + 5, c), OIIO::ImageBufAlgo::render_line(buf, x - 6, y + 5, x, y - 6, c);
+      OIIO::ImageBufAlgo::render_line(buf, x, y - 6, x + 6, y + 5, c);
     } else {
       OIIO::ImageBufAlgo::render_line(buf, x - 5, y - 5, x + 5, y + 5, c), OIIO::ImageBufAlgo::render_line(buf, x - 5, y + 5, x + 5, y - 5, c);
     }
@@ -81,7 +84,8 @@ Image plot_sweep(const std::vector<SweepResult>& results, const std::string& tit
     ly += 22;
   }
   ly += 10;
-  for (const char* s : {"filled square: antialias off", "ring: antialias auto", "cross: N x N sub-pixels",
+  for (const char* s : {"filled square: antialias off", "ring: antialias auto", "triangle: mip levels",
+                        "cross: N x N sub-pixels",
                         "diamond: reference engine", "orange line: Pareto front"})
     text(lx, ly, s, black, 12), ly += 20;
   Image out({W, H}, 3, PixelType::U8);

@@ -62,14 +62,16 @@ double wrap_width(const Projection& p) {
 
 Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation,
                      Interp interp, Engine engine, int threads, bool cache_map, Antialias antialias)
-    : source_(std::move(source)), target_(std::move(target)), antialias_(antialias), sub_target_(target_),
+    : source_(std::move(source)), target_(std::move(target)), antialias_(antialias),
       rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), cache_map_(cache_map) {
   if (antialias_.mode != Antialias::Mode::Off && engine_ == Engine::Reference)
     throw Error("antialias " + name_of(antialias_) + " needs the simd or scalar engine (or --antialias off)");
-  if (antialias_.mode == Antialias::Mode::Supersample) {
-    const Size s = size_of(target_);
-    sub_target_ = rescaled(target_, {s.width * antialias_.n, s.height * antialias_.n});
-  }
+  const int most = antialias_.mode == Antialias::Mode::Supersample ? antialias_.n
+                  : antialias_.mode == Antialias::Mode::Auto      ? Antialias::kMaxAuto
+                                                                  : 1;
+  const Size s = size_of(target_);
+  for (int n = 0; n <= most; ++n)
+    sub_targets_.push_back(n < 2 ? target_ : rescaled(target_, {s.width * n, s.height * n}));
 }
 
 TileRect Converter::tile(int64_t t) const {
@@ -197,8 +199,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
   const int n_workers = workers_for(n_tiles, threads_);
   if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });
   std::optional<Pyramid> pyramid;
-  if (antialias_.mode == Antialias::Mode::Auto) pyramid.emplace(src, source_);
-  const bool cube_source = std::holds_alternative<Cubemap>(source_);
+  if (antialias_.mode == Antialias::Mode::Mip) pyramid.emplace(src, source_);
   struct Worker {
     TileMap map;
     SimdMisses misses;
@@ -247,16 +248,38 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     simd_convert(g, rect, simd_src, interp_, out_at, stride, wk.misses);
     resolve_misses(src, edges, rect, out_at, stride, wk);
   };
-  // A fused tile whose source extent is at most 1.5 times its size (mean step <= 1.5, r <= 3/4)
-  // takes the fused path, as without antialiasing: a pixel there reaches r > 1 only where the
-  // scale grows by a third within 64 pixels (near a singular point, where tiles span far more:
-  // at a pole the whole width), and then barely (level 1's weight is r - 1).
-  auto within_scale = [&](int64_t t, const TileRect& rect) {
+  // The tile's mean step from one output pixel to the next, in source pixels: from its source
+  // extent over its size, or, where that extent spans a seam, a pole or cube faces (more than half the
+  // frame, or any cube source), the mean of its pixels' own steps (mip_sampler.hpp).
+  const double wrap = wrap_width(source_);
+  const bool cube_source = std::holds_alternative<Cubemap>(source_);
+  auto mean_step = [&](int64_t t, const TileRect& rect, Worker& wk) {
     SimdGeometry g;
-    if (cached(t) || !fused(rect, g)) return false;
+    const TileMap* tm = cached(t);
     std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    simd_tile_bounds(g, rect, b);
-    return b[2] - b[0] <= 1.5 * static_cast<double>(rect.w) && b[3] - b[1] <= 1.5 * static_cast<double>(rect.h);
+    const bool in_registers = !tm && fused(rect, g);
+    if (in_registers) simd_tile_bounds(g, rect, b);
+    if (!tm && !in_registers) map_tile(source_, target_, rotation_, rect, wk.map), tm = &wk.map;
+    if (tm)
+      for (size_t i = 0; i < tm->ok.size(); ++i)
+        if (tm->ok[i]) b = {std::min(b[0], tm->xs[i]), std::min(b[1], tm->ys[i]), std::max(b[2], tm->xs[i]), std::max(b[3], tm->ys[i])};
+    if (b[0] > b[2]) return 0.0;
+    if (cube_source || b[2] - b[0] > 0.5 * static_cast<double>(size_of(source_).width)) {
+      if (!tm) simd_map_tile(g, rect, wk.map), tm = &wk.map;
+      return mean_footprint(*tm, wrap, wk.mip);
+    }
+    // The geometric mean of the two extents: a footprint stretched along one axis (an equirect
+    // source near its poles) needs no more sub-pixels than its area.
+    return std::sqrt((b[2] - b[0]) / static_cast<double>(std::max<int64_t>(rect.w - 1, 1)) *
+                     ((b[3] - b[1]) / static_cast<double>(std::max<int64_t>(rect.h - 1, 1))));
+  };
+  // The tile's n x n sub-pixels in the n-times target, then their means.
+  auto subpixels = [&](int n, const TileRect& rect, unsigned char* corner, int64_t stride, Worker& wk) {
+    const TileRect sub{rect.x0 * n, rect.y0 * n, rect.w * n, rect.h * n};
+    const auto sub_stride = static_cast<int64_t>(sub.w * src.pixel_bytes());
+    wk.sub.resize(static_cast<size_t>(sub_stride * sub.h));
+    sample_rect(sub_targets_[static_cast<size_t>(n)], sub, nullptr, wk.sub.data(), sub_stride, wk);
+    average_subpixels(src, wk.sub.data(), sub_stride, rect, n, corner, stride);
   };
   std::atomic<int64_t> done{0};
   int64_t last_percent = -1;
@@ -266,14 +289,13 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     unsigned char* corner = out.pixel(rect.x0, rect.y0);
     const auto stride = static_cast<int64_t>(out.row_bytes());
     if (antialias_.mode == Antialias::Mode::Supersample) {
-      // The tile's n x n sub-pixels in the n-times target, then their means.
-      const int64_t n = antialias_.n;
-      const TileRect sub{rect.x0 * n, rect.y0 * n, rect.w * n, rect.h * n};
-      const auto sub_stride = static_cast<int64_t>(sub.w * src.pixel_bytes());
-      wk.sub.resize(static_cast<size_t>(sub_stride * sub.h));
-      sample_rect(sub_target_, sub, nullptr, wk.sub.data(), sub_stride, wk);
-      average_subpixels(src, wk.sub.data(), sub_stride, rect, static_cast<int>(n), corner, stride);
-    } else if (pyramid && !within_scale(t, rect)) {
+      subpixels(antialias_.n, rect, corner, stride, wk);
+    } else if (antialias_.mode == Antialias::Mode::Auto) {
+      // n = ceil(s / 2): sub-pixels about 2 source pixels apart; 1 (no antialiasing) for s <= 2.
+      const int n = std::clamp(static_cast<int>(std::ceil(mean_step(t, rect, wk) / 2.0 - 1e-9)), 1, Antialias::kMaxAuto);
+      if (n == 1) sample_rect(target_, rect, cached(t), corner, stride, wk);
+      else subpixels(n, rect, corner, stride, wk);
+    } else if (pyramid) {
       const TileMap* tm = cached(t);
       SimdGeometry g;
       if (!tm) {
@@ -281,7 +303,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
         else map_tile(source_, target_, rotation_, rect, wk.map);
         tm = &wk.map;
       }
-      sample_mip_tile(*pyramid, *tm, wrap_width(source_),
+      sample_mip_tile(*pyramid, *tm, wrap,
                       [&](int k, const TileMap& m, unsigned char* o, int64_t st) {
                         // The level's rows the taps reach (the edge rules stay within them,
                         // but a cube's, which read neighbouring faces anywhere: all rows).

@@ -1,6 +1,7 @@
 #include "mip_sampler.hpp"
 
 #include <algorithm>
+#include <utility>
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -42,7 +43,31 @@ void steps(const TileMap& tm, double wrap, float* h, float* v) {
   }
 }
 
+// The smaller step over each axis at pixel k = j w + i, kNone where there is none.
+inline std::pair<float, float> smaller_steps(const float* h, const float* v, int64_t w, int64_t i, int64_t j) {
+  const int64_t k = j * w + i;
+  return {std::min(h[k], i > 0 ? h[k - 1] : kNone), std::min(v[k], j > 0 ? v[k - w] : kNone)};
+}
+
 }  // namespace
+
+double mean_footprint(const TileMap& tm, double wrap_width, MipScratch& s) {
+  const int64_t w = tm.rect.w, n = tm.rect.w * tm.rect.h;
+  s.rho.resize(static_cast<size_t>(2 * n));
+  float* h = s.rho.data();
+  float* v = h + n;
+  steps(tm, wrap_width, h, v);
+  double sum = 0;
+  int64_t count = 0;
+  for (int64_t j = 0; j < tm.rect.h; ++j)
+    for (int64_t i = 0; i < w; ++i) {
+      const auto [sx, sy] = smaller_steps(h, v, w, i, j);
+      if (!tm.ok[j * w + i] || sx == kNone || sy == kNone) continue;
+      sum += std::sqrt(std::sqrt(static_cast<double>(sx) * sy));
+      ++count;
+    }
+  return count ? sum / static_cast<double>(count) : 0.0;
+}
 
 void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_width, const LevelSampler& sample,
                      unsigned char* out, int64_t out_stride, MipScratch& s) {
@@ -69,7 +94,7 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
   for (int64_t j = 0; j < rect.h; ++j)
     for (int64_t i = 0; i < w; ++i) {
       const int64_t k = j * w + i;
-      const float sx = std::min(h[k], i > 0 ? h[k - 1] : kNone), sy = std::min(v[k], j > 0 ? v[k - w] : kNone);
+      const auto [sx, sy] = smaller_steps(h, v, w, i, j);
       const float q = (sx == kNone ? 0.0f : sx) * (sy == kNone ? 0.0f : sy);  // (2 r)^4
       s.level[k] = 0, f[k] = 0.0f;
       if (!(q > 16.0f)) {  // r <= 1, most pixels of most conversions: no roots

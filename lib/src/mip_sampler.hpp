@@ -1,5 +1,5 @@
 #pragma once
-// antialias.hpp's auto for one output tile: the footprint rho of each pixel from its tile map,
+// antialias.hpp's mip for one output tile: the footprint rho of each pixel from its tile map,
 // then the map scaled to each mip level in use, sampled there by the engine's own sampler, and
 // the levels blended. Internal.
 #include <cstdint>
@@ -22,6 +22,10 @@ struct MipScratch {
 // Samples map tm (level-k positions, ok where the pixel uses level k) into out (rows of stride
 // bytes), as the engine samples level 0.
 using LevelSampler = std::function<void(int k, const TileMap& tm, unsigned char* out, int64_t stride)>;
+
+// The mean over tm's pixels of their footprint's side (the geometric mean of the smaller steps
+// to a neighbour along x and along y; see antialias.hpp), in source pixels.
+double mean_footprint(const TileMap& tm, double wrap_width, MipScratch& scratch);
 
 // Writes the tile's pixels into out. wrap_width: the source frame's width where x wraps (a full
 // circle of longitude), else 0.

@@ -148,7 +148,7 @@ def _antialias(antialias: Union[str, int, None]) -> Optional[str]:
         return antialias
     if isinstance(antialias, (int, np.integer)) and not isinstance(antialias, bool):
         return str(int(antialias))
-    raise TypeError(f"antialias: {antialias!r} (expected 'auto', 'off', a sub-pixel count or None)")
+    raise TypeError(f"antialias: {antialias!r} (expected 'auto', 'off', 'mip', a sub-pixel count or None)")
 
 
 def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Projection, None],
@@ -161,9 +161,9 @@ def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Proj
     arrays is a cubemap's faces. ``size`` is the output's (width, height); by default the
     output keeps the source's resolution at its centre. ``yaw`` turns the view right, ``pitch``
     up, ``roll`` clockwise (applied roll, pitch, then yaw). ``interp``: nearest, bilinear,
-    bicubic or lanczos3. ``threads=0`` uses every core. ``antialias``: ``"auto"`` (mip levels where
-    the output shrinks the source), ``"off"`` or ``"N"`` (N x N sub-pixels); None: auto, off for
-    the reference engine. The result has the input's dtype and channels; pixels without a
+    bicubic or lanczos3. ``threads=0`` uses every core. ``antialias``: ``"auto"`` (sub-pixels where
+    the output shrinks the source), ``"off"``, ``"mip"`` (mip levels) or ``N`` (N x N sub-pixels);
+    None: auto, off for the reference engine. The result has the input's dtype and channels; pixels without a
     source are 0 (alpha 0).
     """
     return _core.convert(image, _spec(src), _spec(dst), _size(size), float(yaw), float(pitch),

@@ -52,11 +52,12 @@ struct SweepResult {
 };
 
 // The sweep over every listed engine x kernel x antialiasing (the reference engine: off only);
-// by default all four kernels, off, auto and 4x4, simd and reference.
+// by default all four kernels, off, auto, mip and 4x4, simd and reference.
 std::vector<SweepOption> sweep_options(const std::vector<Interp>& interps = {Interp::Nearest, Interp::Bilinear,
                                                                                Interp::Bicubic, Interp::Lanczos3},
                                        const std::vector<Antialias>& antialias = {Antialias{},
                                                                                   {Antialias::Mode::Auto, 1},
+                                                                                  {Antialias::Mode::Mip, 1},
                                                                                   {Antialias::Mode::Supersample, 4}},
                                        const std::vector<Engine>& engines = {Engine::Simd, Engine::Reference});
 std::vector<SweepResult> run_sweep(const Projection& source, const Projection& target, const Eigen::Matrix3d& rotation,

@@ -50,7 +50,7 @@ struct EngineStats {
 // frames pay for that geometry once. Fused tiles recompute theirs: in registers it costs less
 // than reading a stored map. run() may be called from several threads at once. antialias
 // (antialias.hpp; off by default here, auto in the command and the Python module) needs the
-// simd or scalar engine; auto builds the source's mip levels on each run.
+// simd or scalar engine; mip builds the source's levels on each run, as far as they are read.
 class Converter {
  public:
   Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
@@ -82,7 +82,7 @@ class Converter {
  private:
   Projection source_, target_;
   Antialias antialias_;
-  Projection sub_target_;  // the target at n times its size (supersampling), else the target
+  std::vector<Projection> sub_targets_;  // [n]: the target at n times its size (sub-pixels)
   Eigen::Matrix3d rotation_;
   Interp interp_;
   Engine engine_;
