@@ -58,6 +58,12 @@ double wrap_width(const Projection& p) {
   return 0.0;
 }
 
+// Widens box {x0, y0, x1, y1} to the valid positions of a tile map.
+void widen_to(const TileMap& tm, std::array<double, 4>& b) {
+  for (size_t i = 0; i < tm.ok.size(); ++i)
+    if (tm.ok[i]) b = {std::min(b[0], tm.xs[i]), std::min(b[1], tm.ys[i]), std::max(b[2], tm.xs[i]), std::max(b[3], tm.ys[i])};
+}
+
 }  // namespace
 
 Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation,
@@ -131,11 +137,7 @@ Converter::Region Converter::source_footprint() const {
       simd_tile_bounds(g, rect, b);
     } else {
       if (!tm) map_tile(source_, target_, rotation_, rect, local[static_cast<size_t>(w)]), tm = &local[static_cast<size_t>(w)];
-      for (size_t i = 0; i < tm->ok.size(); ++i) {
-        if (!tm->ok[i]) continue;
-        b[0] = std::min(b[0], tm->xs[i]), b[2] = std::max(b[2], tm->xs[i]);
-        b[1] = std::min(b[1], tm->ys[i]), b[3] = std::max(b[3], tm->ys[i]);
-      }
+      widen_to(*tm, b);
     }
     if (b[0] > b[2]) return;
     auto& all = box[static_cast<size_t>(w)];
@@ -260,9 +262,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     const bool in_registers = !tm && fused(rect, g);
     if (in_registers) simd_tile_bounds(g, rect, b);
     if (!tm && !in_registers) map_tile(source_, target_, rotation_, rect, wk.map), tm = &wk.map;
-    if (tm)
-      for (size_t i = 0; i < tm->ok.size(); ++i)
-        if (tm->ok[i]) b = {std::min(b[0], tm->xs[i]), std::min(b[1], tm->ys[i]), std::max(b[2], tm->xs[i]), std::max(b[3], tm->ys[i])};
+    if (tm) widen_to(*tm, b);
     if (b[0] > b[2]) return 0.0;
     if (cube_source || b[2] - b[0] > 0.5 * static_cast<double>(size_of(source_).width)) {
       if (!tm) simd_map_tile(g, rect, wk.map), tm = &wk.map;

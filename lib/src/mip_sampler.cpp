@@ -1,13 +1,13 @@
 #include "mip_sampler.hpp"
 
 #include <algorithm>
-#include <utility>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <type_traits>
-#include <cmath>
+#include <utility>
 
 #include "sample_io.hpp"
 
@@ -24,7 +24,7 @@ void steps(const TileMap& tm, double wrap, float* h, float* v) {
   const double* xs = tm.xs.data();
   const double* ys = tm.ys.data();
   const uint8_t* ok = tm.ok.data();
-  // Branch-free, so that the compiler vectorizes it (positions within float's reach of a step).
+  // In float: a step is small, its rounding far below what the level choice resolves.
   auto step = [&](int64_t a, int64_t b) {
     float dx = static_cast<float>(xs[a] - xs[b]);
     const float dy = static_cast<float>(ys[a] - ys[b]);

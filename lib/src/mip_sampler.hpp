@@ -1,7 +1,8 @@
 #pragma once
 // antialias.hpp's mip for one output tile: the footprint rho of each pixel from its tile map,
 // then the map scaled to each mip level in use, sampled there by the engine's own sampler, and
-// the levels blended. Internal.
+// the levels blended; and the tile's mean footprint, which auto uses where a tile crosses a
+// seam, a pole or cube faces. Internal.
 #include <cstdint>
 #include <functional>
 #include <vector>
