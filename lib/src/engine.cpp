@@ -251,22 +251,46 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     resolve_misses(src, edges, rect, out_at, stride, wk);
   };
   // The tile's mean step from one output pixel to the next, in source pixels: from its source
-  // extent over its size, or, where that extent spans a seam, a pole or cube faces (more than half the
-  // frame, or any cube source), the mean of its pixels' own steps (mip_sampler.hpp).
+  // extent over its size, or, where that extent spans a seam, a pole (more than half the frame)
+  // or cube faces (more than a face), or some of its points have no source, the median of its
+  // pixels' own steps (mip_sampler.hpp).
   const double wrap = wrap_width(source_);
   const bool cube_source = std::holds_alternative<Cubemap>(source_);
   auto mean_step = [&](int64_t t, const TileRect& rect, Worker& wk) {
-    SimdGeometry g;
-    const TileMap* tm = cached(t);
+    // The box of the exact positions at 3 x 3 points of the tile (corners, edge middles, centre;
+    // within a face or away from a seam the map is smooth, so they span the tile's box).
+    const auto* cube = std::get_if<Cubemap>(&source_);
     std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    const bool in_registers = !tm && fused(rect, g);
-    if (in_registers) simd_tile_bounds(g, rect, b);
-    if (!tm && !in_registers) map_tile(source_, target_, rotation_, rect, wk.map), tm = &wk.map;
-    if (tm) widen_to(*tm, b);
-    if (b[0] > b[2]) return 0.0;
-    if (cube_source || b[2] - b[0] > 0.5 * static_cast<double>(size_of(source_).width)) {
-      if (!tm) simd_map_tile(g, rect, wk.map), tm = &wk.map;
-      return mean_footprint(*tm, wrap, wk.mip);
+    bool one_face = true, all_mapped = true;
+    int face = -2;
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        Ray d;
+        double x, y;
+        const double px = static_cast<double>(rect.x0) + 0.5 + 0.5 * i * static_cast<double>(rect.w - 1);
+        const double py = static_cast<double>(rect.y0) + 0.5 + 0.5 * j * static_cast<double>(rect.h - 1);
+        if (!(to_ray(target_, px, py, d) && to_pixel(source_, rotation_ * d, x, y))) {
+          all_mapped = false;
+          continue;
+        }
+        b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y)};
+        if (cube) {
+          const int f = cube->face_at(x, y);
+          if (face == -2) face = f;
+          one_face &= f == face;
+        }
+      }
+    // Seams and poles (a box over half the frame), face changes, or points without a source:
+    // measure every pixel.
+    if (!all_mapped || !one_face || b[2] - b[0] > 0.5 * static_cast<double>(size_of(source_).width)) {
+      SimdGeometry g;
+      const TileMap* tm = cached(t);
+      if (!tm) {
+        if (fused(rect, g)) simd_map_tile(g, rect, wk.map);
+        else map_tile(source_, target_, rotation_, rect, wk.map);
+        tm = &wk.map;
+      }
+      return median_footprint(*tm, wrap, wk.mip);
     }
     // The geometric mean of the two extents: a footprint stretched along one axis (an equirect
     // source near its poles) needs no more sub-pixels than its area.

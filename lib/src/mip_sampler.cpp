@@ -51,22 +51,22 @@ inline std::pair<float, float> smaller_steps(const float* h, const float* v, int
 
 }  // namespace
 
-double mean_footprint(const TileMap& tm, double wrap_width, MipScratch& s) {
+double median_footprint(const TileMap& tm, double wrap_width, MipScratch& s) {
   const int64_t w = tm.rect.w, n = tm.rect.w * tm.rect.h;
-  s.rho.resize(static_cast<size_t>(2 * n));
+  s.rho.resize(static_cast<size_t>(3 * n));
   float* h = s.rho.data();
   float* v = h + n;
+  float* sides = v + n;
   steps(tm, wrap_width, h, v);
-  double sum = 0;
   int64_t count = 0;
   for (int64_t j = 0; j < tm.rect.h; ++j)
     for (int64_t i = 0; i < w; ++i) {
       const auto [sx, sy] = smaller_steps(h, v, w, i, j);
-      if (!tm.ok[j * w + i] || sx == kNone || sy == kNone) continue;
-      sum += std::sqrt(std::sqrt(static_cast<double>(sx) * sy));
-      ++count;
+      if (tm.ok[j * w + i] && sx != kNone && sy != kNone) sides[count++] = std::sqrt(std::sqrt(sx * sy));
     }
-  return count ? sum / static_cast<double>(count) : 0.0;
+  if (count == 0) return 0.0;
+  std::nth_element(sides, sides + count / 2, sides + count);
+  return sides[count / 2];
 }
 
 void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_width, const LevelSampler& sample,

@@ -1,7 +1,7 @@
 #pragma once
 // antialias.hpp's mip for one output tile: the footprint rho of each pixel from its tile map,
 // then the map scaled to each mip level in use, sampled there by the engine's own sampler, and
-// the levels blended; and the tile's mean footprint, which auto uses where a tile crosses a
+// the levels blended; and the tile's median footprint, which auto uses where a tile crosses a
 // seam, a pole or cube faces. Internal.
 #include <cstdint>
 #include <functional>
@@ -24,9 +24,10 @@ struct MipScratch {
 // bytes), as the engine samples level 0.
 using LevelSampler = std::function<void(int k, const TileMap& tm, unsigned char* out, int64_t stride)>;
 
-// The mean over tm's pixels of their footprint's side (the geometric mean of the smaller steps
-// to a neighbour along x and along y; see antialias.hpp), in source pixels.
-double mean_footprint(const TileMap& tm, double wrap_width, MipScratch& scratch);
+// The median over tm's pixels of their footprint's side (the geometric mean of the smaller
+// steps to a neighbour along x and along y; see antialias.hpp), in source pixels. (The median:
+// the few pixels between two face edges or seams, whose steps both jump, must not count.)
+double median_footprint(const TileMap& tm, double wrap_width, MipScratch& scratch);
 
 // Writes the tile's pixels into out. wrap_width: the source frame's width where x wraps (a full
 // circle of longitude), else 0.

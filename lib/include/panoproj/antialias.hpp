@@ -3,8 +3,8 @@
 // more than a source pixel averages over it instead of interpolating at its centre alone:
 //   auto        per 64x64 tile, s = the geometric mean of its source extents over its size
 //               along x and y (the mean step from one output pixel to the next, in source pixels;
-//               where the tile crosses a seam, a pole or cube faces, the mean of each pixel's own
-//               steps, as mip below); tiles with s <= 2 are
+//               where the tile crosses a seam, a pole or cube faces, the median of each pixel's
+//               own footprint, as mip below); tiles with s <= 2 are
 //               sampled as without antialiasing, bit for bit; the others average n x n
 //               sub-pixels, n = ceil(s / 2) up to 4: sub-pixels about 2 source pixels apart,
 //               which the kernels' own support (bilinear: 2 px) fills. Chosen by measurement
