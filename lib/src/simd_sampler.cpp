@@ -225,7 +225,7 @@ HWY_INLINE void PlanLanes(const SimdSource& s, int K, const Bounds<DP>& b, VP sx
   }
   const MP missed = hn::AndNot(inside, ok);
   if (HWY_UNLIKELY(!hn::AllFalse(dp, missed))) {
-    HWY_ALIGN P bx[kMaxLanes], by[kMaxLanes], bm[kMaxLanes];
+    HWY_ALIGN P bx[kMaxLanes] = {}, by[kMaxLanes] = {}, bm[kMaxLanes] = {};  // (rare: zeroed for gcc's sake)
     hn::Store(sx, dp, bx);
     hn::Store(sy, dp, by);
     hn::Store(hn::IfThenElseZero(missed, hn::Set(dp, P(1))), dp, bm);
@@ -350,9 +350,13 @@ class TapPairs {
       return _mm_castpd_si128(_mm_loadh_pd(_mm_castsi128_pd(a), reinterpret_cast<const double*>(at(l + 1))));
     };
     auto eight = [&](int l) {
-      const __m256i a = _mm256_inserti128_si256(_mm256_castsi128_si256(two(l)), two(l + 2), 1);
-      const __m256i b = _mm256_inserti128_si256(_mm256_castsi128_si256(two(l + 4)), two(l + 6), 1);
+      const __m256i a = _mm256_set_m128i(two(l + 2), two(l)), b = _mm256_set_m128i(two(l + 6), two(l + 4));
+      // gcc 12's own header passes an undefined vector to the masked builtin behind this and then
+      // warns that it "may be used uninitialized" (a false positive: no lane of it is kept).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
       return _mm512_inserti64x4(_mm512_castsi256_si512(a), b, 1);
+#pragma GCC diagnostic pop
     };
     lo = V64{eight(0)}, hi = V64{eight(8)};
 #else

@@ -31,7 +31,7 @@ std::vector<double> positions(double n) {
 
 std::vector<StabilityCase> stability_cases() {
   std::vector<StabilityCase> c;
-  const Size tiny{1, 1}, small{3, 2}, photo{4096, 2048}, huge{40000, 20000};
+  const Size tiny{1, 1}, photo{4096, 2048}, huge{40000, 20000};
   auto add = [&](const std::string& spec, std::initializer_list<Size> sizes, double bound) {
     for (Size s : sizes) c.push_back({spec, s, bound});
   };
