@@ -297,12 +297,17 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     return std::sqrt((b[2] - b[0]) / static_cast<double>(std::max<int64_t>(rect.w - 1, 1)) *
                      ((b[3] - b[1]) / static_cast<double>(std::max<int64_t>(rect.h - 1, 1))));
   };
-  // The tile's n x n sub-pixels in the n-times target, then their means.
+  // The tile's n x n sub-pixels in the n-times target (in parts of at most kTile x kTile, the
+  // samplers' rect), then their means.
   auto subpixels = [&](int n, const TileRect& rect, unsigned char* corner, int64_t stride, Worker& wk) {
     const TileRect sub{rect.x0 * n, rect.y0 * n, rect.w * n, rect.h * n};
-    const auto sub_stride = static_cast<int64_t>(sub.w * src.pixel_bytes());
+    const auto pb = static_cast<int64_t>(src.pixel_bytes()), sub_stride = sub.w * pb;
     wk.sub.resize(static_cast<size_t>(sub_stride * sub.h));
-    sample_rect(sub_targets_[static_cast<size_t>(n)], sub, nullptr, wk.sub.data(), sub_stride, wk);
+    for (int64_t y = 0; y < sub.h; y += kTile)
+      for (int64_t x = 0; x < sub.w; x += kTile)
+        sample_rect(sub_targets_[static_cast<size_t>(n)],
+                    {sub.x0 + x, sub.y0 + y, std::min(kTile, sub.w - x), std::min(kTile, sub.h - y)}, nullptr,
+                    wk.sub.data() + y * sub_stride + x * pb, sub_stride, wk);
     average_subpixels(src, wk.sub.data(), sub_stride, rect, n, corner, stride);
   };
   std::atomic<int64_t> done{0};

@@ -15,7 +15,9 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <string>
 
+#include "panoproj/error.hpp"
 #include "simd_geometry-inl.h"
 #include "simd_sampler.hpp"
 
@@ -637,6 +639,9 @@ HWY_NOINLINE int PlanFusedRows(const SimdSource& s, int K, const TileRows& rows,
 template <class Plan>
 void Chunked(const SimdSource& s, Interp interp, const TileRect& rect, int64_t blocks_per_row, unsigned char* out,
              int64_t out_stride, Plan&& plan) {
+  if (blocks_per_row > kChunkBlocks)  // a row must fit a chunk: rects up to kTile wide do
+    throw Error("internal: a " + std::to_string(rect.w) + "-px rect is wider than the SIMD sampler's chunks (at most " +
+                std::to_string(kTile) + ")");
   TapBlock blocks[kChunkBlocks];
   const int64_t rows = std::max<int64_t>(1, kChunkBlocks / blocks_per_row);
   for (int64_t j0 = 0; j0 < rect.h; j0 += rows) {
@@ -678,10 +683,10 @@ void SampleMap(const SimdSource& s, Interp k, const TileMap& tm, unsigned char* 
 
 void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& s, Interp k, unsigned char* out,
              int64_t out_stride, SimdMisses& misses) {
-  const auto NF = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>()));
+  const auto NF = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>())), ND = static_cast<int64_t>(hn::Lanes(DD()));
   const TileRows rows(g, rect);
-  // A coarse float vector becomes two or more double blocks.
-  Chunked(s, k, rect, 2 * ((rect.w + NF - 1) / NF) + 1, out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
+  // A coarse float vector becomes NF / ND double blocks.
+  Chunked(s, k, rect, (rect.w + NF - 1) / NF * ((NF + ND - 1) / ND), out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
     return PlanFusedRows(s, TapCount(k), rows, rect, j0, j1, blk, misses);
   });
 }

@@ -37,7 +37,8 @@ struct SimdMisses {
 // Samples the positions of a tile map (panoproj pixel convention, frame coordinates) with any
 // kernel; samples with ok = 0 are 0. Writes interleaved pixels of src's type: the rect's row j
 // at out + j * out_stride. Reads nothing past the window's last pixel (the last row's final taps
-// go to misses), so the source may be a view of someone else's exact-sized buffer.
+// go to misses), so the source may be a view of someone else's exact-sized buffer. The rect may be
+// at most kTile pixels wide (a chunk of blocks holds a row of that; wider throws).
 void simd_sample(const SimdSource& src, Interp interp, const TileMap& tm, unsigned char* out, int64_t out_stride,
                  SimdMisses& misses);
 
