@@ -21,7 +21,9 @@ TEST(Stability, EveryCaseWithinItsBound) {
     EXPECT_TRUE(r.pass()) << c.spec << " " << c.size.width << "x" << c.size.height << ": " << r.max_px << " px, "
                           << r.non_finite << " non-finite, " << r.lost << " lost";
     EXPECT_GT(r.points, 0) << c.spec;
-    if (c.spec == "aitoff" && c.size.width > 1) EXPECT_GT(r.max_newton, 0) << "the Newton inverse ran";
+    if (c.spec == "aitoff" && c.size.width > 1) {
+      EXPECT_GT(r.max_newton, 0) << "the Newton inverse ran";
+    }
     results.push_back(r);
   }
   EXPECT_GE(results.size(), 100u);
