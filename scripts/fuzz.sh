@@ -2,8 +2,9 @@
 # Fuzzes the spec parser and the image-reading path with libFuzzer under ASan and UBSan (fuzz/):
 # installs clang if missing, builds in build-fuzz/, runs each target SECONDS (default 30) from
 # the seed corpora in fuzz/corpus/ (new inputs go to a scratch copy, the repository's stay as
-# they are). A crash leaves its input in build-fuzz/ and fails.
-# Usage: scripts/fuzz.sh [SECONDS]
+# they are). A crash leaves its input in build-fuzz/ and fails. The seed is fixed (SEED, default
+# 1) so that a CI run is repeatable; pass another to explore further.
+# Usage: [SEED=N] scripts/fuzz.sh [SECONDS]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-30}
@@ -22,6 +23,6 @@ for t in spec read; do
   # .ci/lsan.supp: OpenImageIO's own leak on damaged PNGs (see there).
   (cd "$build" && UBSAN_OPTIONS=halt_on_error=1 ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
     LSAN_OPTIONS=suppressions="$root/.ci/lsan.supp" \
-    "./fuzz/${t}_fuzz" -max_total_time="$seconds" -max_len=4096 -malloc_limit_mb=2048 -rss_limit_mb=4096 \
+    "./fuzz/${t}_fuzz" -seed="${SEED:-1}" -max_total_time="$seconds" -max_len=4096 -malloc_limit_mb=2048 -rss_limit_mb=4096 \
     -print_final_stats=1 "$work" 2>&1 | tail -n 12)
 done
