@@ -38,9 +38,11 @@ TEST(Spec, EveryCatalogEntryParsesWithItsDefaults) {
   for (const auto& d : projection_catalog()) {
     const ProjectionSpec s = parse_spec(d.name);
     EXPECT_EQ(s.name(), d.name);
-    for (const auto& p : d.params)
-      if (*p.default_text && p.type != ParamType::Choice)
+    for (const auto& p : d.params) {
+      if (*p.default_text && p.type != ParamType::Choice) {
         EXPECT_TRUE(std::isfinite(*s.number(p.key))) << d.name << " " << p.key;
+      }
+    }
   }
 }
 
