@@ -50,14 +50,6 @@ SimdSource simd_source(const Image& src, const Projection& sp) {
           src.origin_x(), src.origin_y(), src.origin_x() + src.width(), src.origin_y() + src.height(), cw, ch};
 }
 
-// The frame width where x wraps around a full circle of longitude (mip footprints measure steps
-// across the seam the short way), else 0.
-double wrap_width(const Projection& p) {
-  if (const auto* e = std::get_if<Equirect>(&p); e && e->full_longitude()) return static_cast<double>(size_of(p).width);
-  if (const auto* c = std::get_if<Cylindrical>(&p); c && c->full_longitude()) return static_cast<double>(size_of(p).width);
-  return 0.0;
-}
-
 // Widens box {x0, y0, x1, y1} to the valid positions of a tile map.
 void widen_to(const TileMap& tm, std::array<double, 4>& b) {
   for (size_t i = 0; i < tm.ok.size(); ++i)
@@ -254,7 +246,8 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
   // extent over its size, or, where that extent spans a seam, a pole (more than half the frame)
   // or cube faces (more than a face), or some of its points have no source, the median of its
   // pixels' own steps (mip_sampler.hpp).
-  const double wrap = wrap_width(source_);
+  // Where x wraps, footprints measure steps across the seam the short way.
+  const double wrap = edges.wraps_x() ? static_cast<double>(size_of(source_).width) : 0.0;
   const bool cube_source = std::holds_alternative<Cubemap>(source_);
   auto mean_step = [&](int64_t t, const TileRect& rect, Worker& wk) {
     // The box of the exact positions at 3 x 3 points of the tile (corners, edge middles, centre;

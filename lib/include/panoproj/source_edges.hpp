@@ -18,6 +18,8 @@ class SourceEdges {
  public:
   explicit SourceEdges(const Projection& source);
 
+  // Whether x wraps around a full circle of longitude (equirect and cylindrical sources).
+  bool wraps_x() const { return wrap_x_; }
   // Face under a sample position (cubemap sources), else 0.
   int face_at(double sx, double sy) const { return cube_ ? cube_->face_at(sx, sy) : 0; }
   // A source pixel and its share of one tap.
