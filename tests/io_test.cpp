@@ -141,6 +141,27 @@ TEST_F(Io, DamagedFilesGiveOneClearError) {
   }
 }
 
+// A header declaring more pixels than memory holds (12 TB here) is a clear error, not a crash or
+// an out-of-memory kill; the region read says the same.
+TEST_F(Io, HeadersDeclaringMoreThanMemoryAreAClearError) {
+  std::ofstream(path("huge.hdr"), std::ios::binary) << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1000000 +X 1000000\n";
+  EXPECT_EQ(read_image_size(path("huge.hdr")), (Size{1000000, 1000000}));
+  for (int region = 0; region < 2; ++region) {
+    try {
+      if (region) {
+        read_image_region(path("huge.hdr"), 0, 0, 1000000, 600000);
+      } else {
+        read_image(path("huge.hdr"));
+      }
+      FAIL() << region;
+    } catch (const Error& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("1000000x" + std::string(region ? "600000" : "1000000")), std::string::npos) << m;
+      EXPECT_NE(m.find("more memory than can be allocated"), std::string::npos) << m;
+    }
+  }
+}
+
 // Truncates a file to a fraction of its bytes.
 void truncate_file(const std::string& path, double fraction) {
   std::ifstream in(path, std::ios::binary);

@@ -8,9 +8,11 @@
 #include <algorithm>
 #include <cmath>
 #include <climits>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <system_error>
 #include <vector>
 
@@ -169,6 +171,24 @@ void write_text(const std::string& text, const std::string& path, bool overwrite
   commit(tmp, path);
 }
 
+namespace {
+// The buffer for `size` pixels of the file's layout; a header declaring more than memory allows
+// (a damaged or hostile file, or a real one too big for this machine) is a one-line error.
+Image allocate_for(const std::string& path, Size size, const OIIO::ImageSpec& spec, PixelType type) {
+  const int alpha = spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel : -1;
+  try {
+    return Image(size, spec.nchannels, type, alpha);
+  } catch (const std::bad_alloc&) {
+    const double gb = static_cast<double>(size.width) * static_cast<double>(size.height) * spec.nchannels *
+                      static_cast<double>(bytes_of(type)) / 1e9;
+    char text[160];
+    std::snprintf(text, sizeof text, ": it declares %lldx%lld pixels of %d channels (%.1f GB), more memory than can be allocated",
+                  static_cast<long long>(size.width), static_cast<long long>(size.height), spec.nchannels, gb);
+    throw Error("cannot read " + path + text);
+  }
+}
+}  // namespace
+
 Size read_image_size(const std::string& path) {
   const auto in = open_input(path);
   return {in->spec().width, in->spec().height};
@@ -178,9 +198,7 @@ Image read_image(const std::string& path) {
   auto in = open_input(path);
   const OIIO::ImageSpec& spec = in->spec();
   const PixelType type = from_oiio(spec.format);
-  Image image({spec.width, spec.height}, spec.nchannels, type,
-              spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel
-                                                                             : -1);
+  Image image = allocate_for(path, {spec.width, spec.height}, spec, type);
   const bool ok = in->read_image(0, 0, 0, spec.nchannels, oiio_type(type), image.data());
   if (!ok || in->has_error())
     throw Error("cannot read " + path + ": " + one_line(in->geterror()) +
@@ -231,7 +249,6 @@ Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t
     return read_image(path);
   }
   const PixelType type = from_oiio(spec.format);
-  const int alpha = spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel : -1;
   Image win;
   bool ok;
   if (spec.tile_width > 0) {
@@ -239,13 +256,13 @@ Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t
     const int64_t tw = spec.tile_width, th = spec.tile_height;
     const int64_t tx0 = x0 / tw * tw, ty0 = y0 / th * th;
     const int64_t tx1 = std::min(w, (x1 + tw - 1) / tw * tw), ty1 = std::min(h, (y1 + th - 1) / th * th);
-    win = Image({tx1 - tx0, ty1 - ty0}, spec.nchannels, type, alpha);
+    win = allocate_for(path, {tx1 - tx0, ty1 - ty0}, spec, type);
     ok = in->read_tiles(0, 0, static_cast<int>(tx0), static_cast<int>(tx1), static_cast<int>(ty0),
                         static_cast<int>(ty1), 0, 1, 0, spec.nchannels, oiio_type(type), win.data(),
                         static_cast<OIIO::stride_t>(win.pixel_bytes()), static_cast<OIIO::stride_t>(win.row_bytes()));
     win.set_window(tx0, ty0, {w, h});
   } else {
-    win = Image({w, y1 - y0}, spec.nchannels, type, alpha);
+    win = allocate_for(path, {w, y1 - y0}, spec, type);
     ok = in->read_scanlines(0, 0, static_cast<int>(y0), static_cast<int>(y1), 0, 0, spec.nchannels,
                             oiio_type(type), win.data(), static_cast<OIIO::stride_t>(win.pixel_bytes()),
                             static_cast<OIIO::stride_t>(win.row_bytes()));
