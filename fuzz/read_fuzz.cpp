@@ -1,6 +1,6 @@
 // Fuzzes the image-reading path (OpenImageIO through panoproj's reader): any bytes as a file of
 // each format panoproj reads, whole and as a region. Only panoproj::Error may leave it (and
-// std::bad_alloc from inside OpenImageIO). Files whose header declares more than 256 MB of pixels
+// std::bad_alloc from inside OpenImageIO). Files whose header declares more than 64 MB of pixels
 // are skipped: a plain allocation that big is no bug, but libFuzzer's malloc limit (set by
 // scripts/fuzz.sh) would end the run on it. (read_image's own answer to a header declaring more
 // than memory holds is tested in io_test.)
@@ -27,7 +27,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::fclose(f);
   }
   if (const auto in = OIIO::ImageInput::open(path)) {
-    if (in->spec().image_bytes() > (size_t{256} << 20)) {
+    if (in->spec().image_bytes() > (size_t{64} << 20)) {
       std::remove(path.c_str());
       return 0;
     }
