@@ -5,6 +5,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
+#include <random>
 
 #include "panoproj/accuracy.hpp"
 #include "panoproj/antialias.hpp"
@@ -14,6 +16,7 @@
 #include "panoproj/scene.hpp"
 #include "panoproj/spec.hpp"
 #include "pyramid.hpp"
+#include "subpixels.hpp"
 #include "test_support.hpp"
 
 namespace panoproj {
@@ -174,6 +177,39 @@ TEST(Antialias, SubpixelsOnEveryTarget) {
     EXPECT_LE(worst, 1.0) << hwy::TargetName(target);
   }
   hwy::SetSupportedTargetsForTest(0);
+}
+
+TEST(Antialias, IntegerSubpixelMeansRoundTheExactMeans) {
+  // The integer path (8/16-bit without alpha; n = 2 compiled apart) against the exact mean of
+  // each n x n block, rounded half up, on random samples over odd sizes.
+  std::mt19937 rng(7);
+  for (PixelType t : {PixelType::U8, PixelType::U16})
+    for (int n : {2, 3, 4}) {
+      const TileRect rect{0, 0, 13, 5};
+      const int nc = 3;
+      Image sub({rect.w * n, rect.h * n}, nc, t, -1);
+      const uint32_t top = t == PixelType::U8 ? 255 : 65535;
+      for (int64_t y = 0; y < sub.height(); ++y)
+        for (int64_t x = 0; x < sub.width(); ++x)
+          for (int c = 0; c < nc; ++c) {
+            const auto v = static_cast<uint16_t>(rng() % (top + 1));
+            if (t == PixelType::U8) sub.pixel(x, y)[c] = static_cast<unsigned char>(v);
+            else std::memcpy(sub.pixel(x, y) + 2 * c, &v, 2);
+          }
+      Image out({rect.w, rect.h}, nc, t, -1);
+      average_subpixels(sub, sub.data(), static_cast<int64_t>(sub.row_bytes()), rect, n, out.data(),
+                        static_cast<int64_t>(out.row_bytes()));
+      int wrong = 0;
+      for (int64_t y = 0; y < rect.h; ++y)
+        for (int64_t x = 0; x < rect.w; ++x)
+          for (int c = 0; c < nc; ++c) {
+            double sum = 0;
+            for (int b = 0; b < n; ++b)
+              for (int a = 0; a < n; ++a) sum += get(sub, x * n + a, y * n + b, c);
+            wrong += get(out, x, y, c) != std::floor(sum / (n * n) + 0.5);
+          }
+      EXPECT_EQ(wrong, 0) << name_of(t) << " n " << n;
+    }
 }
 
 TEST(Antialias, PyramidLevelsAreBlockMeansEvenOfAWindow) {
