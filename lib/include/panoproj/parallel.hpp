@@ -1,5 +1,6 @@
 #pragma once
-// Work over threads (threads = 0: all cores).
+// Work over threads (threads = 0: all cores). An exception thrown by the work stops further
+// tasks and is rethrown by the call once every thread has joined (the first one, if several).
 #include <cstdint>
 #include <functional>
 
