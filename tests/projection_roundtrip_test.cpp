@@ -37,6 +37,9 @@ bool on_identity_set(const Projection& p, double lon0, double x, double y, const
   if (const auto* f = std::get_if<Fisheye>(&p)) {
     return f->psi_max() >= kPi * (1 - 1e-12) && std::atan2(std::hypot(d.x(), d.y()), d.z()) > kPi - 1e-6;
   }
+  if (const auto* k = std::get_if<KannalaBrandt>(&p)) {
+    return k->theta_max() >= kPi * (1 - 1e-12) && std::atan2(std::hypot(d.x(), d.y()), d.z()) > kPi - 1e-6;
+  }
   // Cartographic: the outline meridian (180 degrees from lon0, drawn on both sides) and the
   // poles (a pole is one point; Aitoff and Hammer draw it as one, Bonne as a line or a point).
   const double lon_rel = wrap_pi(longitude(d) - lon0);
@@ -135,6 +138,12 @@ const Case kCases[] = {
     {"fisheye:fov=120,model=equisolid,clip=none", {3000, 2000}, 1e-6},
     {"fisheye:fov=200,aspect=stretch", {4096, 2048}, 1e-6},
     {"fisheye:fov=190,radius=900,cx=1000,cy=1020.5", {2048, 2048}, 1e-6},
+    {"kannala-brandt", {2048, 2048}, 1e-6},
+    {"kannala-brandt:fov=0.01,k1=0.3", {2048, 2048}, 1e-6},
+    {"kannala-brandt:fov=220,k1=0.02,k2=-0.005,k3=0.001,k4=-0.0001", {2048, 2048}, 1e-6},
+    {"kannala-brandt:fov=360,k1=-0.01,k2=0.0005", {2048, 2048}, 1e-6},
+    {"kannala-brandt:fov=195,fx=620.5,fy=621.3,cx=959.2,cy=541.7,k1=0.0361,k2=-0.0112,k3=0.0028,k4=-0.0004",
+     {1920, 1080}, 1e-6},
     {"equirect", {4096, 2048}, 1e-6},
     {"equirect", {40000, 20000}, 1e-5},
     {"equirect:hfov=120,vfov=60,lon0=170,lat0=-20", {2048, 1024}, 1e-6},

@@ -125,6 +125,25 @@ void check_fisheye(const ProjectionSpec& s) {
     fail(s, "radius applies to aspect=keep only (stretch fills the frame)");
 }
 
+// theta_max, k1..k4 and the law's fold-back check of a Kannala-Brandt spec.
+KannalaBrandt kb_law(const ProjectionSpec& s) {
+  const std::array<double, 4> k{*s.number("k1"), *s.number("k2"), *s.number("k3"), *s.number("k4")};
+  const KannalaBrandt law({1, 1}, 1, 1, 0, 0, k, 0.5 * rad(s, "fov"));
+  if (const double fold = law.fold_back(law.theta_max()); fold >= 0) {
+    std::ostringstream o;
+    o << "k1..k4 fold the lens law back at theta=" << rad2deg(fold) << " deg, inside fov/2 = "
+      << 0.5 * *s.number("fov") << " deg (give fov=" << std::floor(2 * rad2deg(fold) * 1e3) / 1e3
+      << " or less: the law must increase up to the image circle)";
+    fail(s, o.str());
+  }
+  if (!(std::isfinite(law.rd_max()) && law.rd_max() > 0)) {
+    std::ostringstream o;
+    o << "k1..k4 give theta_d = " << law.rd_max() << " at the image circle (expected a finite value: smaller coefficients)";
+    fail(s, o.str());
+  }
+  return law;
+}
+
 void check_latitude_span(const ProjectionSpec& s, bool open) {
   const double top = *s.number("lat0") + 0.5 * *s.number("vfov");
   const double bottom = *s.number("lat0") - 0.5 * *s.number("vfov");
@@ -148,6 +167,7 @@ void check_spec(const ProjectionSpec& s) {
   switch (s.kind()) {
     case Kind::Pinhole: check_pinhole(s); break;
     case Kind::Fisheye: check_fisheye(s); break;
+    case Kind::KannalaBrandt: kb_law(s); break;
     case Kind::Equirect: check_latitude_span(s, false); break;
     case Kind::Cylindrical: check_latitude_span(s, true); break;
     default: break;
@@ -193,6 +213,14 @@ Projection make_projection(const ProjectionSpec& s, Size size) {
       }
       return Fisheye(size, psi_max, fisheye_model(s.choice("model")), s.choice("clip") == "circle",
                      cx("cx", w), cx("cy", h), rx, ry);
+    }
+    case Kind::KannalaBrandt: {
+      const KannalaBrandt law = kb_law(s);
+      // Default focal length: the image circle fills the shorter side.
+      const double f0 = 0.5 * std::min(w, h) / law.rd_max();
+      const double fx = s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : f0;
+      const double fy = s.given("fy") ? *s.number("fy") : fx;
+      return KannalaBrandt(size, fx, fy, cx("cx", w), cx("cy", h), law.k(), law.theta_max());
     }
     case Kind::Equirect:
       return Equirect(size, rad(s, "hfov"), rad(s, "vfov"), rad(s, "lon0"), rad(s, "lat0"));
@@ -244,6 +272,15 @@ Size default_size(const ProjectionSpec& s, double density) {
                            : density * Fisheye::law(fisheye_model(s.choice("model")),
                                                     0.5 * rad(s, "fov"));
       w = h = 2.0 * r;
+      break;
+    }
+    case Kind::KannalaBrandt: {
+      // The image circle's diameter at the given focal lengths, else at `density`.
+      const double rd = kb_law(s).rd_max();
+      const double fx = s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : density;
+      const double fy = s.given("fy") ? *s.number("fy") : fx;
+      w = 2.0 * fx * rd;
+      h = 2.0 * fy * rd;
       break;
     }
     case Kind::Equirect:
@@ -322,6 +359,8 @@ Projection rescaled(const Projection& p, Size size) {
           return Pinhole(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy);
         } else if constexpr (std::is_same_v<P, Fisheye>) {
           return Fisheye(size, q.psi_max(), q.model(), q.clip(), q.cx() * sx, q.cy() * sy, q.rx() * sx, q.ry() * sy);
+        } else if constexpr (std::is_same_v<P, KannalaBrandt>) {
+          return KannalaBrandt(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy, q.k(), q.theta_max());
         } else if constexpr (std::is_same_v<P, Equirect>) {
           return Equirect(size, q.axis().hfov, q.vfov(), q.axis().lon0, q.lat_top() - 0.5 * q.vfov());
         } else if constexpr (std::is_same_v<P, Cylindrical>) {

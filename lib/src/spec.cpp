@@ -19,6 +19,9 @@ ParamDef number(const char* key, const char* def, double lo, double hi, bool lo_
 ParamDef choice(const char* key, const char* def, const char* choices, const char* help) {
   return {key, ParamType::Choice, def, 0, 0, false, false, choices, help};
 }
+ParamDef coefficient(const char* key) {
+  return number(key, "0", -kInf, kInf, true, true, "distortion coefficient (OpenCV's, theta in radians)");
+}
 ParamDef lon0() { return number("lon0", "0", -360, 360, false, false, "central longitude (deg)"); }
 ParamDef lat0() { return number("lat0", "0", -90, 90, false, false, "central latitude (deg)"); }
 ParamDef center(const char* key) {
@@ -49,6 +52,14 @@ std::vector<ProjectionDef> make_catalog() {
         number("radius", "", 0, kInf, true, true,
                "image-circle radius in pixels (aspect=keep); default: half the shorter side"),
         center("cx"), center("cy")}},
+      {"kannala-brandt", Kind::KannalaBrandt,
+       "calibrated fisheye, OpenCV's fisheye model (k1..k4), fov up to 360 deg",
+       {number("fov", "180", 0, 360, true, false, "full field of view across the image circle (deg)"),
+        number("fx", "", 0, kInf, true, true,
+               "focal length in pixels along x; default: the image circle fills the shorter side"),
+        number("fy", "", 0, kInf, true, true, "focal length in pixels along y; default: fx"),
+        center("cx"), center("cy"), coefficient("k1"), coefficient("k2"), coefficient("k3"),
+        coefficient("k4")}},
       {"equirect", Kind::Equirect, "equirectangular (spherical) panorama, full or partial",
        {number("hfov", "360", 0, 360, true, false, "longitude span (deg)"),
         number("vfov", "180", 0, 180, true, false, "latitude span (deg)"), lon0(), lat0()}},

@@ -46,6 +46,11 @@ std::vector<StabilityCase> stability_cases() {
           std::string(m) == "orthographic" ? 1e-5 : 1e-6);
     }
   add("fisheye:fov=200,clip=none", {{2048, 2048}}, 1e-6);
+  // Kannala-Brandt: the equidistant law, a tiny field, a 360-degree circle, and a field ending
+  // 0.01 degree before the law folds back (theta (1 - 0.1 theta^2): the Newton inverse's slope
+  // tends to 0 at the rim).
+  for (const char* f : {"0.01", "180", "360"}) add(std::string("kannala-brandt:fov=") + f + ",k1=-0.01,k2=0.0005", {tiny, {2048, 2048}, {40000, 40000}}, 1e-6);
+  add("kannala-brandt:fov=209.2,k1=-0.1", {{2048, 2048}, {40000, 40000}}, 1e-6);
   add("equirect", {tiny, {2, 1}, photo, huge}, 1e-6);
   add("equirect:hfov=0.01,vfov=0.01", {tiny, photo}, 1e-6);
   add("equirect:hfov=120,vfov=60,lat0=59.99", {photo}, 1e-6);

@@ -1,5 +1,5 @@
-"""panoproj: convert images between projections (pinhole, fisheye, equirect, cylindrical, cubemap,
-Aitoff, Hammer / Eckert-Greifendorff, Bonne) at native speed, from numpy.
+"""panoproj: convert images between projections (pinhole, fisheye, Kannala-Brandt, equirect,
+cylindrical, cubemap, Aitoff, Hammer / Eckert-Greifendorff, Bonne) at native speed, from numpy.
 
 Conventions (the same as the ``panoproj`` command; see docs/projections.md):
 
@@ -26,7 +26,7 @@ import numpy as np
 from . import _core
 
 __all__ = [
-    "Projection", "Pinhole", "Fisheye", "Equirect", "Cylindrical", "Cubemap", "Aitoff", "Hammer",
+    "Projection", "Pinhole", "Fisheye", "KannalaBrandt", "Equirect", "Cylindrical", "Cubemap", "Aitoff", "Hammer",
     "EckertGreifendorff", "Bonne", "projection", "convert", "build_map", "Plan", "read", "write",
     "to_ray", "to_pixel", "split_faces", "simd_target",
 ]
