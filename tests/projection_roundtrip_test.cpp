@@ -37,7 +37,7 @@ bool on_identity_set(const Projection& p, double lon0, double x, double y, const
   if (const auto* f = std::get_if<Fisheye>(&p)) {
     return f->psi_max() >= kPi * (1 - 1e-12) && std::atan2(std::hypot(d.x(), d.y()), d.z()) > kPi - 1e-6;
   }
-  if (const auto* k = std::get_if<KannalaBrandt>(&p)) {
+  if (const auto* k = std::get_if<Lens>(&p)) {
     return k->theta_max() >= kPi * (1 - 1e-12) && std::atan2(std::hypot(d.x(), d.y()), d.z()) > kPi - 1e-6;
   }
   // Cartographic: the outline meridian (180 degrees from lon0, drawn on both sides) and the
@@ -144,6 +144,14 @@ const Case kCases[] = {
     {"kannala-brandt:fov=360,k1=-0.01,k2=0.0005", {2048, 2048}, 1e-6},
     {"kannala-brandt:fov=195,fx=620.5,fy=621.3,cx=959.2,cy=541.7,k1=0.0361,k2=-0.0112,k3=0.0028,k4=-0.0004",
      {1920, 1080}, 1e-6},
+    {"double-sphere:xi=-0.18,alpha=0.59", {1024, 1024}, 1e-6},
+    {"double-sphere:xi=-0.18,alpha=0.59,fov=190,fx=313.2,fy=313.1,cx=638.9,cy=514.6", {1280, 1024}, 1e-6},
+    {"double-sphere:xi=0.3,alpha=0.4", {1024, 1024}, 1e-6},
+    {"unified", {1024, 1024}, 1e-6},
+    {"unified:xi=0.8", {1024, 1024}, 1e-6},
+    {"unified:xi=2.5", {1024, 1024}, 1e-6},
+    {"extended-unified:alpha=0.63,beta=1.04", {1024, 1024}, 1e-6},
+    {"extended-unified:alpha=0.3,beta=2,fov=200", {1024, 1024}, 1e-6},
     {"equirect", {4096, 2048}, 1e-6},
     {"equirect", {40000, 20000}, 1e-5},
     {"equirect:hfov=120,vfov=60,lon0=170,lat0=-20", {2048, 1024}, 1e-6},

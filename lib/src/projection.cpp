@@ -125,23 +125,56 @@ void check_fisheye(const ProjectionSpec& s) {
     fail(s, "radius applies to aspect=keep only (stretch fills the frame)");
 }
 
-// theta_max, k1..k4 and the law's fold-back check of a Kannala-Brandt spec.
-KannalaBrandt kb_law(const ProjectionSpec& s) {
-  const std::array<double, 4> k{*s.number("k1"), *s.number("k2"), *s.number("k3"), *s.number("k4")};
-  const KannalaBrandt law({1, 1}, 1, 1, 0, 0, k, 0.5 * rad(s, "fov"));
-  if (const double fold = law.fold_back(law.theta_max()); fold >= 0) {
-    std::ostringstream o;
-    o << "k1..k4 fold the lens law back at theta=" << rad2deg(fold) << " deg, inside fov/2 = "
-      << 0.5 * *s.number("fov") << " deg (give fov=" << std::floor(2 * rad2deg(fold) * 1e3) / 1e3
-      << " or less: the law must increase up to the image circle)";
+// A lens spec's law and field (theta_max): the field must lie in the law's domain, where R
+// increases (Kannala-Brandt: checked) and stays finite.
+Lens lens_of(const ProjectionSpec& s) {
+  LensLaw law;
+  const std::string& n = s.name();
+  if (n == "kannala-brandt") {
+    law = KannalaBrandtLaw{{*s.number("k1"), *s.number("k2"), *s.number("k3"), *s.number("k4")}};
+  } else if (n == "double-sphere") {
+    law = DoubleSphereLaw{*s.number("xi"), *s.number("alpha")};
+  } else if (n == "unified") {
+    law = UnifiedLaw{*s.number("xi")};
+  } else {
+    law = ExtendedUnifiedLaw{*s.number("alpha"), *s.number("beta")};
+  }
+  const double limit = std::visit([](const auto& l) { return l.limit(); }, law);
+  const bool bounded = std::visit([](const auto& l) { return l.bounded(); }, law);
+  std::ostringstream o;
+  // Default field: the whole domain where R stays finite up to its edge, else 180 degrees if the
+  // domain is wider.
+  double theta_max = limit;
+  if (s.number("fov")) {
+    theta_max = 0.5 * rad(s, "fov");
+  } else if (!bounded) {
+    if (limit <= kHalfPi) {
+      o << "R grows without bound toward the model's domain edge at " << rad2deg(limit)
+        << " deg off axis: give fov below " << 2 * rad2deg(limit);
+      fail(s, o.str());
+    }
+    theta_max = kHalfPi;
+  }
+  if (bounded ? theta_max > limit * (1 + 1e-12) : theta_max >= limit * (1 - 1e-9)) {
+    o << "fov=" << *s.number("fov") << " is past the model's domain (expected fov " << (bounded ? "<= " : "< ")
+      << 2 * rad2deg(limit) << ")";
     fail(s, o.str());
   }
-  if (!(std::isfinite(law.rd_max()) && law.rd_max() > 0)) {
-    std::ostringstream o;
-    o << "k1..k4 give theta_d = " << law.rd_max() << " at the image circle (expected a finite value: smaller coefficients)";
+  if (const auto* kb = std::get_if<KannalaBrandtLaw>(&law)) {
+    if (const double fold = kb->fold_back(theta_max); fold >= 0) {
+      o << "k1..k4 fold the lens law back at theta=" << rad2deg(fold) << " deg, inside fov/2 = "
+        << rad2deg(theta_max) << " deg (give fov=" << std::floor(2 * rad2deg(fold) * 1e3) / 1e3
+        << " or less: the law must increase up to the image circle)";
+      fail(s, o.str());
+    }
+  }
+  const Lens lens({1, 1}, 1, 1, 0, 0, law, theta_max);
+  if (!(std::isfinite(lens.rd_max()) && lens.rd_max() > 0)) {
+    o << "the law reaches R = " << lens.rd_max() << " at fov/2 = " << rad2deg(theta_max)
+      << " deg (expected a finite value: give a smaller fov" << (n == "kannala-brandt" ? " or smaller coefficients" : "") << ")";
     fail(s, o.str());
   }
-  return law;
+  return lens;
 }
 
 void check_latitude_span(const ProjectionSpec& s, bool open) {
@@ -167,7 +200,7 @@ void check_spec(const ProjectionSpec& s) {
   switch (s.kind()) {
     case Kind::Pinhole: check_pinhole(s); break;
     case Kind::Fisheye: check_fisheye(s); break;
-    case Kind::KannalaBrandt: kb_law(s); break;
+    case Kind::Lens: lens_of(s); break;
     case Kind::Equirect: check_latitude_span(s, false); break;
     case Kind::Cylindrical: check_latitude_span(s, true); break;
     default: break;
@@ -214,13 +247,13 @@ Projection make_projection(const ProjectionSpec& s, Size size) {
       return Fisheye(size, psi_max, fisheye_model(s.choice("model")), s.choice("clip") == "circle",
                      cx("cx", w), cx("cy", h), rx, ry);
     }
-    case Kind::KannalaBrandt: {
-      const KannalaBrandt law = kb_law(s);
+    case Kind::Lens: {
+      const Lens unit = lens_of(s);
       // Default focal length: the image circle fills the shorter side.
-      const double f0 = 0.5 * std::min(w, h) / law.rd_max();
+      const double f0 = 0.5 * std::min(w, h) / unit.rd_max();
       const double fx = s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : f0;
       const double fy = s.given("fy") ? *s.number("fy") : fx;
-      return KannalaBrandt(size, fx, fy, cx("cx", w), cx("cy", h), law.k(), law.theta_max());
+      return Lens(size, fx, fy, cx("cx", w), cx("cy", h), unit.law(), unit.theta_max());
     }
     case Kind::Equirect:
       return Equirect(size, rad(s, "hfov"), rad(s, "vfov"), rad(s, "lon0"), rad(s, "lat0"));
@@ -274,10 +307,12 @@ Size default_size(const ProjectionSpec& s, double density) {
       w = h = 2.0 * r;
       break;
     }
-    case Kind::KannalaBrandt: {
-      // The image circle's diameter at the given focal lengths, else at `density`.
-      const double rd = kb_law(s).rd_max();
-      const double fx = s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : density;
+    case Kind::Lens: {
+      // The image circle's diameter at the given focal lengths, else at `density` pixels per
+      // radian at the centre (f R'(0) = density).
+      const Lens unit = lens_of(s);
+      const double rd = unit.rd_max();
+      const double fx = s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : density / unit.center_density();
       const double fy = s.given("fy") ? *s.number("fy") : fx;
       w = 2.0 * fx * rd;
       h = 2.0 * fy * rd;
@@ -359,8 +394,8 @@ Projection rescaled(const Projection& p, Size size) {
           return Pinhole(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy);
         } else if constexpr (std::is_same_v<P, Fisheye>) {
           return Fisheye(size, q.psi_max(), q.model(), q.clip(), q.cx() * sx, q.cy() * sy, q.rx() * sx, q.ry() * sy);
-        } else if constexpr (std::is_same_v<P, KannalaBrandt>) {
-          return KannalaBrandt(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy, q.k(), q.theta_max());
+        } else if constexpr (std::is_same_v<P, Lens>) {
+          return Lens(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy, q.law(), q.theta_max());
         } else if constexpr (std::is_same_v<P, Equirect>) {
           return Equirect(size, q.axis().hfov, q.vfov(), q.axis().lon0, q.lat_top() - 0.5 * q.vfov());
         } else if constexpr (std::is_same_v<P, Cylindrical>) {

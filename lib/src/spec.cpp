@@ -30,6 +30,17 @@ ParamDef center(const char* key) {
                 "frame's centre");
 }
 
+// fov, fx, fy, cx, cy, then the law's own keys. fov_default "": the law's whole domain.
+std::vector<ParamDef> lens_params(const char* fov_default, std::vector<ParamDef> law) {
+  std::vector<ParamDef> p{
+      number("fov", fov_default, 0, 360, true, false,
+             "full field of view across the image circle (deg); default: the model's whole domain if R stays finite there, else 180"),
+      number("fx", "", 0, kInf, true, true, "focal length in pixels along x; default: the image circle fills the shorter side"),
+      number("fy", "", 0, kInf, true, true, "focal length in pixels along y; default: fx"),
+      center("cx"), center("cy")};
+  p.insert(p.end(), law.begin(), law.end());
+  return p;
+}
 std::vector<ProjectionDef> make_catalog() {
   const ParamDef pin_hfov = number("hfov", "", 0, 180, true, true,
                                    "horizontal field of view (deg); default 90 unless focal or "
@@ -52,14 +63,16 @@ std::vector<ProjectionDef> make_catalog() {
         number("radius", "", 0, kInf, true, true,
                "image-circle radius in pixels (aspect=keep); default: half the shorter side"),
         center("cx"), center("cy")}},
-      {"kannala-brandt", Kind::KannalaBrandt,
-       "calibrated fisheye, OpenCV's fisheye model (k1..k4), fov up to 360 deg",
-       {number("fov", "180", 0, 360, true, false, "full field of view across the image circle (deg)"),
-        number("fx", "", 0, kInf, true, true,
-               "focal length in pixels along x; default: the image circle fills the shorter side"),
-        number("fy", "", 0, kInf, true, true, "focal length in pixels along y; default: fx"),
-        center("cx"), center("cy"), coefficient("k1"), coefficient("k2"), coefficient("k3"),
-        coefficient("k4")}},
+      {"kannala-brandt", Kind::Lens, "calibrated fisheye, OpenCV's fisheye model (k1..k4), fov up to 360 deg",
+       lens_params("180", {coefficient("k1"), coefficient("k2"), coefficient("k3"), coefficient("k4")})},
+      {"double-sphere", Kind::Lens, "calibrated fisheye, Double Sphere model (Usenko et al. 2018)",
+       lens_params("", {number("xi", "0", -1, 1, false, false, "xi: the second sphere's offset"),
+                        number("alpha", "0.5", 0, 1, false, false, "alpha")})},
+      {"unified", Kind::Lens, "calibrated fisheye or catadioptric, unified model (Mei and Rives 2007)",
+       lens_params("", {number("xi", "1", 0, kInf, false, true, "xi: the sphere's offset (0: pinhole, 1: stereographic)")})},
+      {"extended-unified", Kind::Lens, "calibrated fisheye, extended unified model (Khomutenko et al. 2016)",
+       lens_params("", {number("alpha", "0.5", 0, 1, false, false, "alpha"),
+                        number("beta", "1", 0, kInf, true, true, "beta (1: the unified model)")})},
       {"equirect", Kind::Equirect, "equirectangular (spherical) panorama, full or partial",
        {number("hfov", "360", 0, 360, true, false, "longitude span (deg)"),
         number("vfov", "180", 0, 180, true, false, "latitude span (deg)"), lon0(), lat0()}},

@@ -51,6 +51,13 @@ std::vector<StabilityCase> stability_cases() {
   // tends to 0 at the rim).
   for (const char* f : {"0.01", "180", "360"}) add(std::string("kannala-brandt:fov=") + f + ",k1=-0.01,k2=0.0005", {tiny, {2048, 2048}, {40000, 40000}}, 1e-6);
   add("kannala-brandt:fov=209.2,k1=-0.1", {{2048, 2048}, {40000, 40000}}, 1e-6);
+  // The closed-form lens laws over their whole domain, and unbounded ones at their default 180
+  // degrees. Where R stays bounded (unified xi > 1, extended unified alpha > 1/2) its slope
+  // reaches 0 at the domain's edge, so theta(R) has the conditioning of sqrt there, as the
+  // orthographic fisheye's: 1.1e-6 px at the rim of a 40000-px image.
+  for (const char* s : {"double-sphere:xi=-0.18,alpha=0.59", "double-sphere:xi=0.3,alpha=0.4", "unified:xi=2.5", "unified:xi=0.8",
+                        "extended-unified:alpha=0.63,beta=1.04", "extended-unified:alpha=0.3,beta=2"})
+    add(s, {tiny, {2048, 2048}, {40000, 40000}}, 1e-5);
   add("equirect", {tiny, {2, 1}, photo, huge}, 1e-6);
   add("equirect:hfov=0.01,vfov=0.01", {tiny, photo}, 1e-6);
   add("equirect:hfov=120,vfov=60,lat0=59.99", {photo}, 1e-6);

@@ -1,4 +1,4 @@
-"""panoproj: convert images between projections (pinhole, fisheye, Kannala-Brandt, equirect,
+"""panoproj: convert images between projections (pinhole, fisheye, calibrated lenses, equirect,
 cylindrical, cubemap, Aitoff, Hammer / Eckert-Greifendorff, Bonne) at native speed, from numpy.
 
 Conventions (the same as the ``panoproj`` command; see docs/projections.md):
@@ -26,7 +26,7 @@ import numpy as np
 from . import _core
 
 __all__ = [
-    "Projection", "Pinhole", "Fisheye", "KannalaBrandt", "Equirect", "Cylindrical", "Cubemap", "Aitoff", "Hammer",
+    "Projection", "Pinhole", "Fisheye", "KannalaBrandt", "DoubleSphere", "Unified", "ExtendedUnified", "Equirect", "Cylindrical", "Cubemap", "Aitoff", "Hammer",
     "EckertGreifendorff", "Bonne", "projection", "convert", "build_map", "Plan", "read", "write",
     "to_ray", "to_pixel", "split_faces", "simd_target",
 ]

@@ -11,14 +11,14 @@
 #include "panoproj/projections/equirect.hpp"
 #include "panoproj/projections/fisheye.hpp"
 #include "panoproj/projections/hammer.hpp"
-#include "panoproj/projections/kannala_brandt.hpp"
+#include "panoproj/projections/lens.hpp"
 #include "panoproj/projections/pinhole.hpp"
 #include "panoproj/spec.hpp"
 
 namespace panoproj {
 
 using Projection =
-    std::variant<Pinhole, Fisheye, KannalaBrandt, Equirect, Cylindrical, Cubemap, Aitoff, Hammer, Bonne>;
+    std::variant<Pinhole, Fisheye, Lens, Equirect, Cylindrical, Cubemap, Aitoff, Hammer, Bonne>;
 
 // Validates the spec against the image size; throws panoproj::Error.
 Projection make_projection(const ProjectionSpec& spec, Size size);
