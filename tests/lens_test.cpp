@@ -1,8 +1,8 @@
-// Calibrated lenses (projections/lens.hpp): the Double Sphere, unified and extended unified laws
+// Calibrated lenses (projections/lens.hpp, brown_conrady.hpp): the Double Sphere, unified and extended unified laws
 // against their papers' projection and unprojection formulas written on 3-D points; the
 // Kannala-Brandt Newton inverse up to the image circle, its agreement with the equidistant
-// fisheye when k = 0, and the errors for fields a law cannot hold. (Kannala-Brandt against
-// OpenCV's cv::fisheye: python/tests/test_lens_models.py.)
+// fisheye when k = 0, and the errors for fields a law cannot hold; Brown-Conrady's folds and its
+// covers() test. (Kannala-Brandt and Brown-Conrady against OpenCV: python/tests/test_lens_models.py.)
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -176,6 +176,38 @@ TEST(KannalaBrandt, ALawFoldingBackInsideTheFieldIsAnError) {
   const Size s = default_size(parse_spec("kannala-brandt:k1=0.01"), 100.0);
   const double rd = kPi / 2 * (1 + 0.01 * kPi * kPi / 4);
   EXPECT_EQ(s.width, std::llround(200 * rd));
+}
+
+TEST(BrownConrady, FoldsAreErrorsAndCoversIsSafe) {
+  // r (1 - 0.3 r^2) stops increasing at r = 1/sqrt(0.9): 46.51 degrees off axis.
+  try {
+    make("brown-conrady:fov=120,k1=-0.3", {1920, 1080});
+    FAIL();
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("46.5"), std::string::npos) << m;
+    EXPECT_NE(m.find("give fov=93.0"), std::string::npos) << m;
+  }
+  // Without a fov the field ends at the fold, and every pixel inside it maps back.
+  const Projection p = make("brown-conrady:k1=-0.3,fx=600", {1920, 1080});
+  EXPECT_NEAR(std::get<BrownConrady>(p).theta_max(), std::atan(1 / std::sqrt(0.9)), 1e-12);
+  // Tangential terms that fold the image.
+  EXPECT_THROW(make("brown-conrady:fov=120,p1=0.5", {1920, 1080}), Error);
+  // covers(): where it says a rectangle is all valid, every point of it is (random rectangles,
+  // some straddling the field's edge).
+  const Projection q = make("brown-conrady:fov=100,fx=500,k1=-0.2,p1=0.01,p2=-0.01", {1920, 1080});
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> ux(0, 1920), uy(0, 1080), side(1, 200);
+  int covered = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const double x0 = ux(rng), y0 = uy(rng), x1 = std::min(1920.0, x0 + side(rng)), y1 = std::min(1080.0, y0 + side(rng));
+    if (!std::visit([&](const auto& c) { return c.covers(x0, y0, x1, y1); }, q)) continue;
+    ++covered;
+    for (int j = 0; j <= 8; ++j)
+      for (int k = 0; k <= 8; ++k)
+        ASSERT_TRUE(contains(q, x0 + (x1 - x0) * j / 8, y0 + (y1 - y0) * k / 8)) << x0 << "," << y0;
+  }
+  EXPECT_GT(covered, 100);
 }
 
 }  // namespace

@@ -125,6 +125,48 @@ void check_fisheye(const ProjectionSpec& s) {
     fail(s, "radius applies to aspect=keep only (stretch fills the frame)");
 }
 
+// A Brown-Conrady spec's coefficients and field (theta_max): the field must end before the radial
+// factor r (1 + k1 r^2 + k2 r^4 + k3 r^6) stops increasing, and the map's Jacobian must stay
+// positive over it (tangential terms).
+BrownConrady brown_of(const ProjectionSpec& s) {
+  const std::array<double, 5> d{*s.number("k1"), *s.number("k2"), *s.number("p1"), *s.number("p2"), *s.number("k3")};
+  // The radial factor's slope 1 + 3 k1 r^2 + 5 k2 r^4 + 7 k3 r^6: its first zero up to r_cap.
+  auto slope = [&](double r) {
+    const double r2 = r * r;
+    return 1.0 + r2 * (3.0 * d[0] + r2 * (5.0 * d[1] + r2 * 7.0 * d[4]));
+  };
+  const double r_cap = std::tan(deg2rad(s.number("fov") ? 0.5 * *s.number("fov") : 80.0));
+  double fold = -1.0;
+  for (int i = 1; i <= 4096 && fold < 0; ++i) {
+    const double r = r_cap * i / 4096;
+    if (slope(r) <= 0.0) {
+      double lo = r_cap * (i - 1) / 4096, hi = r;
+      for (int j = 0; j < 60; ++j) (slope(0.5 * (lo + hi)) > 0.0 ? lo : hi) = 0.5 * (lo + hi);
+      fold = hi;
+    }
+  }
+  std::ostringstream o;
+  if (fold >= 0 && s.number("fov")) {
+    o << "k1, k2, k3 fold the radial distortion at " << rad2deg(std::atan(fold)) << " deg off axis, inside fov/2 = "
+      << 0.5 * *s.number("fov") << " deg (give fov=" << std::floor(2 * rad2deg(std::atan(fold)) * 1e3) / 1e3 << " or less)";
+    fail(s, o.str());
+  }
+  const double theta_max = std::atan(fold >= 0 ? fold : r_cap);
+  const BrownConrady cam({1, 1}, 1, 1, 0, 0, d, theta_max);
+  for (int i = 0; i < 32; ++i)
+    for (int a = 0; a < 64; ++a) {
+      const double r = std::tan(theta_max) * (i + 0.5) / 32, phi = 2.0 * kPi * a / 64;
+      double j[4];
+      cam.jacobian(r * std::cos(phi), r * std::sin(phi), j);
+      if (!(j[0] * j[3] - j[1] * j[2] > 0.0)) {
+        o << "p1, p2 fold the image " << rad2deg(std::atan(r)) << " deg off axis (expected a distortion without folds: "
+          << "give a smaller fov)";
+        fail(s, o.str());
+      }
+    }
+  return cam;
+}
+
 // A lens spec's law and field (theta_max): the field must lie in the law's domain, where R
 // increases (Kannala-Brandt: checked) and stays finite.
 Lens lens_of(const ProjectionSpec& s) {
@@ -201,6 +243,7 @@ void check_spec(const ProjectionSpec& s) {
     case Kind::Pinhole: check_pinhole(s); break;
     case Kind::Fisheye: check_fisheye(s); break;
     case Kind::Lens: lens_of(s); break;
+    case Kind::BrownConrady: brown_of(s); break;
     case Kind::Equirect: check_latitude_span(s, false); break;
     case Kind::Cylindrical: check_latitude_span(s, true); break;
     default: break;
@@ -246,6 +289,12 @@ Projection make_projection(const ProjectionSpec& s, Size size) {
       }
       return Fisheye(size, psi_max, fisheye_model(s.choice("model")), s.choice("clip") == "circle",
                      cx("cx", w), cx("cy", h), rx, ry);
+    }
+    case Kind::BrownConrady: {
+      const BrownConrady unit = brown_of(s);
+      const double fx = s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : 0.5 * w;
+      const double fy = s.given("fy") ? *s.number("fy") : fx;
+      return BrownConrady(size, fx, fy, cx("cx", w), cx("cy", h), unit.coefficients(), unit.theta_max());
     }
     case Kind::Lens: {
       const Lens unit = lens_of(s);
@@ -305,6 +354,14 @@ Size default_size(const ProjectionSpec& s, double density) {
                            : density * Fisheye::law(fisheye_model(s.choice("model")),
                                                     0.5 * rad(s, "fov"));
       w = h = 2.0 * r;
+      break;
+    }
+    case Kind::BrownConrady: {
+      // The frame of a 90-degree undistorted pinhole at the given focal lengths, else at
+      // `density` pixels per radian at the centre.
+      brown_of(s);
+      w = 2.0 * (s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : density);
+      h = 2.0 * (s.given("fy") ? *s.number("fy") : s.given("fx") ? *s.number("fx") : density);
       break;
     }
     case Kind::Lens: {
@@ -394,6 +451,8 @@ Projection rescaled(const Projection& p, Size size) {
           return Pinhole(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy);
         } else if constexpr (std::is_same_v<P, Fisheye>) {
           return Fisheye(size, q.psi_max(), q.model(), q.clip(), q.cx() * sx, q.cy() * sy, q.rx() * sx, q.ry() * sy);
+        } else if constexpr (std::is_same_v<P, BrownConrady>) {
+          return BrownConrady(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy, q.coefficients(), q.theta_max());
         } else if constexpr (std::is_same_v<P, Lens>) {
           return Lens(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy, q.law(), q.theta_max());
         } else if constexpr (std::is_same_v<P, Equirect>) {

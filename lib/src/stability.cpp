@@ -51,6 +51,12 @@ std::vector<StabilityCase> stability_cases() {
   // tends to 0 at the rim).
   for (const char* f : {"0.01", "180", "360"}) add(std::string("kannala-brandt:fov=") + f + ",k1=-0.01,k2=0.0005", {tiny, {2048, 2048}, {40000, 40000}}, 1e-6);
   add("kannala-brandt:fov=209.2,k1=-0.1", {{2048, 2048}, {40000, 40000}}, 1e-6);
+  // Brown-Conrady: a pinhole to 160 degrees, barrel distortion up to its fold, and tangential
+  // terms (focal lengths scaled with the frame).
+  add("brown-conrady", {tiny, {1920, 1080}, {40000, 22500}}, 1e-6);
+  add("brown-conrady:k1=-0.3", {{1920, 1080}, {40000, 22500}}, 1e-6);
+  add("brown-conrady:fx=1000,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0005,k3=-0.01", {{1920, 1080}}, 1e-6);
+  add("brown-conrady:fx=20833,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0005,k3=-0.01", {{40000, 22500}}, 1e-6);
   // The closed-form lens laws over their whole domain, and unbounded ones at their default 180
   // degrees. Where R stays bounded (unified xi > 1, extended unified alpha > 1/2) its slope
   // reaches 0 at the domain's edge, so theta(R) has the conditioning of sqrt there, as the

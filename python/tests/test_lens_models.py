@@ -1,7 +1,8 @@
-"""Calibrated lens models against OpenCV's own implementation, as a test-only oracle:
-panoproj's kannala-brandt (spec keys in OpenCV's conventions) against cv2.fisheye's
-distortPoints / undistortPoints, within 1e-3 px, for fields under 180 degrees (OpenCV works on
-x/z and y/z, so it cannot go further; panoproj's own round trips beyond it are in ctest)."""
+"""Calibrated lens models against OpenCV's own implementation, as a test-only oracle (spec keys in
+OpenCV's conventions): panoproj's kannala-brandt against cv2.fisheye's distortPoints /
+undistortPoints, for fields under 180 degrees (OpenCV works on x/z and y/z, so it cannot go
+further; panoproj's own round trips beyond it are in ctest), and brown-conrady against
+cv2.projectPoints / cv2.undistortPoints; all within 1e-3 px."""
 import cv2
 import numpy as np
 import pytest
@@ -77,3 +78,38 @@ def test_beyond_180_degrees_round_trips():
     assert (rays[ok, 2] < 0).any()  # some rays look behind the camera
     err = np.hypot(back_x - gx.ravel()[ok], back_y - gy.ravel()[ok])
     assert err.max() < 1e-3
+
+
+# Brown-Conrady cameras (k1, k2, p1, p2, k3): barrel with tangential terms, and pincushion.
+CAMERAS = [
+    dict(fx=1000.0, fy=1002.0, cx=959.5, cy=539.5, d=(-0.28, 0.09, 0.001, -0.0005, -0.01)),
+    dict(fx=800.0, fy=800.0, cx=951.0, cy=548.25, d=(0.15, 0.02, -0.004, 0.003, 0.0)),
+]
+
+
+def brown_spec(cam):
+    k1, k2, p1, p2, k3 = cam["d"]
+    return (f"brown-conrady:fx={cam['fx']},fy={cam['fy']},cx={cam['cx']},cy={cam['cy']},"
+            f"k1={k1},k2={k2},p1={p1},p2={p2},k3={k3}")
+
+
+@pytest.mark.parametrize("cam", CAMERAS, ids=["barrel", "pincushion"])
+def test_brown_conrady_matches_cv2_project_and_undistort_points(cam):
+    K = np.array([[cam["fx"], 0, cam["cx"]], [0, cam["fy"], cam["cy"]], [0, 0, 1]], np.float64)
+    D = np.array(cam["d"], np.float64)
+    rays = rays_under(45)
+    x, y, ok = pp.to_pixel(brown_spec(cam), SIZE, rays)
+    theirs, _ = cv2.projectPoints(rays.reshape(-1, 1, 3), np.zeros(3), np.zeros(3), K, D)
+    theirs = theirs.reshape(-1, 2)
+    assert ok.sum() > 1000
+    assert np.hypot(x - 0.5 - theirs[:, 0], y - 0.5 - theirs[:, 1])[ok].max() < 1e-3
+    # Pixels -> rays against cv2.undistortPoints (iterated to convergence).
+    gx, gy = np.meshgrid(np.arange(0, SIZE[0], 41.3), np.arange(0, SIZE[1], 33.7))
+    px = np.stack([gx.ravel(), gy.ravel()], -1)
+    ours, ok = pp.to_ray(brown_spec(cam), SIZE, px[:, 0] + 0.5, px[:, 1] + 0.5)
+    assert ok.all()
+    crit = (cv2.TERM_CRITERIA_COUNT + cv2.TERM_CRITERIA_EPS, 200, 1e-15)
+    und = cv2.undistortPoints(px.reshape(-1, 1, 2), K, D, None, None, None, crit).reshape(-1, 2)
+    mine = ours[:, :2] / ours[:, 2:3]
+    err = np.hypot((mine[:, 0] - und[:, 0]) * cam["fx"], (mine[:, 1] - und[:, 1]) * cam["fy"])
+    assert err.max() < 1e-3, err.max()

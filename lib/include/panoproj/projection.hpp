@@ -6,6 +6,7 @@
 
 #include "panoproj/projections/aitoff.hpp"
 #include "panoproj/projections/bonne.hpp"
+#include "panoproj/projections/brown_conrady.hpp"
 #include "panoproj/projections/cubemap.hpp"
 #include "panoproj/projections/cylindrical.hpp"
 #include "panoproj/projections/equirect.hpp"
@@ -18,7 +19,7 @@
 namespace panoproj {
 
 using Projection =
-    std::variant<Pinhole, Fisheye, Lens, Equirect, Cylindrical, Cubemap, Aitoff, Hammer, Bonne>;
+    std::variant<Pinhole, BrownConrady, Fisheye, Lens, Equirect, Cylindrical, Cubemap, Aitoff, Hammer, Bonne>;
 
 // Validates the spec against the image size; throws panoproj::Error.
 Projection make_projection(const ProjectionSpec& spec, Size size);
