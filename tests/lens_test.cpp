@@ -210,5 +210,31 @@ TEST(BrownConrady, FoldsAreErrorsAndCoversIsSafe) {
   EXPECT_GT(covered, 100);
 }
 
+TEST(PTLens, PixelsArePanoramaToolsRadii) {
+  // Panorama Tools: r_src = (a r^3 + b r^2 + c r + d) r_dst, radii in units of half the shorter
+  // side, r_dst the ideal pinhole's (focal length from hfov across the width).
+  const double a = 0.01, b = -0.05, c = 0.02, d = 1 - a - b - c, W = 1920, H = 1080;
+  const Projection p = make("ptlens:hfov=70,a=0.01,b=-0.05,c=0.02,cx=950,cy=530", {1920, 1080});
+  const double f = 0.5 * W / std::tan(deg2rad(35.0)), half = 0.5 * std::min(W, H);
+  double worst = 0;
+  int n = 0;
+  for (double t = 0.01; t < deg2rad(40.0); t += 0.013)
+    for (double phi = 0; phi < 2 * kPi; phi += 0.37) {
+      const Ray ray(std::sin(t) * std::cos(phi), std::sin(t) * std::sin(phi), std::cos(t));
+      double x, y;
+      if (!to_pixel(p, ray, x, y)) continue;
+      const double u = f * std::tan(t) / half, r_src = (a * u * u * u + b * u * u + c * u + d) * u * half;
+      worst = std::max(worst, std::hypot(x - (950.5 + r_src * std::cos(phi)), y - (530.5 + r_src * std::sin(phi))));
+      ++n;
+    }
+  EXPECT_GT(n, 500);
+  EXPECT_LT(worst, 1e-9);
+  // A polynomial that folds inside a given field is refused; without a field it ends there.
+  EXPECT_THROW(make("ptlens:hfov=100,a=-0.2,fov=170", {1920, 1080}), Error);
+  const Projection q = make("ptlens:hfov=100,a=-0.2", {1920, 1080});
+  double x, y;
+  EXPECT_FALSE(to_pixel(q, Ray(std::sin(1.5), 0, std::cos(1.5)), x, y));
+}
+
 }  // namespace
 }  // namespace panoproj

@@ -156,6 +156,8 @@ const Case kCases[] = {
     {"unified:xi=2.5", {1024, 1024}, 1e-6},
     {"extended-unified:alpha=0.63,beta=1.04", {1024, 1024}, 1e-6},
     {"extended-unified:alpha=0.3,beta=2,fov=200", {1024, 1024}, 1e-6},
+    {"ptlens:hfov=70,a=0.01,b=-0.05,c=0.02", {1920, 1080}, 1e-6},
+    {"ptlens:hfov=100,b=-0.1", {1920, 1280}, 1e-6},
     {"equirect", {4096, 2048}, 1e-6},
     {"equirect", {40000, 20000}, 1e-5},
     {"equirect:hfov=120,vfov=60,lon0=170,lat0=-20", {2048, 1024}, 1e-6},

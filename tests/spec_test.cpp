@@ -49,8 +49,8 @@ TEST(Spec, EveryCatalogEntryParsesWithItsDefaults) {
 TEST(Spec, ErrorsNameTheValueAndWhatWasExpected) {
   EXPECT_EQ(error_of("fishey"),
             "unknown projection 'fishey' (expected one of: pinhole, brown-conrady, fisheye, kannala-brandt, "
-            "double-sphere, unified, extended-unified, equirect, cylindrical, cubemap, aitoff, hammer, "
-            "eckert-greifendorff, bonne)");
+            "double-sphere, unified, extended-unified, ptlens, equirect, cylindrical, cubemap, aitoff, "
+            "hammer, eckert-greifendorff, bonne)");
   EXPECT_EQ(error_of("fisheye:fov=nan"), "fisheye: fov=nan is not finite (expected 0 < fov <= 360)");
   EXPECT_EQ(error_of("fisheye:fov=inf"), "fisheye: fov=inf is not finite (expected 0 < fov <= 360)");
   EXPECT_EQ(error_of("fisheye:fov=-10"), "fisheye: fov=-10 is out of range (expected 0 < fov <= 360)");

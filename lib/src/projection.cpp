@@ -136,15 +136,7 @@ BrownConrady brown_of(const ProjectionSpec& s) {
     return 1.0 + r2 * (3.0 * d[0] + r2 * (5.0 * d[1] + r2 * 7.0 * d[4]));
   };
   const double r_cap = std::tan(deg2rad(s.number("fov") ? 0.5 * *s.number("fov") : 80.0));
-  double fold = -1.0;
-  for (int i = 1; i <= 4096 && fold < 0; ++i) {
-    const double r = r_cap * i / 4096;
-    if (slope(r) <= 0.0) {
-      double lo = r_cap * (i - 1) / 4096, hi = r;
-      for (int j = 0; j < 60; ++j) (slope(0.5 * (lo + hi)) > 0.0 ? lo : hi) = 0.5 * (lo + hi);
-      fold = hi;
-    }
-  }
+  const double fold = first_fold(slope, r_cap);
   std::ostringstream o;
   if (fold >= 0 && s.number("fov")) {
     o << "k1, k2, k3 fold the radial distortion at " << rad2deg(std::atan(fold)) << " deg off axis, inside fov/2 = "
@@ -168,27 +160,37 @@ BrownConrady brown_of(const ProjectionSpec& s) {
 }
 
 // A lens spec's law and field (theta_max): the field must lie in the law's domain, where R
-// increases (Kannala-Brandt: checked) and stays finite.
-Lens lens_of(const ProjectionSpec& s) {
+// increases (the polynomial laws: checked) and stays finite. PTLens's law depends on the frame
+// (its radii are in units of half the shorter side): `frame`, or a square one for checks.
+Lens lens_of(const ProjectionSpec& s, Size frame = {1, 1}) {
   LensLaw law;
   const std::string& n = s.name();
+  double fx = 1.0;
   if (n == "kannala-brandt") {
     law = KannalaBrandtLaw{{*s.number("k1"), *s.number("k2"), *s.number("k3"), *s.number("k4")}};
   } else if (n == "double-sphere") {
     law = DoubleSphereLaw{*s.number("xi"), *s.number("alpha")};
   } else if (n == "unified") {
     law = UnifiedLaw{*s.number("xi")};
-  } else {
+  } else if (n == "extended-unified") {
     law = ExtendedUnifiedLaw{*s.number("alpha"), *s.number("beta")};
+  } else {
+    const auto w = static_cast<double>(frame.width), h = static_cast<double>(frame.height);
+    fx = 0.5 * w / std::tan(0.5 * rad(s, "hfov"));
+    law = PTLensLaw{*s.number("a"), *s.number("b"), *s.number("c"), fx / (0.5 * std::min(w, h))};
   }
   const double limit = std::visit([](const auto& l) { return l.limit(); }, law);
   const bool bounded = std::visit([](const auto& l) { return l.bounded(); }, law);
+  const auto* kb = std::get_if<KannalaBrandtLaw>(&law);
+  const auto* pt = std::get_if<PTLensLaw>(&law);
   std::ostringstream o;
-  // Default field: the whole domain where R stays finite up to its edge, else 180 degrees if the
-  // domain is wider.
+  // Default field: the whole domain where R stays finite up to its edge; else 180 degrees if the
+  // domain is wider; PTLens (a rectilinear lens): up to where its law folds, at most 160.
   double theta_max = limit;
   if (s.number("fov")) {
     theta_max = 0.5 * rad(s, "fov");
+  } else if (pt) {
+    theta_max = deg2rad(80.0);
   } else if (!bounded) {
     if (limit <= kHalfPi) {
       o << "R grows without bound toward the model's domain edge at " << rad2deg(limit)
@@ -202,15 +204,21 @@ Lens lens_of(const ProjectionSpec& s) {
       << 2 * rad2deg(limit) << ")";
     fail(s, o.str());
   }
-  if (const auto* kb = std::get_if<KannalaBrandtLaw>(&law)) {
-    if (const double fold = kb->fold_back(theta_max); fold >= 0) {
-      o << "k1..k4 fold the lens law back at theta=" << rad2deg(fold) << " deg, inside fov/2 = "
-        << rad2deg(theta_max) << " deg (give fov=" << std::floor(2 * rad2deg(fold) * 1e3) / 1e3
-        << " or less: the law must increase up to the image circle)";
-      fail(s, o.str());
-    }
+  // Where a polynomial law stops increasing: refused inside a given field, the default's end.
+  double fold = -1.0;
+  if (kb) fold = first_fold([kb](double t) { return kb->slope(t); }, theta_max);
+  if (pt) {
+    const double u = first_fold([pt](double x) { return pt->slope(x); }, pt->s * std::tan(theta_max));
+    fold = u < 0 ? -1.0 : std::atan(u / pt->s);
   }
-  const Lens lens({1, 1}, 1, 1, 0, 0, law, theta_max);
+  if (fold >= 0 && (kb || s.number("fov"))) {
+    o << (kb ? "k1..k4" : "a, b, c") << " fold the lens law back at theta=" << rad2deg(fold) << " deg, inside fov/2 = "
+      << rad2deg(theta_max) << " deg (give fov=" << std::floor(2 * rad2deg(fold) * 1e3) / 1e3
+      << " or less: the law must increase up to the image circle)";
+    fail(s, o.str());
+  }
+  if (fold >= 0) theta_max = fold;
+  const Lens lens({1, 1}, fx, fx, 0, 0, law, theta_max);
   if (!(std::isfinite(lens.rd_max()) && lens.rd_max() > 0)) {
     o << "the law reaches R = " << lens.rd_max() << " at fov/2 = " << rad2deg(theta_max)
       << " deg (expected a finite value: give a smaller fov" << (n == "kannala-brandt" ? " or smaller coefficients" : "") << ")";
@@ -297,7 +305,8 @@ Projection make_projection(const ProjectionSpec& s, Size size) {
       return BrownConrady(size, fx, fy, cx("cx", w), cx("cy", h), unit.coefficients(), unit.theta_max());
     }
     case Kind::Lens: {
-      const Lens unit = lens_of(s);
+      const Lens unit = lens_of(s, size);
+      if (s.name() == "ptlens") return Lens(size, unit.fx(), unit.fx(), cx("cx", w), cx("cy", h), unit.law(), unit.theta_max());
       // Default focal length: the image circle fills the shorter side.
       const double f0 = 0.5 * std::min(w, h) / unit.rd_max();
       const double fx = s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : f0;
@@ -365,6 +374,11 @@ Size default_size(const ProjectionSpec& s, double density) {
       break;
     }
     case Kind::Lens: {
+      if (s.name() == "ptlens") {  // a square frame (PTLens radii are in its half side)
+        lens_of(s);
+        w = h = 2.0 * density / (1.0 - *s.number("a") - *s.number("b") - *s.number("c")) * std::tan(0.5 * rad(s, "hfov"));
+        break;
+      }
       // The image circle's diameter at the given focal lengths, else at `density` pixels per
       // radian at the centre (f R'(0) = density).
       const Lens unit = lens_of(s);

@@ -57,6 +57,10 @@ std::vector<StabilityCase> stability_cases() {
   add("brown-conrady:k1=-0.3", {{1920, 1080}, {40000, 22500}}, 1e-6);
   add("brown-conrady:fx=1000,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0005,k3=-0.01", {{1920, 1080}}, 1e-6);
   add("brown-conrady:fx=20833,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0005,k3=-0.01", {{40000, 22500}}, 1e-6);
+  // PTLens: a plain rectilinear lens to 160 degrees, and one whose polynomial folds (the field
+  // ends there).
+  add("ptlens", {tiny, {1920, 1080}, {40000, 22500}}, 1e-6);
+  add("ptlens:hfov=100,a=-0.2,b=0.05,c=-0.01", {{1920, 1080}, {40000, 22500}}, 1e-6);
   // The closed-form lens laws over their whole domain, and unbounded ones at their default 180
   // degrees. Where R stays bounded (unified xi > 1, extended unified alpha > 1/2) its slope
   // reaches 0 at the domain's edge, so theta(R) has the conditioning of sqrt there, as the

@@ -26,7 +26,7 @@ import numpy as np
 from . import _core
 
 __all__ = [
-    "Projection", "Pinhole", "BrownConrady", "Fisheye", "KannalaBrandt", "DoubleSphere", "Unified", "ExtendedUnified", "Equirect", "Cylindrical", "Cubemap", "Aitoff", "Hammer",
+    "Projection", "Pinhole", "BrownConrady", "Fisheye", "KannalaBrandt", "DoubleSphere", "Unified", "ExtendedUnified", "Ptlens", "Equirect", "Cylindrical", "Cubemap", "Aitoff", "Hammer",
     "EckertGreifendorff", "Bonne", "projection", "convert", "build_map", "Plan", "read", "write",
     "to_ray", "to_pixel", "split_faces", "simd_target",
 ]

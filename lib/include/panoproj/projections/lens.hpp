@@ -45,8 +45,12 @@ class Lens {
   bool to_pixel(const Ray& d, double& x, double& y) const {
     const double s = std::hypot(d.x(), d.y());
     const double t = std::atan2(s, d.z());
-    // The rim's slack in theta, or as to_ray gives it, in R (where the law flattens).
-    if (t > theta_max_ * (1.0 + kEdgeSlack) && !(t <= limit() && radius(t) <= rd_max_ * (1.0 + kEdgeSlack))) return false;
+    // The rim's slack in theta, or, just past the rim, as to_ray gives it: in R (where the law
+    // flattens toward a bounded domain's edge, theta(R) is ill-conditioned). Only just past it:
+    // beyond a polynomial law's fold R comes back down.
+    if (t > theta_max_ * (1.0 + kEdgeSlack) &&
+        !(t <= std::fmin(limit(), theta_max_ + 1e-6) && radius(t) <= rd_max_ * (1.0 + kEdgeSlack)))
+      return false;
     const double r = radius(std::fmin(t, theta_max_));
     // On the axis the azimuth is undefined: the front pole maps to the centre, the back pole
     // (theta = pi, a 360-degree circle's rim) to phi = 0.

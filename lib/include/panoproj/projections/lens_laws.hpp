@@ -16,6 +16,10 @@
 //   Extended unified R = sin t / (alpha d + (1 - alpha) cos t), d = sqrt(beta sin^2 t + cos^2 t)
 //                   (Khomutenko, Garcia and Martinet, IEEE RA-L 1(1), 2016; domain and inverse as
 //                   summarized in Usenko et al. 2018, eqs. 30-39).
+//   PTLens          R = g(s tan t) / s, g(u) = u (a u^3 + b u^2 + c u + d), d = 1 - a - b - c: a
+//                   rectilinear lens whose distorted radius is g of the ideal one, both in units
+//                   of half the image's shorter side (s = focal length over it); Dersch's Panorama
+//                   Tools and lensfun's "ptlens" model. No closed inverse: Newton on g, bracketed.
 // The closed forms return theta = atan2(radial, z) of the papers' unprojected ray.
 #include <array>
 #include <cmath>
@@ -35,46 +39,10 @@ struct KannalaBrandtLaw {
     const double t2 = t * t;
     return 1.0 + t2 * (3.0 * k[0] + t2 * (5.0 * k[1] + t2 * (7.0 * k[2] + t2 * 9.0 * k[3])));
   }
-  // theta in [0, t_max] with radius(theta) = r, for r in [0, radius(t_max)] (radius increasing
-  // there): Newton from theta = r, a step leaving the bracket replaced by bisection; stops when a
-  // step is under 1e-15 rad or after 60 steps.
-  double angle(double r, double t_max) const {
-    double lo = 0.0, hi = t_max, t = std::fmin(r, t_max);
-    for (int i = 0; i < 60; ++i) {
-      const double f = radius(t) - r;
-      if (f == 0.0) return t;
-      (f > 0.0 ? hi : lo) = t;
-      double next = t - f / slope(t);
-      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);  // outside the bracket (or NaN)
-      const double step = std::fabs(next - t);
-      t = next;
-      if (step < 1e-15) break;
-    }
-    return t;
-  }
+  double angle(double r, double t_max) const;  // below bracketed_newton
   double limit() const { return kPi; }
   bool bounded() const { return true; }
   double slope0() const { return 1.0; }
-  // The first angle in (0, t] where the slope reaches 0, or -1 if R increases all the way: the
-  // slope sampled every t/4096, then bisected (a polynomial of degree 4 in theta^2 has at most 4
-  // sign changes, far apart for any lens a calibration returns).
-  double fold_back(double t) const {
-    constexpr int kSteps = 4096;
-    double prev = 0.0;
-    for (int i = 1; i <= kSteps; ++i) {
-      const double ti = t * i / kSteps;
-      if (slope(ti) <= 0.0) {
-        double lo = prev, hi = ti;
-        for (int j = 0; j < 60; ++j) {
-          const double mid = 0.5 * (lo + hi);
-          (slope(mid) > 0.0 ? lo : hi) = mid;
-        }
-        return hi;
-      }
-      prev = ti;
-    }
-    return -1.0;
-  }
 };
 
 // w of the unified models' domains z > -w d (alpha form).
@@ -140,6 +108,64 @@ struct ExtendedUnifiedLaw {
   double slope0() const { return 1.0; }
 };
 
-using LensLaw = std::variant<KannalaBrandtLaw, DoubleSphereLaw, UnifiedLaw, ExtendedUnifiedLaw>;
+// The bracketed Newton both polynomial laws invert with: x in [0, x_max] with f(x) = y, for f
+// increasing there (df its derivative); from x = min(y, x_max), a step leaving the bracket
+// replaced by bisection; stops when a step is under 1e-15 (1 + x) or after 60 steps.
+template <class F, class DF>
+double bracketed_newton(const F& f, const DF& df, double y, double x_max) {
+  double lo = 0.0, hi = x_max, x = std::fmin(y, x_max);
+  for (int i = 0; i < 60; ++i) {
+    const double e = f(x) - y;
+    if (e == 0.0) return x;
+    (e > 0.0 ? hi : lo) = x;
+    double next = x - e / df(x);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);  // outside the bracket (or NaN)
+    const double step = std::fabs(next - x);
+    x = next;
+    if (step < 1e-15 * (1.0 + x)) break;
+  }
+  return x;
+}
+
+// The first x in (0, x_max] where slope(x) <= 0, or -1 if there is none: sampled every
+// x_max/4096, then bisected (for the polynomial laws' slopes: few sign changes, far apart).
+template <class S>
+double first_fold(const S& slope, double x_max) {
+  constexpr int kSteps = 4096;
+  for (int i = 1; i <= kSteps; ++i) {
+    const double x = x_max * i / kSteps;
+    if (slope(x) <= 0.0) {
+      double lo = x_max * (i - 1) / kSteps, hi = x;
+      for (int j = 0; j < 60; ++j) {
+        const double mid = 0.5 * (lo + hi);
+        (slope(mid) > 0.0 ? lo : hi) = mid;
+      }
+      return hi;
+    }
+  }
+  return -1.0;
+}
+
+inline double KannalaBrandtLaw::angle(double r, double t_max) const {
+  return bracketed_newton([this](double t) { return radius(t); }, [this](double t) { return slope(t); }, r, t_max);
+}
+
+struct PTLensLaw {
+  double a = 0.0, b = 0.0, c = 0.0, s = 1.0;  // s: focal length / half the shorter side
+  double g(double u) const { return u * (d() + u * (c + u * (b + u * a))); }
+  double slope(double u) const { return d() + u * (2.0 * c + u * (3.0 * b + u * 4.0 * a)); }
+  double d() const { return 1.0 - a - b - c; }
+  double radius(double t) const { return t >= kHalfPi ? HUGE_VAL : g(s * std::tan(t)) / s; }
+  double angle(double r, double t_max) const {
+    const double u = bracketed_newton([this](double x) { return g(x); }, [this](double x) { return slope(x); }, s * r,
+                                      s * std::tan(t_max));
+    return std::atan(u / s);
+  }
+  double limit() const { return kHalfPi; }
+  bool bounded() const { return false; }
+  double slope0() const { return d(); }
+};
+
+using LensLaw = std::variant<KannalaBrandtLaw, DoubleSphereLaw, UnifiedLaw, ExtendedUnifiedLaw, PTLensLaw>;
 
 }  // namespace panoproj
