@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 
 #include "panoproj/error.hpp"
+#include "test_support.hpp"
 
 namespace panoproj {
 namespace {
@@ -72,4 +74,55 @@ TEST(Spec, ErrorsNameTheValueAndWhatWasExpected) {
 }
 
 }  // namespace
+class SpecFile : public test::TempDirTest {
+ protected:
+  // "@" and the path of a new file holding text. (Appended, not "@" + path: gcc 12 warns
+  // falsely on that, its bug 105329.)
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(path(name), std::ios::binary) << text;
+    std::string at = "@";
+    at += path(name);
+    return at;
+  }
+};
+
+TEST_F(SpecFile, JsonAndYamlGiveTheSpecTheirKeysSpell) {
+  const std::string inline_text = "kannala-brandt:fov=200,fx=620.5,cx=959.2,k1=0.0361,k2=-0.0112";
+  const std::string json = write("lens.json", R"({ "projection": "kannala-brandt", "fov": 200, "fx": 620.5,
+      "cx": 959.2, "k1": 0.0361, "k2": -0.0112 })");
+  const std::string yaml = write("lens.yaml", "---\n# calibrated 2026-11-01\nprojection: kannala-brandt\nfov: 200\n"
+                                              "fx: 620.5   # px\ncx: \"959.2\"\nk1: 0.0361\nk2: -0.0112\n");
+  const std::string want = parse_spec(inline_text).str();
+  EXPECT_EQ(parse_spec(json).str(), want);
+  EXPECT_EQ(parse_spec(" " + yaml).str(), want);
+  // A name carrying keys of its own.
+  EXPECT_EQ(parse_spec(write("f.json", R"({"projection": "fisheye:fov=200", "model": "equisolid"})")).str(),
+            "fisheye:fov=200,model=equisolid");
+}
+
+TEST_F(SpecFile, BadFilesNameTheFileAndTheFix) {
+  auto error_of = [](const std::string& text) {
+    try {
+      parse_spec(text);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  std::string none = "@";
+  none += path("none.json");
+  const std::string missing = error_of(none);
+  EXPECT_NE(missing.find("cannot read the spec file"), std::string::npos) << missing;
+  EXPECT_NE(error_of(write("a.json", R"({"fx": 1})")).find("no \"projection\" key"), std::string::npos);
+  EXPECT_NE(error_of(write("b.json", R"({"projection": "unified", "xi": {"a": 1}})")).find("not a string or number"),
+            std::string::npos);
+  EXPECT_NE(error_of(write("c.json", R"({"projection": "unified" "xi": 1})")).find("no ',' or '}'"), std::string::npos);
+  EXPECT_NE(error_of(write("d.yaml", "projection: unified\nxi\n")).find("line 2 is not 'key: value'"), std::string::npos);
+  EXPECT_NE(error_of(write("e.yaml", "projection: unified\nlens:\n  xi: 1\n")).find("line 2 has no value"),
+            std::string::npos);
+  // Keys are checked as in spec text.
+  EXPECT_NE(error_of(write("f.yaml", "projection: unified\nzeta: 1\n")).find("unknown key 'zeta'"), std::string::npos);
+  EXPECT_NE(error_of(write("g.yaml", "projection: \"@x\"\n")).find("cannot name another"), std::string::npos);
+}
+
 }  // namespace panoproj

@@ -206,6 +206,11 @@ std::string ProjectionSpec::str() const {
 }
 
 ProjectionSpec parse_spec(std::string_view text) {
+  if (const std::string t = trim(text); !t.empty() && t[0] == '@') {
+    const std::string from_file = spec_from_file(t.substr(1));
+    if (!from_file.empty() && from_file[0] == '@') throw Error(t + ": a spec file cannot name another");
+    return parse_spec(from_file);
+  }
   const auto colon = text.find(':');
   const std::string name = trim(text.substr(0, colon));
   const ProjectionDef* def = nullptr;

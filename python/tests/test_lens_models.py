@@ -113,3 +113,21 @@ def test_brown_conrady_matches_cv2_project_and_undistort_points(cam):
     mine = ours[:, :2] / ours[:, 2:3]
     err = np.hypot((mine[:, 0] - und[:, 0]) * cam["fx"], (mine[:, 1] - und[:, 1]) * cam["fy"])
     assert err.max() < 1e-3, err.max()
+
+
+def test_a_calibration_file_is_a_spec(tmp_path):
+    # The calibration kept beside the photos: JSON or YAML, the same projection as the spec text.
+    lens = LENSES[0]
+    k1, k2, k3, k4 = lens["k"]
+    (tmp_path / "lens.yaml").write_text(
+        f"projection: kannala-brandt\nfov: 178\nfx: {lens['fx']}\nfy: {lens['fy']}\ncx: {lens['cx']}\n"
+        f"cy: {lens['cy']}\nk1: {k1}\nk2: {k2}\nk3: {k3}\nk4: {k4}\n")
+    from_file = pp.projection(f"@{tmp_path / 'lens.yaml'}")
+    assert str(from_file) == str(pp.projection(spec(lens)))
+    rays = rays_under(80, n=200)
+    a = pp.to_pixel(from_file, SIZE, rays)
+    b = pp.to_pixel(spec(lens), SIZE, rays)
+    assert np.array_equal(a[0], b[0], equal_nan=True) and np.array_equal(a[1], b[1], equal_nan=True)
+    with pytest.raises(ValueError, match="no \"projection\" key"):
+        (tmp_path / "bad.json").write_text('{"fx": 1}')
+        pp.projection(f"@{tmp_path / 'bad.json'}")

@@ -54,7 +54,14 @@ class ProjectionSpec {
   std::map<std::string, std::string> values_;
 };
 
-// Throws panoproj::Error naming the bad part and what was expected.
+// Throws panoproj::Error naming the bad part and what was expected. "@path" reads the spec from a
+// file (spec_from_file).
 ProjectionSpec parse_spec(std::string_view text);
+
+// The spec text of a file holding a flat JSON object or a flat YAML mapping: "projection" names
+// the form, the other keys are its spec keys (e.g. a lens calibration: {"projection":
+// "kannala-brandt", "fx": 620.5, "k1": 0.036, ...}). Throws panoproj::Error naming the file and
+// what was wrong.
+std::string spec_from_file(const std::string& path);
 
 }  // namespace panoproj
