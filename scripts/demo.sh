@@ -36,6 +36,12 @@ echo "== Stellarium 210-degree fisheye (looking at the zenith, South at the top)
 # The lens looks up: pitch -90 levels the horizon; North (the image bottom) lands at the centre.
 run "$img/stellarium_trees_fisheye210_512.png" "$out/trees_equirect.png" --from fisheye:fov=210 --to equirect --pitch -90
 
+echo "== Calibrated lenses: a 220-degree Kannala-Brandt fisheye from a YAML file, a Double Sphere"
+echo "   lens looking down, a Brown-Conrady camera with barrel distortion"
+run "$pano" "$out/jordan_kannala_brandt220.jpg" --to @"$root/samples/lenses/fisheye_220_kannala_brandt.yaml" --size 1536x1536
+run "$pano" "$out/jordan_double_sphere_down.jpg" --to double-sphere:xi=-0.18,alpha=0.59 --pitch -90 --size 1536x1536
+run "$pano" "$out/jordan_brown_conrady_barrel.jpg" --to brown-conrady:fx=700,k1=-0.3,k2=0.08 --size 1920x1080 --yaw 75 --pitch -5
+
 echo "== Real cubemap (six files) -> equirect"
 run "$img/cubemap_jordan_pond/face{index}_{face}.jpg" "$out/jordan_from_cubemap.jpg" --to equirect --size 4096x2048
 
