@@ -1,0 +1,78 @@
+// HDR end to end on a real HDRI (samples/images/blender_city_1024x512.exr: a sun at 3.4e4, tiny
+// negative values from its DWAB compression) with two 16x16 patches painted in, one at -0.5 and
+// one at 1e6 (past half float's range): equirect -> cubemap -> equirect in float with each kernel
+// clamps nothing (the patches' centres come back), and reports the round trip's relative error.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "panoproj/engine.hpp"
+#include "panoproj/io.hpp"
+#include "panoproj/spec.hpp"
+#include "test_support.hpp"
+
+namespace panoproj {
+namespace {
+
+// All samples of a float image, row by row.
+std::vector<float> samples_of(const Image& im) {
+  std::vector<float> v;
+  v.reserve(static_cast<size_t>(im.width() * im.height() * im.channels()));
+  for (int64_t y = 0; y < im.height(); ++y) {
+    const auto* row = reinterpret_cast<const float*>(im.pixel(0, y));
+    v.insert(v.end(), row, row + im.width() * im.channels());
+  }
+  return v;
+}
+
+TEST(Hdr, RealHdriSurvivesEquirectCubeEquirect) {
+  Image src = read_image(test::samples_dir() + "/blender_city_1024x512.exr");
+  ASSERT_EQ(src.type(), PixelType::F32);
+  // The patches, near the equator (where the cube's round trip is nearly 1:1).
+  auto patch = [&](int64_t x0, int64_t y0, float v) {
+    for (int64_t y = y0; y < y0 + 16; ++y)
+      for (int64_t x = x0; x < x0 + 16; ++x)
+        for (int c = 0; c < 3; ++c) reinterpret_cast<float*>(src.pixel(x, y))[c] = v;
+  };
+  patch(300, 250, -0.5f);
+  patch(700, 240, 1e6f);
+  auto centre = [](const Image& im, int64_t x0, int64_t y0) { return reinterpret_cast<const float*>(im.pixel(x0 + 8, y0 + 8))[1]; };
+  const Projection e = make_projection(parse_spec("equirect"), {1024, 512});
+  const Projection cube = make_projection(parse_spec("cubemap"), {6 * 512, 512});
+  const std::vector<float> in = samples_of(src);
+  const auto in_neg = std::count_if(in.begin(), in.end(), [](float v) { return v < 0; });
+  for (Interp k : {Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3}) {
+    const Image faces = Converter(e, cube, Eigen::Matrix3d::Identity(), k, Engine::Simd, 2).run(src);
+    const Image back = Converter(cube, e, Eigen::Matrix3d::Identity(), k, Engine::Simd, 2).run(faces);
+    const std::vector<float> out = samples_of(back);
+    // Relative error |out - in| / max(|in|, 0.01) (0.01: the darkest values that matter here).
+    std::vector<double> rel(out.size());
+    bool finite = true;
+    for (size_t i = 0; i < out.size(); ++i) {
+      finite &= std::isfinite(out[i]);
+      rel[i] = std::fabs(out[i] - in[i]) / std::max(std::fabs(in[i]), 0.01f);
+    }
+    std::sort(rel.begin(), rel.end());
+    const double median = rel[rel.size() / 2], p99 = rel[rel.size() * 99 / 100];
+    const auto out_neg = std::count_if(out.begin(), out.end(), [](float v) { return v < 0; });
+    // The sun: a few pixels of the original (away from the patches).
+    float sun_in = 0, sun_out = 0;
+    for (size_t i = 0; i < in.size(); ++i)
+      if (in[i] < 1e5f && in[i] > sun_in) sun_in = in[i], sun_out = out[i];
+    std::printf("[hdr] city 1024x512 -> cube 6x512^2 -> equirect, %s: relative error median %.2e, 99th percentile %.2e; "
+                "sun's brightest sample %.4g -> %.4g; patches -0.5 -> %.6g, 1e6 -> %.7g; negative samples %lld -> %lld\n",
+                name_of(k), median, p99, sun_in, sun_out, centre(back, 300, 250), centre(back, 700, 240),
+                static_cast<long long>(in_neg), static_cast<long long>(out_neg));
+    EXPECT_TRUE(finite) << name_of(k);
+    EXPECT_LT(median, 0.01) << name_of(k);
+    EXPECT_NEAR(centre(back, 300, 250), -0.5f, 1e-5f) << name_of(k);
+    EXPECT_NEAR(centre(back, 700, 240), 1e6f, 10.0f) << name_of(k);
+    EXPECT_GT(sun_out, 0.3f * sun_in) << name_of(k);  // spread by the kernel, not clipped
+  }
+}
+
+}  // namespace
+}  // namespace panoproj
