@@ -42,6 +42,21 @@ inline double wrap_pi(double a) {
   return a - kPi;
 }
 
+// Radial projections (fisheyes, calibrated lenses): the unit ray at angle t from the optical axis
+// (+z) through image direction (u, v), r = |(u, v)| > 0; and a ray's angle off the axis with its
+// direction (cu, cv) in the image (on the axis, where it is undefined, (1, 0): the front pole
+// maps to the centre, the back pole to azimuth 0).
+inline Ray radial_ray(double t, double u, double v, double r) {
+  const double s = std::sin(t) / r;
+  return Ray(s * u, s * v, std::cos(t));
+}
+inline double off_axis(const Ray& d, double& cu, double& cv) {
+  const double s = std::hypot(d.x(), d.y());
+  cu = s > 0.0 ? d.x() / s : 1.0;
+  cv = s > 0.0 ? d.y() / s : 0.0;
+  return std::atan2(s, d.z());
+}
+
 // sin(x)/x, exact to double precision near 0 (Taylor: 1 - x^2/6 + x^4/120).
 inline double sinc(double x) {
   const double x2 = x * x;

@@ -51,23 +51,19 @@ class Fisheye {
       d = Ray(0.0, 0.0, 1.0);
       return true;
     }
-    const double s = std::sin(psi) / r;
-    d = Ray(s * u, s * v, std::cos(psi));
+    d = radial_ray(psi, u, v, r);
     return true;
   }
 
   bool to_pixel(const Ray& d, double& x, double& y) const {
-    const double s = std::hypot(d.x(), d.y());
-    const double psi = std::atan2(s, d.z());
+    double cu, cv;
+    const double psi = off_axis(d, cu, cv);
     // The rim's slack in psi, or as to_ray gives it, in r: where the law flattens (equisolid
     // near 360 degrees), r's 1e-9 is far more than psi's (found by the stability report).
     if (clip_ && psi > psi_max_ * (1.0 + kEdgeSlack) && law(psi) > g_max_ * (1.0 + kEdgeSlack)) return false;
     if (psi > psi_limit_ * (1.0 + kEdgeSlack) || (model_ == FisheyeModel::Stereographic && psi >= kPi))
       return false;
     const double r = law(psi) / g_max_;
-    // On the axis (s = 0) the azimuth is undefined: the front pole maps to the centre; the back
-    // pole (psi = pi, the 360-degree rim, one point) maps to theta = 0.
-    const double cu = s > 0.0 ? d.x() / s : 1.0, cv = s > 0.0 ? d.y() / s : 0.0;
     x = cx_ + rx_ * r * cu;
     y = cy_ + ry_ * r * cv;
     return in_frame(x, y, size_);

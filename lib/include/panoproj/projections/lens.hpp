@@ -36,15 +36,13 @@ class Lens {
       d = Ray(0.0, 0.0, 1.0);
       return true;
     }
-    const double t = angle(std::fmin(r, rd_max_));
-    const double s = std::sin(t) / r;
-    d = Ray(s * u, s * v, std::cos(t));
+    d = radial_ray(angle(std::fmin(r, rd_max_)), u, v, r);
     return true;
   }
 
   bool to_pixel(const Ray& d, double& x, double& y) const {
-    const double s = std::hypot(d.x(), d.y());
-    const double t = std::atan2(s, d.z());
+    double cu, cv;
+    const double t = off_axis(d, cu, cv);
     // The rim's slack in theta, or, just past the rim, as to_ray gives it: in R (where the law
     // flattens toward a bounded domain's edge, theta(R) is ill-conditioned). Only just past it:
     // beyond a polynomial law's fold R comes back down.
@@ -52,9 +50,6 @@ class Lens {
         !(t <= std::fmin(limit(), theta_max_ + 1e-6) && radius(t) <= rd_max_ * (1.0 + kEdgeSlack)))
       return false;
     const double r = radius(std::fmin(t, theta_max_));
-    // On the axis the azimuth is undefined: the front pole maps to the centre, the back pole
-    // (theta = pi, a 360-degree circle's rim) to phi = 0.
-    const double cu = s > 0.0 ? d.x() / s : 1.0, cv = s > 0.0 ? d.y() / s : 0.0;
     x = cx_ + fx_ * r * cu;
     y = cy_ + fy_ * r * cv;
     return in_frame(x, y, size_);
