@@ -197,11 +197,16 @@ Lens lens_of(const ProjectionSpec& s, Size frame = {1, 1}) {
         << " deg off axis: give fov below " << 2 * rad2deg(limit);
       fail(s, o.str());
     }
-    theta_max = kHalfPi;
+    theta_max = std::fmin(kHalfPi, limit * (1 - 1e-3));  // short of an edge just past 90 degrees
   }
   if (bounded ? theta_max > limit * (1 + 1e-12) : theta_max >= limit * (1 - 1e-9)) {
-    o << "fov=" << *s.number("fov") << " is past the model's domain (expected fov " << (bounded ? "<= " : "< ")
+    o << "fov=" << 2 * rad2deg(theta_max) << " is past the model's domain (expected fov " << (bounded ? "<= " : "< ")
       << 2 * rad2deg(limit) << ")";
+    fail(s, o.str());
+  }
+  if (const double slope0 = std::visit([](const auto& l) { return l.slope0(); }, law); !(slope0 > 0)) {
+    o << "the law does not increase from the centre (R'(0) = " << slope0
+      << (pt ? "; expected a + b + c < 1)" : "; expected a positive value)");
     fail(s, o.str());
   }
   // Where a polynomial law stops increasing: refused inside a given field, the default's end.
