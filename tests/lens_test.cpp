@@ -231,6 +231,7 @@ TEST(PTLens, PixelsArePanoramaToolsRadii) {
   EXPECT_LT(worst, 1e-9);
   // A polynomial that folds inside a given field is refused; without a field it ends there.
   EXPECT_THROW(make("ptlens:hfov=100,a=-0.2,fov=170", {1920, 1080}), Error);
+  EXPECT_THROW(make("ptlens:a=0.5,b=0.3,c=0.2", {1920, 1080}), Error);  // d = 0: R'(0) = 0
   const Projection q = make("ptlens:hfov=100,a=-0.2", {1920, 1080});
   double x, y;
   EXPECT_FALSE(to_pixel(q, Ray(std::sin(1.5), 0, std::cos(1.5)), x, y));
