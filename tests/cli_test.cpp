@@ -85,6 +85,37 @@ TEST_F(Cli, ConvertsAndReports) {
   EXPECT_EQ(back.out, "");
 }
 
+TEST_F(Cli, OutputsKeepTheInputsMetadataButNotItsOrientation) {
+  // A photo with camera EXIF, an ICC profile and an orientation flag.
+  Image e({64, 32}, 3, PixelType::U8);
+  WriteOptions w;
+  const std::vector<uint8_t> icc(200, 7);
+  w.metadata = {{"Make", std::string("TestCam")}, {"ExposureTime", 0.004}, {"ICCProfile", icc},
+                {"Orientation", int64_t{6}}};
+  write_image(e, p("tagged.jpg"), w);
+  auto find = [](const Metadata& m, const std::string& name) -> const Attribute* {
+    for (const Attribute& a : m)
+      if (a.name == name) return &a;
+    return nullptr;
+  };
+  ASSERT_NE(find(read_metadata(p("tagged.jpg")), "Orientation"), nullptr);  // the input has them
+  ASSERT_EQ(run("convert " + p("tagged.jpg") + " " + p("kept.jpg") + " --to fisheye -q").code, 0);
+  const Metadata kept = read_metadata(p("kept.jpg"));
+  const Attribute* make = find(kept, "Make");
+  ASSERT_NE(make, nullptr);
+  EXPECT_EQ(std::get<std::string>(make->value), "TestCam");
+  const Attribute* profile = find(kept, "ICCProfile");
+  ASSERT_NE(profile, nullptr);
+  EXPECT_EQ(std::get<std::vector<uint8_t>>(profile->value), icc);
+  EXPECT_NE(find(kept, "ExposureTime"), nullptr);
+  EXPECT_EQ(find(kept, "Orientation"), nullptr);  // the conversion worked on the stored pixels
+  // --no-metadata writes none of them.
+  ASSERT_EQ(run("convert " + p("tagged.jpg") + " " + p("bare.jpg") + " --to fisheye -q --no-metadata").code, 0);
+  const Metadata bare = read_metadata(p("bare.jpg"));
+  EXPECT_EQ(find(bare, "Make"), nullptr);
+  EXPECT_EQ(find(bare, "ICCProfile"), nullptr);
+}
+
 TEST_F(Cli, BatchBuildsOneMapAndMatchesSingleConversions) {
   for (int k = 0; k < 3; ++k) {
     Image e({64, 32}, 3, PixelType::U8);

@@ -169,6 +169,9 @@ int main(int argc, char** argv) {
                       "levels) | N (N x N sub-pixels, 2..16); the reference engine has none");
   convert->add_option("--depth", depth_text, "output samples: keep|uint8|uint16|half|float");
   convert->add_flag("--overwrite", job.write.overwrite, "replace an existing output");
+  bool no_metadata = false;
+  convert->add_flag("--no-metadata", no_metadata,
+                    "write no metadata (default: the input's EXIF, ICC profile ..., less orientation, size and thumbnail)");
   bool quiet = false, verbose = false;
   convert->add_flag("-q,--quiet", quiet, "print nothing on success");
   convert->add_flag("-v,--verbose", verbose, "let image libraries print their own warnings");
@@ -294,6 +297,7 @@ int main(int argc, char** argv) {
     job.options.engine = parse_engine(engine_text);
     if (!antialias_text.empty()) job.options.antialias = parse_antialias(antialias_text);
     job.write.type = parse_depth(depth_text);
+    job.keep_metadata = !no_metadata;
     job.output = files.back();
     job.inputs.assign(files.begin(), files.end() - 1);
     auto dims = [](Size sz, bool faces) {

@@ -49,6 +49,19 @@ std::string batch_output(const std::string& pattern, const std::string& input, s
   return s;
 }
 
+// The input's metadata an output keeps: all but the old pixels' orientation (the conversion
+// worked on the stored pixels), dimensions and thumbnail.
+Metadata carried_metadata(const std::string& input) {
+  Metadata kept;
+  for (Attribute& a : read_metadata(input)) {
+    const std::string& n = a.name;
+    if (n == "Orientation" || n == "Exif:PixelXDimension" || n == "Exif:PixelYDimension" || n.rfind("thumbnail", 0) == 0)
+      continue;
+    kept.push_back(std::move(a));
+  }
+  return kept;
+}
+
 }  // namespace
 
 std::vector<ConvertReport> run_convert(const ConvertJob& job,
@@ -148,8 +161,10 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     });
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +
                            (n == 0 ? map_seconds : 0.0);  // the map is built once, for the first
-    if (out_faces) write_cube_faces(out, outputs[n], job.write);
-    else write_image(out, outputs[n], job.write);
+    WriteOptions write = job.write;
+    if (job.keep_metadata && !in_faces) write.metadata = carried_metadata(job.inputs[n]);
+    if (out_faces) write_cube_faces(out, outputs[n], write);
+    else write_image(out, outputs[n], write);
     auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };
     const double read = static_cast<double>(source.width() * source.height()) /
                         static_cast<double>(source.frame_size().width * source.frame_size().height);

@@ -29,6 +29,10 @@ struct ConvertJob {
   std::string to;
   ConvertOptions options;
   WriteOptions write;
+  // Each output carries its input's metadata (EXIF, ICC profile, XMP ... where OpenImageIO reads
+  // and the output format holds them), less what describes the old pixels: their orientation,
+  // dimensions and thumbnail.
+  bool keep_metadata = true;
 };
 
 struct ConvertReport {
