@@ -120,6 +120,39 @@ TEST_F(Io, RefusesToClobberAndLeavesNothingBehindOnFailure) {
   EXPECT_EQ(listing(), std::vector<std::string>{"a.png"});
 }
 
+TEST_F(Io, MetadataArraysAndRationalsReadBackElementByElement) {
+  // A float array (an EXR's chromaticities) and GPS rationals come back value by value (OpenImageIO's
+  // get_float takes a default, not an index: reading with it repeated the first value).
+  const std::vector<double> chroma{0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290};
+  WriteOptions w;
+  w.metadata = {{"chromaticities", chroma}};
+  write_image(pattern({8, 8}, 3, PixelType::F32, -1), path("c.exr"), w);
+  const Metadata m = read_metadata(path("c.exr"));
+  bool found = false;
+  for (const Attribute& a : m)
+    if (a.name == "chromaticities") {
+      found = true;
+      const auto& v = std::get<std::vector<double>>(a.value);
+      ASSERT_EQ(v.size(), chroma.size());
+      for (size_t i = 0; i < v.size(); ++i) EXPECT_NEAR(v[i], chroma[i], 1e-6) << i;
+    }
+  EXPECT_TRUE(found);
+  // GPS degrees, minutes, seconds: rationals in the JPEG's EXIF.
+  w.metadata = {{"GPS:Latitude", std::vector<double>{44.0, 19.0, 55.8}}};
+  write_image(pattern({8, 8}, 3, PixelType::U8, -1), path("g.jpg"), w);
+  found = false;
+  for (const Attribute& a : read_metadata(path("g.jpg")))
+    if (a.name == "GPS:Latitude") {
+      found = true;
+      const auto& v = std::get<std::vector<double>>(a.value);
+      ASSERT_EQ(v.size(), 3u);
+      EXPECT_NEAR(v[0], 44.0, 1e-6);
+      EXPECT_NEAR(v[1], 19.0, 1e-6);
+      EXPECT_NEAR(v[2], 55.8, 1e-5);
+    }
+  EXPECT_TRUE(found);
+}
+
 TEST_F(Io, DamagedFilesGiveOneClearError) {
   auto write_bytes = [&](const std::string& name, const std::string& bytes) {
     std::ofstream(path(name), std::ios::binary) << bytes;

@@ -49,15 +49,22 @@ std::string batch_output(const std::string& pattern, const std::string& input, s
   return s;
 }
 
-// The input's metadata an output keeps: all but the old pixels' orientation (the conversion
-// worked on the stored pixels), dimensions and thumbnail.
+// The input's metadata an output keeps: all but what described the old pixels (orientation: the
+// conversion worked on the stored pixels; dimensions, thumbnail, pixel aspect, an EXR's screen
+// window) and how the old file was stored (compression, layout, format-specific settings: an
+// EXR's lossy DWAB must not pass to its output).
 Metadata carried_metadata(const std::string& input) {
+  static const char* const kDropped[] = {"Orientation", "Exif:PixelXDimension", "Exif:PixelYDimension",
+                                         "PixelAspectRatio", "screenWindowCenter", "screenWindowWidth",
+                                         "compression", "planarconfig"};
+  static const char* const kDroppedPrefixes[] = {"thumbnail", "jpeg:", "png:", "tiff:", "openexr:", "hdr:", "rla:"};
   Metadata kept;
   for (Attribute& a : read_metadata(input)) {
     const std::string& n = a.name;
-    if (n == "Orientation" || n == "Exif:PixelXDimension" || n == "Exif:PixelYDimension" || n.rfind("thumbnail", 0) == 0)
-      continue;
-    kept.push_back(std::move(a));
+    bool drop = false;
+    for (const char* d : kDropped) drop |= n == d;
+    for (const char* d : kDroppedPrefixes) drop |= n.rfind(d, 0) == 0;
+    if (!drop) kept.push_back(std::move(a));
   }
   return kept;
 }

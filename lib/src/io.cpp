@@ -227,9 +227,21 @@ Metadata read_metadata(const std::string& path) {
       out.push_back({name, static_cast<double>(p.get_float())});
     } else if (n == 1) {
       out.push_back({name, static_cast<int64_t>(p.get_int())});
+    } else if (t.vecsemantics == OIIO::TypeDesc::RATIONAL && t.aggregate == OIIO::TypeDesc::VEC2 &&
+               (t.basetype == OIIO::TypeDesc::INT32 || t.basetype == OIIO::TypeDesc::UINT32)) {
+      // Arrays of rationals (GPS coordinates): pairs of 32-bit numerators and denominators.
+      std::vector<double> v(static_cast<size_t>(n / 2));
+      for (int i = 0; i < n / 2; ++i) {
+        const double num = t.basetype == OIIO::TypeDesc::INT32 ? static_cast<const int32_t*>(p.data())[2 * i]
+                                                                : static_cast<const uint32_t*>(p.data())[2 * i];
+        const double den = t.basetype == OIIO::TypeDesc::INT32 ? static_cast<const int32_t*>(p.data())[2 * i + 1]
+                                                                : static_cast<const uint32_t*>(p.data())[2 * i + 1];
+        v[static_cast<size_t>(i)] = den != 0 ? num / den : 0.0;
+      }
+      out.push_back({name, std::move(v)});
     } else {
       std::vector<double> v(static_cast<size_t>(n));
-      for (int i = 0; i < n; ++i) v[static_cast<size_t>(i)] = p.get_float(i);
+      for (int i = 0; i < n; ++i) v[static_cast<size_t>(i)] = p.get_float_indexed(i);  // (get_float's argument is a default)
       out.push_back({name, std::move(v)});
     }
   }
