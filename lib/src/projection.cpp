@@ -125,6 +125,12 @@ void check_fisheye(const ProjectionSpec& s) {
     fail(s, "radius applies to aspect=keep only (stretch fills the frame)");
 }
 
+// A calibrated camera's focal lengths (fx, fy): as given (one alone serves both), else f0.
+std::array<double, 2> focal_lengths(const ProjectionSpec& s, double f0) {
+  const double fx = s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : f0;
+  return {fx, s.given("fy") ? *s.number("fy") : fx};
+}
+
 // A Brown-Conrady spec's coefficients and field (theta_max): the field must end before the radial
 // factor r (1 + k1 r^2 + k2 r^4 + k3 r^6) stops increasing, and the map's Jacobian must stay
 // positive over it (tangential terms).
@@ -305,17 +311,14 @@ Projection make_projection(const ProjectionSpec& s, Size size) {
     }
     case Kind::BrownConrady: {
       const BrownConrady unit = brown_of(s);
-      const double fx = s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : 0.5 * w;
-      const double fy = s.given("fy") ? *s.number("fy") : fx;
+      const auto [fx, fy] = focal_lengths(s, 0.5 * w);
       return BrownConrady(size, fx, fy, cx("cx", w), cx("cy", h), unit.coefficients(), unit.theta_max());
     }
     case Kind::Lens: {
       const Lens unit = lens_of(s, size);
       if (s.name() == "ptlens") return Lens(size, unit.fx(), unit.fx(), cx("cx", w), cx("cy", h), unit.law(), unit.theta_max());
       // Default focal length: the image circle fills the shorter side.
-      const double f0 = 0.5 * std::min(w, h) / unit.rd_max();
-      const double fx = s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : f0;
-      const double fy = s.given("fy") ? *s.number("fy") : fx;
+      const auto [fx, fy] = focal_lengths(s, 0.5 * std::min(w, h) / unit.rd_max());
       return Lens(size, fx, fy, cx("cx", w), cx("cy", h), unit.law(), unit.theta_max());
     }
     case Kind::Equirect:
@@ -374,8 +377,9 @@ Size default_size(const ProjectionSpec& s, double density) {
       // The frame of a 90-degree undistorted pinhole at the given focal lengths, else at
       // `density` pixels per radian at the centre.
       brown_of(s);
-      w = 2.0 * (s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : density);
-      h = 2.0 * (s.given("fy") ? *s.number("fy") : s.given("fx") ? *s.number("fx") : density);
+      const auto [fx, fy] = focal_lengths(s, density);
+      w = 2.0 * fx;
+      h = 2.0 * fy;
       break;
     }
     case Kind::Lens: {
@@ -387,11 +391,9 @@ Size default_size(const ProjectionSpec& s, double density) {
       // The image circle's diameter at the given focal lengths, else at `density` pixels per
       // radian at the centre (f R'(0) = density).
       const Lens unit = lens_of(s);
-      const double rd = unit.rd_max();
-      const double fx = s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : density / unit.center_density();
-      const double fy = s.given("fy") ? *s.number("fy") : fx;
-      w = 2.0 * fx * rd;
-      h = 2.0 * fy * rd;
+      const auto [fx, fy] = focal_lengths(s, density / unit.center_density());
+      w = 2.0 * fx * unit.rd_max();
+      h = 2.0 * fy * unit.rd_max();
       break;
     }
     case Kind::Equirect:
