@@ -1,5 +1,5 @@
-// Fuzzes the image-reading path (OpenImageIO through panoproj's reader): any bytes as a file of
-// each format panoproj reads, whole and as a region. Only panoproj::Error may leave it (and
+// Fuzzes the image-reading path (OpenImageIO through panoproj's reader, and panoproj's own Photo
+// Sphere XMP reader): any bytes as a file of each format panoproj reads, whole and as a region. Only panoproj::Error may leave it (and
 // std::bad_alloc from inside OpenImageIO). Files whose header declares more than 64 MB of pixels
 // are skipped: a plain allocation that big is no bug, but libFuzzer's malloc limit (set by
 // scripts/fuzz.sh) would end the run on it. (read_image's own answer to a header declaring more
@@ -16,6 +16,7 @@
 
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
+#include "panoproj/photo_sphere.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
@@ -33,6 +34,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
   } else {
     (void)OIIO::geterror();  // leave no pending message for panoproj's own open
+  }
+  try {
+    // The Photo Sphere XMP parser walks the JPEG's segments itself (photo_sphere.cpp).
+    if (const auto ps = panoproj::read_photo_sphere(path)) (void)panoproj::photo_sphere_spec(*ps, {4096, 2048});
+  } catch (const panoproj::Error&) {
   }
   try {
     const panoproj::Image im = panoproj::read_image(path);

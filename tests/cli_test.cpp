@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "panoproj/io.hpp"
+#include "panoproj/photo_sphere.hpp"
 #include "test_support.hpp"
 
 namespace panoproj {
@@ -114,6 +115,30 @@ TEST_F(Cli, OutputsKeepTheInputsMetadataButNotItsOrientation) {
   const Metadata bare = read_metadata(p("bare.jpg"));
   EXPECT_EQ(find(bare, "Make"), nullptr);
   EXPECT_EQ(find(bare, "ICCProfile"), nullptr);
+}
+
+TEST_F(Cli, PartialPanoramasArePlacedByTheirPhotoSphereMetadata) {
+  // A partial equirect written as JPEG carries GPano; being 2:1 it would pass for a full
+  // equirect, but read back without --from it is placed by its crop.
+  ASSERT_EQ(run("convert " + p("pano.png") + " " + p("part.jpg") + " --to equirect:hfov=180,vfov=90,lon0=90 --size 32x16 -q")
+                .code,
+            0);
+  const auto ps = read_photo_sphere(p("part.jpg"));
+  ASSERT_TRUE(ps.has_value());
+  EXPECT_EQ(ps->full_width, 64);
+  EXPECT_EQ(ps->crop_left, 32);
+  EXPECT_EQ(ps->crop_top, 8);
+  const CliRun back = run("convert " + p("part.jpg") + " " + p("back.png") + " --to equirect --size 64x32");
+  ASSERT_EQ(back.code, 0) << back.err;
+  EXPECT_NE(back.out.find("equirect:hfov=180,vfov=90,lon0=90,lat0=0"), std::string::npos) << back.out;
+  const Image b = read_image(p("back.png"));
+  EXPECT_EQ(b.pixel(10, 16)[0], 0);   // outside the crop (longitudes left of 0)
+  EXPECT_NE(b.pixel(48, 16)[0], 0);   // inside it
+  // --no-metadata writes no GPano.
+  ASSERT_EQ(run("convert " + p("pano.png") + " " + p("bare_part.jpg") + " --to equirect:hfov=180,vfov=90 --size 32x16 -q --no-metadata")
+                .code,
+            0);
+  EXPECT_FALSE(read_photo_sphere(p("bare_part.jpg")).has_value());
 }
 
 TEST_F(Cli, BatchBuildsOneMapAndMatchesSingleConversions) {

@@ -6,6 +6,7 @@
 
 #include "panoproj/engine.hpp"
 #include "panoproj/error.hpp"
+#include "panoproj/photo_sphere.hpp"
 
 namespace panoproj {
 namespace fs = std::filesystem;
@@ -34,6 +35,7 @@ ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const s
                                  Size size) {
   if (from) return parse_spec(*from);
   if (is_face_pattern(input)) return parse_spec("cubemap:layout=files");
+  if (const auto ps = read_photo_sphere(input)) return parse_spec(photo_sphere_spec(*ps, size));
   if (size.width == 2 * size.height) return parse_spec("equirect");
   throw Error("cannot tell the projection of " + input + " (" + std::to_string(size.width) + "x" +
               std::to_string(size.height) + " is not a 2:1 equirect): give --from SPEC");
@@ -170,6 +172,9 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
                            (n == 0 ? map_seconds : 0.0);  // the map is built once, for the first
     WriteOptions write = job.write;
     if (job.keep_metadata && !in_faces) write.metadata = carried_metadata(job.inputs[n]);
+    // Equirect outputs say where they sit in the sphere (Photo Sphere XMP, read by viewers).
+    if (const auto* e = std::get_if<Equirect>(&plan.target); e && job.keep_metadata)
+      write.jpeg_xmp = photo_sphere_xmp(photo_sphere_of(*e));
     if (out_faces) write_cube_faces(out, outputs[n], write);
     else write_image(out, outputs[n], write);
     auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };

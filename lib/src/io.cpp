@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "panoproj/error.hpp"
+#include "panoproj/photo_sphere.hpp"
 
 namespace panoproj {
 
@@ -290,6 +291,16 @@ void write_image(const Image& image, const std::string& path, const WriteOptions
   check_target(path, options);
   const std::string tmp = temp_path(path);
   write_file(image, tmp, path, options);
+  const std::string ext = fs::path(path).extension().string();
+  if (!options.jpeg_xmp.empty() && (ext == ".jpg" || ext == ".jpeg" || ext == ".JPG" || ext == ".JPEG")) {
+    try {
+      add_jpeg_xmp(tmp, options.jpeg_xmp);
+    } catch (...) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw;
+    }
+  }
   commit(tmp, path);
 }
 

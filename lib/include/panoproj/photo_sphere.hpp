@@ -1,0 +1,38 @@
+#pragma once
+// Google's Photo Sphere XMP (the GPano namespace, developers.google.com/streetview/spherical-
+// metadata): how a (possibly cropped) equirect sits in its full panorama. OpenImageIO does not
+// decode this namespace, so panoproj reads and writes the XMP packet of JPEG files itself (an
+// APP1 segment "http://ns.adobe.com/xap/1.0/").
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "panoproj/projection.hpp"
+
+namespace panoproj {
+
+struct PhotoSphere {
+  std::string projection_type = "equirectangular";
+  int64_t full_width = 0, full_height = 0;  // FullPanoWidthPixels, FullPanoHeightPixels
+  int64_t crop_width = 0, crop_height = 0;  // CroppedAreaImageWidthPixels, ...HeightPixels
+  int64_t crop_left = 0, crop_top = 0;      // CroppedAreaLeftPixels, CroppedAreaTopPixels
+};
+
+// The GPano fields of a JPEG's XMP; none if the file has no XMP packet with the equirect's
+// fields (other files: none). Throws panoproj::Error if the file cannot be read.
+std::optional<PhotoSphere> read_photo_sphere(const std::string& path);
+
+// The spec of an image of `size` carrying `ps`: its crop as a partial equirect (the crop may be
+// stored scaled; its fields are in full-panorama pixels). Throws panoproj::Error naming the bad
+// field for a projection type other than equirectangular or fields that do not fit.
+std::string photo_sphere_spec(const PhotoSphere& ps, Size size);
+
+// The fields describing an equirect projection (full or partial) on its own frame.
+PhotoSphere photo_sphere_of(const Equirect& e);
+
+// The XMP packet (an XML document) holding ps's fields, and its insertion into a JPEG file's
+// bytes as an APP1 segment after the start marker (replacing none: a new file has no XMP).
+std::string photo_sphere_xmp(const PhotoSphere& ps);
+void add_jpeg_xmp(const std::string& jpeg_path, const std::string& xmp);
+
+}  // namespace panoproj

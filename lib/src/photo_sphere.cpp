@@ -1,0 +1,170 @@
+#include "panoproj/photo_sphere.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "panoproj/error.hpp"
+
+namespace panoproj {
+namespace {
+
+constexpr char kXmpHeader[] = "http://ns.adobe.com/xap/1.0/";  // then a NUL, then the packet
+
+// The file's first `most` bytes (all of them by default).
+std::string slurp(const std::string& path, size_t most = std::string::npos) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read " + path + " (give an existing image file)");
+  if (most == std::string::npos) return {std::istreambuf_iterator<char>(in), {}};
+  std::string b(most, '\0');
+  in.read(b.data(), static_cast<std::streamsize>(most));
+  b.resize(static_cast<size_t>(in.gcount()));
+  return b;
+}
+
+// The XMP packet of JPEG bytes, or "" (segments walked from the start marker to the scan).
+std::string jpeg_xmp(const std::string& b) {
+  if (b.size() < 4 || static_cast<unsigned char>(b[0]) != 0xFF || static_cast<unsigned char>(b[1]) != 0xD8) return {};
+  size_t i = 2;
+  const size_t header = sizeof kXmpHeader;  // with its NUL
+  while (i + 4 <= b.size() && static_cast<unsigned char>(b[i]) == 0xFF) {
+    const auto marker = static_cast<unsigned char>(b[i + 1]);
+    if (marker == 0xDA || marker == 0xD9) break;  // start of scan, end of image
+    const size_t len = (static_cast<unsigned char>(b[i + 2]) << 8) | static_cast<unsigned char>(b[i + 3]);
+    if (len < 2 || i + 2 + len > b.size()) break;
+    if (marker == 0xE1 && len - 2 > header && b.compare(i + 4, header, std::string(kXmpHeader, header)) == 0)
+      return b.substr(i + 4 + header, len - 2 - header);
+    i += 2 + len;
+  }
+  return {};
+}
+
+// GPano:name as an attribute (GPano:name="v") or an element (<GPano:name>v</GPano:name>).
+std::optional<std::string> field(const std::string& xmp, const std::string& name) {
+  const std::string key = "GPano:" + name;
+  for (size_t at = xmp.find(key); at != std::string::npos; at = xmp.find(key, at + 1)) {
+    size_t i = at + key.size();
+    if (i < xmp.size() && (xmp[i] == '=' || (i + 1 < xmp.size() && xmp[i] == ' ' && xmp[i + 1] == '='))) {
+      while (i < xmp.size() && xmp[i] != '"' && xmp[i] != '\'') ++i;
+      if (i >= xmp.size()) return std::nullopt;
+      const char q = xmp[i];
+      const size_t end = xmp.find(q, i + 1);
+      if (end == std::string::npos) return std::nullopt;
+      return xmp.substr(i + 1, end - i - 1);
+    }
+    if (at > 0 && xmp[at - 1] == '<' && i < xmp.size() && xmp[i] == '>') {
+      const size_t end = xmp.find('<', i);
+      if (end == std::string::npos) return std::nullopt;
+      return xmp.substr(i + 1, end - i - 1);
+    }
+  }
+  return std::nullopt;
+}
+
+int64_t integer(const std::string& xmp, const char* name, int64_t fallback) {
+  const auto v = field(xmp, name);
+  if (!v) return fallback;
+  char* end = nullptr;
+  const double d = std::strtod(v->c_str(), &end);
+  if (end == v->c_str() || !std::isfinite(d)) return fallback;
+  return std::llround(d);
+}
+
+}  // namespace
+
+std::optional<PhotoSphere> read_photo_sphere(const std::string& path) {
+  // The segments before the image data: the XMP packet comes early (4 MB leave room for EXIF,
+  // ICC profiles and thumbnails before it).
+  const std::string xmp = jpeg_xmp(slurp(path, size_t{4} << 20));
+  if (xmp.empty()) return std::nullopt;
+  const auto type = field(xmp, "ProjectionType");
+  if (!type) return std::nullopt;
+  PhotoSphere ps;
+  ps.projection_type = *type;
+  ps.full_width = integer(xmp, "FullPanoWidthPixels", 0);
+  ps.full_height = integer(xmp, "FullPanoHeightPixels", ps.full_width / 2);
+  ps.crop_width = integer(xmp, "CroppedAreaImageWidthPixels", ps.full_width);
+  ps.crop_height = integer(xmp, "CroppedAreaImageHeightPixels", ps.full_height);
+  ps.crop_left = integer(xmp, "CroppedAreaLeftPixels", 0);
+  ps.crop_top = integer(xmp, "CroppedAreaTopPixels", 0);
+  return ps;
+}
+
+std::string photo_sphere_spec(const PhotoSphere& ps, Size size) {
+  auto fail = [&](const std::string& what) {
+    throw Error("Photo Sphere metadata: " + what + " (give --from SPEC to override it)");
+  };
+  if (ps.projection_type != "equirectangular")
+    fail("GPano:ProjectionType=" + ps.projection_type + " is not supported (expected equirectangular)");
+  if (ps.full_width <= 0 || ps.full_height <= 0 || ps.crop_width <= 0 || ps.crop_height <= 0)
+    fail("FullPano or CroppedAreaImage sizes missing or not positive");
+  if (ps.crop_left < 0 || ps.crop_top < 0 || ps.crop_top + ps.crop_height > ps.full_height ||
+      ps.crop_width > ps.full_width)
+    fail("the cropped area " + std::to_string(ps.crop_width) + "x" + std::to_string(ps.crop_height) + "+" +
+         std::to_string(ps.crop_left) + "+" + std::to_string(ps.crop_top) + " does not fit the full panorama " +
+         std::to_string(ps.full_width) + "x" + std::to_string(ps.full_height));
+  // The stored image may be the crop scaled; both axes by the same factor.
+  const double sx = static_cast<double>(size.width) / static_cast<double>(ps.crop_width);
+  const double sy = static_cast<double>(size.height) / static_cast<double>(ps.crop_height);
+  if (std::fabs(sx / sy - 1.0) > 0.01)
+    fail("the image is " + std::to_string(size.width) + "x" + std::to_string(size.height) +
+         " but its cropped area is " + std::to_string(ps.crop_width) + "x" + std::to_string(ps.crop_height));
+  const double fw = static_cast<double>(ps.full_width), fh = static_cast<double>(ps.full_height);
+  const double hfov = 360.0 * static_cast<double>(ps.crop_width) / fw;
+  const double vfov = 180.0 * static_cast<double>(ps.crop_height) / fh;
+  double lon0 = ((static_cast<double>(ps.crop_left) + 0.5 * static_cast<double>(ps.crop_width)) / fw - 0.5) * 360.0;
+  lon0 = std::remainder(lon0, 360.0);  // a crop past the seam's right wraps
+  const double lat0 = (0.5 - (static_cast<double>(ps.crop_top) + 0.5 * static_cast<double>(ps.crop_height)) / fh) * 180.0;
+  char text[200];
+  std::snprintf(text, sizeof text, "equirect:hfov=%.17g,vfov=%.17g,lon0=%.17g,lat0=%.17g", hfov, vfov, lon0, lat0);
+  return text;
+}
+
+PhotoSphere photo_sphere_of(const Equirect& e) {
+  PhotoSphere ps;
+  const Size s = e.size();
+  const double hfov = e.axis().hfov, vfov = e.vfov();
+  ps.crop_width = s.width;
+  ps.crop_height = s.height;
+  ps.full_width = std::llround(static_cast<double>(s.width) * kTwoPi / hfov);
+  ps.full_height = std::llround(static_cast<double>(s.height) * kPi / vfov);
+  // The crop's left edge and top from its centre's longitude and latitude.
+  const double lon_left = e.axis().lon0 - 0.5 * hfov;
+  ps.crop_left = std::llround((lon_left / kTwoPi + 0.5) * static_cast<double>(ps.full_width));
+  ps.crop_left = ((ps.crop_left % ps.full_width) + ps.full_width) % ps.full_width;
+  ps.crop_top = std::llround((0.5 - e.lat_top() / kPi) * static_cast<double>(ps.full_height));
+  return ps;
+}
+
+std::string photo_sphere_xmp(const PhotoSphere& ps) {
+  std::ostringstream o;
+  o << "<?xpacket begin=\"\xEF\xBB\xBF\" id=\"W5M0MpCehiHzreSzNTczkc9d\"?>"
+    << "<x:xmpmeta xmlns:x=\"adobe:ns:meta/\"><rdf:RDF xmlns:rdf=\"http://www.w3.org/1999/02/22-rdf-syntax-ns#\">"
+    << "<rdf:Description rdf:about=\"\" xmlns:GPano=\"http://ns.google.com/photos/1.0/panorama/\""
+    << " GPano:UsePanoramaViewer=\"True\" GPano:ProjectionType=\"" << ps.projection_type << "\""
+    << " GPano:FullPanoWidthPixels=\"" << ps.full_width << "\" GPano:FullPanoHeightPixels=\"" << ps.full_height << "\""
+    << " GPano:CroppedAreaImageWidthPixels=\"" << ps.crop_width << "\" GPano:CroppedAreaImageHeightPixels=\""
+    << ps.crop_height << "\" GPano:CroppedAreaLeftPixels=\"" << ps.crop_left << "\" GPano:CroppedAreaTopPixels=\""
+    << ps.crop_top << "\"/></rdf:RDF></x:xmpmeta><?xpacket end=\"w\"?>";
+  return o.str();
+}
+
+void add_jpeg_xmp(const std::string& jpeg_path, const std::string& xmp) {
+  const std::string b = slurp(jpeg_path);
+  const size_t payload = sizeof kXmpHeader + xmp.size();
+  if (b.size() < 2 || static_cast<unsigned char>(b[0]) != 0xFF || static_cast<unsigned char>(b[1]) != 0xD8 ||
+      payload + 2 > 0xFFFF)
+    throw Error("cannot add XMP to " + jpeg_path + " (not a JPEG, or the packet is over 64 KB)");
+  std::string seg = "\xFF\xE1";
+  seg += static_cast<char>((payload + 2) >> 8);
+  seg += static_cast<char>((payload + 2) & 0xFF);
+  seg.append(kXmpHeader, sizeof kXmpHeader);
+  seg += xmp;
+  std::ofstream out(jpeg_path, std::ios::binary | std::ios::trunc);
+  out << b.substr(0, 2) << seg << b.substr(2);
+  if (!out) throw Error("cannot write " + jpeg_path + " (disk full or not writable)");
+}
+
+}  // namespace panoproj

@@ -1,0 +1,85 @@
+// Photo Sphere XMP (photo_sphere.hpp): the packet panoproj writes reads back field for field from
+// a JPEG, the other XMP forms read, crops become the partial equirect they describe, and what does
+// not fit is refused.
+#include "panoproj/photo_sphere.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "panoproj/error.hpp"
+#include "panoproj/io.hpp"
+#include "panoproj/spec.hpp"
+#include "test_support.hpp"
+
+namespace panoproj {
+namespace {
+
+class PhotoSphereTest : public test::TempDirTest {
+ protected:
+  std::string jpeg(const std::string& name, const std::string& xmp) {
+    WriteOptions w;
+    w.jpeg_xmp = xmp;
+    write_image(Image({64, 32}, 3, PixelType::U8), path(name), w);
+    return path(name);
+  }
+};
+
+bool same(const PhotoSphere& a, const PhotoSphere& b) {
+  return a.projection_type == b.projection_type && a.full_width == b.full_width && a.full_height == b.full_height &&
+         a.crop_width == b.crop_width && a.crop_height == b.crop_height && a.crop_left == b.crop_left &&
+         a.crop_top == b.crop_top;
+}
+
+TEST_F(PhotoSphereTest, WrittenFieldsReadBack) {
+  const PhotoSphere ps{"equirectangular", 8000, 4000, 3000, 1500, 7000, 1200};
+  const auto back = read_photo_sphere(jpeg("a.jpg", photo_sphere_xmp(ps)));
+  ASSERT_TRUE(back.has_value());
+  EXPECT_TRUE(same(*back, ps));
+  // Without a packet, or a PNG: none.
+  EXPECT_FALSE(read_photo_sphere(jpeg("b.jpg", "")).has_value());
+  write_image(Image({8, 4}, 3, PixelType::U8), path("c.png"), {});
+  EXPECT_FALSE(read_photo_sphere(path("c.png")).has_value());
+}
+
+TEST_F(PhotoSphereTest, ElementFormAndDefaults) {
+  // Fields as elements, no crop fields: the crop is the whole panorama.
+  const std::string xmp =
+      "<x:xmpmeta xmlns:x=\"adobe:ns:meta/\"><rdf:RDF><rdf:Description xmlns:GPano=\"http://ns.google.com/photos/1.0/panorama/\">"
+      "<GPano:ProjectionType>equirectangular</GPano:ProjectionType><GPano:FullPanoWidthPixels>4096</GPano:FullPanoWidthPixels>"
+      "</rdf:Description></rdf:RDF></x:xmpmeta>";
+  const auto ps = read_photo_sphere(jpeg("e.jpg", xmp));
+  ASSERT_TRUE(ps.has_value());
+  EXPECT_TRUE(same(*ps, PhotoSphere{"equirectangular", 4096, 2048, 4096, 2048, 0, 0}));
+  EXPECT_EQ(parse_spec(photo_sphere_spec(*ps, {4096, 2048})).str(), parse_spec("equirect:hfov=360,vfov=180,lon0=0,lat0=0").str());
+}
+
+TEST(PhotoSphere, CropsArePartialEquirects) {
+  // A quarter of the longitudes right of the centre, the upper half of the latitudes, stored at
+  // half size: hfov 90, vfov 90, centred at lon 45, lat 45.
+  const PhotoSphere ps{"equirectangular", 8000, 4000, 2000, 2000, 4000, 0};
+  const ProjectionSpec s = parse_spec(photo_sphere_spec(ps, {1000, 1000}));
+  EXPECT_DOUBLE_EQ(*s.number("hfov"), 90);
+  EXPECT_DOUBLE_EQ(*s.number("vfov"), 90);
+  EXPECT_DOUBLE_EQ(*s.number("lon0"), 45);
+  EXPECT_DOUBLE_EQ(*s.number("lat0"), 45);
+  // Past the seam: the crop 7000..9000 of 8000 is centred at lon 180 - 0 = -180 / 180.
+  EXPECT_NEAR(std::fabs(*parse_spec(photo_sphere_spec({"equirectangular", 8000, 4000, 2000, 1000, 7000, 1500}, {2000, 1000}))
+                             .number("lon0")),
+              180.0, 1e-9);
+  // What does not fit.
+  EXPECT_THROW(photo_sphere_spec({"cylindrical", 8000, 4000, 8000, 2000, 0, 1000}, {8000, 2000}), Error);
+  EXPECT_THROW(photo_sphere_spec(ps, {1000, 700}), Error);  // not the crop's aspect
+  EXPECT_THROW(photo_sphere_spec({"equirectangular", 8000, 4000, 2000, 3000, 0, 2000}, {2000, 3000}), Error);
+  // An equirect's own fields give its spec back (within half a pixel of the full panorama: the
+  // fields are whole pixels).
+  const Projection e = make_projection(parse_spec("equirect:hfov=120,vfov=60,lon0=-30,lat0=10"), {1200, 600});
+  const ProjectionSpec back = parse_spec(photo_sphere_spec(photo_sphere_of(std::get<Equirect>(e)), {1200, 600}));
+  EXPECT_NEAR(*back.number("hfov"), 120, 1e-9);
+  EXPECT_NEAR(*back.number("vfov"), 60, 1e-9);
+  EXPECT_NEAR(*back.number("lon0"), -30, 360.0 / 3600 / 2);
+  EXPECT_NEAR(*back.number("lat0"), 10, 180.0 / 1800 / 2);
+}
+
+}  // namespace
+}  // namespace panoproj
