@@ -162,8 +162,16 @@ void add_jpeg_xmp(const std::string& jpeg_path, const std::string& xmp) {
   seg += static_cast<char>((payload + 2) & 0xFF);
   seg.append(kXmpHeader, sizeof kXmpHeader);
   seg += xmp;
+  // After the JFIF (APP0) and EXIF (APP1) segments, where readers expect XMP.
+  size_t at = 2;
+  while (at + 4 <= b.size() && static_cast<unsigned char>(b[at]) == 0xFF &&
+         (static_cast<unsigned char>(b[at + 1]) == 0xE0 || static_cast<unsigned char>(b[at + 1]) == 0xE1)) {
+    const size_t len = (static_cast<unsigned char>(b[at + 2]) << 8) | static_cast<unsigned char>(b[at + 3]);
+    if (len < 2 || at + 2 + len > b.size()) break;
+    at += 2 + len;
+  }
   std::ofstream out(jpeg_path, std::ios::binary | std::ios::trunc);
-  out << b.substr(0, 2) << seg << b.substr(2);
+  out << b.substr(0, at) << seg << b.substr(at);
   if (!out) throw Error("cannot write " + jpeg_path + " (disk full or not writable)");
 }
 

@@ -30,8 +30,8 @@ std::string photo_sphere_spec(const PhotoSphere& ps, Size size);
 // The fields describing an equirect projection (full or partial) on its own frame.
 PhotoSphere photo_sphere_of(const Equirect& e);
 
-// The XMP packet (an XML document) holding ps's fields, and its insertion into a JPEG file's
-// bytes as an APP1 segment after the start marker (replacing none: a new file has no XMP).
+// The XMP packet (an XML document) holding ps's fields, and its insertion into a JPEG file as an
+// APP1 segment after its JFIF and EXIF segments (replacing none: a new file has no XMP).
 std::string photo_sphere_xmp(const PhotoSphere& ps);
 void add_jpeg_xmp(const std::string& jpeg_path, const std::string& xmp);
 
