@@ -76,7 +76,8 @@ int64_t integer(const std::string& xmp, const char* name, int64_t fallback) {
 
 std::optional<PhotoSphere> read_photo_sphere(const std::string& path) {
   // The segments before the image data: the XMP packet comes early (4 MB leave room for EXIF,
-  // ICC profiles and thumbnails before it).
+  // ICC profiles and thumbnails before it). Other formats: the signature alone is read.
+  if (slurp(path, 2) != "\xFF\xD8") return std::nullopt;
   const std::string xmp = jpeg_xmp(slurp(path, size_t{4} << 20));
   if (xmp.empty()) return std::nullopt;
   const auto type = field(xmp, "ProjectionType");

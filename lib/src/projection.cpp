@@ -125,6 +125,16 @@ void check_fisheye(const ProjectionSpec& s) {
     fail(s, "radius applies to aspect=keep only (stretch fills the frame)");
 }
 
+// The error for a lens law that `coefficients` make fold back at `fold` (radians off axis), inside
+// the field's half angle `half_field`: it names the largest field that works.
+[[noreturn]] void fail_fold(const ProjectionSpec& s, const char* coefficients, double fold, double half_field) {
+  std::ostringstream o;
+  o << coefficients << " fold the lens law back at theta=" << rad2deg(fold) << " deg, inside fov/2 = "
+    << rad2deg(half_field) << " deg (give fov=" << std::floor(2 * rad2deg(fold) * 1e3) / 1e3
+    << " or less: the law must increase up to the image circle)";
+  fail(s, o.str());
+}
+
 // A calibrated camera's focal lengths (fx, fy): as given (one alone serves both), else f0.
 std::array<double, 2> focal_lengths(const ProjectionSpec& s, double f0) {
   const double fx = s.given("fx") ? *s.number("fx") : s.given("fy") ? *s.number("fy") : f0;
@@ -143,12 +153,7 @@ BrownConrady brown_of(const ProjectionSpec& s) {
   };
   const double r_cap = std::tan(deg2rad(s.number("fov") ? 0.5 * *s.number("fov") : 80.0));
   const double fold = first_fold(slope, r_cap);
-  std::ostringstream o;
-  if (fold >= 0 && s.number("fov")) {
-    o << "k1, k2, k3 fold the radial distortion at " << rad2deg(std::atan(fold)) << " deg off axis, inside fov/2 = "
-      << 0.5 * *s.number("fov") << " deg (give fov=" << std::floor(2 * rad2deg(std::atan(fold)) * 1e3) / 1e3 << " or less)";
-    fail(s, o.str());
-  }
+  if (fold >= 0 && s.number("fov")) fail_fold(s, "k1, k2, k3", std::atan(fold), 0.5 * rad(s, "fov"));
   const double theta_max = std::atan(fold >= 0 ? fold : r_cap);
   const BrownConrady cam({1, 1}, 1, 1, 0, 0, d, theta_max);
   for (int i = 0; i < 32; ++i)
@@ -157,6 +162,7 @@ BrownConrady brown_of(const ProjectionSpec& s) {
       double j[4];
       cam.jacobian(r * std::cos(phi), r * std::sin(phi), j);
       if (!(j[0] * j[3] - j[1] * j[2] > 0.0)) {
+        std::ostringstream o;
         o << "p1, p2 fold the image " << rad2deg(std::atan(r)) << " deg off axis (expected a distortion without folds: "
           << "give a smaller fov)";
         fail(s, o.str());
@@ -222,12 +228,7 @@ Lens lens_of(const ProjectionSpec& s, Size frame = {1, 1}) {
     const double u = first_fold([pt](double x) { return pt->slope(x); }, pt->s * std::tan(theta_max));
     fold = u < 0 ? -1.0 : std::atan(u / pt->s);
   }
-  if (fold >= 0 && (kb || s.number("fov"))) {
-    o << (kb ? "k1..k4" : "a, b, c") << " fold the lens law back at theta=" << rad2deg(fold) << " deg, inside fov/2 = "
-      << rad2deg(theta_max) << " deg (give fov=" << std::floor(2 * rad2deg(fold) * 1e3) / 1e3
-      << " or less: the law must increase up to the image circle)";
-    fail(s, o.str());
-  }
+  if (fold >= 0 && (kb || s.number("fov"))) fail_fold(s, kb ? "k1..k4" : "a, b, c", fold, theta_max);
   if (fold >= 0) theta_max = fold;
   const Lens lens({1, 1}, fx, fx, 0, 0, law, theta_max);
   if (!(std::isfinite(lens.rd_max()) && lens.rd_max() > 0)) {

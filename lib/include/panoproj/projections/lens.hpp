@@ -18,7 +18,7 @@ class Lens {
  public:
   Lens(Size size, double fx, double fy, double cx, double cy, const LensLaw& law, double theta_max)
       : size_(size), fx_(fx), fy_(fy), cx_(cx), cy_(cy), law_(law), theta_max_(theta_max),
-        rd_max_(radius(theta_max)) {}
+        rd_max_(radius(theta_max)), limit_(std::visit([](const auto& l) { return l.limit(); }, law)) {}
 
   double radius(double t) const {
     return std::visit([t](const auto& l) { return l.radius(t); }, law_);
@@ -68,9 +68,7 @@ class Lens {
   double center_density() const {  // fx R'(0)
     return fx_ * std::visit([](const auto& l) { return l.slope0(); }, law_);
   }
-  double limit() const {
-    return std::visit([](const auto& l) { return l.limit(); }, law_);
-  }
+  double limit() const { return limit_; }  // the law's domain (lens_laws.hpp)
   double fx() const { return fx_; }
   double fy() const { return fy_; }
   double cx() const { return cx_; }
@@ -83,7 +81,7 @@ class Lens {
   Size size_;
   double fx_, fy_, cx_, cy_;
   LensLaw law_;
-  double theta_max_, rd_max_;
+  double theta_max_, rd_max_, limit_;
 };
 
 }  // namespace panoproj
