@@ -42,6 +42,12 @@ run "$pano" "$out/jordan_kannala_brandt220.jpg" --to @"$root/samples/lenses/fish
 run "$pano" "$out/jordan_double_sphere_down.jpg" --to double-sphere:xi=-0.18,alpha=0.59 --pitch -90 --size 1536x1536
 run "$pano" "$out/jordan_brown_conrady_barrel.jpg" --to brown-conrady:fx=700,k1=-0.3,k2=0.08 --size 1920x1080 --yaw 75 --pitch -5
 
+echo "== A 360 camera: two 200-degree lenses side by side, and back to equirect (blended across the"
+echo "   20-degree overlap); a top/bottom pair whose back lens is turned a quarter"
+run "$pano" "$out/jordan_dual_fisheye200.jpg" --to dual-fisheye:fov=200 --size 4096x2048
+run "$out/jordan_dual_fisheye200.jpg" "$out/jordan_from_dual_fisheye.jpg" --from dual-fisheye:fov=200 --to equirect --size 4096x2048
+run "$pano" "$out/jordan_dual_fisheye_top_bottom.jpg" --to dual-fisheye:fov=190,layout=top-bottom,roll2=90 --size 1024x2048
+
 echo "== Real cubemap (six files) -> equirect"
 run "$img/cubemap_jordan_pond/face{index}_{face}.jpg" "$out/jordan_from_cubemap.jpg" --to equirect --size 4096x2048
 

@@ -21,7 +21,8 @@ for name in ["jordan_fisheye180", "jordan_fisheye360", "jordan_fisheye180_down_e
              "jordan_cubemap_cross", "jordan_aitoff", "jordan_eckert_greifendorff", "jordan_bonne",
              "earth_aitoff", "earth_eckert_greifendorff", "earth_bonne", "earth_hammer",
              "jordan_from_cubemap", "jordan_kannala_brandt220", "jordan_double_sphere_down",
-             "jordan_brown_conrady_barrel"]:
+             "jordan_brown_conrady_barrel", "jordan_dual_fisheye200", "jordan_from_dual_fisheye",
+             "jordan_dual_fisheye_top_bottom"]:
     items[name + ".jpg"] = src / (name + ".jpg")
 items["trees_equirect.jpg"] = src / "trees_equirect.png"
 for out, path in items.items():

@@ -201,6 +201,27 @@ TEST_F(Cli, AViewReadsOnlyTheSourceRowsItNeeds) {
                  "cannot read " + p("cut.jpg"));
 }
 
+TEST_F(Cli, DualFisheyeBothWays) {
+  // Default size: two circles of the source's 64 / 2 pi px/rad over 100 degrees (r = 17.8 px),
+  // side by side, halves of whole pixels.
+  const CliRun r = run("convert " + p("pano.png") + " " + p("dual.png") + " --to dual-fisheye:fov=200 -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Image dual = read_image(p("dual.png"));
+  EXPECT_EQ(dual.width(), 72);
+  EXPECT_EQ(dual.height(), 36);
+  const CliRun back = run("convert " + p("dual.png") + " " + p("back.png") + " --from dual-fisheye:fov=200 --to equirect --size 64x32 -q");
+  ASSERT_EQ(back.code, 0) << back.err;
+  EXPECT_EQ(read_image(p("back.png")).width(), 64);
+  expect_refused("convert " + p("dual.png") + " " + p("o.png") + " --from dual-fisheye:fov=200,feather=30 --to equirect",
+                 "feather=30 is wider than the lenses' overlap of 20 deg");
+  Image odd({71, 36}, 3, PixelType::U8);
+  write_image(odd, p("odd.png"), {});
+  expect_refused("convert " + p("odd.png") + " " + p("o.png") + " --from dual-fisheye --to equirect",
+                 "layout=side-by-side needs an even width to split into two lenses; got 71x36");
+  expect_refused("convert " + p("dual.png") + " " + p("o.png") + " --from dual-fisheye:fov=200 --to equirect --antialias mip",
+                 "antialias mip does not blend the lenses");
+}
+
 TEST_F(Cli, InfoListsEveryProjection) {
   const CliRun r = run("info");
   ASSERT_EQ(r.code, 0);

@@ -55,7 +55,7 @@ TEST(Plan, RefusesBadParameters) {
             "cubemap: layout=6x1 needs a 6F x 1F image with square faces; got 600x120 (check the "
             "size or the layout)");
   EXPECT_EQ(plan_error("fisheye:fov=200,model=orthographic", {64, 64}, "equirect"),
-            "fisheye: fov=200.000000 is too wide for model=orthographic (expected <= 180)");
+            "fisheye: fov=200 is too wide for model=orthographic (expected <= 180)");
   EXPECT_EQ(plan_error("equirect:lat0=60,vfov=90", {64, 32}, "equirect"),
             "equirect: lat0=60 with vfov=90 spans latitudes 15..105 (expected within [-90, 90])");
   EXPECT_EQ(plan_error("pinhole:hfov=60,focal=100", {64, 64}, "equirect"),

@@ -50,7 +50,7 @@ TEST(Spec, EveryCatalogEntryParsesWithItsDefaults) {
 
 TEST(Spec, ErrorsNameTheValueAndWhatWasExpected) {
   EXPECT_EQ(error_of("fishey"),
-            "unknown projection 'fishey' (expected one of: pinhole, brown-conrady, fisheye, kannala-brandt, "
+            "unknown projection 'fishey' (expected one of: pinhole, brown-conrady, fisheye, dual-fisheye, kannala-brandt, "
             "double-sphere, unified, extended-unified, ptlens, equirect, cylindrical, cubemap, aitoff, "
             "hammer, eckert-greifendorff, bonne)");
   EXPECT_EQ(error_of("fisheye:fov=nan"), "fisheye: fov=nan is not finite (expected 0 < fov <= 360)");

@@ -13,6 +13,7 @@
 #include "panoproj/resample.hpp"
 #include "panoproj/source_edges.hpp"
 #include "panoproj/tile_map.hpp"
+#include "dual_blend.hpp"
 #include "mip_sampler.hpp"
 #include "pyramid.hpp"
 #include "reference_sampler.hpp"
@@ -46,6 +47,7 @@ namespace {
 SimdSource simd_source(const Image& src, const Projection& sp) {
   int64_t cw = 0, ch = 0;
   if (const auto* c = std::get_if<Cubemap>(&sp)) cw = ch = c->face_size();
+  if (const auto* d = std::get_if<DualFisheye>(&sp)) cw = d->cell_width(), ch = d->cell_height();
   return {src.data(), static_cast<int64_t>(src.row_bytes()), src.channels(), src.alpha_channel(), src.type(),
           src.origin_x(), src.origin_y(), src.origin_x() + src.width(), src.origin_y() + src.height(), cw, ch};
 }
@@ -64,6 +66,16 @@ Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d
       rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), cache_map_(cache_map) {
   if (antialias_.mode != Antialias::Mode::Off && engine_ == Engine::Reference)
     throw Error("antialias " + name_of(antialias_) + " needs the simd or scalar engine (or --antialias off)");
+  if (const auto* d = std::get_if<DualFisheye>(&source_); d && d->only() < 0) {
+    // Each lens alone, blended (or cut) per tile; their maps are not kept (cache_map keeps those
+    // of source_, which the lenses do not use).
+    if (d->feather() > 0 && engine_ == Engine::Reference)
+      throw Error("dual-fisheye: the feathered blend needs the simd or scalar engine (or feather=0)");
+    if (d->feather() > 0 && antialias_.mode == Antialias::Mode::Mip)
+      throw Error("dual-fisheye: antialias mip does not blend the lenses (use --antialias auto or supersample, or feather=0)");
+    lenses_ = {d->only(0), d->only(1)};
+    cache_map_ = false;
+  }
   const int most = antialias_.mode == Antialias::Mode::Supersample ? antialias_.n
                   : antialias_.mode == Antialias::Mode::Auto      ? Antialias::kMaxAuto
                                                                   : 1;
@@ -84,8 +96,8 @@ int64_t Converter::tile_count() const {
   return ((size.width + kTile - 1) / kTile) * ((size.height + kTile - 1) / kTile);
 }
 
-bool Converter::fused(const Projection& target, const TileRect& rect, SimdGeometry& g) const {
-  return engine_ == Engine::Simd && simd_geometry_for(source_, target, rotation_, rect, g);
+bool Converter::fused(const Projection& source, const Projection& target, const TileRect& rect, SimdGeometry& g) const {
+  return engine_ == Engine::Simd && simd_geometry_for(source, target, rotation_, rect, g);
 }
 
 
@@ -110,8 +122,10 @@ const TileMap* Converter::cached(int64_t t) const {
 Converter::Region Converter::source_footprint() const {
   const Size frame = size_of(source_);
   const Region all{0, 0, frame.width, frame.height};
-  // A cube source is read whole; a target showing the whole sphere needs no mapping to know.
-  if (std::holds_alternative<Cubemap>(source_) || shows_whole_sphere(target_)) return all;
+  // A cube source is read whole, a dual fisheye's too (its blend reads both lenses, beyond either
+  // one's map); a target showing the whole sphere needs no mapping to know.
+  if (std::holds_alternative<Cubemap>(source_) || std::holds_alternative<DualFisheye>(source_) || shows_whole_sphere(target_))
+    return all;
   // Bounding box of the valid positions: over the kept maps, the fused tiles' vector geometry
   // (reduced in registers, nothing stored), or maps made one tile at a time.
   if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });
@@ -200,6 +214,8 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     EngineStats stats;
     MipScratch mip;
     std::vector<unsigned char> sub;  // a tile's sub-pixel samples
+    std::vector<float> weights;       // a dual fisheye's lens 0 weights over a tile
+    std::vector<unsigned char> other;  // and its lens 1 samples there
   };
   std::vector<Worker> workers(static_cast<size_t>(n_workers));
   // The samples the SIMD kernels left in wk.misses (rect's pixel indices) by the edge rules.
@@ -228,19 +244,34 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     simd_sample(ss, interp_, m, out_at, stride, wk.misses);
     resolve_misses(im, e, m.rect, out_at, stride, wk);
   };
-  // The tile rect of target t into out: fused where the SIMD geometry takes it, else from its
-  // map (the kept one, or made now).
-  auto sample_rect = [&](const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out_at,
-                         int64_t stride, Worker& wk) {
+  // The tile rect of target t, seen through source projection sp, into out: fused where the SIMD
+  // geometry takes it, else from its map (the kept one, or made now).
+  auto sample_from = [&](const Projection& sp, const Projection& t, const TileRect& rect, const TileMap* tm,
+                         unsigned char* out_at, int64_t stride, Worker& wk) {
     SimdGeometry g;
-    const bool in_registers = !tm && fused(t, rect, g);
-    if (!tm && !in_registers) map_tile(source_, t, rotation_, rect, wk.map), tm = &wk.map;
+    const bool in_registers = !tm && fused(sp, t, rect, g);
+    if (!tm && !in_registers) map_tile(sp, t, rotation_, rect, wk.map), tm = &wk.map;
     if (tm) wk.stats.interpolated_cells += tm->interpolated_cells, wk.stats.exact_cells += tm->exact_cells;
     wk.stats.fused_tiles += in_registers;
     if (!in_registers) return sample_map(src, edges, simd_src, *tm, out_at, stride, wk);
     wk.misses.clear();
     simd_convert(g, rect, simd_src, interp_, out_at, stride, wk.misses);
     resolve_misses(src, edges, rect, out_at, stride, wk);
+  };
+  // The same from source_; a dual fisheye's tiles from the lens that sees them all, or from both,
+  // blended (dual_blend.hpp).
+  const auto* dual = std::get_if<DualFisheye>(&source_);
+  auto sample_rect = [&](const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out_at,
+                         int64_t stride, Worker& wk) {
+    if (lenses_.empty()) return sample_from(source_, t, rect, tm, out_at, stride, wk);
+    const int side = dual_weights(*dual, t, rotation_, rect, wk.weights);
+    if (side >= 0) return sample_from(lenses_[static_cast<size_t>(side)], t, rect, nullptr, out_at, stride, wk);
+    const auto pb = static_cast<int64_t>(src.pixel_bytes());
+    wk.other.resize(static_cast<size_t>(rect.w * rect.h * pb));
+    sample_from(lenses_[0], t, rect, nullptr, out_at, stride, wk);
+    sample_from(lenses_[1], t, rect, nullptr, wk.other.data(), rect.w * pb, wk);
+    blend_lenses(wk.weights.data(), rect, src.type(), src.channels(), src.alpha_channel(), out_at, stride, wk.other.data(),
+                 rect.w * pb);
   };
   // The tile's mean step from one output pixel to the next, in source pixels: from its source
   // extent over its size, or, where that extent spans a seam, a pole (more than half the frame)
@@ -267,8 +298,8 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
           continue;
         }
         b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y)};
-        if (cube) {
-          const int f = cube->face_at(x, y);
+        if (cube || dual) {  // a face, a lens
+          const int f = edges.face_at(x, y);
           if (face == -2) face = f;
           one_face &= f == face;
         }

@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "panoproj/error.hpp"
+#include "panoproj/rotation.hpp"
 
 namespace panoproj {
 
@@ -114,13 +115,18 @@ CubeLayout cube_layout(const std::string& l) {
   return CubeLayout::Row6x1;
 }
 
-void check_fisheye(const ProjectionSpec& s) {
-  const double fov = *s.number("fov");
+// A fisheye field `key` against the law's domain.
+void check_fisheye_fov(const ProjectionSpec& s, const char* key, double fov) {
   const auto model = fisheye_model(s.choice("model"));
-  if (model == FisheyeModel::Orthographic && fov > 180)
-    fail(s, "fov=" + std::to_string(fov) + " is too wide for model=orthographic (expected <= 180)");
+  std::ostringstream o;
+  o << key << "=" << fov;
+  if (model == FisheyeModel::Orthographic && fov > 180) fail(s, o.str() + " is too wide for model=orthographic (expected <= 180)");
   if (model == FisheyeModel::Stereographic && fov >= 360)
-    fail(s, "fov=360 is not reachable with model=stereographic (expected < 360)");
+    fail(s, o.str() + " is not reachable with model=stereographic (expected < 360)");
+}
+
+void check_fisheye(const ProjectionSpec& s) {
+  check_fisheye_fov(s, "fov", *s.number("fov"));
   if (s.given("radius") && s.choice("aspect") == "stretch")
     fail(s, "radius applies to aspect=keep only (stretch fills the frame)");
 }
@@ -239,6 +245,71 @@ Lens lens_of(const ProjectionSpec& s, Size frame = {1, 1}) {
   return lens;
 }
 
+// A dual fisheye's lens fields, rotations and feather (the frame is checked by make_projection):
+// the feather must fit in the overlap, psi_0 + psi_1 - the angle between the lens axes (the
+// overlap's width along the great circle through both axes; for back-to-back lenses, everywhere).
+struct DualSpec {
+  std::array<double, 2> psi;
+  std::array<Eigen::Matrix3d, 2> rot;
+  double feather;  // radians
+};
+DualSpec dual_of(const ProjectionSpec& s) {
+  DualSpec d;
+  const double fov2 = s.number("fov2") ? *s.number("fov2") : *s.number("fov");
+  check_fisheye_fov(s, "fov", *s.number("fov"));
+  check_fisheye_fov(s, "fov2", fov2);
+  d.psi = {0.5 * rad(s, "fov"), 0.5 * deg2rad(fov2)};
+  d.rot = {rotation_from_ypr(*s.number("yaw"), *s.number("pitch"), *s.number("roll")),
+           rotation_from_ypr(*s.number("yaw2"), *s.number("pitch2"), *s.number("roll2"))};
+  const Ray a = d.rot[0].col(2), b = d.rot[1].col(2);
+  const double overlap = d.psi[0] + d.psi[1] - std::atan2(a.cross(b).norm(), a.dot(b));
+  d.feather = s.number("feather") ? rad(s, "feather") : std::max(0.0, overlap);
+  if (d.feather > std::max(0.0, overlap) + 1e-12) {
+    std::ostringstream o;
+    o << "feather=" << *s.number("feather") << " is wider than the lenses' overlap of " << rad2deg(std::max(0.0, overlap))
+      << " deg (fov/2 + fov2/2 - the angle between the lens axes): give feather <= " << rad2deg(std::max(0.0, overlap))
+      << (overlap > 0 ? "" : ", or wider lenses");
+    fail(s, o.str());
+  }
+  return d;
+}
+
+// The dual fisheye on a frame of `size`: lens k's circle inside its half (the halves must split
+// the frame evenly).
+DualFisheye dual_on(const ProjectionSpec& s, Size size) {
+  const DualSpec d = dual_of(s);
+  const bool tb = s.choice("layout") == "top-bottom";
+  const int64_t along = tb ? size.height : size.width;
+  if (along % 2 != 0) {
+    std::ostringstream o;
+    o << "layout=" << s.choice("layout") << " needs an even " << (tb ? "height" : "width") << " to split into two lenses; got "
+      << size.width << "x" << size.height;
+    fail(s, o.str());
+  }
+  const double hw = tb ? static_cast<double>(size.width) : 0.5 * static_cast<double>(size.width);
+  const double hh = tb ? 0.5 * static_cast<double>(size.height) : static_cast<double>(size.height);
+  const double r0 = s.given("radius") ? *s.number("radius") : 0.5 * std::min(hw, hh);
+  const double r[2] = {r0, s.given("radius2") ? *s.number("radius2") : r0};
+  const char* keys[2][3] = {{"cx", "cy", "radius"}, {"cx2", "cy2", "radius2"}};
+  std::array<Fisheye, 2> lenses{Fisheye({1, 1}, 1, FisheyeModel::Equidistant, true, 0, 0, 1, 1),
+                                Fisheye({1, 1}, 1, FisheyeModel::Equidistant, true, 0, 0, 1, 1)};
+  const double mid = 0.5 * static_cast<double>(along);
+  for (int k = 0; k < 2; ++k) {
+    const double cx = s.given(keys[k][0]) ? *s.number(keys[k][0]) + kCvPixelShift : (tb ? 0.5 : 0.5 + k) * hw;
+    const double cy = s.given(keys[k][1]) ? *s.number(keys[k][1]) + kCvPixelShift : (tb ? 0.5 + k : 0.5) * hh;
+    const double c = tb ? cy : cx;
+    if (k == 0 ? c + r[k] > mid * (1 + 1e-9) : c - r[k] < mid * (1 - 1e-9)) {
+      std::ostringstream o;
+      o << "lens " << k << "'s image circle (" << keys[k][tb ? 1 : 0] << "=" << c - kCvPixelShift << ", " << keys[k][2] << "="
+        << r[k] << ") crosses the middle " << (tb ? "y" : "x") << "=" << mid << " into the other lens's half (expected "
+        << (k == 0 ? "centre + radius <= " : "centre - radius >= ") << mid << ")";
+      fail(s, o.str());
+    }
+    lenses[k] = Fisheye(size, d.psi[k], fisheye_model(s.choice("model")), true, cx, cy, r[k], r[k]);
+  }
+  return DualFisheye(size, tb, lenses, d.rot, d.feather);
+}
+
 void check_latitude_span(const ProjectionSpec& s, bool open) {
   const double top = *s.number("lat0") + 0.5 * *s.number("vfov");
   const double bottom = *s.number("lat0") - 0.5 * *s.number("vfov");
@@ -262,6 +333,7 @@ void check_spec(const ProjectionSpec& s) {
   switch (s.kind()) {
     case Kind::Pinhole: check_pinhole(s); break;
     case Kind::Fisheye: check_fisheye(s); break;
+    case Kind::DualFisheye: dual_of(s); break;
     case Kind::Lens: lens_of(s); break;
     case Kind::BrownConrady: brown_of(s); break;
     case Kind::Equirect: check_latitude_span(s, false); break;
@@ -310,6 +382,7 @@ Projection make_projection(const ProjectionSpec& s, Size size) {
       return Fisheye(size, psi_max, fisheye_model(s.choice("model")), s.choice("clip") == "circle",
                      cx("cx", w), cx("cy", h), rx, ry);
     }
+    case Kind::DualFisheye: return dual_on(s, size);
     case Kind::BrownConrady: {
       const BrownConrady unit = brown_of(s);
       const auto [fx, fy] = focal_lengths(s, 0.5 * w);
@@ -372,6 +445,22 @@ Size default_size(const ProjectionSpec& s, double density) {
                            : density * Fisheye::law(fisheye_model(s.choice("model")),
                                                     0.5 * rad(s, "fov"));
       w = h = 2.0 * r;
+      break;
+    }
+    case Kind::DualFisheye: {
+      // Two circles of `density` pixels per radian at their centres, the larger one setting the
+      // halves' size.
+      const auto model = fisheye_model(s.choice("model"));
+      const double fov2 = s.number("fov2") ? *s.number("fov2") : *s.number("fov");
+      const double r0 = s.given("radius") ? *s.number("radius") : density * Fisheye::law(model, 0.5 * rad(s, "fov"));
+      const double r1 = s.given("radius2") ? *s.number("radius2") : s.given("radius") ? r0 : density * Fisheye::law(model, 0.5 * deg2rad(fov2));
+      const double r = std::max(r0, r1);
+      const bool tb = s.choice("layout") == "top-bottom";
+      w = tb ? 2.0 * r : 4.0 * r;
+      h = tb ? 4.0 * r : 2.0 * r;
+      // Halves of whole pixels.
+      if (tb) h = 2.0 * static_cast<double>(px(0.5 * h));
+      else w = 2.0 * static_cast<double>(px(0.5 * w));
       break;
     }
     case Kind::BrownConrady: {
@@ -462,6 +551,13 @@ void to_pixel_row(const Projection& p, const Ray* rays, int64_t n, double* xs, d
 }
 
 // ---- Rescaling --------------------------------------------------------------------------------
+namespace {
+// Fisheye q on a frame of `size`, its positions scaled by (sx, sy).
+Fisheye fisheye_scaled(const Fisheye& q, Size size, double sx, double sy) {
+  return Fisheye(size, q.psi_max(), q.model(), q.clip(), q.cx() * sx, q.cy() * sy, q.rx() * sx, q.ry() * sy);
+}
+}  // namespace
+
 Projection rescaled(const Projection& p, Size size) {
   const Size old = size_of(p);
   const double sx = static_cast<double>(size.width) / static_cast<double>(old.width);
@@ -472,7 +568,12 @@ Projection rescaled(const Projection& p, Size size) {
         if constexpr (std::is_same_v<P, Pinhole>) {
           return Pinhole(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy);
         } else if constexpr (std::is_same_v<P, Fisheye>) {
-          return Fisheye(size, q.psi_max(), q.model(), q.clip(), q.cx() * sx, q.cy() * sy, q.rx() * sx, q.ry() * sy);
+          return fisheye_scaled(q, size, sx, sy);
+        } else if constexpr (std::is_same_v<P, DualFisheye>) {
+          std::array<Fisheye, 2> lenses{q.lens(0), q.lens(1)};
+          for (auto& l : lenses) l = fisheye_scaled(l, size, sx, sy);
+          const DualFisheye d(size, q.top_bottom(), lenses, {q.rotation(0), q.rotation(1)}, q.feather());
+          return q.only() >= 0 ? d.only(q.only()) : d;
         } else if constexpr (std::is_same_v<P, BrownConrady>) {
           return BrownConrady(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy, q.coefficients(), q.theta_max());
         } else if constexpr (std::is_same_v<P, Lens>) {

@@ -383,7 +383,10 @@ HWY_INLINE void SourcePixel(D d, const SimdGeometry& g, V x, V y, V z, V& sx, V&
         break;
       }
     }
-    coarse = hn::Or(hn::Lt(npz, hn::Mul(hn::Set(d, s[11]), n)), hn::Lt(sv, hn::Mul(hn::Set(d, s[12]), n)));
+    // (s / n is small on the axis too, where k = psi / s -> 1 / z is well conditioned: only
+    // behind, z < 0.)
+    coarse = hn::Or(hn::Lt(npz, hn::Mul(hn::Set(d, s[11]), n)),
+                    hn::And(hn::Lt(sv, hn::Mul(hn::Set(d, s[12]), n)), hn::Lt(z, zero)));
     sx = hn::MulAdd(hn::Mul(k, x), hn::Set(d, s[4]), hn::Set(d, s[1]));
     sy = hn::MulAdd(hn::Mul(k, y), hn::Set(d, s[5]), hn::Set(d, s[2]));
     ok = hn::And(ok, in_frame(sx, sy));

@@ -98,6 +98,17 @@ constexpr double kHalfUlp = 0x1p-24;  // relative rounding of a float
 
 bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
                        const TileRect& rect, SimdGeometry& g) {
+  // A dual fisheye's lens alone is a fisheye turned by R_k (lens ray = R_k^T camera ray); a tile
+  // inside one half of a dual-fisheye target, that half's lens (camera ray = R_k lens ray).
+  if (const auto* d = std::get_if<DualFisheye>(&src)) {
+    const int k = d->only();
+    return k >= 0 && simd_geometry_for(Projection(d->lens(k)), dst, d->rotation(k).transpose() * rotation, rect, g);
+  }
+  if (const auto* d = std::get_if<DualFisheye>(&dst)) {
+    const int k = d->lens_at(static_cast<double>(rect.x0) + 0.5, static_cast<double>(rect.y0) + 0.5);
+    if (d->lens_at(static_cast<double>(rect.x0 + rect.w) - 0.5, static_cast<double>(rect.y0 + rect.h) - 0.5) != k) return false;
+    return simd_geometry_for(src, Projection(d->lens(k)), rotation * d->rotation(k), rect, g);
+  }
   double* gd = g.pd.d;
   double* gs = g.pd.s;
   std::fill(gd, gd + 16, 0.0);  // unused parameters are 0

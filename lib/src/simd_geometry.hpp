@@ -1,8 +1,9 @@
 #pragma once
 // Source positions of pixel rows in SIMD (Google Highway): targets pinhole, equirect,
-// cylindrical, fisheye (any law, clipped or not), Hammer / Eckert-Greifendorff, Bonne and cube
-// tiles inside one face; sources equirect, cylindrical (full or partial), cubemap, Hammer,
-// Aitoff, Bonne, pinhole and fisheye. Aitoff as a target has no closed-form inverse (a Newton
+// cylindrical, fisheye (any law, clipped or not), Hammer / Eckert-Greifendorff, Bonne, cube
+// tiles inside one face and dual-fisheye tiles inside one lens; sources equirect, cylindrical
+// (full or partial), cubemap, Hammer, Aitoff, Bonne, pinhole, fisheye and one lens of a dual
+// fisheye. Aitoff as a target has no closed-form inverse (a Newton
 // iteration per pixel costs more than the tile mapper's interpolation between exact nodes) and
 // stays with the tile mapper. Float lanes where they stay within kFloatTolerance, double
 // lanes elsewhere: near an equirect pole the longitude atan2(x, z) divides float's ~1e-7 absolute

@@ -20,6 +20,9 @@ SourceEdges::SourceEdges(const Projection& source) {
   } else if (const auto* c = std::get_if<Cubemap>(&source)) {
     mode_ = Mode::Cube;
     cube_ = c;
+  } else if (const auto* d = std::get_if<DualFisheye>(&source)) {
+    mode_ = Mode::Cells;
+    dual_ = d;
   }
 }
 
@@ -68,6 +71,13 @@ int SourceEdges::resolve(int64_t ix, int64_t iy, int face, Part* parts) const {
       parts[2] = {x0, y1, (1 - fu) * fv};
       parts[3] = {x1, y1, fu * fv};
       return 4;
+    }
+    case Mode::Cells: {
+      // Within the lens's half.
+      const int64_t cw = dual_->cell_width(), ch = dual_->cell_height();
+      const int64_t ox = dual_->top_bottom() ? 0 : face * cw, oy = dual_->top_bottom() ? face * ch : 0;
+      parts[0] = {std::clamp<int64_t>(ix, ox, ox + cw - 1), std::clamp<int64_t>(iy, oy, oy + ch - 1), 1.0};
+      return 1;
     }
     case Mode::Clamp: break;
   }

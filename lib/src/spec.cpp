@@ -30,6 +30,13 @@ ParamDef center(const char* key) {
                 "frame's centre");
 }
 
+ParamDef lens_center(const char* key, int lens) {
+  return number(key, "", -kInf, kInf, true, true,
+                lens == 0 ? "lens 0's centre in the whole image's pixels, OpenCV convention; default: its half's centre"
+                          : "lens 1's centre in the whole image's pixels, OpenCV convention; default: its half's centre");
+}
+ParamDef angle(const char* key, const char* def, const char* help) { return number(key, def, -360, 360, false, false, help); }
+
 // fov, fx, fy, cx, cy, then the law's own keys. fov_default "": the law's whole domain.
 std::vector<ParamDef> lens_params(const char* fov_default, std::vector<ParamDef> law) {
   std::vector<ParamDef> p{
@@ -70,6 +77,20 @@ std::vector<ProjectionDef> make_catalog() {
         number("radius", "", 0, kInf, true, true,
                "image-circle radius in pixels (aspect=keep); default: half the shorter side"),
         center("cx"), center("cy")}},
+      {"dual-fisheye", Kind::DualFisheye,
+       "the two back-to-back fisheye lenses of a 360 camera, side by side or top/bottom, blended across their overlap",
+       {number("fov", "190", 0, 360, true, false, "lens 0's full field of view (deg)"),
+        number("fov2", "", 0, 360, true, false, "lens 1's full field of view (deg); default: fov"),
+        choice("model", "equidistant", "equidistant|equisolid|orthographic|stereographic", "lens law of both lenses"),
+        choice("layout", "side-by-side", "side-by-side|top-bottom", "lens 0 on the left (top), lens 1 on the right (bottom)"),
+        number("radius", "", 0, kInf, true, true, "lens 0's image-circle radius in pixels; default: half its half's shorter side"),
+        number("radius2", "", 0, kInf, true, true, "lens 1's image-circle radius in pixels; default: radius"),
+        lens_center("cx", 0), lens_center("cy", 0), lens_center("cx2", 1), lens_center("cy2", 1),
+        angle("yaw", "0", "lens 0's yaw (deg; rotation.hpp's convention)"), angle("pitch", "0", "lens 0's pitch (deg)"),
+        angle("roll", "0", "lens 0's roll (deg)"), angle("yaw2", "180", "lens 1's yaw (deg; 180: back to back)"),
+        angle("pitch2", "0", "lens 1's pitch (deg)"), angle("roll2", "0", "lens 1's roll (deg)"),
+        number("feather", "", 0, 360, false, false,
+               "width of the blend across the overlap (deg, centred on its midline); default: the whole overlap; 0: a hard cut")}},
       {"kannala-brandt", Kind::Lens, "calibrated fisheye, OpenCV's fisheye model (k1..k4), fov up to 360 deg",
        lens_params("180", {coefficient("k1"), coefficient("k2"), coefficient("k3"), coefficient("k4")})},
       {"double-sphere", Kind::Lens, "calibrated fisheye, Double Sphere model (Usenko et al. 2018)",

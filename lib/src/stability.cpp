@@ -68,6 +68,12 @@ std::vector<StabilityCase> stability_cases() {
   for (const char* s : {"double-sphere:xi=-0.18,alpha=0.59", "double-sphere:xi=0.3,alpha=0.4", "unified:xi=2.5", "unified:xi=0.8",
                         "extended-unified:alpha=0.63,beta=1.04", "extended-unified:alpha=0.3,beta=2"})
     add(s, {tiny, {2048, 2048}, {40000, 40000}}, 1e-5);
+  // Dual fisheye: each ray back through the lens it lies deeper inside (in the overlap, the other
+  // half of the frame), lenses to 360 degrees and to 0.01, a turned top/bottom pair.
+  add("dual-fisheye:fov=200", {{2, 1}, photo, huge}, 1e-6);
+  add("dual-fisheye:fov=359.99,model=equisolid", {photo}, 1e-6);
+  add("dual-fisheye:fov=0.01", {photo}, 1e-6);
+  add("dual-fisheye:fov=190,fov2=220,layout=top-bottom,yaw2=175,pitch2=5,roll2=90", {{2048, 4096}}, 1e-6);
   add("equirect", {tiny, {2, 1}, photo, huge}, 1e-6);
   add("equirect:hfov=0.01,vfov=0.01", {tiny, photo}, 1e-6);
   add("equirect:hfov=120,vfov=60,lat0=59.99", {photo}, 1e-6);

@@ -10,7 +10,7 @@ from conftest import smooth_equirect
 
 ALL = ["pinhole:hfov=100", "fisheye:fov=250,model=equisolid", "fisheye:fov=180,model=orthographic",
        "equirect:hfov=200,vfov=120,lon0=30", "cylindrical", "cubemap", "cubemap:layout=cross", "aitoff",
-       "hammer", "eckert-greifendorff", "bonne:phi1=30"]
+       "hammer", "eckert-greifendorff", "bonne:phi1=30", "dual-fisheye:fov=180,roll2=90"]
 
 
 def test_keyword_constructors_and_spec_text_agree():
@@ -143,3 +143,27 @@ def test_antialias_choices():
         pp.convert(img, *args, antialias="1")
     with pytest.raises(TypeError, match="antialias"):
         pp.convert(img, *args, antialias=True)
+
+
+def test_dual_fisheye_both_ways_blended_and_cut():
+    """A 360 camera's two lenses side by side: equirect -> dual fisheye -> equirect comes back; the
+    feathered blend differs from the hard cut only in the overlap, and a feather wider than the
+    overlap is a ValueError naming it."""
+    img = smooth_equirect(512, 256)
+    lenses = pp.DualFisheye(fov=200)
+    assert str(lenses) == "dual-fisheye:fov=200"
+    kw = dict(size=(512, 256), interp="bicubic", antialias="off")
+    dual = pp.convert(img, "equirect", lenses, **kw)
+    back = pp.convert(dual, lenses, "equirect", **kw)
+    cut = pp.convert(dual, pp.DualFisheye(fov=200, feather=0), "equirect", **kw)
+    err = np.abs(back.astype(int) - img).max(axis=-1)
+    assert np.percentile(err, 99) <= 3
+    # Longitudes within 80..100 degrees of lens 0's axis (+z) see both lenses: only there may the
+    # blend and the cut differ.
+    lon = np.degrees(np.abs((np.arange(512) + 0.5) / 512 * 2 * np.pi - np.pi))
+    lat = np.degrees(np.pi / 2 - (np.arange(256) + 0.5) / 256 * np.pi)
+    off_axis = np.degrees(np.arccos(np.cos(np.radians(lat))[:, None] * np.cos(np.radians(lon))[None, :]))
+    differ = np.abs(cut.astype(int) - back).max(axis=-1) > 0
+    assert differ.any() and (np.abs(off_axis[differ] - 90) <= 10.5).all()
+    with pytest.raises(ValueError, match="wider than the lenses' overlap of 20"):
+        pp.convert(dual, pp.DualFisheye(fov=200, feather=30), "equirect", **kw)

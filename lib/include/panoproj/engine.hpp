@@ -95,8 +95,9 @@ class Converter {
   int64_t tile_count() const;
   // True (and g filled) where the tile's geometry (of target_, or of the given target) runs in
   // registers fused with the sampling.
-  bool fused(const TileRect& rect, SimdGeometry& g) const { return fused(target_, rect, g); }
-  bool fused(const Projection& target, const TileRect& rect, SimdGeometry& g) const;
+  bool fused(const TileRect& rect, SimdGeometry& g) const { return fused(source_, target_, rect, g); }
+  bool fused(const Projection& source, const Projection& target, const TileRect& rect, SimdGeometry& g) const;
+  std::vector<Projection> lenses_;  // a dual-fisheye source's lenses alone (blended per tile), else empty
   const TileMap* cached(int64_t t) const;  // the kept map of a tile that has one, else null
 };
 

@@ -9,6 +9,7 @@
 #include "panoproj/projections/brown_conrady.hpp"
 #include "panoproj/projections/cubemap.hpp"
 #include "panoproj/projections/cylindrical.hpp"
+#include "panoproj/projections/dual_fisheye.hpp"
 #include "panoproj/projections/equirect.hpp"
 #include "panoproj/projections/fisheye.hpp"
 #include "panoproj/projections/hammer.hpp"
@@ -19,7 +20,7 @@
 namespace panoproj {
 
 using Projection =
-    std::variant<Pinhole, BrownConrady, Fisheye, Lens, Equirect, Cylindrical, Cubemap, Aitoff, Hammer, Bonne>;
+    std::variant<Pinhole, BrownConrady, Fisheye, DualFisheye, Lens, Equirect, Cylindrical, Cubemap, Aitoff, Hammer, Bonne>;
 
 // Validates the spec against the image size; throws panoproj::Error.
 Projection make_projection(const ProjectionSpec& spec, Size size);

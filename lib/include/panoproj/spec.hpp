@@ -10,7 +10,7 @@
 
 namespace panoproj {
 
-enum class Kind { Pinhole, BrownConrady, Fisheye, Lens, Equirect, Cylindrical, Cubemap, Aitoff, Hammer, Bonne };
+enum class Kind { Pinhole, BrownConrady, Fisheye, DualFisheye, Lens, Equirect, Cylindrical, Cubemap, Aitoff, Hammer, Bonne };
 
 enum class ParamType { Number, Integer, Choice };
 
