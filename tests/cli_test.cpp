@@ -141,6 +141,35 @@ TEST_F(Cli, PartialPanoramasArePlacedByTheirPhotoSphereMetadata) {
   EXPECT_FALSE(read_photo_sphere(p("bare_part.jpg")).has_value());
 }
 
+TEST_F(Cli, TiltedPhotoSpheresAreLevelledByTheirPose) {
+  // The same JPEG pixels with and without a GPano pose: levelling by the pose is the view turned
+  // back by it (pitch alone: --pitch -P; roll alone: --roll -R); --from ignores the metadata.
+  ASSERT_EQ(run("convert " + p("pano.png") + " " + p("plain.jpg") + " --to equirect --size 128x64 -q --no-metadata").code, 0);
+  const Equirect full = std::get<Equirect>(make_projection(parse_spec("equirect"), {128, 64}));
+  auto posed = [&](const std::string& name, double pitch, double roll) {
+    fs::copy_file(p("plain.jpg"), p(name));
+    PhotoSphere ps = photo_sphere_of(full);
+    ps.pose_pitch = pitch, ps.pose_roll = roll;
+    add_jpeg_xmp(p(name), photo_sphere_xmp(ps));
+  };
+  posed("pitched.jpg", 10, 0);
+  posed("rolled.jpg", 0, 7);
+  const std::string view = " --to pinhole:hfov=100 --size 48x40 ";
+  const CliRun a = run("convert " + p("pitched.jpg") + " " + p("a.png") + view);
+  ASSERT_EQ(a.code, 0) << a.err;
+  EXPECT_NE(a.out.find("levelled by its Photo Sphere pose: pitch 10, roll 0"), std::string::npos) << a.out;
+  ASSERT_EQ(run("convert " + p("plain.jpg") + " " + p("b.png") + view + "--pitch -10 -q").code, 0);
+  EXPECT_EQ(read_image(p("a.png")), read_image(p("b.png")));
+  ASSERT_EQ(run("convert " + p("rolled.jpg") + " " + p("c.png") + " --to equirect --size 96x48 -q").code, 0);
+  ASSERT_EQ(run("convert " + p("plain.jpg") + " " + p("d.png") + " --to equirect --size 96x48 --roll -7 -q").code, 0);
+  EXPECT_EQ(read_image(p("c.png")), read_image(p("d.png")));
+  ASSERT_EQ(run("convert " + p("pitched.jpg") + " " + p("e.png") + view + "--yaw 30 --from equirect -q").code, 0);
+  ASSERT_EQ(run("convert " + p("plain.jpg") + " " + p("f.png") + view + "--yaw 30 -q").code, 0);
+  EXPECT_EQ(read_image(p("e.png")), read_image(p("f.png")));
+  posed("wild.jpg", 120, 0);
+  expect_refused("convert " + p("wild.jpg") + " " + p("o.png") + " --to equirect", "GPano:PosePitchDegrees=120");
+}
+
 TEST_F(Cli, BatchBuildsOneMapAndMatchesSingleConversions) {
   for (int k = 0; k < 3; ++k) {
     Image e({64, 32}, 3, PixelType::U8);

@@ -32,10 +32,15 @@ bool same(const PhotoSphere& a, const PhotoSphere& b) {
 }
 
 TEST_F(PhotoSphereTest, WrittenFieldsReadBack) {
-  const PhotoSphere ps{"equirectangular", 8000, 4000, 3000, 1500, 7000, 1200};
+  const PhotoSphere ps{"equirectangular", 8000, 4000, 3000, 1500, 7000, 1200, -12.5, 3.25};
   const auto back = read_photo_sphere(jpeg("a.jpg", photo_sphere_xmp(ps)));
   ASSERT_TRUE(back.has_value());
   EXPECT_TRUE(same(*back, ps));
+  EXPECT_EQ(back->pose_pitch, -12.5);
+  EXPECT_EQ(back->pose_roll, 3.25);
+  // The pose's rotation: the camera's axis pitched down 12.5 degrees (+y is down).
+  const Ray axis = photo_sphere_pose(*back) * Ray(0, 0, 1);
+  EXPECT_NEAR(std::asin(axis.y()), deg2rad(12.5), 1e-12);
   // Without a packet, or a PNG: none.
   EXPECT_FALSE(read_photo_sphere(jpeg("b.jpg", "")).has_value());
   write_image(Image({8, 4}, 3, PixelType::U8), path("c.png"), {});

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <sstream>
 #include <vector>
 
 #include "panoproj/engine.hpp"
@@ -148,7 +149,16 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   if (in_faces) faces = read_cube_faces(job.inputs[0]);
   const Size source_size = in_faces ? faces->size() : frame;
   if (!from) from = infer_source_spec(std::nullopt, job.inputs[0], source_size);
-  const Plan plan = make_plan(source_size, *from, to, options);
+  Plan plan = make_plan(source_size, *from, to, options);
+  // A Photo Sphere taken tilted is levelled by its pose (unless --from overrides the metadata).
+  std::string from_text = from->str();
+  if (const auto ps = job.from || in_faces ? std::nullopt : read_photo_sphere(job.inputs[0]);
+      ps && (ps->pose_pitch != 0 || ps->pose_roll != 0)) {
+    plan.rotation = photo_sphere_pose(*ps).transpose() * plan.rotation;
+    std::ostringstream o;
+    o << from_text << ", levelled by its Photo Sphere pose: pitch " << ps->pose_pitch << ", roll " << ps->pose_roll;
+    from_text = o.str();
+  }
   // The map is kept (built once for the footprint, the first image and the rest of a batch)
   // while it fits kMapCacheBudget; beyond, memory stays source + output + tile buffers and the
   // map is made twice (footprint, then conversion) and again per frame.
@@ -180,7 +190,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };
     const double read = static_cast<double>(source.width() * source.height()) /
                         static_cast<double>(source.frame_size().width * source.frame_size().height);
-    reports.push_back({job.inputs[n], outputs[n], from->str(), to.str(),
+    reports.push_back({job.inputs[n], outputs[n], from_text, to.str(),
                        in_faces ? face_size(source.size()) : source.frame_size(),
                        out_faces ? face_size(out.size()) : out.size(), in_faces, out_faces, seconds, read});
     if (on_frame) on_frame(reports.back());

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "panoproj/error.hpp"
+#include "panoproj/rotation.hpp"
 
 namespace panoproj {
 namespace {
@@ -63,13 +64,16 @@ std::optional<std::string> field(const std::string& xmp, const std::string& name
   return std::nullopt;
 }
 
-int64_t integer(const std::string& xmp, const char* name, int64_t fallback) {
+double number(const std::string& xmp, const char* name, double fallback) {
   const auto v = field(xmp, name);
   if (!v) return fallback;
   char* end = nullptr;
   const double d = std::strtod(v->c_str(), &end);
-  if (end == v->c_str() || !std::isfinite(d)) return fallback;
-  return std::llround(d);
+  return end == v->c_str() || !std::isfinite(d) ? fallback : d;
+}
+
+int64_t integer(const std::string& xmp, const char* name, int64_t fallback) {
+  return std::llround(number(xmp, name, static_cast<double>(fallback)));
 }
 
 }  // namespace
@@ -90,7 +94,17 @@ std::optional<PhotoSphere> read_photo_sphere(const std::string& path) {
   ps.crop_height = integer(xmp, "CroppedAreaImageHeightPixels", ps.full_height);
   ps.crop_left = integer(xmp, "CroppedAreaLeftPixels", 0);
   ps.crop_top = integer(xmp, "CroppedAreaTopPixels", 0);
+  ps.pose_pitch = number(xmp, "PosePitchDegrees", 0.0);
+  ps.pose_roll = number(xmp, "PoseRollDegrees", 0.0);
   return ps;
+}
+
+Eigen::Matrix3d photo_sphere_pose(const PhotoSphere& ps) {
+  if (std::fabs(ps.pose_pitch) > 90 || std::fabs(ps.pose_roll) > 180)
+    throw Error("Photo Sphere metadata: GPano:PosePitchDegrees=" + std::to_string(ps.pose_pitch) + ", PoseRollDegrees=" +
+                std::to_string(ps.pose_roll) + " out of range (expected |pitch| <= 90, |roll| <= 180; give --from SPEC "
+                "to ignore the metadata)");
+  return rotation_from_ypr(0, ps.pose_pitch, ps.pose_roll);
 }
 
 std::string photo_sphere_spec(const PhotoSphere& ps, Size size) {
@@ -148,7 +162,10 @@ std::string photo_sphere_xmp(const PhotoSphere& ps) {
     << " GPano:FullPanoWidthPixels=\"" << ps.full_width << "\" GPano:FullPanoHeightPixels=\"" << ps.full_height << "\""
     << " GPano:CroppedAreaImageWidthPixels=\"" << ps.crop_width << "\" GPano:CroppedAreaImageHeightPixels=\""
     << ps.crop_height << "\" GPano:CroppedAreaLeftPixels=\"" << ps.crop_left << "\" GPano:CroppedAreaTopPixels=\""
-    << ps.crop_top << "\"/></rdf:RDF></x:xmpmeta><?xpacket end=\"w\"?>";
+    << ps.crop_top << "\"";
+  if (ps.pose_pitch != 0 || ps.pose_roll != 0)
+    o << " GPano:PosePitchDegrees=\"" << ps.pose_pitch << "\" GPano:PoseRollDegrees=\"" << ps.pose_roll << "\"";
+  o << "/></rdf:RDF></x:xmpmeta><?xpacket end=\"w\"?>";
   return o.str();
 }
 

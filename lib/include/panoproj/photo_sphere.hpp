@@ -16,7 +16,16 @@ struct PhotoSphere {
   int64_t full_width = 0, full_height = 0;  // FullPanoWidthPixels, FullPanoHeightPixels
   int64_t crop_width = 0, crop_height = 0;  // CroppedAreaImageWidthPixels, ...HeightPixels
   int64_t crop_left = 0, crop_top = 0;      // CroppedAreaLeftPixels, CroppedAreaTopPixels
+  // PosePitchDegrees (the image centre's elevation above the horizon) and PoseRollDegrees (the
+  // horizon turns counter-clockwise in the image as it grows): how the camera was tilted.
+  // (PoseHeadingDegrees, the centre's compass heading, is not read: it turns nothing.)
+  double pose_pitch = 0, pose_roll = 0;
 };
+
+// The camera's tilt from its pose: camera ray -> level ray, rotation_from_ypr(0, pitch, roll)
+// (GPano's roll is rotation.hpp's: the camera turned clockwise, the picture counter-clockwise).
+// A conversion levels the panorama with its transpose before the view's own rotation.
+Eigen::Matrix3d photo_sphere_pose(const PhotoSphere& ps);
 
 // The GPano fields of a JPEG's XMP; none if the file has no XMP packet with the equirect's
 // fields (other files: none). Throws panoproj::Error if the file cannot be read.
