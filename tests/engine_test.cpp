@@ -59,7 +59,7 @@ double bound(PixelType t, Interp k) {
     case PixelType::U8:
     case PixelType::U16: return 1.0;
     case PixelType::F16: return 4.9e-4;
-    case PixelType::F32: return k == Interp::Lanczos3 ? 5e-6 : 2e-6;
+    case PixelType::F32: return kernel_of(k) == Interp::Lanczos3 ? 5e-6 : 2e-6;
   }
   return 0;
 }
@@ -79,7 +79,8 @@ TEST(Engine, SimdMatchesScalarOnEveryTarget) {
     for (PixelType t : {PixelType::U8, PixelType::U16, PixelType::F16, PixelType::F32})
       for (int nc : {1, 2, 3, 4}) {
         const Image im = scene_image(src, t, nc);
-        for (Interp k : {Interp::Nearest, Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3}) {
+        for (Interp k : {Interp::Nearest, Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3, Interp::BicubicDering,
+                         Interp::Lanczos3Dering}) {
           EngineStats st;
           const Image a = fast_remap(im, src, dst, r, k, Engine::Simd, 2, &st);
           const Image b = fast_remap(im, src, dst, r, k, Engine::Scalar, 2);

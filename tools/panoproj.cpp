@@ -127,7 +127,9 @@ void print_info() {
                 << "  " << range.str() << "  " << p.help << "\n";
     }
   }
-  std::cout << "\nInterpolators: nearest, bilinear, bicubic (Keys a=-0.5, default), lanczos3\n"
+  std::cout << "\nInterpolators: nearest, bilinear, bicubic (Keys a=-0.5, default), lanczos3; bicubic-dering and\n"
+               "lanczos3-dering clamp to the 2x2 taps around each sample (no ringing at sharp edges, e.g. around an\n"
+               "HDR sun)\n"
                "Rotation: --yaw (positive looks right), --pitch (positive looks up), --roll "
                "(positive turns the view clockwise); applied roll, then pitch, then yaw.\n";
 }
@@ -159,7 +161,7 @@ int main(int argc, char** argv) {
   convert->add_option("--yaw", job.options.yaw, "degrees, positive looks right");
   convert->add_option("--pitch", job.options.pitch, "degrees, positive looks up");
   convert->add_option("--roll", job.options.roll, "degrees, positive turns the view clockwise");
-  convert->add_option("--interp", interp_text, "nearest|bilinear|bicubic|lanczos3 (default bicubic)");
+  convert->add_option("--interp", interp_text, "nearest|bilinear|bicubic|lanczos3|bicubic-dering|lanczos3-dering (default bicubic; -dering: no ringing)");
   convert->add_option("--threads", job.options.threads, "worker threads (default: all cores)");
   convert->add_option("--engine", engine_text,
                       "simd (default) | scalar (same tiles, no SIMD) | reference (exact, slow)");

@@ -9,11 +9,12 @@
 namespace panoproj {
 
 int support(Interp k) {
-  switch (k) {
+  switch (kernel_of(k)) {
     case Interp::Nearest: return 1;
     case Interp::Bilinear: return 2;
     case Interp::Bicubic: return 4;
     case Interp::Lanczos3: return 6;
+    default: break;
   }
   return 1;
 }
@@ -24,15 +25,18 @@ const char* name_of(Interp k) {
     case Interp::Bilinear: return "bilinear";
     case Interp::Bicubic: return "bicubic";
     case Interp::Lanczos3: return "lanczos3";
+    case Interp::BicubicDering: return "bicubic-dering";
+    case Interp::Lanczos3Dering: return "lanczos3-dering";
   }
   return "?";
 }
 
 Interp parse_interp(std::string_view name) {
-  for (Interp k : {Interp::Nearest, Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3})
+  for (Interp k : {Interp::Nearest, Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3, Interp::BicubicDering,
+                   Interp::Lanczos3Dering})
     if (name == name_of(k)) return k;
   throw Error("interpolator '" + std::string(name) +
-              "' is unknown (expected nearest, bilinear, bicubic or lanczos3)");
+              "' is unknown (expected nearest, bilinear, bicubic, lanczos3, bicubic-dering or lanczos3-dering)");
 }
 
 int64_t first_tap(Interp k, double s) {
@@ -58,7 +62,7 @@ double lanczos3(double t) {
 
 void tap_weights(Interp k, double s, double* w) {
   const double f = (s - 0.5) - std::floor(s - 0.5);  // offset from the left centre, [0, 1)
-  switch (k) {
+  switch (kernel_of(k)) {
     case Interp::Nearest: w[0] = 1.0; return;
     case Interp::Bilinear:
       w[0] = 1.0 - f;
@@ -73,6 +77,7 @@ void tap_weights(Interp k, double s, double* w) {
       for (int i = 0; i < 6; ++i) w[i] /= sum;
       return;
     }
+    default: return;
   }
 }
 

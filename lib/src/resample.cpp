@@ -30,7 +30,8 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
   auto at = [&](int64_t x, int64_t y) {
     return src.at(std::clamp(x, wx0, wx1), std::clamp(y, wy0, wy1));
   };
-  double wx[6], wy[6], acc[4];
+  const bool dering = derings(interp);
+  double wx[6], wy[6], acc[4], lo[4], hi[4];  // lo, hi: the central 2x2 taps' range (dering)
   for (int64_t i = 0; i < n; ++i, out += pb) {
     if (!ok[i]) {
       std::memset(out, 0, pb);
@@ -50,21 +51,31 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
     tap_weights(interp, xs[i], wx);
     tap_weights(interp, ys[i], wy);
     std::fill(acc, acc + 4, 0.0);
+    std::fill(lo, lo + 4, HUGE_VAL);
+    std::fill(hi, hi + 4, -HUGE_VAL);
     for (int r = 0; r < k; ++r) {
       for (int c = 0; c < k; ++c) {
+        // The tap's (premultiplied) value: its pixel, or the parts of a neighbouring cube face.
+        double tap[4] = {0, 0, 0, 0};
         const int n_parts = edges.resolve(bx + c, by + r, face, parts);
         for (int q = 0; q < n_parts; ++q) {
           const unsigned char* p = at(parts[q].x, parts[q].y);
-          const double w = wx[c] * wy[r] * parts[q].w;
           // Premultiplied alpha: colour taps are weighted by their alpha.
           const double a = alpha >= 0 ? load<T>(p + alpha * sizeof(T)) / unit : 1.0;
           for (int ch = 0; ch < nc; ++ch) {
             const double v = load<T>(p + ch * sizeof(T));
-            acc[ch] += ch == alpha ? w * v : w * v * a;
+            tap[ch] += parts[q].w * (ch == alpha ? v : v * a);
           }
+        }
+        const bool central = (r == k / 2 - 1 || r == k / 2) && (c == k / 2 - 1 || c == k / 2);
+        for (int ch = 0; ch < nc; ++ch) {
+          acc[ch] += wx[c] * wy[r] * tap[ch];
+          if (dering && central) lo[ch] = std::min(lo[ch], tap[ch]), hi[ch] = std::max(hi[ch], tap[ch]);
         }
       }
     }
+    if (dering)
+      for (int ch = 0; ch < nc; ++ch) acc[ch] = std::clamp(acc[ch], lo[ch], hi[ch]);
     if (alpha >= 0) {
       const double a = acc[alpha] / unit;  // interpolated alpha, [0, 1] after clamping
       for (int ch = 0; ch < nc; ++ch) {

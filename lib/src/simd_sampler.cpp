@@ -490,7 +490,7 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
   if constexpr (PT == PixelType::U8 && K == 2) {
     if (alpha < 0) return BilinearU8(s, blk, out);
   } else if constexpr (PT == PixelType::U8 && K > 2) {
-    if (alpha < 0) return SeparableU8<K>(s, blk, out);
+    if (alpha < 0 && !s.dering) return SeparableU8<K>(s, blk, out);
   }
 #endif
   unsigned char* o = out + blk.index * pb;
@@ -514,6 +514,9 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
     const VI stride = hn::Set(di, static_cast<int32_t>(s.stride));
     const VI off0 = hn::Max(hn::Load(di, blk.off), hn::Zero(di));  // lanes not sampled read the base row
     VF acc[4] = {hn::Zero(df), hn::Zero(df), hn::Zero(df), hn::Zero(df)};
+    // Dering: the range of the central 2x2 taps' (premultiplied) values, per channel.
+    VF lo[4], hi[4];
+    for (int c2 = 0; c2 < 4; ++c2) lo[c2] = hn::Set(df, HUGE_VALF), hi[c2] = hn::Set(df, -HUGE_VALF);
     for (int r = 0; r < K; ++r) {
       const VI row = hn::Add(off0, hn::Mul(hn::Set(di, r), stride));
       for (int c = 0; c < K; ++c) {
@@ -523,12 +526,19 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
                                             : hn::Zero(di);
         VF a = hn::Set(df, 1.0f);
         if (alpha >= 0) a = hn::Mul(LoadChannel<PT>(df, base, at, alpha, word), hn::Set(df, 1.0f / unit));
+        const bool central = s.dering && (r == K / 2 - 1 || r == K / 2) && (c == K / 2 - 1 || c == K / 2);
         for (int c2 = 0; c2 < nc; ++c2) {
           const VF v = LoadChannel<PT>(df, base, at, c2, word);
           acc[c2] = hn::MulAdd(c2 == alpha ? w : hn::Mul(w, a), v, acc[c2]);
+          if (central) {
+            const VF tap = c2 == alpha ? v : hn::Mul(v, a);
+            lo[c2] = hn::Min(lo[c2], tap), hi[c2] = hn::Max(hi[c2], tap);
+          }
         }
       }
     }
+    if (s.dering)
+      for (int c2 = 0; c2 < nc; ++c2) acc[c2] = hn::Min(hn::Max(acc[c2], lo[c2]), hi[c2]);
     // Unpremultiply, round and clamp in vectors; the scalar loop below only narrows and stores.
     if (alpha >= 0) {
       const VF a = hn::Mul(acc[alpha], hn::Set(df, 1.0f / unit));
@@ -650,7 +660,7 @@ void Chunked(const SimdSource& s, Interp interp, const TileRect& rect, int64_t b
   }
 }
 
-int TapCount(Interp k) { return k == Interp::Nearest ? 1 : k == Interp::Bilinear ? 2 : k == Interp::Bicubic ? 4 : 6; }
+int TapCount(Interp k) { return support(k); }
 
 // Calls F<PT, T, K>::run(args...) for the source's type and the kernel.
 template <template <PixelType, class, int> class F, class... A>
@@ -658,11 +668,12 @@ void Dispatch(PixelType t, Interp k, A&&... args) {
   auto with_type = [&](auto pt, auto tag) {
     using T = typename decltype(tag)::type;
     constexpr PixelType PT = decltype(pt)::value;
-    switch (k) {
+    switch (kernel_of(k)) {
       case Interp::Nearest: return F<PT, T, 1>::run(args...);
       case Interp::Bilinear: return F<PT, T, 2>::run(args...);
       case Interp::Bicubic: return F<PT, T, 4>::run(args...);
       case Interp::Lanczos3: return F<PT, T, 6>::run(args...);
+      default: return;
     }
   };
   switch (t) {
@@ -673,16 +684,20 @@ void Dispatch(PixelType t, Interp k, A&&... args) {
   }
 }
 
-void SampleMap(const SimdSource& s, Interp k, const TileMap& tm, unsigned char* out, int64_t out_stride,
+void SampleMap(const SimdSource& source, Interp k, const TileMap& tm, unsigned char* out, int64_t out_stride,
                SimdMisses& misses) {
+  SimdSource s = source;
+  s.dering = derings(k);
   const auto N = static_cast<int64_t>(hn::Lanes(DD()));
   Chunked(s, k, tm.rect, (tm.rect.w + N - 1) / N, out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
     return PlanMapRows(s, TapCount(k), tm, j0, j1, blk, misses);
   });
 }
 
-void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& s, Interp k, unsigned char* out,
+void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& source, Interp k, unsigned char* out,
              int64_t out_stride, SimdMisses& misses) {
+  SimdSource s = source;
+  s.dering = derings(k);
   const auto NF = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>())), ND = static_cast<int64_t>(hn::Lanes(DD()));
   const TileRows rows(g, rect);
   // A coarse float vector becomes NF / ND double blocks.

@@ -24,6 +24,7 @@ struct SimdSource {
   PixelType type;
   int64_t x0, y0, x1, y1;     // the frame pixels [x0, x1) x [y0, y1) held in memory
   int64_t cell_w, cell_h;     // taps must stay in one aligned cell of this size; 0: the frame
+  bool dering = false;        // clamp to the central 2x2 taps (set from the Interp by the kernels)
 };
 
 // Output pixels the kernels left (written as 0) for the reference sampler: pixel index in the

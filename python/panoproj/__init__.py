@@ -161,7 +161,8 @@ def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Proj
     arrays is a cubemap's faces. ``size`` is the output's (width, height); by default the
     output keeps the source's resolution at its centre. ``yaw`` turns the view right, ``pitch``
     up, ``roll`` clockwise (applied roll, pitch, then yaw). ``interp``: nearest, bilinear,
-    bicubic or lanczos3. ``threads=0`` uses every core. ``antialias``: ``"auto"`` (sub-pixels where
+    bicubic, lanczos3, or bicubic-dering / lanczos3-dering (clamped to the 2x2 taps around each
+    sample: no ringing at sharp edges). ``threads=0`` uses every core. ``antialias``: ``"auto"`` (sub-pixels where
     the output shrinks the source), ``"off"``, ``"mip"`` (mip levels) or ``N`` (N x N sub-pixels);
     None: auto, off for the reference engine. The result has the input's dtype and channels; pixels without a
     source are 0 (alpha 0).

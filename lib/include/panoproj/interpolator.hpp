@@ -6,12 +6,23 @@
 //   bicubic   4 taps, Keys cubic convolution with a = -0.5 (Catmull-Rom), Keys, "Cubic
 //             convolution interpolation for digital image processing", IEEE TASSP 29(6), 1981.
 //   lanczos3  6 taps, sinc(t) sinc(t/3), weights normalized to sum 1.
+//   bicubic-dering, lanczos3-dering: the same, each channel clamped to the range of the 2x2 taps
+//             around the sample (with alpha: premultiplied). Their negative lobes over- and
+//             undershoot at sharp edges (dark rings around an HDR sun, negative values); the
+//             clamp removes that and leaves samples inside the local range (most of a smooth
+//             image) untouched.
 #include <cstdint>
 #include <string_view>
 
 namespace panoproj {
 
-enum class Interp { Nearest, Bilinear, Bicubic, Lanczos3 };
+enum class Interp { Nearest, Bilinear, Bicubic, Lanczos3, BicubicDering, Lanczos3Dering };
+
+// The kernel of k (Bicubic for BicubicDering), and whether k clamps to the central 2x2 taps.
+inline Interp kernel_of(Interp k) {
+  return k == Interp::BicubicDering ? Interp::Bicubic : k == Interp::Lanczos3Dering ? Interp::Lanczos3 : k;
+}
+inline bool derings(Interp k) { return k != kernel_of(k); }
 
 int support(Interp k);
 const char* name_of(Interp k);
