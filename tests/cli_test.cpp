@@ -251,6 +251,23 @@ TEST_F(Cli, DualFisheyeBothWays) {
                  "antialias mip does not blend the lenses");
 }
 
+TEST_F(Cli, AlphaAndFillAtTheFieldsEdge) {
+  ASSERT_EQ(run("convert " + p("pano.png") + " " + p("a.png") + " --to fisheye:fov=180 --size 41x41 --alpha -q").code, 0);
+  const Image a = read_image(p("a.png"));
+  ASSERT_EQ(a.channels(), 4);
+  EXPECT_EQ(a.pixel(0, 0)[3], 0);     // outside the circle
+  EXPECT_EQ(a.pixel(20, 20)[3], 255);  // inside
+  int partial = 0;
+  for (int64_t x = 0; x < 41; ++x) partial += a.pixel(x, 3)[3] > 0 && a.pixel(x, 3)[3] < 255;
+  EXPECT_GT(partial, 0);  // the rim, antialiased
+  ASSERT_EQ(run("convert " + p("pano.png") + " " + p("f.png") + " --to fisheye:fov=180 --size 41x41 --fill '#ff0000' -q").code, 0);
+  const Image f = read_image(p("f.png"));
+  ASSERT_EQ(f.channels(), 3);
+  EXPECT_EQ(f.pixel(0, 0)[0], 255);
+  EXPECT_EQ(f.pixel(0, 0)[1], 0);
+  expect_refused("convert " + p("pano.png") + " " + p("o.png") + " --to fisheye --fill red", "fill colour 'red' is not R,G,B[,A]");
+}
+
 TEST_F(Cli, InfoListsEveryProjection) {
   const CliRun r = run("info");
   ASSERT_EQ(r.code, 0);

@@ -169,6 +169,13 @@ int main(int argc, char** argv) {
   convert->add_option("--antialias", antialias_text,
                       "auto (default: sub-pixels where the output shrinks the source) | off | mip (mip "
                       "levels) | N (N x N sub-pixels, 2..16); the reference engine has none");
+  convert->add_flag("--alpha", job.options.add_alpha,
+                    "output alpha: 0 where there is no source, the covered share of each pixel on the field's edge "
+                    "(antialiased edges; a source without alpha gets an opaque one)");
+  std::string fill_text;
+  convert->add_option("--fill", fill_text,
+                      "colour where there is no source, blended into the field's antialiased edge: R,G,B[,A] in "
+                      "unit range (1,1,1 is white) or #rrggbb[aa] (default: 0, or alpha 0)");
   convert->add_option("--depth", depth_text, "output samples: keep|uint8|uint16|half|float");
   convert->add_flag("--overwrite", job.write.overwrite, "replace an existing output");
   bool no_metadata = false;
@@ -298,6 +305,8 @@ int main(int argc, char** argv) {
     job.options.interp = parse_interp(interp_text);
     job.options.engine = parse_engine(engine_text);
     if (!antialias_text.empty()) job.options.antialias = parse_antialias(antialias_text);
+    if (!fill_text.empty()) job.options.edges.colour = parse_fill_colour(fill_text);
+    job.options.edges.soft = job.options.add_alpha || !fill_text.empty();
     job.write.type = parse_depth(depth_text);
     job.keep_metadata = !no_metadata;
     job.output = files.back();

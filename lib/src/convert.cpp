@@ -38,12 +38,22 @@ Antialias antialias_of(const ConvertOptions& options) {
   return {options.engine == Engine::Reference ? Antialias::Mode::Off : Antialias::Mode::Auto, 1};
 }
 
+const Image& source_for(const Image& source, const ConvertOptions& options, Image& storage) {
+  if (!options.add_alpha || source.alpha_channel() >= 0) return source;
+  if (source.channels() > 3)
+    throw Error("alpha: the image has " + std::to_string(source.channels()) +
+                " channels and none is alpha (give at most 3 channels, or no --alpha)");
+  storage = source.with_alpha();
+  return storage;
+}
+
 Image convert(const Image& source, const ProjectionSpec& from, const ProjectionSpec& to,
               const ConvertOptions& options) {
   const Plan plan = make_plan(source.size(), from, to, options);
+  Image storage;
   return Converter(plan.source, plan.target, plan.rotation, options.interp, options.engine, options.threads, false,
-                   antialias_of(options))
-      .run(source);
+                   antialias_of(options), options.edges)
+      .run(source_for(source, options, storage));
 }
 
 }  // namespace panoproj

@@ -166,13 +166,15 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const bool cache = out_size.width * out_size.height * kCachedMapBytesPerPixel <= kMapCacheBudget;
   const auto t_map = std::chrono::steady_clock::now();
   const Converter converter(plan.source, plan.target, plan.rotation, options.interp, options.engine,
-                            options.threads, cache, antialias_of(options));
+                            options.threads, cache, antialias_of(options), options.edges);
   const Converter::Region need = converter.source_footprint();
   const double map_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count();
   Image out;  // one buffer for every frame of a batch
   for (size_t n = 0; n < job.inputs.size(); ++n) {
-    const Image source = in_faces ? std::move(*faces)
-                                  : read_image_region(job.inputs[n], need.x0, need.y0, need.x1, need.y1);
+    const Image input = in_faces ? std::move(*faces)
+                                 : read_image_region(job.inputs[n], need.x0, need.y0, need.x1, need.y1);
+    Image with_alpha;
+    const Image& source = source_for(input, options, with_alpha);
     const auto t0 = std::chrono::steady_clock::now();
     const double frames = static_cast<double>(job.inputs.size());
     converter.run(source, out, nullptr, [&](double f) {

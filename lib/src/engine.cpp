@@ -14,6 +14,7 @@
 #include "panoproj/source_edges.hpp"
 #include "panoproj/tile_map.hpp"
 #include "dual_blend.hpp"
+#include "edge_pass.hpp"
 #include "mip_sampler.hpp"
 #include "pyramid.hpp"
 #include "reference_sampler.hpp"
@@ -61,8 +62,8 @@ void widen_to(const TileMap& tm, std::array<double, 4>& b) {
 }  // namespace
 
 Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation,
-                     Interp interp, Engine engine, int threads, bool cache_map, Antialias antialias)
-    : source_(std::move(source)), target_(std::move(target)), antialias_(antialias),
+                     Interp interp, Engine engine, int threads, bool cache_map, Antialias antialias, EdgeFill edges)
+    : source_(std::move(source)), target_(std::move(target)), antialias_(antialias), edges_(edges),
       rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), cache_map_(cache_map) {
   if (antialias_.mode != Antialias::Mode::Off && engine_ == Engine::Reference)
     throw Error("antialias " + name_of(antialias_) + " needs the simd or scalar engine (or --antialias off)");
@@ -193,6 +194,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
                 std::to_string(expected.height));
   if (engine_ == Engine::Reference) {
     out = remap(src, source_, target_, rotation_, {interp_, threads_});
+    finish_edges(src, source_, target_, rotation_, interp_, edges_, threads_, out);
     if (progress) progress(1.0);
     return;
   }
@@ -381,6 +383,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
       progress(static_cast<double>(d) / static_cast<double>(n_tiles));
     }
   });
+  finish_edges(src, source_, target_, rotation_, interp_, edges_, threads_, out);
   if (progress) progress(1.0);
   if (stats) {
     *stats = {n_tiles, 0, 0, 0, 0};

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 #include <new>
 
 #include "panoproj/error.hpp"
@@ -107,6 +108,35 @@ Image& Image::operator=(const Image& o) {
 bool Image::operator==(const Image& o) const {
   return size_ == o.size_ && channels_ == o.channels_ && type_ == o.type_ && alpha_ == o.alpha_ &&
          std::equal(data_, data_ + bytes_, o.data_, o.data_ + o.bytes_);
+}
+
+Image Image::with_alpha() const {
+  if (alpha_ >= 0 || channels_ > 3)
+    throw Error("internal: with_alpha on an image with alpha or 4 channels");
+  Image out(size_, channels_ + 1, type_, channels_, Unfilled{});
+  out.set_window(ox_, oy_, frame_size());
+  const size_t sb = bytes_of(type_), pb = pixel_bytes(), ob = out.pixel_bytes();
+  // The opaque value's bytes in the sample type.
+  unsigned char one[4] = {};
+  switch (type_) {
+    case PixelType::U8: one[0] = 0xFF; break;
+    case PixelType::U16: one[0] = one[1] = 0xFF; break;
+    case PixelType::F16: one[1] = 0x3C; break;  // 1.0 in half: 0x3C00
+    case PixelType::F32: {
+      const float f = 1.0f;
+      std::memcpy(one, &f, 4);
+      break;
+    }
+  }
+  for (int64_t y = 0; y < size_.height; ++y) {
+    const unsigned char* s = row(y);
+    unsigned char* d = out.row(y);
+    for (int64_t x = 0; x < size_.width; ++x, s += pb, d += ob) {
+      std::memcpy(d, s, pb);
+      std::memcpy(d + pb, one, sb);
+    }
+  }
+  return out;
 }
 
 }  // namespace panoproj

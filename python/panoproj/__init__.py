@@ -151,10 +151,24 @@ def _antialias(antialias: Union[str, int, None]) -> Optional[str]:
     raise TypeError(f"antialias: {antialias!r} (expected 'auto', 'off', 'mip', a sub-pixel count or None)")
 
 
+FillLike = Union[str, Sequence[float], None]
+
+
+def _fill(fill: FillLike) -> Optional[str]:
+    if fill is None or isinstance(fill, str):
+        return fill
+    try:
+        values = [float(v) for v in fill]
+    except (TypeError, ValueError):
+        raise TypeError(f"fill: {fill!r} (expected 'R,G,B[,A]', '#rrggbb[aa]' or a sequence of 3 or 4 numbers)") from None
+    return ",".join(repr(v) for v in values)
+
+
 def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Projection, None],
             dst: Union[str, Projection], *, size: SizeLike = None, yaw: float = 0.0,
             pitch: float = 0.0, roll: float = 0.0, interp: str = "bicubic", threads: int = 0,
-            engine: str = "simd", antialias: Union[str, int, None] = None) -> np.ndarray:
+            engine: str = "simd", antialias: Union[str, int, None] = None, alpha: bool = False,
+            fill: FillLike = None) -> np.ndarray:
     """Converts ``image`` from projection ``src`` to ``dst`` and returns the new image.
 
     ``src=None`` takes a 2:1 image as a full equirect (as the command does); a list of six
@@ -165,10 +179,12 @@ def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Proj
     sample: no ringing at sharp edges). ``threads=0`` uses every core. ``antialias``: ``"auto"`` (sub-pixels where
     the output shrinks the source), ``"off"``, ``"mip"`` (mip levels) or ``N`` (N x N sub-pixels);
     None: auto, off for the reference engine. The result has the input's dtype and channels; pixels without a
-    source are 0 (alpha 0).
+    source are 0 (alpha 0). ``alpha=True`` adds an alpha channel if there is none and antialiases
+    the field's edge (alpha = each edge pixel's covered share); ``fill`` (``(r, g, b[, a])`` in unit
+    range, or ``"#rrggbb"``) colours what has no source, blended into the antialiased edge.
     """
     return _core.convert(image, _spec(src), _spec(dst), _size(size), float(yaw), float(pitch),
-                         float(roll), interp, int(threads), engine, _antialias(antialias))
+                         float(roll), interp, int(threads), engine, _antialias(antialias), bool(alpha), _fill(fill))
 
 
 def build_map(src: Union[str, Projection], dst: Union[str, Projection],
@@ -201,9 +217,11 @@ class Plan:
     def __init__(self, src: Union[str, Projection], dst: Union[str, Projection],
                  source_size: SizeLike, *, size: SizeLike = None, yaw: float = 0.0,
                  pitch: float = 0.0, roll: float = 0.0, interp: str = "bicubic",
-                 threads: int = 0, engine: str = "simd", antialias: Union[str, int, None] = None) -> None:
+                 threads: int = 0, engine: str = "simd", antialias: Union[str, int, None] = None,
+                 alpha: bool = False, fill: FillLike = None) -> None:
         self._args = (_spec(src), _spec(dst), _size(source_size), _size(size), float(yaw),
-                      float(pitch), float(roll), interp, int(threads), engine, _antialias(antialias))
+                      float(pitch), float(roll), interp, int(threads), engine, _antialias(antialias), bool(alpha),
+                      _fill(fill))
         self._plan = _core.Plan(*self._args)
 
     @property
@@ -237,10 +255,10 @@ class Plan:
         self._plan = _core.Plan(*self._args)
 
     def __repr__(self) -> str:
-        src, dst, source_size, size, yaw, pitch, roll, interp, threads, engine, antialias = self._args
+        src, dst, source_size, size, yaw, pitch, roll, interp, threads, engine, antialias, alpha, fill = self._args
         return (f"Plan({src!r}, {dst!r}, source_size={source_size}, size={self.size}, yaw={yaw}, "
                 f"pitch={pitch}, roll={roll}, interp={interp!r}, threads={threads}, "
-                f"engine={engine!r}, antialias={antialias!r})")
+                f"engine={engine!r}, antialias={antialias!r}, alpha={alpha}, fill={fill!r})")
 
 
 def read(path: str, *, metadata: bool = False):

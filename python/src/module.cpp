@@ -156,8 +156,12 @@ std::optional<ProjectionSpec> spec_of(const std::optional<std::string>& text) {
 
 ConvertOptions options_of(std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
                           const std::string& interp, int threads, const std::string& engine,
-                          const std::optional<std::string>& antialias) {
+                          const std::optional<std::string>& antialias, bool alpha = false,
+                          const std::optional<std::string>& fill = std::nullopt) {
   ConvertOptions o;
+  o.add_alpha = alpha;
+  if (fill) o.edges.colour = parse_fill_colour(*fill);
+  o.edges.soft = alpha || fill.has_value();
   o.yaw = yaw, o.pitch = pitch, o.roll = roll;
   o.interp = parse_interp(interp);
   o.engine = parse_engine(engine);
@@ -186,20 +190,25 @@ class PyPlan {
     int threads;
     std::string engine;
     std::optional<std::string> antialias;
+    bool alpha;
+    std::optional<std::string> fill;
   };
   explicit PyPlan(Params p)
       : p_(std::move(p)),
-        options_(options_of(p_.size, p_.yaw, p_.pitch, p_.roll, p_.interp, p_.threads, p_.engine, p_.antialias)),
+        options_(options_of(p_.size, p_.yaw, p_.pitch, p_.roll, p_.interp, p_.threads, p_.engine, p_.antialias, p_.alpha,
+                            p_.fill)),
         plan_(make_plan(size_pair(p_.source_size), parse_spec(p_.src), parse_spec(p_.dst), options_)),
         converter_(plan_.source, plan_.target, plan_.rotation, options_.interp, options_.engine, options_.threads,
-                   true, antialias_of(options_)) {}
+                   true, antialias_of(options_), options_.edges) {}
   const Plan& plan() const { return plan_; }
 
   py::array run(const py::object& src, std::optional<py::array> out) const {
     py::object keep;
     std::optional<ProjectionSpec> spec = parse_spec(p_.src);
-    const Image in = source_of(src, keep, spec);
-    const bool flat = py::isinstance<py::array>(src) && src.cast<py::array>().ndim() == 2;
+    const Image raw = source_of(src, keep, spec);
+    Image with_alpha;
+    const Image& in = source_for(raw, options_, with_alpha);
+    const bool flat = py::isinstance<py::array>(src) && src.cast<py::array>().ndim() == 2 && in.channels() == 1;
     if (out) {
       // Written in place: must be C-contiguous, writable, of the output's shape and dtype.
       const Size s = size_of(plan_.target);
@@ -313,7 +322,8 @@ PYBIND11_MODULE(_core, m) {
       "convert",
       [](const py::object& src_image, std::optional<std::string> src, const std::string& dst,
          std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
-         const std::string& interp, int threads, const std::string& engine, const std::optional<std::string>& antialias) {
+         const std::string& interp, int threads, const std::string& engine, const std::optional<std::string>& antialias,
+         bool alpha, const std::optional<std::string>& fill) {
         std::optional<ProjectionSpec> from = spec_of(src);
         py::object keep;
         const Image in = source_of(src_image, keep, from);
@@ -322,8 +332,8 @@ PYBIND11_MODULE(_core, m) {
                       " image is not a 2:1 equirect (give src, e.g. 'fisheye:fov=180')");
         if (!from) from = parse_spec("equirect");
         const ProjectionSpec to = parse_spec(dst);
-        const ConvertOptions o = options_of(size, yaw, pitch, roll, interp, threads, engine, antialias);
-        const bool flat = py::isinstance<py::array>(src_image) && src_image.cast<py::array>().ndim() == 2;
+        const ConvertOptions o = options_of(size, yaw, pitch, roll, interp, threads, engine, antialias, alpha, fill);
+        const bool flat = py::isinstance<py::array>(src_image) && src_image.cast<py::array>().ndim() == 2 && !alpha;
         Image out;
         {
           py::gil_scoped_release unlocked;
@@ -332,7 +342,8 @@ PYBIND11_MODULE(_core, m) {
         return array_of(std::move(out), flat);
       },
       py::arg("image"), py::arg("src"), py::arg("dst"), py::arg("size"), py::arg("yaw"), py::arg("pitch"),
-      py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"), py::arg("antialias"));
+      py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"), py::arg("antialias"),
+      py::arg("alpha") = false, py::arg("fill") = std::nullopt);
 
   m.def(
       "build_map",
@@ -359,13 +370,13 @@ PYBIND11_MODULE(_core, m) {
       .def(py::init([](const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size,
                        std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
                        const std::string& interp, int threads, const std::string& engine,
-                       std::optional<std::string> antialias) {
-             return std::make_unique<PyPlan>(
-                 PyPlan::Params{src, dst, source_size, size, yaw, pitch, roll, interp, threads, engine, antialias});
+                       std::optional<std::string> antialias, bool alpha, std::optional<std::string> fill) {
+             return std::make_unique<PyPlan>(PyPlan::Params{src, dst, source_size, size, yaw, pitch, roll, interp, threads,
+                                                            engine, antialias, alpha, fill});
            }),
            py::arg("src"), py::arg("dst"), py::arg("source_size"), py::arg("size"), py::arg("yaw"),
            py::arg("pitch"), py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"),
-           py::arg("antialias"))
+           py::arg("antialias"), py::arg("alpha") = false, py::arg("fill") = std::nullopt)
       .def("run", &PyPlan::run, py::arg("image"), py::arg("out") = std::nullopt)
       .def_property_readonly("size", [](const PyPlan& p) {
         const Size s = size_of(p.plan().target);

@@ -167,3 +167,29 @@ def test_dual_fisheye_both_ways_blended_and_cut():
     assert differ.any() and (np.abs(off_axis[differ] - 90) <= 10.5).all()
     with pytest.raises(ValueError, match="wider than the lenses' overlap of 20"):
         pp.convert(dual, pp.DualFisheye(fov=200, feather=30), "equirect", **kw)
+
+
+def test_alpha_and_fill_at_the_fields_edge():
+    """alpha=True adds an alpha channel, 0 outside a fisheye's circle and antialiased on its rim;
+    fill colours the outside and equals the alpha output over that colour; a Plan does the same
+    and pickles its edge options."""
+    img = smooth_equirect(256, 128)
+    kw = dict(size=(61, 61), interp="bilinear")
+    a = pp.convert(img, "equirect", "fisheye:fov=180", alpha=True, **kw)
+    assert a.shape == (61, 61, 4)
+    assert a[0, 0, 3] == 0 and a[30, 30, 3] == 255
+    assert ((a[..., 3] > 0) & (a[..., 3] < 255)).sum() > 50
+    f = pp.convert(img, "equirect", "fisheye:fov=180", fill=(0.25, 0.5, 0.75), **kw)
+    assert f.shape == (61, 61, 3) and tuple(f[0, 0]) == (64, 128, 191)
+    w = a[..., 3:] / 255.0
+    over = w * a[..., :3] + (1 - w) * np.array([64, 128, 191.25])
+    assert np.abs(over - f).max() <= 1.5
+    hexed = pp.convert(img, "equirect", "fisheye:fov=180", fill="#4080bf", **kw)  # 191 / 255 against 0.75
+    assert np.abs(hexed.astype(int) - f).max() <= 1
+    plan = pp.Plan("equirect", "fisheye:fov=180", (256, 128), alpha=True, **kw)
+    assert np.array_equal(plan(img), a)
+    assert np.array_equal(pickle.loads(pickle.dumps(plan))(img), a)
+    with pytest.raises(ValueError, match="fill colour 'red'"):
+        pp.convert(img, "equirect", "fisheye:fov=180", fill="red", **kw)
+    with pytest.raises(TypeError, match="fill"):
+        pp.convert(img, "equirect", "fisheye:fov=180", fill=object(), **kw)

@@ -19,7 +19,14 @@ struct ConvertOptions {
                                         // reference engine (which has none)
   std::optional<Size> size;             // output size; default: default_size() at the source's
                                         // centre density (square pixels)
+  EdgeFill edges;                       // edge_fill.hpp: pixels without a (whole) source
+  bool add_alpha = false;               // give a source without alpha an opaque one first, so
+                                        // the output has alpha (0 where it has no source)
 };
+
+// The source as the conversion takes it: with an opaque alpha channel added when add_alpha asks
+// for one and it has none (in storage), else source itself (not copied).
+const Image& source_for(const Image& source, const ConvertOptions& options, Image& storage);
 
 struct Plan {
   Projection source, target;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "panoproj/antialias.hpp"
+#include "panoproj/edge_fill.hpp"
 #include "panoproj/image.hpp"
 #include "panoproj/interpolator.hpp"
 #include "panoproj/projection.hpp"
@@ -53,8 +54,10 @@ struct EngineStats {
 // simd or scalar engine; mip builds the source's levels on each run, as far as they are read.
 class Converter {
  public:
+  // edges: what pixels without a source, or on the field's edge, get (edge_fill.hpp; by default
+  // 0, decided at pixel centres).
   Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
-            Engine engine, int threads, bool cache_map = false, Antialias antialias = {});
+            Engine engine, int threads, bool cache_map = false, Antialias antialias = {}, EdgeFill edges = {});
 
   // Throws panoproj::Error if src's size is not the source projection's. progress, if given,
   // is called from the calling thread with the fraction of tiles done.
@@ -82,6 +85,7 @@ class Converter {
  private:
   Projection source_, target_;
   Antialias antialias_;
+  EdgeFill edges_;
   std::vector<Projection> sub_targets_;  // [n]: the target at n times its size (sub-pixels)
   Eigen::Matrix3d rotation_;
   Interp interp_;

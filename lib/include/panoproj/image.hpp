@@ -99,6 +99,10 @@ class Image {
 
   bool operator==(const Image& o) const;
 
+  // A copy with one more channel, an opaque alpha (unit_of(type)), after the others; the same
+  // window. For images without alpha and with at most 3 channels.
+  Image with_alpha() const;
+
  private:
   Size size_{};
   int channels_ = 0;

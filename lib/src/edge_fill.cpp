@@ -1,0 +1,166 @@
+// Fill colours and the finishing pass over field edges (edge_fill.hpp, edge_pass.hpp).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "edge_pass.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/parallel.hpp"
+#include "panoproj/source_edges.hpp"
+#include "panoproj/tile_map.hpp"
+#include "reference_sampler.hpp"
+#include "sample_io.hpp"
+
+namespace panoproj {
+
+std::array<double, 4> parse_fill_colour(std::string_view text) {
+  const std::string t(text);
+  auto fail = [&]() -> std::array<double, 4> {
+    throw Error("fill colour '" + t + "' is not R,G,B[,A] (unit range, e.g. 1,1,1 for white) or #rrggbb[aa]");
+  };
+  std::array<double, 4> c{0, 0, 0, 1};
+  if (!t.empty() && t[0] == '#') {
+    if (t.size() != 7 && t.size() != 9) return fail();
+    for (size_t i = 0; 1 + 2 * i < t.size(); ++i) {
+      const std::string byte = t.substr(1 + 2 * i, 2);
+      char* end = nullptr;
+      const long v = std::strtol(byte.c_str(), &end, 16);
+      if (end != byte.c_str() + 2) return fail();
+      c[i] = static_cast<double>(v) / 255.0;
+    }
+    return c;
+  }
+  size_t n = 0, at = 0;
+  while (at <= t.size() && n < 4) {
+    const size_t comma = std::min(t.find(',', at), t.size());
+    const std::string part = t.substr(at, comma - at);
+    char* end = nullptr;
+    const double v = std::strtod(part.c_str(), &end);
+    if (part.empty() || end != part.c_str() + part.size() || !std::isfinite(v)) return fail();
+    c[n++] = v;
+    at = comma + 1;
+  }
+  if ((n != 3 && n != 4) || at <= t.size()) return fail();
+  return c;
+}
+
+namespace {
+
+// The edge pass for samples of type T.
+template <class T>
+void finish_typed(const Image& src, const Projection& source, const Projection& target, const Eigen::Matrix3d& rotation,
+                  Interp interp, const EdgeFill& fill, int threads, Image& out) {
+  const Size size = out.size();
+  const int nc = out.channels(), alpha = out.alpha_channel();
+  const double unit = unit_of(out.type());
+  const auto pb = static_cast<int64_t>(out.pixel_bytes());
+  const std::array<double, 4> back = fill.colour.value_or(std::array<double, 4>{0, 0, 0, 0});
+  const SourceEdges edges(source);
+  const bool whole = shows_whole_sphere(source);
+  const int64_t tiles_x = (size.width + kTile - 1) / kTile, tiles_y = (size.height + kTile - 1) / kTile;
+  // The pixel at p: A (coverage x alpha, [0, 1]) of colour c (unit range, unpremultiplied) over
+  // the background (Porter-Duff "over"; without alpha the background is opaque).
+  auto put = [&](unsigned char* p, const double* c, double A) {
+    if (alpha >= 0) {
+      const double ao = A + (1 - A) * back[3];
+      for (int ch = 0; ch < nc; ++ch) {
+        if (ch == alpha) continue;
+        const int bc = ch < alpha ? ch : ch - 1;  // background colour channel
+        store<T>(p + ch * sizeof(T), ao > 0 ? (A * c[ch] + (1 - A) * back[3] * back[bc]) / ao * unit : 0.0);
+      }
+      store<T>(p + alpha * sizeof(T), ao * unit);
+    } else {
+      for (int ch = 0; ch < nc; ++ch) store<T>(p + ch * sizeof(T), (A * c[ch] + (1 - A) * back[ch]) * unit);
+    }
+  };
+  parallel_tasks(tiles_x * tiles_y, threads, [&](int64_t t, int) {
+    const int64_t x0 = (t % tiles_x) * kTile, y0 = (t / tiles_x) * kTile;
+    const int64_t x1 = std::min(size.width, x0 + kTile), y1 = std::min(size.height, y0 + kTile);
+    // With a one-pixel apron: an edge pixel's neighbours may lie in the next tile.
+    const TileRect ra{std::max<int64_t>(0, x0 - 1), std::max<int64_t>(0, y0 - 1), 0, 0};
+    const TileRect apron{ra.x0, ra.y0, std::min(size.width, x1 + 1) - ra.x0, std::min(size.height, y1 + 1) - ra.y0};
+    const bool composite = fill.colour && alpha >= 0;  // translucent pixels go over the colour too
+    const bool covered = std::visit(
+        [&](const auto& q) {
+          return q.covers(static_cast<double>(apron.x0) + 0.5, static_cast<double>(apron.y0) + 0.5,
+                          static_cast<double>(apron.x0 + apron.w) - 0.5, static_cast<double>(apron.y0 + apron.h) - 0.5);
+        },
+        target);
+    if (whole && covered && !composite) return;
+    TileMap tm;
+    map_tile(source, target, rotation, apron, tm);
+    auto valid = [&](int64_t x, int64_t y) {
+      if (x < apron.x0 || y < apron.y0 || x >= apron.x0 + apron.w || y >= apron.y0 + apron.h) return -1;
+      return static_cast<int>(tm.ok[static_cast<size_t>((y - apron.y0) * apron.w + (x - apron.x0))]);
+    };
+    std::vector<unsigned char> subs(static_cast<size_t>(16 * pb));
+    double xs[16], ys[16];
+    uint8_t ok[16];
+    double c[4] = {0, 0, 0, 0};
+    for (int64_t y = y0; y < y1; ++y)
+      for (int64_t x = x0; x < x1; ++x) {
+        unsigned char* p = out.pixel(x, y);
+        const int v = valid(x, y);
+        bool edge = false;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int n = valid(x + dx, y + dy);
+            edge |= n >= 0 && n != v;
+          }
+        // On the frame's border the field may end inside the pixel with no neighbour to show it
+        // (a circle touching the frame): its corners tell.
+        if (!edge && v && fill.soft && (x == 0 || y == 0 || x == size.width - 1 || y == size.height - 1))
+          for (int q = 0; q < 4 && !edge; ++q) {
+            Ray d;
+            double sx, sy;
+            edge = !(to_ray(target, static_cast<double>(x + q % 2), static_cast<double>(y + q / 2), d) &&
+                     to_pixel(source, rotation * d, sx, sy));
+          }
+        if (!edge || !fill.soft) {
+          if (v && composite) {  // a pixel of the source, over the colour where translucent
+            const double A = load<T>(p + alpha * sizeof(T)) / unit;
+            for (int ch = 0; ch < nc; ++ch) c[ch] = load<T>(p + ch * sizeof(T)) / unit;
+            if (A < 1) put(p, c, A);
+          } else if (!v && fill.colour) {
+            const double none[4] = {0, 0, 0, 0};
+            put(p, none, 0.0);
+          }
+          continue;
+        }
+        // The 4x4 sub-positions: their sources, sampled as the converter would.
+        for (int q = 0; q < 16; ++q) {
+          Ray d;
+          ok[q] = to_ray(target, static_cast<double>(x) + (q % 4 + 0.5) / 4, static_cast<double>(y) + (q / 4 + 0.5) / 4, d) &&
+                  to_pixel(source, rotation * d, xs[q], ys[q]);
+        }
+        sample_reference(src, edges, interp, xs, ys, ok, 16, subs.data());
+        double sum[4] = {0, 0, 0, 0}, sum_a = 0;
+        int n = 0;
+        for (int q = 0; q < 16; ++q) {
+          if (!ok[q]) continue;
+          ++n;
+          const unsigned char* s = subs.data() + q * pb;
+          const double a = alpha >= 0 ? load<T>(s + alpha * sizeof(T)) / unit : 1.0;
+          sum_a += a;
+          for (int ch = 0; ch < nc; ++ch) sum[ch] += ch == alpha ? a : a * load<T>(s + ch * sizeof(T)) / unit;
+        }
+        for (int ch = 0; ch < nc; ++ch) c[ch] = sum_a > 0 ? sum[ch] / sum_a : 0.0;
+        put(p, c, sum_a / 16.0);  // coverage n / 16 times the mean alpha sum_a / n
+      }
+  });
+}
+
+}  // namespace
+
+void finish_edges(const Image& src, const Projection& source, const Projection& target, const Eigen::Matrix3d& rotation,
+                  Interp interp, const EdgeFill& fill, int threads, Image& out) {
+  if (!fill.active()) return;
+  with_sample_type(out.type(), [&](auto t) {
+    finish_typed<decltype(t)>(src, source, target, rotation, interp, fill, threads, out);
+  });
+}
+
+}  // namespace panoproj
