@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "panoproj/tile_map.hpp"
 #include "reference_sampler.hpp"
 #include "sample_io.hpp"
+#include "simd_geometry.hpp"
 
 namespace panoproj {
 
@@ -76,6 +78,10 @@ void finish_typed(const Image& src, const Projection& source, const Projection& 
       for (int ch = 0; ch < nc; ++ch) store<T>(p + ch * sizeof(T), (A * c[ch] + (1 - A) * back[ch]) * unit);
     }
   };
+  // The fill colour as a pixel of the output's type.
+  std::vector<unsigned char> background(static_cast<size_t>(pb));
+  const double none[4] = {0, 0, 0, 0};
+  put(background.data(), none, 0.0);
   parallel_tasks(tiles_x * tiles_y, threads, [&](int64_t t, int) {
     const int64_t x0 = (t % tiles_x) * kTile, y0 = (t / tiles_x) * kTile;
     const int64_t x1 = std::min(size.width, x0 + kTile), y1 = std::min(size.height, y0 + kTile);
@@ -83,6 +89,7 @@ void finish_typed(const Image& src, const Projection& source, const Projection& 
     const TileRect ra{std::max<int64_t>(0, x0 - 1), std::max<int64_t>(0, y0 - 1), 0, 0};
     const TileRect apron{ra.x0, ra.y0, std::min(size.width, x1 + 1) - ra.x0, std::min(size.height, y1 + 1) - ra.y0};
     const bool composite = fill.colour && alpha >= 0;  // translucent pixels go over the colour too
+    const bool frame_edge = x0 == 0 || y0 == 0 || x1 == size.width || y1 == size.height;
     const bool covered = std::visit(
         [&](const auto& q) {
           return q.covers(static_cast<double>(apron.x0) + 0.5, static_cast<double>(apron.y0) + 0.5,
@@ -90,8 +97,20 @@ void finish_typed(const Image& src, const Projection& source, const Projection& 
         },
         target);
     if (whole && covered && !composite) return;
+    // The validity in SIMD where the pair has it (the same as the exact map's), else mapped.
     TileMap tm;
-    map_tile(source, target, rotation, apron, tm);
+    if (SimdGeometry g; simd_geometry_for(source, target, rotation, apron, g)) simd_map_tile(g, apron, tm);
+    else map_tile(source, target, rotation, apron, tm);
+    // Tiles wholly without a source (the fill, or nothing) or wholly with one (nothing, unless
+    // translucent pixels go over the colour) need no pixel-by-pixel look.
+    const auto n_ok = std::count(tm.ok.begin(), tm.ok.end(), uint8_t{1});
+    if (n_ok == 0) {
+      if (fill.colour)
+        for (int64_t y = y0; y < y1; ++y)
+          for (int64_t x = x0; x < x1; ++x) std::memcpy(out.pixel(x, y), background.data(), static_cast<size_t>(pb));
+      return;
+    }
+    if (n_ok == static_cast<int64_t>(tm.ok.size()) && !composite && !(fill.soft && frame_edge)) return;
     auto valid = [&](int64_t x, int64_t y) {
       if (x < apron.x0 || y < apron.y0 || x >= apron.x0 + apron.w || y >= apron.y0 + apron.h) return -1;
       return static_cast<int>(tm.ok[static_cast<size_t>((y - apron.y0) * apron.w + (x - apron.x0))]);
@@ -125,8 +144,7 @@ void finish_typed(const Image& src, const Projection& source, const Projection& 
             for (int ch = 0; ch < nc; ++ch) c[ch] = load<T>(p + ch * sizeof(T)) / unit;
             if (A < 1) put(p, c, A);
           } else if (!v && fill.colour) {
-            const double none[4] = {0, 0, 0, 0};
-            put(p, none, 0.0);
+            std::memcpy(p, background.data(), static_cast<size_t>(pb));
           }
           continue;
         }
