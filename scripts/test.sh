@@ -5,7 +5,8 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-"$root/build"}
 # The Python module builds against the venv's pybind11 >= 2.12 and numpy (scripts/python-env.sh).
-bash "$root/scripts/install-deps.sh"
+# exiftool: a second reader of the Photo Sphere XMP panoproj writes (test oracle only).
+bash "$root/scripts/install-deps.sh" libimage-exiftool-perl
 read -ra py_args < <(bash "$root/scripts/python-env.sh" --cmake-args)
 bash "$root/scripts/build.sh" "$build" "${py_args[@]}"
 ctest --test-dir "$build" --output-on-failure -j 2

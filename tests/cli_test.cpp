@@ -150,7 +150,7 @@ TEST_F(Cli, TiltedPhotoSpheresAreLevelledByTheirPose) {
     fs::copy_file(p("plain.jpg"), p(name));
     PhotoSphere ps = photo_sphere_of(full);
     ps.pose_pitch = pitch, ps.pose_roll = roll;
-    add_jpeg_xmp(p(name), photo_sphere_xmp(ps));
+    add_xmp(p(name), photo_sphere_xmp(ps));
   };
   posed("pitched.jpg", 10, 0);
   posed("rolled.jpg", 0, 7);

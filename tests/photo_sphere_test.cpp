@@ -17,9 +17,10 @@ namespace {
 
 class PhotoSphereTest : public test::TempDirTest {
  protected:
-  std::string jpeg(const std::string& name, const std::string& xmp) {
+  // An image file (JPEG or PNG, by the name) carrying xmp.
+  std::string file(const std::string& name, const std::string& xmp) {
     WriteOptions w;
-    w.jpeg_xmp = xmp;
+    w.xmp = xmp;
     write_image(Image({64, 32}, 3, PixelType::U8), path(name), w);
     return path(name);
   }
@@ -33,7 +34,7 @@ bool same(const PhotoSphere& a, const PhotoSphere& b) {
 
 TEST_F(PhotoSphereTest, WrittenFieldsReadBack) {
   const PhotoSphere ps{"equirectangular", 8000, 4000, 3000, 1500, 7000, 1200, -12.5, 3.25};
-  const auto back = read_photo_sphere(jpeg("a.jpg", photo_sphere_xmp(ps)));
+  const auto back = read_photo_sphere(file("a.jpg", photo_sphere_xmp(ps)));
   ASSERT_TRUE(back.has_value());
   EXPECT_TRUE(same(*back, ps));
   EXPECT_EQ(back->pose_pitch, -12.5);
@@ -41,8 +42,14 @@ TEST_F(PhotoSphereTest, WrittenFieldsReadBack) {
   // The pose's rotation: the camera's axis pitched down 12.5 degrees (+y is down).
   const Ray axis = photo_sphere_pose(*back) * Ray(0, 0, 1);
   EXPECT_NEAR(std::asin(axis.y()), deg2rad(12.5), 1e-12);
-  // Without a packet, or a PNG: none.
-  EXPECT_FALSE(read_photo_sphere(jpeg("b.jpg", "")).has_value());
+  // The same in a PNG (an iTXt chunk), which OpenImageIO still reads as an image.
+  const auto png = read_photo_sphere(file("a.png", photo_sphere_xmp(ps)));
+  ASSERT_TRUE(png.has_value());
+  EXPECT_TRUE(same(*png, ps));
+  EXPECT_EQ(png->pose_roll, 3.25);
+  EXPECT_EQ(read_image(path("a.png")).width(), 64);
+  // Without a packet: none.
+  EXPECT_FALSE(read_photo_sphere(file("b.jpg", "")).has_value());
   write_image(Image({8, 4}, 3, PixelType::U8), path("c.png"), {});
   EXPECT_FALSE(read_photo_sphere(path("c.png")).has_value());
 }
@@ -53,7 +60,7 @@ TEST_F(PhotoSphereTest, ElementFormAndDefaults) {
       "<x:xmpmeta xmlns:x=\"adobe:ns:meta/\"><rdf:RDF><rdf:Description xmlns:GPano=\"http://ns.google.com/photos/1.0/panorama/\">"
       "<GPano:ProjectionType>equirectangular</GPano:ProjectionType><GPano:FullPanoWidthPixels>4096</GPano:FullPanoWidthPixels>"
       "</rdf:Description></rdf:RDF></x:xmpmeta>";
-  const auto ps = read_photo_sphere(jpeg("e.jpg", xmp));
+  const auto ps = read_photo_sphere(file("e.jpg", xmp));
   ASSERT_TRUE(ps.has_value());
   EXPECT_TRUE(same(*ps, PhotoSphere{"equirectangular", 4096, 2048, 4096, 2048, 0, 0}));
   EXPECT_EQ(parse_spec(photo_sphere_spec(*ps, {4096, 2048})).str(), parse_spec("equirect:hfov=360,vfov=180,lon0=0,lat0=0").str());

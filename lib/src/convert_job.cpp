@@ -186,7 +186,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     if (job.keep_metadata && !in_faces) write.metadata = carried_metadata(job.inputs[n]);
     // Equirect outputs say where they sit in the sphere (Photo Sphere XMP, read by viewers).
     if (const auto* e = std::get_if<Equirect>(&plan.target); e && job.keep_metadata)
-      write.jpeg_xmp = photo_sphere_xmp(photo_sphere_of(*e));
+      write.xmp = photo_sphere_xmp(photo_sphere_of(*e));
     if (out_faces) write_cube_faces(out, outputs[n], write);
     else write_image(out, outputs[n], write);
     auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };

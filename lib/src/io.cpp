@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <climits>
 #include <cstdio>
@@ -292,9 +293,11 @@ void write_image(const Image& image, const std::string& path, const WriteOptions
   const std::string tmp = temp_path(path);
   write_file(image, tmp, path, options);
   const std::string ext = fs::path(path).extension().string();
-  if (!options.jpeg_xmp.empty() && (ext == ".jpg" || ext == ".jpeg" || ext == ".JPG" || ext == ".JPEG")) {
+  std::string lower = ext;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (!options.xmp.empty() && (lower == ".jpg" || lower == ".jpeg" || lower == ".png")) {
     try {
-      add_jpeg_xmp(tmp, options.jpeg_xmp);
+      add_xmp(tmp, options.xmp);
     } catch (...) {
       std::error_code ec;
       fs::remove(tmp, ec);

@@ -1,6 +1,8 @@
 #include "panoproj/photo_sphere.hpp"
 
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -42,6 +44,58 @@ std::string jpeg_xmp(const std::string& b) {
   return {};
 }
 
+constexpr char kPngSignature[] = "\x89PNG\r\n\x1a\n";       // 8 bytes
+constexpr char kPngXmpKeyword[] = "XML:com.adobe.xmp";  // the iTXt chunk holding XMP (with its NUL)
+
+uint32_t be32(const std::string& b, size_t at) {
+  return (static_cast<uint32_t>(static_cast<unsigned char>(b[at])) << 24) |
+         (static_cast<uint32_t>(static_cast<unsigned char>(b[at + 1])) << 16) |
+         (static_cast<uint32_t>(static_cast<unsigned char>(b[at + 2])) << 8) | static_cast<unsigned char>(b[at + 3]);
+}
+
+// The XMP packet of PNG bytes, or "": an uncompressed iTXt chunk "XML:com.adobe.xmp" before the
+// image data (keyword NUL, compression flag and method, language NUL, translated keyword NUL, text;
+// PNG specification 11.3.4.5).
+std::string png_xmp(const std::string& b) {
+  if (b.compare(0, 8, std::string(kPngSignature, 8)) != 0) return {};
+  for (size_t i = 8; i + 12 <= b.size();) {
+    const size_t len = be32(b, i);
+    const std::string type = b.substr(i + 4, 4);
+    if (type == "IDAT" || type == "IEND" || len > b.size() - i - 12) break;
+    const size_t key = sizeof kPngXmpKeyword;  // with its NUL
+    if (type == "iTXt" && len > key + 2 && b.compare(i + 8, key, std::string(kPngXmpKeyword, key)) == 0 &&
+        b[i + 8 + key] == 0) {
+      size_t at = i + 8 + key + 2;  // past the flag and method
+      const size_t end = i + 8 + len;
+      for (int nul = 0; nul < 2 && at < end; ++at) nul += b[at] == 0;  // language, translated keyword
+      return at <= end ? b.substr(at, end - at) : std::string();
+    }
+    i += 12 + len;
+  }
+  return {};
+}
+
+// CRC-32 of PNG chunks (ISO 3309, the PNG specification's Annex D), over type and data.
+uint32_t crc32(const std::string& bytes) {
+  static const auto table = [] {
+    std::array<uint32_t, 256> t{};
+    for (uint32_t n = 0; n < 256; ++n) {
+      uint32_t c = n;
+      for (int k = 0; k < 8; ++k) c = c & 1 ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[n] = c;
+    }
+    return t;
+  }();
+  uint32_t c = 0xFFFFFFFFu;
+  for (const char ch : bytes) c = table[(c ^ static_cast<unsigned char>(ch)) & 0xFF] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+std::string be32_bytes(uint32_t v) {
+  return {static_cast<char>(v >> 24), static_cast<char>((v >> 16) & 0xFF), static_cast<char>((v >> 8) & 0xFF),
+          static_cast<char>(v & 0xFF)};
+}
+
 // GPano:name as an attribute (GPano:name="v") or an element (<GPano:name>v</GPano:name>).
 std::optional<std::string> field(const std::string& xmp, const std::string& name) {
   const std::string key = "GPano:" + name;
@@ -79,10 +133,13 @@ int64_t integer(const std::string& xmp, const char* name, int64_t fallback) {
 }  // namespace
 
 std::optional<PhotoSphere> read_photo_sphere(const std::string& path) {
-  // The segments before the image data: the XMP packet comes early (4 MB leave room for EXIF,
-  // ICC profiles and thumbnails before it). Other formats: the signature alone is read.
-  if (slurp(path, 2) != "\xFF\xD8") return std::nullopt;
-  const std::string xmp = jpeg_xmp(slurp(path, size_t{4} << 20));
+  // The segments or chunks before the image data: the XMP packet comes early (4 MB leave room
+  // for EXIF, ICC profiles and thumbnails before it). Other formats: the signature alone is read.
+  const std::string signature = slurp(path, 8);
+  const bool jpeg = signature.compare(0, 2, "\xFF\xD8") == 0, png = signature == std::string(kPngSignature, 8);
+  if (!jpeg && !png) return std::nullopt;
+  const std::string head = slurp(path, size_t{4} << 20);
+  const std::string xmp = jpeg ? jpeg_xmp(head) : png_xmp(head);
   if (xmp.empty()) return std::nullopt;
   const auto type = field(xmp, "ProjectionType");
   if (!type) return std::nullopt;
@@ -169,8 +226,19 @@ std::string photo_sphere_xmp(const PhotoSphere& ps) {
   return o.str();
 }
 
-void add_jpeg_xmp(const std::string& jpeg_path, const std::string& xmp) {
-  const std::string b = slurp(jpeg_path);
+void add_xmp(const std::string& path, const std::string& xmp) {
+  const std::string b = slurp(path);
+  if (b.compare(0, 8, std::string(kPngSignature, 8)) == 0) {
+    // An iTXt chunk right after IHDR (the first chunk: 8 + 25 bytes).
+    if (b.size() < 33 || b.compare(12, 4, "IHDR") != 0) throw Error("cannot add XMP to " + path + " (a damaged PNG)");
+    std::string chunk = std::string("iTXt") + std::string(kPngXmpKeyword, sizeof kPngXmpKeyword) + std::string(4, '\0') + xmp;
+    chunk = be32_bytes(static_cast<uint32_t>(chunk.size() - 4)) + chunk + be32_bytes(crc32(chunk));
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << b.substr(0, 33) << chunk << b.substr(33);
+    if (!out) throw Error("cannot write " + path + " (disk full or not writable)");
+    return;
+  }
+  const std::string& jpeg_path = path;
   const size_t payload = sizeof kXmpHeader + xmp.size();
   if (b.size() < 2 || static_cast<unsigned char>(b[0]) != 0xFF || static_cast<unsigned char>(b[1]) != 0xD8 ||
       payload + 2 > 0xFFFF)

@@ -26,7 +26,7 @@ struct WriteOptions {
   std::optional<PixelType> type;  // convert samples before writing; default: keep
   std::vector<std::string> channel_names;  // default: the format's (R, G, B, A)
   Metadata metadata;  // written where the format has a place for them, else dropped by it
-  std::string jpeg_xmp;  // an XMP packet added to a JPEG output (photo_sphere.hpp); other formats: none
+  std::string xmp;  // an XMP packet added to a JPEG or PNG output (photo_sphere.hpp); other formats: none
 };
 
 Image read_image(const std::string& path);

@@ -1,8 +1,9 @@
 #pragma once
 // Google's Photo Sphere XMP (the GPano namespace, developers.google.com/streetview/spherical-
 // metadata): how a (possibly cropped) equirect sits in its full panorama. OpenImageIO does not
-// decode this namespace, so panoproj reads and writes the XMP packet of JPEG files itself (an
-// APP1 segment "http://ns.adobe.com/xap/1.0/").
+// decode this namespace, so panoproj reads and writes the XMP packet of JPEG files (an APP1
+// segment "http://ns.adobe.com/xap/1.0/") and PNG files (an iTXt chunk "XML:com.adobe.xmp")
+// itself.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -27,8 +28,8 @@ struct PhotoSphere {
 // A conversion levels the panorama with its transpose before the view's own rotation.
 Eigen::Matrix3d photo_sphere_pose(const PhotoSphere& ps);
 
-// The GPano fields of a JPEG's XMP; none if the file has no XMP packet with the equirect's
-// fields (other files: none). Throws panoproj::Error if the file cannot be read.
+// The GPano fields of a JPEG's or PNG's XMP; none if the file has no XMP packet with the
+// equirect's fields (other files: none). Throws panoproj::Error if the file cannot be read.
 std::optional<PhotoSphere> read_photo_sphere(const std::string& path);
 
 // The spec of an image of `size` carrying `ps`: its crop as a partial equirect (the crop may be
@@ -39,9 +40,10 @@ std::string photo_sphere_spec(const PhotoSphere& ps, Size size);
 // The fields describing an equirect projection (full or partial) on its own frame.
 PhotoSphere photo_sphere_of(const Equirect& e);
 
-// The XMP packet (an XML document) holding ps's fields, and its insertion into a JPEG file as an
-// APP1 segment after its JFIF and EXIF segments (replacing none: a new file has no XMP).
+// The XMP packet (an XML document) holding ps's fields, and its insertion into a JPEG file (an
+// APP1 segment after its JFIF and EXIF segments) or a PNG file (an iTXt chunk after IHDR),
+// replacing none: a new file has no XMP. Throws panoproj::Error for other files.
 std::string photo_sphere_xmp(const PhotoSphere& ps);
-void add_jpeg_xmp(const std::string& jpeg_path, const std::string& xmp);
+void add_xmp(const std::string& path, const std::string& xmp);
 
 }  // namespace panoproj
