@@ -86,8 +86,8 @@ void finish_typed(const Image& src, const Projection& source, const Projection& 
     const int64_t x0 = (t % tiles_x) * kTile, y0 = (t / tiles_x) * kTile;
     const int64_t x1 = std::min(size.width, x0 + kTile), y1 = std::min(size.height, y0 + kTile);
     // With a one-pixel apron: an edge pixel's neighbours may lie in the next tile.
-    const TileRect ra{std::max<int64_t>(0, x0 - 1), std::max<int64_t>(0, y0 - 1), 0, 0};
-    const TileRect apron{ra.x0, ra.y0, std::min(size.width, x1 + 1) - ra.x0, std::min(size.height, y1 + 1) - ra.y0};
+    const int64_t ax0 = std::max<int64_t>(0, x0 - 1), ay0 = std::max<int64_t>(0, y0 - 1);
+    const TileRect apron{ax0, ay0, std::min(size.width, x1 + 1) - ax0, std::min(size.height, y1 + 1) - ay0};
     const bool composite = fill.colour && alpha >= 0;  // translucent pixels go over the colour too
     const bool frame_edge = x0 == 0 || y0 == 0 || x1 == size.width || y1 == size.height;
     const bool covered = std::visit(
