@@ -111,33 +111,51 @@ void finish_typed(const Image& src, const Projection& source, const Projection& 
       return;
     }
     if (n_ok == static_cast<int64_t>(tm.ok.size()) && !composite && !(fill.soft && frame_edge)) return;
-    auto valid = [&](int64_t x, int64_t y) {
-      if (x < apron.x0 || y < apron.y0 || x >= apron.x0 + apron.w || y >= apron.y0 + apron.h) return -1;
-      return static_cast<int>(tm.ok[static_cast<size_t>((y - apron.y0) * apron.w + (x - apron.x0))]);
+    // Whether each pixel's 3x3 neighbourhood (within the frame) is uniform: the validity's
+    // minimum and maximum over 3 columns, then over 3 rows.
+    const int64_t aw = apron.w, ah = apron.h;
+    std::vector<uint8_t> lo(tm.ok.size()), hi(tm.ok.size());
+    for (int64_t r = 0; r < ah; ++r)
+      for (int64_t i = 0; i < aw; ++i) {
+        const uint8_t* row = tm.ok.data() + r * aw;
+        const int64_t a = std::max<int64_t>(i - 1, 0), b = std::min(i + 1, aw - 1);
+        lo[static_cast<size_t>(r * aw + i)] = std::min({row[a], row[i], row[b]});
+        hi[static_cast<size_t>(r * aw + i)] = std::max({row[a], row[i], row[b]});
+      }
+    auto uniform = [&](int64_t x, int64_t y) {
+      const int64_t r = y - ay0, i = x - ax0, a = std::max<int64_t>(r - 1, 0), b = std::min(r + 1, ah - 1);
+      const auto at = [&](int64_t rr) { return static_cast<size_t>(rr * aw + i); };
+      return std::min({lo[at(a)], lo[at(r)], lo[at(b)]}) == std::max({hi[at(a)], hi[at(r)], hi[at(b)]});
     };
     std::vector<unsigned char> subs(static_cast<size_t>(16 * pb));
     double xs[16], ys[16];
     uint8_t ok[16];
     double c[4] = {0, 0, 0, 0};
+    // Whether the pixel corners (cx, cy) in [x0, x1] x [y0, y1] have a source, computed once each.
+    std::vector<int8_t> corners(static_cast<size_t>((x1 - x0 + 1) * (y1 - y0 + 1)), -1);
+    auto corner = [&](int64_t cx, int64_t cy) {
+      int8_t& k = corners[static_cast<size_t>((cy - y0) * (x1 - x0 + 1) + (cx - x0))];
+      if (k < 0) {
+        Ray d;
+        double sx, sy;
+        k = to_ray(target, static_cast<double>(cx), static_cast<double>(cy), d) && to_pixel(source, rotation * d, sx, sy);
+      }
+      return static_cast<int>(k);
+    };
     for (int64_t y = y0; y < y1; ++y)
       for (int64_t x = x0; x < x1; ++x) {
         unsigned char* p = out.pixel(x, y);
-        const int v = valid(x, y);
-        bool edge = false;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int n = valid(x + dx, y + dy);
-            edge |= n >= 0 && n != v;
-          }
-        // On the frame's border the field may end inside the pixel with no neighbour to show it
-        // (a circle touching the frame): its corners tell.
-        if (!edge && v && fill.soft && (x == 0 || y == 0 || x == size.width - 1 || y == size.height - 1))
-          for (int q = 0; q < 4 && !edge; ++q) {
-            Ray d;
-            double sx, sy;
-            edge = !(to_ray(target, static_cast<double>(x + q % 2), static_cast<double>(y + q / 2), d) &&
-                     to_pixel(source, rotation * d, sx, sy));
-          }
+        const int v = tm.ok[static_cast<size_t>((y - ay0) * aw + (x - ax0))];
+        // A candidate: a neighbour's centre differs, or the frame's border (where the field may
+        // end inside the pixel with no neighbour to show it). The field's edge crosses it where a
+        // corner differs from the centre (a smooth edge entering and leaving by one side cuts a
+        // sliver of 1 / (8 R) px, R its radius of curvature in px).
+        bool edge = (fill.soft && (x == 0 || y == 0 || x == size.width - 1 || y == size.height - 1)) || !uniform(x, y);
+        if (edge && fill.soft) {
+          bool cut = false;
+          for (int q = 0; q < 4 && !cut; ++q) cut = corner(x + q % 2, y + q / 2) != v;
+          edge = cut;
+        }
         if (!edge || !fill.soft) {
           if (v && composite) {  // a pixel of the source, over the colour where translucent
             const double A = load<T>(p + alpha * sizeof(T)) / unit;
