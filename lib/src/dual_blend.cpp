@@ -1,10 +1,10 @@
 #include "dual_blend.hpp"
 
-#include <Imath/half.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+
+#include "sample_io.hpp"
 
 namespace panoproj {
 namespace {
@@ -20,10 +20,8 @@ std::vector<int64_t> node_offsets(int64_t n) {
 double angle_between(const Ray& a, const Ray& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 
 template <class T>
-void blend_typed(const float* w, const TileRect& rect, int nc, int alpha, unsigned char* a, int64_t as,
+void blend_typed(const float* w, const TileRect& rect, float unit, int nc, int alpha, unsigned char* a, int64_t as,
                  const unsigned char* b, int64_t bs) {
-  const float unit = static_cast<float>(
-      unit_of(std::is_same_v<T, uint8_t> ? PixelType::U8 : std::is_same_v<T, uint16_t> ? PixelType::U16 : PixelType::F32));
   // The results are convex combinations of two samples, so within their type's range: integers
   // round by adding 1/2.
   auto store = [](T* p, float v) {
@@ -134,12 +132,10 @@ int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Ma
 
 void blend_lenses(const float* w, const TileRect& rect, PixelType type, int channels, int alpha, unsigned char* a,
                   int64_t a_stride, const unsigned char* b, int64_t b_stride) {
-  switch (type) {
-    case PixelType::U8: return blend_typed<uint8_t>(w, rect, channels, alpha, a, a_stride, b, b_stride);
-    case PixelType::U16: return blend_typed<uint16_t>(w, rect, channels, alpha, a, a_stride, b, b_stride);
-    case PixelType::F16: return blend_typed<Imath::half>(w, rect, channels, alpha, a, a_stride, b, b_stride);
-    case PixelType::F32: return blend_typed<float>(w, rect, channels, alpha, a, a_stride, b, b_stride);
-  }
+  const auto unit = static_cast<float>(unit_of(type));
+  with_sample_type(type, [&](auto t) {
+    blend_typed<decltype(t)>(w, rect, unit, channels, alpha, a, a_stride, b, b_stride);
+  });
 }
 
 }  // namespace panoproj

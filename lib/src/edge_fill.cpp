@@ -135,11 +135,8 @@ void finish_typed(const Image& src, const Projection& source, const Projection& 
     std::vector<int8_t> corners(static_cast<size_t>((x1 - x0 + 1) * (y1 - y0 + 1)), -1);
     auto corner = [&](int64_t cx, int64_t cy) {
       int8_t& k = corners[static_cast<size_t>((cy - y0) * (x1 - x0 + 1) + (cx - x0))];
-      if (k < 0) {
-        Ray d;
-        double sx, sy;
-        k = to_ray(target, static_cast<double>(cx), static_cast<double>(cy), d) && to_pixel(source, rotation * d, sx, sy);
-      }
+      double sx, sy;
+      if (k < 0) k = source_pixel(source, target, rotation, static_cast<double>(cx), static_cast<double>(cy), sx, sy);
       return static_cast<int>(k);
     };
     for (int64_t y = y0; y < y1; ++y)
@@ -167,11 +164,9 @@ void finish_typed(const Image& src, const Projection& source, const Projection& 
           continue;
         }
         // The 4x4 sub-positions: their sources, sampled as the converter would.
-        for (int q = 0; q < 16; ++q) {
-          Ray d;
-          ok[q] = to_ray(target, static_cast<double>(x) + (q % 4 + 0.5) / 4, static_cast<double>(y) + (q / 4 + 0.5) / 4, d) &&
-                  to_pixel(source, rotation * d, xs[q], ys[q]);
-        }
+        for (int q = 0; q < 16; ++q)
+          ok[q] = source_pixel(source, target, rotation, static_cast<double>(x) + (q % 4 + 0.5) / 4,
+                               static_cast<double>(y) + (q / 4 + 0.5) / 4, xs[q], ys[q]);
         sample_reference(src, edges, interp, xs, ys, ok, 16, subs.data());
         double sum[4] = {0, 0, 0, 0}, sum_a = 0;
         int n = 0;

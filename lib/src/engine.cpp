@@ -291,11 +291,10 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     int face = -2;
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 3; ++i) {
-        Ray d;
         double x, y;
         const double px = static_cast<double>(rect.x0) + 0.5 + 0.5 * i * static_cast<double>(rect.w - 1);
         const double py = static_cast<double>(rect.y0) + 0.5 + 0.5 * j * static_cast<double>(rect.h - 1);
-        if (!(to_ray(target_, px, py, d) && to_pixel(source_, rotation_ * d, x, y))) {
+        if (!source_pixel(source_, target_, rotation_, px, py, x, y)) {
           all_mapped = false;
           continue;
         }

@@ -8,6 +8,7 @@
 #include <new>
 
 #include "panoproj/error.hpp"
+#include "sample_io.hpp"
 
 namespace panoproj {
 
@@ -116,18 +117,8 @@ Image Image::with_alpha() const {
   Image out(size_, channels_ + 1, type_, channels_, Unfilled{});
   out.set_window(ox_, oy_, frame_size());
   const size_t sb = bytes_of(type_), pb = pixel_bytes(), ob = out.pixel_bytes();
-  // The opaque value's bytes in the sample type.
-  unsigned char one[4] = {};
-  switch (type_) {
-    case PixelType::U8: one[0] = 0xFF; break;
-    case PixelType::U16: one[0] = one[1] = 0xFF; break;
-    case PixelType::F16: one[1] = 0x3C; break;  // 1.0 in half: 0x3C00
-    case PixelType::F32: {
-      const float f = 1.0f;
-      std::memcpy(one, &f, 4);
-      break;
-    }
-  }
+  unsigned char one[4] = {};  // the opaque value's bytes in the sample type
+  with_sample_type(type_, [&](auto t) { store<decltype(t)>(one, unit_of(type_)); });
   for (int64_t y = 0; y < size_.height; ++y) {
     const unsigned char* s = row(y);
     unsigned char* d = out.row(y);

@@ -660,8 +660,6 @@ void Chunked(const SimdSource& s, Interp interp, const TileRect& rect, int64_t b
   }
 }
 
-int TapCount(Interp k) { return support(k); }
-
 // Calls F<PT, T, K>::run(args...) for the source's type and the kernel.
 template <template <PixelType, class, int> class F, class... A>
 void Dispatch(PixelType t, Interp k, A&&... args) {
@@ -690,7 +688,7 @@ void SampleMap(const SimdSource& source, Interp k, const TileMap& tm, unsigned c
   s.dering = derings(k);
   const auto N = static_cast<int64_t>(hn::Lanes(DD()));
   Chunked(s, k, tm.rect, (tm.rect.w + N - 1) / N, out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
-    return PlanMapRows(s, TapCount(k), tm, j0, j1, blk, misses);
+    return PlanMapRows(s, support(k), tm, j0, j1, blk, misses);
   });
 }
 
@@ -702,7 +700,7 @@ void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& sour
   const TileRows rows(g, rect);
   // A coarse float vector becomes NF / ND double blocks.
   Chunked(s, k, rect, (rect.w + NF - 1) / NF * ((NF + ND - 1) / ND), out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
-    return PlanFusedRows(s, TapCount(k), rows, rect, j0, j1, blk, misses);
+    return PlanFusedRows(s, support(k), rows, rect, j0, j1, blk, misses);
   });
 }
 

@@ -8,13 +8,6 @@
 namespace panoproj {
 namespace {
 
-bool exact(const Projection& src, const Projection& dst, const Eigen::Matrix3d& r, double px,
-           double py, double& sx, double& sy) {
-  Ray d;
-  if (!to_ray(dst, px, py, d)) return false;
-  return to_pixel(src, r * d, sx, sy);
-}
-
 // Cubic Lagrange weights through nodes at t = -1, 0, 1, 2 (cell units), at t = i / kCell.
 struct Lagrange {
   double w[kCell + 1][4];
@@ -49,7 +42,7 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
   for (int64_t j = 0; j < ny; ++j)
     for (int64_t i = 0; i < nx; ++i) {
       const size_t k = static_cast<size_t>(j * nx + i);
-      nok[k] = exact(src, dst, rotation, static_cast<double>(rect.x0 + (i - 1) * kCell) + 0.5,
+      nok[k] = source_pixel(src, dst, rotation, static_cast<double>(rect.x0 + (i - 1) * kCell) + 0.5,
                      static_cast<double>(rect.y0 + (j - 1) * kCell) + 0.5, nxs[k], nys[k]);
     }
 
@@ -96,7 +89,7 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
         for (int k = 0; k < 9 && accept; ++k) {
           const auto [i, j] = kChecks[k];
           double ex, ey, ix, iy;
-          if (!exact(src, dst, rotation, static_cast<double>(px0 + i) + 0.5,
+          if (!source_pixel(src, dst, rotation, static_cast<double>(px0 + i) + 0.5,
                      static_cast<double>(py0 + j) + 0.5, ex, ey)) {
             accept = false;
             break;

@@ -46,6 +46,14 @@ inline bool to_pixel(const Projection& p, const Ray& d, double& x, double& y) {
   return std::visit([&](const auto& q) { return q.to_pixel(d, x, y); }, p);
 }
 
+// The source position of target pixel position (px, py): dst's ray there, turned by rotation,
+// seen by src; false where either has none (the exact per-point map).
+inline bool source_pixel(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation, double px,
+                         double py, double& sx, double& sy) {
+  Ray d;
+  return to_ray(dst, px, py, d) && to_pixel(src, rotation * d, sx, sy);
+}
+
 // Rays through the pixel centres (x0 + i + 0.5, y), i < n; ok[i] = 0 where there is none.
 void to_ray_row(const Projection& p, double y, int64_t x0, int64_t n, Ray* rays, uint8_t* ok);
 // Whether the projection shows the whole sphere (cubemap, full equirect, the world maps): a

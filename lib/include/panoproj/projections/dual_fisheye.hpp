@@ -32,8 +32,7 @@ class DualFisheye {
   // feather: the ramp's width (radians), 0 for the hard cut.
   DualFisheye(Size size, bool top_bottom, std::array<Fisheye, 2> lenses, std::array<Eigen::Matrix3d, 2> rotations,
               double feather)
-      : size_(size), top_bottom_(top_bottom), lenses_(lenses), rot_(rotations), feather_(feather),
-        half_inv_feather_(feather > 0 ? 0.5 / feather : 0.0) {
+      : size_(size), top_bottom_(top_bottom), lenses_(lenses), rot_(rotations), feather_(feather) {
     for (int k = 0; k < 2; ++k) axis_[k] = rot_[k].col(2);
   }
 
@@ -61,8 +60,7 @@ class DualFisheye {
     if (m0 < 0) return 0.0;
     const double f = std::min(feather_, m0 + m1);
     if (f <= 0) return m0 >= m1 ? 1.0 : 0.0;
-    // (The whole feather, the common case, multiplies by its precomputed reciprocal.)
-    return std::clamp(0.5 + (m0 - m1) * (f == feather_ ? half_inv_feather_ : 0.5 / f), 0.0, 1.0);
+    return std::clamp(0.5 + (m0 - m1) / (2.0 * f), 0.0, 1.0);
   }
 
   bool to_ray(double x, double y, Ray& d) const {
@@ -114,7 +112,7 @@ class DualFisheye {
   std::array<Fisheye, 2> lenses_;
   std::array<Eigen::Matrix3d, 2> rot_;
   std::array<Ray, 2> axis_;
-  double feather_, half_inv_feather_;
+  double feather_;
   int only_ = -1;
 };
 
