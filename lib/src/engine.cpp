@@ -15,6 +15,7 @@
 #include "panoproj/tile_map.hpp"
 #include "dual_blend.hpp"
 #include "edge_pass.hpp"
+#include "footprint_kernel.hpp"
 #include "mip_sampler.hpp"
 #include "pyramid.hpp"
 #include "reference_sampler.hpp"
@@ -162,12 +163,15 @@ Converter::Region Converter::source_footprint() const {
   Region r{first_tap(interp_, x0) - 1, first_tap(interp_, y0) - 1, first_tap(interp_, x1) + n + 1,
            first_tap(interp_, y1) + n + 1};
   if (antialias_.mode != Antialias::Mode::Off) {
-    // Sub-pixels reach half an output pixel further (rho / 2 source px); mip level k (2^k <=
-    // rho / 2) reaches its taps' n / 2 level pixels of 2^k source px, and one more for a block
-    // cut by the window's edge (which averages only what it holds).
+    // rho: the largest step from one output pixel to the next, in source pixels. Mip level k
+    // (2^k <= rho / 2) reaches its taps' n / 2 level pixels of 2^k source px, and one more for a
+    // block cut by the window's edge (which averages only what it holds). Sub-pixels reach half
+    // an output pixel further (rho / 2 source px), and auto's footprint kernel its own taps
+    // (kFootprintTaps / 2 from the sample) where they reach further than interp_'s.
     const double rho = std::max(1.0, *std::max_element(spread.begin(), spread.end()));
-    const auto level_px = static_cast<int64_t>(std::exp2(std::ceil(std::log2(rho))));
-    const int64_t m = level_px * (n / 2 + 2);
+    int64_t m = static_cast<int64_t>(std::ceil(rho / 2)) + 1;
+    if (antialias_.mode == Antialias::Mode::Auto) m += std::max(0, kFootprintTaps / 2 - n / 2);
+    if (antialias_.mode == Antialias::Mode::Mip) m = static_cast<int64_t>(std::exp2(std::ceil(std::log2(rho)))) * (n / 2 + 2);
     r = {r.x0 - m, r.y0 - m, r.x1 + m, r.y1 + m};
   }
   // Where taps leave the frame, the edge rules read elsewhere: wrap (full width), pole crossing
@@ -218,121 +222,108 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     std::vector<unsigned char> sub;  // a tile's sub-pixel samples
     std::vector<float> weights;       // a dual fisheye's lens 0 weights over a tile
     std::vector<unsigned char> other;  // and its lens 1 samples there
+    FootprintField field;              // the footprint kernel's widths over a tile
+    std::vector<float> ex, ey;         // and over a row (the scalar engine)
   };
   std::vector<Worker> workers(static_cast<size_t>(n_workers));
-  // The samples the SIMD kernels left in wk.misses (rect's pixel indices) by the edge rules.
+  // The samples the SIMD kernels left in wk.misses (rect's pixel indices) by the edge rules
+  // (with fp: the footprint kernel, its widths there).
   auto resolve_misses = [&](const Image& im, const SourceEdges& e, const TileRect& r, unsigned char* out_at,
-                            int64_t stride, Worker& wk) {
+                            int64_t stride, Worker& wk, const FootprintField* fp) {
     const uint8_t one = 1;
     const auto pb = static_cast<int64_t>(im.pixel_bytes());
     const SimdMisses& m = wk.misses;
-    for (size_t q = 0; q < m.index.size(); ++q)
-      sample_reference(im, e, interp_, &m.xs[q], &m.ys[q], &one, 1, out_at + m.index[q] / r.w * stride + m.index[q] % r.w * pb);
+    for (size_t q = 0; q < m.index.size(); ++q) {
+      const int64_t i = m.index[q] % r.w, j = m.index[q] / r.w;
+      unsigned char* o = out_at + j * stride + i * pb;
+      if (!fp) {
+        sample_reference(im, e, interp_, &m.xs[q], &m.ys[q], &one, 1, o);
+        continue;
+      }
+      float ex, ey;
+      fp->at(i, j, ex, ey);
+      sample_footprint_reference(im, e, &m.xs[q], &m.ys[q], &ex, &ey, &one, 1, o);
+    }
     wk.stats.edge_samples += static_cast<int64_t>(m.index.size());
   };
   // Samples positions map m of image im (edges e, SIMD view ss) into out: the SIMD kernels, and
   // the reference's edge rules for the samples they leave (seams, poles, face edges, the
-  // window); the scalar engine samples all with the reference.
+  // window); the scalar engine samples all with the reference. fp: the footprint kernel and its
+  // widths over the rect, else interp_.
   auto sample_map = [&](const Image& im, const SourceEdges& e, const SimdSource& ss, const TileMap& m,
-                        unsigned char* out_at, int64_t stride, Worker& wk) {
+                        unsigned char* out_at, int64_t stride, Worker& wk, const FootprintField* fp) {
     if (!use_simd) {
+      wk.ex.resize(static_cast<size_t>(m.rect.w)), wk.ey.resize(static_cast<size_t>(m.rect.w));
       for (int64_t j = 0; j < m.rect.h; ++j) {
         const size_t k = static_cast<size_t>(j * m.rect.w);
-        sample_reference(im, e, interp_, m.xs.data() + k, m.ys.data() + k, m.ok.data() + k, m.rect.w, out_at + j * stride);
+        if (!fp) {
+          sample_reference(im, e, interp_, m.xs.data() + k, m.ys.data() + k, m.ok.data() + k, m.rect.w, out_at + j * stride);
+          continue;
+        }
+        for (int64_t i = 0; i < m.rect.w; ++i) fp->at(i, j, wk.ex[static_cast<size_t>(i)], wk.ey[static_cast<size_t>(i)]);
+        sample_footprint_reference(im, e, m.xs.data() + k, m.ys.data() + k, wk.ex.data(), wk.ey.data(), m.ok.data() + k,
+                                   m.rect.w, out_at + j * stride);
       }
       return;
     }
     wk.misses.clear();
-    simd_sample(ss, interp_, m, out_at, stride, wk.misses);
-    resolve_misses(im, e, m.rect, out_at, stride, wk);
+    simd_sample(ss, interp_, m, out_at, stride, wk.misses, fp);
+    resolve_misses(im, e, m.rect, out_at, stride, wk, fp);
   };
   // The tile rect of target t, seen through source projection sp, into out: fused where the SIMD
-  // geometry takes it, else from its map (the kept one, or made now).
+  // geometry takes it, else from its map (the kept one, or made now); fp as sample_map's.
   auto sample_from = [&](const Projection& sp, const Projection& t, const TileRect& rect, const TileMap* tm,
-                         unsigned char* out_at, int64_t stride, Worker& wk) {
+                         unsigned char* out_at, int64_t stride, Worker& wk, const FootprintField* fp) {
     SimdGeometry g;
     const bool in_registers = !tm && fused(sp, t, rect, g);
     if (!tm && !in_registers) map_tile(sp, t, rotation_, rect, wk.map), tm = &wk.map;
     if (tm) wk.stats.interpolated_cells += tm->interpolated_cells, wk.stats.exact_cells += tm->exact_cells;
     wk.stats.fused_tiles += in_registers;
-    if (!in_registers) return sample_map(src, edges, simd_src, *tm, out_at, stride, wk);
+    if (!in_registers) return sample_map(src, edges, simd_src, *tm, out_at, stride, wk, fp);
     wk.misses.clear();
-    simd_convert(g, rect, simd_src, interp_, out_at, stride, wk.misses);
-    resolve_misses(src, edges, rect, out_at, stride, wk);
+    simd_convert(g, rect, simd_src, interp_, out_at, stride, wk.misses, fp);
+    resolve_misses(src, edges, rect, out_at, stride, wk, fp);
   };
   // The same from source_; a dual fisheye's tiles from the lens that sees them all, or from both,
   // blended (dual_blend.hpp).
   const auto* dual = std::get_if<DualFisheye>(&source_);
   auto sample_rect = [&](const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out_at,
-                         int64_t stride, Worker& wk) {
-    if (lenses_.empty()) return sample_from(source_, t, rect, tm, out_at, stride, wk);
+                         int64_t stride, Worker& wk, const FootprintField* fp = nullptr) {
+    if (lenses_.empty()) return sample_from(source_, t, rect, tm, out_at, stride, wk, fp);
     const int side = dual_weights(*dual, t, rotation_, rect, wk.weights);
-    if (side >= 0) return sample_from(lenses_[static_cast<size_t>(side)], t, rect, nullptr, out_at, stride, wk);
+    if (side >= 0) return sample_from(lenses_[static_cast<size_t>(side)], t, rect, nullptr, out_at, stride, wk, fp);
     const auto pb = static_cast<int64_t>(src.pixel_bytes());
     wk.other.resize(static_cast<size_t>(rect.w * rect.h * pb));
-    sample_from(lenses_[0], t, rect, nullptr, out_at, stride, wk);
-    sample_from(lenses_[1], t, rect, nullptr, wk.other.data(), rect.w * pb, wk);
+    sample_from(lenses_[0], t, rect, nullptr, out_at, stride, wk, fp);
+    sample_from(lenses_[1], t, rect, nullptr, wk.other.data(), rect.w * pb, wk, fp);
     blend_lenses(wk.weights.data(), rect, src.type(), src.channels(), src.alpha_channel(), out_at, stride, wk.other.data(),
                  rect.w * pb);
   };
-  // The tile's mean step from one output pixel to the next, in source pixels: from its source
-  // extent over its size, or, where that extent spans a seam, a pole (more than half the frame)
-  // or cube faces (more than a face), or some of its points have no source, the median of its
-  // pixels' own steps (mip_sampler.hpp).
   // Where x wraps, footprints measure steps across the seam the short way.
   const double wrap = edges.wraps_x() ? static_cast<double>(size_of(source_).width) : 0.0;
-  const bool cube_source = std::holds_alternative<Cubemap>(source_);
-  auto mean_step = [&](int64_t t, const TileRect& rect, Worker& wk) {
-    // The box of the exact positions at 3 x 3 points of the tile (corners, edge middles, centre;
-    // within a face or away from a seam the map is smooth, so they span the tile's box).
-    const auto* cube = std::get_if<Cubemap>(&source_);
-    std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    bool one_face = true, all_mapped = true;
-    int face = -2;
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 3; ++i) {
-        double x, y;
-        const double px = static_cast<double>(rect.x0) + 0.5 + 0.5 * i * static_cast<double>(rect.w - 1);
-        const double py = static_cast<double>(rect.y0) + 0.5 + 0.5 * j * static_cast<double>(rect.h - 1);
-        if (!source_pixel(source_, target_, rotation_, px, py, x, y)) {
-          all_mapped = false;
-          continue;
-        }
-        b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y)};
-        if (cube || dual) {  // a face, a lens
-          const int f = edges.face_at(x, y);
-          if (face == -2) face = f;
-          one_face &= f == face;
-        }
-      }
-    // Seams and poles (a box over half the frame), face changes, or points without a source:
-    // measure every pixel.
-    if (!all_mapped || !one_face || b[2] - b[0] > 0.5 * static_cast<double>(size_of(source_).width)) {
-      SimdGeometry g;
-      const TileMap* tm = cached(t);
-      if (!tm) {
-        if (fused(rect, g)) simd_map_tile(g, rect, wk.map);
-        else map_tile(source_, target_, rotation_, rect, wk.map);
-        tm = &wk.map;
-      }
-      return median_footprint(*tm, wrap, wk.mip);
-    }
-    // The geometric mean of the two extents: a footprint stretched along one axis (an equirect
-    // source near its poles) needs no more sub-pixels than its area.
-    return std::sqrt((b[2] - b[0]) / static_cast<double>(std::max<int64_t>(rect.w - 1, 1)) *
-                     ((b[3] - b[1]) / static_cast<double>(std::max<int64_t>(rect.h - 1, 1))));
+  // The tile's map: the kept one, or made now into wk.map (SIMD or exact).
+  auto map_of = [&](int64_t t, const TileRect& rect, Worker& wk) {
+    if (const TileMap* tm = cached(t)) return tm;
+    SimdGeometry g;
+    if (fused(rect, g)) simd_map_tile(g, rect, wk.map);
+    else map_tile(source_, target_, rotation_, rect, wk.map);
+    return static_cast<const TileMap*>(&wk.map);
   };
   // The tile's n x n sub-pixels in the n-times target (in parts of at most kTile x kTile, the
-  // samplers' rect), then their means.
-  auto subpixels = [&](int n, const TileRect& rect, unsigned char* corner, int64_t stride, Worker& wk) {
+  // samplers' rect; with fp, the tile's footprint field, each through the footprint kernel),
+  // then their means.
+  auto subpixels = [&](int n, const TileRect& rect, unsigned char* corner, int64_t stride, Worker& wk,
+                       const FootprintField* fp) {
     const TileRect sub{rect.x0 * n, rect.y0 * n, rect.w * n, rect.h * n};
     const auto pb = static_cast<int64_t>(src.pixel_bytes()), sub_stride = sub.w * pb;
     wk.sub.resize(static_cast<size_t>(sub_stride * sub.h));
+    const Projection& sub_target = sub_targets_[static_cast<size_t>(n)];
     for (int64_t y = 0; y < sub.h; y += kTile)
-      for (int64_t x = 0; x < sub.w; x += kTile)
-        sample_rect(sub_targets_[static_cast<size_t>(n)],
-                    {sub.x0 + x, sub.y0 + y, std::min(kTile, sub.w - x), std::min(kTile, sub.h - y)}, nullptr,
-                    wk.sub.data() + y * sub_stride + x * pb, sub_stride, wk);
+      for (int64_t x = 0; x < sub.w; x += kTile) {
+        const TileRect part{sub.x0 + x, sub.y0 + y, std::min(kTile, sub.w - x), std::min(kTile, sub.h - y)};
+        const FootprintField part_fp = fp ? fp->for_subpixels(rect, part, n) : FootprintField{};
+        sample_rect(sub_target, part, nullptr, wk.sub.data() + y * sub_stride + x * pb, sub_stride, wk, fp ? &part_fp : nullptr);
+      }
     average_subpixels(src, wk.sub.data(), sub_stride, rect, n, corner, stride);
   };
   std::atomic<int64_t> done{0};
@@ -343,20 +334,19 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     unsigned char* corner = out.pixel(rect.x0, rect.y0);
     const auto stride = static_cast<int64_t>(out.row_bytes());
     if (antialias_.mode == Antialias::Mode::Supersample) {
-      subpixels(antialias_.n, rect, corner, stride, wk);
+      subpixels(antialias_.n, rect, corner, stride, wk, nullptr);
     } else if (antialias_.mode == Antialias::Mode::Auto) {
-      // n = ceil(s / 2): sub-pixels about 2 source pixels apart; 1 (no antialiasing) for s <= 2.
-      const int n = std::clamp(static_cast<int>(std::ceil(mean_step(t, rect, wk) / 2.0 - 1e-9)), 1, Antialias::kMaxAuto);
-      if (n == 1) sample_rect(target_, rect, cached(t), corner, stride, wk);
-      else subpixels(n, rect, corner, stride, wk);
+      // The tile's footprint side: as without antialiasing up to 2 source pixels (or where it is
+      // not known); else the footprint kernel, on n x n sub-pixels where the footprint is wider
+      // than the kernel reaches (footprint_kernel.hpp).
+      FootprintField& fp = wk.field;
+      const FootprintSides s = footprint_field(source_, target_, rotation_, rect, wrap, fp);
+      const int n = std::clamp(static_cast<int>(std::ceil(s.split / kFootprintReach - 1e-9)), 1, Antialias::kMaxAuto);
+      if (s.side <= 2.0) sample_rect(target_, rect, cached(t), corner, stride, wk);
+      else if (n == 1) sample_rect(target_, rect, cached(t), corner, stride, wk, &fp);
+      else subpixels(n, rect, corner, stride, wk, &fp);
     } else if (pyramid) {
-      const TileMap* tm = cached(t);
-      SimdGeometry g;
-      if (!tm) {
-        if (fused(rect, g)) simd_map_tile(g, rect, wk.map);
-        else map_tile(source_, target_, rotation_, rect, wk.map);
-        tm = &wk.map;
-      }
+      const TileMap* tm = map_of(t, rect, wk);
       sample_mip_tile(*pyramid, *tm, wrap,
                       [&](int k, const TileMap& m, unsigned char* o, int64_t st) {
                         // The level's rows the taps reach (the edge rules stay within them,
@@ -365,12 +355,12 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
                         for (size_t i = 0; i < m.ok.size(); ++i)
                           if (m.ok[i]) y0 = std::min(y0, m.ys[i]), y1 = std::max(y1, m.ys[i]);
                         const int reach = support(interp_) / 2 + 1;
-                        if (cube_source) y0 = -HUGE_VAL, y1 = HUGE_VAL;
+                        if (std::holds_alternative<Cubemap>(source_)) y0 = -HUGE_VAL, y1 = HUGE_VAL;
                         pyramid->build_rows(k, static_cast<int64_t>(std::max(-1e15, std::floor(y0))) - reach,
                                             static_cast<int64_t>(std::min(1e15, std::ceil(y1))) + reach + 1);
                         const Pyramid::Level& l = pyramid->level(k);
                         const Image& im = pyramid->image(k);
-                        sample_map(im, l.edges, simd_source(im, l.projection), m, o, st, wk);
+                        sample_map(im, l.edges, simd_source(im, l.projection), m, o, st, wk, nullptr);
                       },
                       corner, stride, wk.mip);
     } else {

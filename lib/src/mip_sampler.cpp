@@ -9,65 +9,10 @@
 #include <type_traits>
 #include <utility>
 
+#include "map_steps.hpp"
 #include "sample_io.hpp"
 
 namespace panoproj {
-namespace {
-
-constexpr float kNone = HUGE_VALF;
-
-// Squared steps between horizontal (h[j w + i]: pixels i, i + 1) and vertical (v[j w + i]: rows
-// j, j + 1) neighbours; kNone where either has no position. x steps wrap on a full circle.
-void steps(const TileMap& tm, double wrap, float* h, float* v) {
-  const int64_t w = tm.rect.w, rows = tm.rect.h;
-  const float fw = static_cast<float>(wrap), half = 0.5f * fw;
-  const double* xs = tm.xs.data();
-  const double* ys = tm.ys.data();
-  const uint8_t* ok = tm.ok.data();
-  // In float: a step is small, its rounding far below what the level choice resolves.
-  auto step = [&](int64_t a, int64_t b) {
-    float dx = static_cast<float>(xs[a] - xs[b]);
-    const float dy = static_cast<float>(ys[a] - ys[b]);
-    dx += (dx < -half ? fw : 0.0f) - (dx > half ? fw : 0.0f);
-    return (ok[a] & ok[b]) ? dx * dx + dy * dy : kNone;
-  };
-  for (int64_t j = 0; j < rows; ++j) {
-    const int64_t k0 = j * w;
-    for (int64_t i = 0; i + 1 < w; ++i) h[k0 + i] = step(k0 + i + 1, k0 + i);
-    h[k0 + w - 1] = kNone;
-    if (j + 1 < rows) {
-      for (int64_t i = 0; i < w; ++i) v[k0 + i] = step(k0 + w + i, k0 + i);
-    } else {
-      std::fill(v + k0, v + k0 + w, kNone);
-    }
-  }
-}
-
-// The smaller step over each axis at pixel k = j w + i, kNone where there is none.
-inline std::pair<float, float> smaller_steps(const float* h, const float* v, int64_t w, int64_t i, int64_t j) {
-  const int64_t k = j * w + i;
-  return {std::min(h[k], i > 0 ? h[k - 1] : kNone), std::min(v[k], j > 0 ? v[k - w] : kNone)};
-}
-
-}  // namespace
-
-double median_footprint(const TileMap& tm, double wrap_width, MipScratch& s) {
-  const int64_t w = tm.rect.w, n = tm.rect.w * tm.rect.h;
-  s.rho.resize(static_cast<size_t>(3 * n));
-  float* h = s.rho.data();
-  float* v = h + n;
-  float* sides = v + n;
-  steps(tm, wrap_width, h, v);
-  int64_t count = 0;
-  for (int64_t j = 0; j < tm.rect.h; ++j)
-    for (int64_t i = 0; i < w; ++i) {
-      const auto [sx, sy] = smaller_steps(h, v, w, i, j);
-      if (tm.ok[j * w + i] && sx != kNone && sy != kNone) sides[count++] = std::sqrt(std::sqrt(sx * sy));
-    }
-  if (count == 0) return 0.0;
-  std::nth_element(sides, sides + count / 2, sides + count);
-  return sides[count / 2];
-}
 
 void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_width, const LevelSampler& sample,
                      unsigned char* out, int64_t out_stride, MipScratch& s) {
@@ -80,10 +25,7 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
   // Per pixel: over each axis the smaller step to a neighbour (a seam or face edge lies on one
   // side only); the footprint's side is the geometric mean of the two (the square root of its
   // area), and r, half of it, the level scale (see antialias.hpp).
-  s.rho.resize(static_cast<size_t>(3 * n));
-  float* h = s.rho.data() + n;
-  float* v = h + n;
-  steps(tm, wrap_width, h, v);
+  s.rho.resize(static_cast<size_t>(n));
   // Levels and weights: 2^j <= r < 2^(j+1) blends levels j and j + 1 linearly in r (f = r / 2^j
   // - 1, read off r's exponent and mantissa); r <= 1 is level 0 alone; from the deepest level on,
   // that level alone.
@@ -94,8 +36,10 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
   for (int64_t j = 0; j < rect.h; ++j)
     for (int64_t i = 0; i < w; ++i) {
       const int64_t k = j * w + i;
-      const auto [sx, sy] = smaller_steps(h, v, w, i, j);
-      const float q = (sx == kNone ? 0.0f : sx) * (sy == kNone ? 0.0f : sy);  // (2 r)^4
+      float ux, uy, vx, vy;
+      const float q = pixel_steps(tm, i, j, static_cast<float>(wrap_width), ux, uy, vx, vy)
+                          ? (ux * ux + uy * uy) * (vx * vx + vy * vy)  // (2 r)^4
+                          : 0.0f;
       s.level[k] = 0, f[k] = 0.0f;
       if (!(q > 16.0f)) {  // r <= 1, most pixels of most conversions: no roots
         level0 |= tm.ok[k] != 0;

@@ -1,8 +1,7 @@
 #pragma once
 // antialias.hpp's mip for one output tile: the footprint rho of each pixel from its tile map,
 // then the map scaled to each mip level in use, sampled there by the engine's own sampler, and
-// the levels blended; and the tile's median footprint, which auto uses where a tile crosses a
-// seam, a pole or cube faces. Internal.
+// the levels blended. Internal.
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -13,7 +12,7 @@
 namespace panoproj {
 
 struct MipScratch {
-  std::vector<float> rho;       // per pixel: the blend f, then two rows of steps
+  std::vector<float> rho;       // per pixel: the blend f
   std::vector<int8_t> level;    // per pixel: the lower level
   std::vector<float> acc;       // per pixel and channel, premultiplied where there is alpha
   TileMap level_map;            // the positions of one level
@@ -23,11 +22,6 @@ struct MipScratch {
 // Samples map tm (level-k positions, ok where the pixel uses level k) into out (rows of stride
 // bytes), as the engine samples level 0.
 using LevelSampler = std::function<void(int k, const TileMap& tm, unsigned char* out, int64_t stride)>;
-
-// The median over tm's pixels of their footprint's side (the geometric mean of the smaller
-// steps to a neighbour along x and along y; see antialias.hpp), in source pixels. (The median:
-// the few pixels between two face edges or seams, whose steps both jump, must not count.)
-double median_footprint(const TileMap& tm, double wrap_width, MipScratch& scratch);
 
 // Writes the tile's pixels into out. wrap_width: the source frame's width where x wraps (a full
 // circle of longitude), else 0.

@@ -12,4 +12,8 @@ namespace panoproj {
 void sample_reference(const Image& src, const SourceEdges& edges, Interp interp, const double* xs,
                       const double* ys, const uint8_t* ok, int64_t n, unsigned char* out);
 
+// The same with the footprint kernel (footprint_kernel.hpp), box widths ex, ey per sample.
+void sample_footprint_reference(const Image& src, const SourceEdges& edges, const double* xs, const double* ys,
+                                const float* ex, const float* ey, const uint8_t* ok, int64_t n, unsigned char* out);
+
 }  // namespace panoproj

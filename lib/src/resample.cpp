@@ -10,18 +10,23 @@
 
 #include "panoproj/parallel.hpp"
 #include "panoproj/source_edges.hpp"
+#include "footprint_kernel.hpp"
 #include "reference_sampler.hpp"
 #include "sample_io.hpp"
 
 namespace panoproj {
 namespace {
 
-// One output row: samples at (xs[i], ys[i]) where ok[i].
+// One output row: samples at (xs[i], ys[i]) where ok[i]; with box widths ex, ey, the footprint
+// kernel (footprint_kernel.hpp) instead of interp's.
 template <class T>
 void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const double* xs,
-                const double* ys, const uint8_t* ok, int64_t n, unsigned char* out) {
+                const double* ys, const float* ex, const float* ey, const uint8_t* ok, int64_t n, unsigned char* out) {
   const int nc = src.channels(), alpha = src.alpha_channel();
   const size_t pb = src.pixel_bytes();
+  
+  static_assert(kFootprintTaps == 6);
+  if (ex) interp = Interp::Lanczos3;  // its taps; the weights below
   const int k = support(interp);
   const double unit = unit_of(src.type());
   // Taps stay inside the window the caller read (a guard: the footprint already ensures it).
@@ -30,7 +35,7 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
   auto at = [&](int64_t x, int64_t y) {
     return src.at(std::clamp(x, wx0, wx1), std::clamp(y, wy0, wy1));
   };
-  const bool dering = derings(interp);
+  const bool dering = !ex && derings(interp);
   double wx[6], wy[6], acc[4], lo[4], hi[4];  // lo, hi: the central 2x2 taps' range (dering)
   for (int64_t i = 0; i < n; ++i, out += pb) {
     if (!ok[i]) {
@@ -48,8 +53,13 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
       std::memcpy(out, at(best->x, best->y), pb);
       continue;
     }
-    tap_weights(interp, xs[i], wx);
-    tap_weights(interp, ys[i], wy);
+    if (ex) {
+      footprint_weights(xs[i], ex[i], wx);
+      footprint_weights(ys[i], ey[i], wy);
+    } else {
+      tap_weights(interp, xs[i], wx);
+      tap_weights(interp, ys[i], wy);
+    }
     std::fill(acc, acc + 4, 0.0);
     std::fill(lo, lo + 4, HUGE_VAL);
     std::fill(hi, hi + 4, -HUGE_VAL);
@@ -92,7 +102,12 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
 
 void sample_reference(const Image& src, const SourceEdges& edges, Interp interp, const double* xs,
                       const double* ys, const uint8_t* ok, int64_t n, unsigned char* out) {
-  with_sample_type(src.type(), [&](auto t) { sample_row<decltype(t)>(src, edges, interp, xs, ys, ok, n, out); });
+  with_sample_type(src.type(), [&](auto t) { sample_row<decltype(t)>(src, edges, interp, xs, ys, nullptr, nullptr, ok, n, out); });
+}
+
+void sample_footprint_reference(const Image& src, const SourceEdges& edges, const double* xs, const double* ys,
+                                const float* ex, const float* ey, const uint8_t* ok, int64_t n, unsigned char* out) {
+  with_sample_type(src.type(), [&](auto t) { sample_row<decltype(t)>(src, edges, Interp::Bilinear, xs, ys, ex, ey, ok, n, out); });
 }
 
 Image remap(const Image& src, const Projection& src_proj, const Projection& dst_proj,

@@ -70,6 +70,21 @@ HWY_INLINE void Weights(DF df, VF t, VF* w) {
   }
 }
 
+// The footprint kernel's tap weights (footprint_kernel.hpp) for fraction t and box width e:
+// min(1, max(0, (e + 1) / 2 - |d|)) / e at the taps' distances d = t + 2 - i.
+template <class DF, class VF = hn::Vec<DF>>
+HWY_INLINE void FootprintWeights(DF df, VF t, VF e, VF* w) {
+  const VF h = hn::Mul(hn::Add(e, hn::Set(df, 1.0f)), hn::Set(df, 0.5f));
+  VF sum = hn::Zero(df);
+  for (int i = 0; i < kFootprintTaps; ++i) {
+    const VF d = hn::Abs(hn::Add(t, hn::Set(df, static_cast<float>(kFootprintTaps / 2 - 1 - i))));
+    w[i] = hn::Min(hn::Set(df, 1.0f), hn::Max(hn::Zero(df), hn::Sub(h, d)));
+    sum = hn::Add(sum, w[i]);
+  }
+  const VF inv = hn::Div(hn::Set(df, 1.0f), sum);
+  for (int i = 0; i < kFootprintTaps; ++i) w[i] = hn::Mul(w[i], inv);
+}
+
 // Exact half -> float for finite values (inf/NaN become inf/NaN): shift the 15 magnitude bits
 // into a float's place and rescale by 2^112 (handles subnormals), then restore the sign.
 template <class DF, class VF = hn::Vec<DF>, class DI = hn::RebindToSigned<DF>, class VI = hn::Vec<DI>>
@@ -151,7 +166,22 @@ struct TapBlock {
   bool any;                   // some lane is sampled here (else the block is written as 0)
   HWY_ALIGN int32_t off[kMaxLanes];    // byte offset of the first tap from base; -1: not here
   HWY_ALIGN float tx[kMaxLanes], ty[kMaxLanes];  // fractions from the first-but-(K/2 - 1) tap
+  HWY_ALIGN float ex[kMaxLanes], ey[kMaxLanes];  // the footprint kernel's box widths (its blocks only)
 };
+
+// A block's tap weights along x and y: the kernel's, or the footprint kernel's.
+template <int K, class DF, class VF = hn::Vec<DF>>
+HWY_INLINE void BlockWeights(const SimdSource& s, const TapBlock& blk, DF df, VF* wx, VF* wy) {
+  if constexpr (K == kFootprintTaps) {
+    if (s.footprint != nullptr) {
+      FootprintWeights(df, hn::Load(df, blk.tx), hn::Load(df, blk.ex), wx);
+      FootprintWeights(df, hn::Load(df, blk.ty), hn::Load(df, blk.ey), wy);
+      return;
+    }
+  }
+  Weights<K>(df, hn::Load(df, blk.tx), wx);
+  Weights<K>(df, hn::Load(df, blk.ty), wy);
+}
 
 constexpr int kChunkBlocks = 64;  // blocks per chunk (see Chunked)
 
@@ -438,8 +468,7 @@ HWY_INLINE void SeparableU8(const SimdSource& s, const TapBlock& blk, unsigned c
     return hn::BitCast(d16, hn::Or(hn::And(q, hn::Set(du, 0xFFFFu)), hn::ShiftLeft<16>(q)));
   };
   hn::Vec<DF> fx[K], fy[K];
-  Weights<K>(df, hn::Load(df, blk.tx), fx);
-  Weights<K>(df, hn::Load(df, blk.ty), fy);
+  BlockWeights<K>(s, blk, df, fx, fy);
   V16 wx[K];
   for (int c = 0; c < K; ++c) wx[c] = q15(fx[c]);
   const VU mask = hn::Set(du, 0x3FC03FC0u);
@@ -509,8 +538,7 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
   } else {
     const float unit = PT == PixelType::U8 ? 255.0f : (PT == PixelType::U16 ? 65535.0f : 1.0f);
     VF wx[K], wy[K];
-    Weights<K>(df, hn::Load(df, blk.tx), wx);
-    Weights<K>(df, hn::Load(df, blk.ty), wy);
+    BlockWeights<K>(s, blk, df, wx, wy);
     const VI stride = hn::Set(di, static_cast<int32_t>(s.stride));
     const VI off0 = hn::Max(hn::Load(di, blk.off), hn::Zero(di));  // lanes not sampled read the base row
     VF acc[4] = {hn::Zero(df), hn::Zero(df), hn::Zero(df), hn::Zero(df)};
@@ -600,6 +628,32 @@ struct GatherF {
 template <template <PixelType, class, int> class F, class... A>
 void Dispatch(PixelType t, Interp k, A&&... args);
 
+// The footprint kernel's widths for the lanes of a block from rect pixel (i, j) on, as
+// FootprintField::at computes them.
+HWY_INLINE void FieldLanes(const FootprintField& f, int64_t i, int64_t j, TapBlock& blk) {
+  using DF = hn::ScalableTag<float>;
+  using VF = hn::Vec<DF>;
+  const DF df;
+  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), two = hn::Set(df, 2.0f);
+  const VF col = hn::Add(hn::Iota(df, 0.0f), hn::Set(df, static_cast<float>(i)));
+  const VF u = hn::Min(hn::Max(hn::MulAdd(col, hn::Set(df, f.du), hn::Set(df, f.u0)), zero), two);
+  // The row's blend of the points' rows (scalar), then per lane of the three columns.
+  const float v = std::clamp(f.v0 + static_cast<float>(j) * f.dv, 0.0f, 2.0f);
+  float cx[3] = {}, cy[3] = {};
+  for (int r = 0; r < 3; ++r) {
+    const float hv = std::max(0.0f, 1.0f - std::fabs(v - static_cast<float>(r)));
+    for (int c = 0; c < 3; ++c) cx[c] += hv * f.ex[3 * r + c], cy[c] += hv * f.ey[3 * r + c];
+  }
+  VF wx = zero, wy = zero;
+  for (int c = 0; c < 3; ++c) {
+    const VF hu = hn::Max(zero, hn::Sub(one, hn::Abs(hn::Sub(u, hn::Set(df, static_cast<float>(c))))));
+    wx = hn::MulAdd(hu, hn::Set(df, cx[c]), wx), wy = hn::MulAdd(hu, hn::Set(df, cy[c]), wy);
+  }
+  const VF scale = hn::Set(df, f.scale), reach = hn::Set(df, static_cast<float>(kFootprintReach));
+  hn::Store(hn::Min(hn::Max(hn::Mul(wx, scale), one), reach), df, blk.ex);
+  hn::Store(hn::Min(hn::Max(hn::Mul(wy, scale), one), reach), df, blk.ey);
+}
+
 // Phase 1 for rows [j0, j1) of a tile map's rect.
 HWY_NOINLINE int PlanMapRows(const SimdSource& s, int K, const TileMap& tm, int64_t j0, int64_t j1, TapBlock* blk,
                              SimdMisses& misses) {
@@ -619,6 +673,7 @@ HWY_NOINLINE int PlanMapRows(const SimdSource& s, int K, const TileMap& tm, int6
         by[l] = l < m ? tm.ys[k + l] : 0.0;
         bo[l] = l < m && tm.ok[k + l] ? 1.0 : 0.0;
       }
+      if (s.footprint) FieldLanes(*s.footprint, i, j, blk[n]);
       PlanLanes(s, K, b, hn::Load(dd, bx), hn::Load(dd, by), hn::Ne(hn::Load(dd, bo), hn::Zero(dd)), j * rect.w + i, m,
                 blk[n++], chunk);
     }
@@ -635,6 +690,7 @@ HWY_NOINLINE int PlanFusedRows(const SimdSource& s, int K, const TileRows& rows,
   int n = 0;
   for (int64_t j = j0; j < j1; ++j)
     rows.Row(rect.y0 + j, [&](auto sx, auto sy, auto ok, int64_t i, int64_t m) {
+      if (s.footprint) FieldLanes(*s.footprint, i, j, blk[n]);
       if constexpr (std::is_same_v<hn::TFromV<decltype(sx)>, float>) {
         PlanLanes(s, K, bf, sx, sy, ok, j * rect.w + i, m, blk[n++], chunk);
       } else {
@@ -682,20 +738,28 @@ void Dispatch(PixelType t, Interp k, A&&... args) {
   }
 }
 
-void SampleMap(const SimdSource& source, Interp k, const TileMap& tm, unsigned char* out, int64_t out_stride,
-               SimdMisses& misses) {
+// The kernel of interp, or the footprint kernel on its taps (of the kernel with that support).
+Interp KernelFor(Interp k, const FootprintField* footprint) {
+  static_assert(kFootprintTaps == 6);
+  return footprint ? Interp::Lanczos3 : k;
+}
+
+void SampleMap(const SimdSource& source, Interp interp, const TileMap& tm, unsigned char* out, int64_t out_stride,
+               SimdMisses& misses, const FootprintField* footprint) {
   SimdSource s = source;
-  s.dering = derings(k);
+  s.dering = derings(interp) && !footprint, s.footprint = footprint;
+  const Interp k = KernelFor(interp, footprint);
   const auto N = static_cast<int64_t>(hn::Lanes(DD()));
   Chunked(s, k, tm.rect, (tm.rect.w + N - 1) / N, out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
     return PlanMapRows(s, support(k), tm, j0, j1, blk, misses);
   });
 }
 
-void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& source, Interp k, unsigned char* out,
-             int64_t out_stride, SimdMisses& misses) {
+void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& source, Interp interp, unsigned char* out,
+             int64_t out_stride, SimdMisses& misses, const FootprintField* footprint) {
   SimdSource s = source;
-  s.dering = derings(k);
+  s.dering = derings(interp) && !footprint, s.footprint = footprint;
+  const Interp k = KernelFor(interp, footprint);
   const auto NF = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>())), ND = static_cast<int64_t>(hn::Lanes(DD()));
   const TileRows rows(g, rect);
   // A coarse float vector becomes NF / ND double blocks.
@@ -717,13 +781,13 @@ HWY_EXPORT(Convert);
 HWY_EXPORT(TargetName);
 
 void simd_sample(const SimdSource& src, Interp interp, const TileMap& tm, unsigned char* out, int64_t out_stride,
-                 SimdMisses& misses) {
-  HWY_DYNAMIC_DISPATCH(SampleMap)(src, interp, tm, out, out_stride, misses);
+                 SimdMisses& misses, const FootprintField* footprint) {
+  HWY_DYNAMIC_DISPATCH(SampleMap)(src, interp, tm, out, out_stride, misses, footprint);
 }
 
 void simd_convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& src, Interp interp,
-                  unsigned char* out, int64_t out_stride, SimdMisses& misses) {
-  HWY_DYNAMIC_DISPATCH(Convert)(g, rect, src, interp, out, out_stride, misses);
+                  unsigned char* out, int64_t out_stride, SimdMisses& misses, const FootprintField* footprint) {
+  HWY_DYNAMIC_DISPATCH(Convert)(g, rect, src, interp, out, out_stride, misses, footprint);
 }
 
 const char* simd_target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }

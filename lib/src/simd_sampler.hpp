@@ -13,6 +13,7 @@
 #include "panoproj/image.hpp"
 #include "panoproj/interpolator.hpp"
 #include "panoproj/tile_map.hpp"
+#include "footprint_kernel.hpp"
 #include "simd_geometry.hpp"
 
 namespace panoproj {
@@ -25,6 +26,7 @@ struct SimdSource {
   int64_t x0, y0, x1, y1;     // the frame pixels [x0, x1) x [y0, y1) held in memory
   int64_t cell_w, cell_h;     // taps must stay in one aligned cell of this size; 0: the frame
   bool dering = false;        // clamp to the central 2x2 taps (set from the Interp by the kernels)
+  const FootprintField* footprint = nullptr;  // the footprint kernel's widths (set by the entry points)
 };
 
 // Output pixels the kernels left (written as 0) for the reference sampler: pixel index in the
@@ -36,17 +38,18 @@ struct SimdMisses {
 };
 
 // Samples the positions of a tile map (panoproj pixel convention, frame coordinates) with any
-// kernel; samples with ok = 0 are 0. Writes interleaved pixels of src's type: the rect's row j
+// kernel, or with footprint, the footprint kernel (footprint_kernel.hpp) and its widths over
+// the rect; samples with ok = 0 are 0. Writes interleaved pixels of src's type: the rect's row j
 // at out + j * out_stride. Reads nothing past the window's last pixel (the last row's final taps
 // go to misses), so the source may be a view of someone else's exact-sized buffer. The rect may be
 // at most kTile pixels wide (a chunk of blocks holds a row of that; wider throws).
 void simd_sample(const SimdSource& src, Interp interp, const TileMap& tm, unsigned char* out, int64_t out_stride,
-                 SimdMisses& misses);
+                 SimdMisses& misses, const FootprintField* footprint = nullptr);
 
 // The same for the output pixels of rect in g's target, the positions from the vector geometry
 // (g must be valid for rect): no map is stored.
 void simd_convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& src, Interp interp,
-                  unsigned char* out, int64_t out_stride, SimdMisses& misses);
+                  unsigned char* out, int64_t out_stride, SimdMisses& misses, const FootprintField* footprint = nullptr);
 
 // Name of the SIMD target the dispatcher picks now (e.g. "AVX2").
 const char* simd_target_name();

@@ -1,19 +1,23 @@
 #pragma once
 // Antialiasing where a conversion shrinks. An output pixel whose footprint in the source spans
 // more than a source pixel averages over it instead of interpolating at its centre alone:
-//   auto        per 64x64 tile, s = the geometric mean of its source extents over its size
-//               along x and y (the mean step from one output pixel to the next, in source pixels;
-//               where the tile crosses a seam, a pole or cube faces, the median of each pixel's
-//               own footprint, as mip below); tiles with s <= 2 are
-//               sampled as without antialiasing, bit for bit; the others average n x n
-//               sub-pixels, n = ceil(s / 2) up to 4: sub-pixels about 2 source pixels apart,
-//               which the kernels' own support (bilinear: 2 px) fills. Chosen by measurement
-//               (panoproj accuracy, README): on 4096x2048 -> 512-px fisheye, bilinear 2x2
-//               sub-pixels gain 9.6 dB over none at 3.7 times the time, mip levels 4.8 dB at 10.
-//               Counts per axis (nx x ny from the steps along the output's x and y) were
-//               measured and dropped: 1.3 times the time on equirect -> cube for +0.01 dB (an
-//               equirect is oversampled along x near its poles, its content there already smooth
-//               along x), and 0.2 dB less on the fisheye.
+//   auto        per 64x64 tile, s = the median over 3 x 3 points (corners, edge middles, centre)
+//               of the footprint's side: the geometric mean of the map's steps to the next pixel
+//               along x and along y, in source pixels (each the shorter of the steps before and
+//               after it, so that a seam or face edge does not count). Tiles with s <= 2 are
+//               sampled as without antialiasing, bit for bit. The others take the footprint
+//               kernel (footprint_kernel.hpp): each pixel the mean of the source pixels under its
+//               footprint, weighted by their overlap with a box of the footprint's widths along
+//               x and y (up to 5 source pixels, 6 taps), whatever the interpolator; where the
+//               footprint is wider than that (s > 5, with x steps on an equirect counted at
+//               cos(latitude): its rows near the poles hold far more samples than detail), n x n
+//               sub-pixels, n = ceil(s / 5) up to 4, each through the kernel. Chosen by
+//               measurement (panoproj accuracy, README), chart scene, 4096x2048 -> 512-px
+//               fisheye: +12.6 dB over none at about twice its time. Tried before: n x n bilinear
+//               sub-pixels, n = ceil(s / 2) (+10.9 dB at 5.2 times); 4-tap kernels (two
+//               tents at +-a, 2x2 sub-pixels without their geometry; the box cut to 4 taps),
+//               1.7 and 2.3 dB lower at about 0.7 times the time; splitting near equirect poles as
+//               elsewhere, 0.8 dB lower at 1.5 times.
 //   N (2..16)   N x N sub-pixels everywhere: the area average as N grows, at N^2 times the
 //               sampling.
 //   mip         mip levels (pyramid.hpp: level k is the source shrunk 2^k times by 2x2 box
