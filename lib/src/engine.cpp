@@ -301,14 +301,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
   };
   // Where x wraps, footprints measure steps across the seam the short way.
   const double wrap = edges.wraps_x() ? static_cast<double>(size_of(source_).width) : 0.0;
-  // The tile's map: the kept one, or made now into wk.map (SIMD or exact).
-  auto map_of = [&](int64_t t, const TileRect& rect, Worker& wk) {
-    if (const TileMap* tm = cached(t)) return tm;
-    SimdGeometry g;
-    if (fused(rect, g)) simd_map_tile(g, rect, wk.map);
-    else map_tile(source_, target_, rotation_, rect, wk.map);
-    return static_cast<const TileMap*>(&wk.map);
-  };
+  const bool cube_source = std::holds_alternative<Cubemap>(source_);
   // The tile's n x n sub-pixels in the n-times target (in parts of at most kTile x kTile, the
   // samplers' rect; with fp, the tile's footprint field, each through the footprint kernel),
   // then their means.
@@ -346,7 +339,13 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
       else if (n == 1) sample_rect(target_, rect, cached(t), corner, stride, wk, &fp);
       else subpixels(n, rect, corner, stride, wk, &fp);
     } else if (pyramid) {
-      const TileMap* tm = map_of(t, rect, wk);
+      const TileMap* tm = cached(t);
+      SimdGeometry g;
+      if (!tm) {
+        if (fused(rect, g)) simd_map_tile(g, rect, wk.map);
+        else map_tile(source_, target_, rotation_, rect, wk.map);
+        tm = &wk.map;
+      }
       sample_mip_tile(*pyramid, *tm, wrap,
                       [&](int k, const TileMap& m, unsigned char* o, int64_t st) {
                         // The level's rows the taps reach (the edge rules stay within them,
@@ -355,7 +354,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
                         for (size_t i = 0; i < m.ok.size(); ++i)
                           if (m.ok[i]) y0 = std::min(y0, m.ys[i]), y1 = std::max(y1, m.ys[i]);
                         const int reach = support(interp_) / 2 + 1;
-                        if (std::holds_alternative<Cubemap>(source_)) y0 = -HUGE_VAL, y1 = HUGE_VAL;
+                        if (cube_source) y0 = -HUGE_VAL, y1 = HUGE_VAL;
                         pyramid->build_rows(k, static_cast<int64_t>(std::max(-1e15, std::floor(y0))) - reach,
                                             static_cast<int64_t>(std::min(1e15, std::ceil(y1))) + reach + 1);
                         const Pyramid::Level& l = pyramid->level(k);

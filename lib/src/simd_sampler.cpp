@@ -71,7 +71,7 @@ HWY_INLINE void Weights(DF df, VF t, VF* w) {
 }
 
 // The footprint kernel's tap weights (footprint_kernel.hpp) for fraction t and box width e:
-// min(1, max(0, (e + 1) / 2 - |d|)) / e at the taps' distances d = t + 2 - i.
+// min(1, max(0, (e + 1) / 2 - |d|)) at the taps' distances d = t + 2 - i, over their sum (e).
 template <class DF, class VF = hn::Vec<DF>>
 HWY_INLINE void FootprintWeights(DF df, VF t, VF e, VF* w) {
   const VF h = hn::Mul(hn::Add(e, hn::Set(df, 1.0f)), hn::Set(df, 0.5f));
