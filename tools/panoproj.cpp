@@ -167,8 +167,9 @@ int main(int argc, char** argv) {
                       "simd (default) | scalar (same tiles, no SIMD) | reference (exact, slow)");
   std::string antialias_text;
   convert->add_option("--antialias", antialias_text,
-                      "auto (default: sub-pixels where the output shrinks the source) | off | mip (mip "
-                      "levels) | N (N x N sub-pixels, 2..16); the reference engine has none");
+                      "auto (default: where the output shrinks the source, each pixel the area-weighted mean of "
+                      "the source pixels under its footprint) | off | mip (mip levels) | N (N x N sub-pixels, "
+                      "2..16); the reference engine has none");
   convert->add_flag("--alpha", job.options.add_alpha,
                     "output alpha: 0 where there is no source, the covered share of each pixel on the field's edge "
                     "(antialiased edges; a source without alpha gets an opaque one)");

@@ -176,10 +176,11 @@ def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Proj
     output keeps the source's resolution at its centre. ``yaw`` turns the view right, ``pitch``
     up, ``roll`` clockwise (applied roll, pitch, then yaw). ``interp``: nearest, bilinear,
     bicubic, lanczos3, or bicubic-dering / lanczos3-dering (clamped to the 2x2 taps around each
-    sample: no ringing at sharp edges). ``threads=0`` uses every core. ``antialias``: ``"auto"`` (sub-pixels where
-    the output shrinks the source), ``"off"``, ``"mip"`` (mip levels) or ``N`` (N x N sub-pixels);
-    None: auto, off for the reference engine. The result has the input's dtype and channels; pixels without a
-    source are 0 (alpha 0). ``alpha=True`` adds an alpha channel if there is none and antialiases
+    sample: no ringing at sharp edges). ``threads=0`` uses every core. ``antialias``: ``"auto"``
+    (where the output shrinks the source, each pixel the area-weighted mean of the source pixels
+    under its footprint), ``"off"``, ``"mip"`` (mip levels) or ``N`` (N x N sub-pixels); None:
+    auto, off for the reference engine. The result has the input's dtype and channels; pixels
+    without a source are 0 (alpha 0). ``alpha=True`` adds an alpha channel if there is none and antialiases
     the field's edge (alpha = each edge pixel's covered share); ``fill`` (``(r, g, b[, a])`` in unit
     range, or ``"#rrggbb"``) colours what has no source, blended into the antialiased edge.
     """
