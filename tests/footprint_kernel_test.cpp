@@ -39,7 +39,7 @@ TEST(FootprintKernel, WeightsAreTheBoxsOverlapWithEachPixel) {
     const double s = pos(rng), e = trial < 5 ? 1.0 + trial : width(rng);
     double w[kFootprintTaps];
     footprint_weights(s, e, w);
-    const int64_t first = first_tap(Interp::Lanczos3, s);
+    const int64_t first = first_tap(kFootprintGrid, s);
     double sum = 0.0;
     for (int i = 0; i < kFootprintTaps; ++i) {
       const double c = static_cast<double>(first + i) + 0.5;
@@ -63,7 +63,7 @@ TEST(FootprintKernel, UnitWidthIsBilinear) {
     double w[kFootprintTaps], b[2];
     footprint_weights(s, 1.0, w);
     tap_weights(Interp::Bilinear, s, b);
-    const int64_t off = first_tap(Interp::Bilinear, s) - first_tap(Interp::Lanczos3, s);
+    const int64_t off = first_tap(Interp::Bilinear, s) - first_tap(kFootprintGrid, s);
     for (int i = 0; i < kFootprintTaps; ++i)
       EXPECT_NEAR(w[i], i == off ? b[0] : i == off + 1 ? b[1] : 0.0, 1e-12) << s << " tap " << i;
   }
@@ -146,7 +146,7 @@ TEST(FootprintKernel, SubpixelFieldIsTheTilesScaled) {
   ASSERT_GT(footprint_field(s, d, Eigen::Matrix3d::Identity(), tile, 4096, field).side, 3.0);
   constexpr int n = 3;
   const TileRect part{tile.x0 * n + 64, tile.y0 * n + 128, 64, 64};  // one kTile part of the 3-times rect
-  const FootprintField sub = field.for_subpixels(tile, part, n);
+  const FootprintField sub = field.for_rect(tile, part, n);
   int compared = 0;
   // Output pixel (tile.x0 + x, tile.y0 + y)'s middle sub-pixel: n (tile.x0 + x) + n / 2.
   for (int64_t j = (n / 2 - part.y0 % n + n) % n; j < part.h; j += n)

@@ -314,7 +314,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     for (int64_t y = 0; y < sub.h; y += kTile)
       for (int64_t x = 0; x < sub.w; x += kTile) {
         const TileRect part{sub.x0 + x, sub.y0 + y, std::min(kTile, sub.w - x), std::min(kTile, sub.h - y)};
-        const FootprintField part_fp = fp ? fp->for_subpixels(rect, part, n) : FootprintField{};
+        const FootprintField part_fp = fp ? fp->for_rect(rect, part, n) : FootprintField{};
         sample_rect(sub_target, part, nullptr, wk.sub.data() + y * sub_stride + x * pb, sub_stride, wk, fp ? &part_fp : nullptr);
       }
     average_subpixels(src, wk.sub.data(), sub_stride, rect, n, corner, stride);

@@ -49,7 +49,7 @@ double x_density(const Projection& source, double x, double y) {
 
 }  // namespace
 
-FootprintField FootprintField::for_subpixels(const TileRect& tile, const TileRect& rect, int n) const {
+FootprintField FootprintField::for_rect(const TileRect& tile, const TileRect& rect, int n) const {
   // Sub-pixel X of the n-times target lies at output position (X + 0.5) / n - 0.5.
   FootprintField f = *this;
   const auto per_u = tile.w > 1 ? 2.0 / static_cast<double>(tile.w - 1) : 0.0;
@@ -84,13 +84,15 @@ FootprintSides footprint_field(const Projection& source, const Projection& targe
       if (!shorter_step(bx, by, ax, ay, wrap, ux, uy)) continue;
       step(0, -1, bx, by), step(0, 1, ax, ay);
       if (!shorter_step(bx, by, ax, ay, wrap, vx, vy)) continue;
+      // The footprint's side: the geometric mean of its steps' lengths.
+      auto side = [&] { return std::sqrt(std::sqrt((ux * ux + uy * uy) * (vx * vx + vy * vy))); };
       field.ex[q] = std::sqrt(ux * ux + vx * vx), field.ey[q] = std::sqrt(uy * uy + vy * vy);
-      sides[static_cast<size_t>(count)] = std::sqrt(std::sqrt((ux * ux + uy * uy) * (vx * vx + vy * vy)));
+      sides[static_cast<size_t>(count)] = side();
       // An equirect row at latitude phi holds 1 / cos(phi) times the samples per angle of one at
       // the equator: x steps there count cos(phi) for the split.
       const auto density = static_cast<float>(x_density(source, x, y));
       ux *= density, vx *= density;
-      split_sides[static_cast<size_t>(count++)] = std::sqrt(std::sqrt((ux * ux + uy * uy) * (vx * vx + vy * vy)));
+      split_sides[static_cast<size_t>(count++)] = side();
       has[static_cast<size_t>(q)] = true;
     }
   if (count == 0) return {0.0, 0.0};
@@ -99,9 +101,7 @@ FootprintSides footprint_field(const Projection& source, const Projection& targe
     if (has[static_cast<size_t>(q)]) mx += field.ex[q], my += field.ey[q];
   for (int q = 0; q < 9; ++q)
     if (!has[static_cast<size_t>(q)]) field.ex[q] = mx / static_cast<float>(count), field.ey[q] = my / static_cast<float>(count);
-  field.u0 = field.v0 = 0.0f, field.scale = 1.0f;
-  field.du = rect.w > 1 ? 2.0f / static_cast<float>(rect.w - 1) : 0.0f;
-  field.dv = rect.h > 1 ? 2.0f / static_cast<float>(rect.h - 1) : 0.0f;
+  field = field.for_rect(rect, rect, 1);
   auto median = [&](std::array<float, 9>& v) {
     std::nth_element(v.begin(), v.begin() + count / 2, v.begin() + count);
     return static_cast<double>(v[static_cast<size_t>(count / 2)]);

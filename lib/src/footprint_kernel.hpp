@@ -19,15 +19,18 @@
 // alias); 4 taps with this box, cut to the taps past e = 3, 2.7 dB lower. Internal.
 #include <cstdint>
 
+#include "panoproj/interpolator.hpp"
 #include "panoproj/projection.hpp"
 #include "panoproj/tile_map.hpp"
 
 namespace panoproj {
 
-inline constexpr int kFootprintTaps = 6;
+// The kernel whose taps the footprint kernel reads (with its own weights), and their count.
+inline constexpr Interp kFootprintGrid = Interp::Lanczos3;
+inline constexpr int kFootprintTaps = 6;  // support(kFootprintGrid)
 inline constexpr double kFootprintReach = 5.0;  // source pixels: the widest box the taps hold
 
-// The kFootprintTaps tap weights (from first_tap(Interp::Lanczos3, s)) for a sample at s with
+// The kFootprintTaps tap weights (from first_tap(kFootprintGrid, s)) for a sample at s with
 // box width e in [1, kFootprintReach].
 void footprint_weights(double s, double e, double* w);
 
@@ -40,8 +43,9 @@ struct FootprintField {
   float u0 = 0, du = 0, v0 = 0, dv = 0, scale = 1;
   // The widths at rect pixel (i, j), in float as the SIMD sampler computes them.
   void at(int64_t i, int64_t j, float& wx, float& wy) const;
-  // The same field for rect pixels of the target nx times finer, as sub-pixels of tile.
-  FootprintField for_subpixels(const TileRect& tile, const TileRect& rect, int n) const;
+  // The field of tile for rect pixels of the target n times finer (its sub-pixels; n = 1: the
+  // tile's own pixels, rect = tile).
+  FootprintField for_rect(const TileRect& tile, const TileRect& rect, int n) const;
 };
 
 // The field of output tile rect, and its footprint's side: the median over the points of the

@@ -24,8 +24,7 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
                 const double* ys, const float* ex, const float* ey, const uint8_t* ok, int64_t n, unsigned char* out) {
   const int nc = src.channels(), alpha = src.alpha_channel();
   const size_t pb = src.pixel_bytes();
-  static_assert(kFootprintTaps == 6);
-  if (ex) interp = Interp::Lanczos3;  // its taps; the footprint kernel's weights below
+  if (ex) interp = kFootprintGrid;  // its taps; the footprint kernel's weights below
   const int k = support(interp);
   const double unit = unit_of(src.type());
   // Taps stay inside the window the caller read (a guard: the footprint already ensures it).

@@ -740,8 +740,7 @@ void Dispatch(PixelType t, Interp k, A&&... args) {
 
 // The kernel of interp, or the footprint kernel on its taps (of the kernel with that support).
 Interp KernelFor(Interp k, const FootprintField* footprint) {
-  static_assert(kFootprintTaps == 6);
-  return footprint ? Interp::Lanczos3 : k;
+  return footprint ? kFootprintGrid : k;
 }
 
 void SampleMap(const SimdSource& source, Interp interp, const TileMap& tm, unsigned char* out, int64_t out_stride,
