@@ -2,6 +2,8 @@
 // takes: positions within 1e-9 px where it runs in double, within SimdGeometry::kFloatTolerance
 // per axis where float lanes are allowed (modulo the identities: seam, poles, shared cube edges);
 // validity identical but for a few rim pixels; and it takes (90% of) the tiles that have pixels.
+// The same with the grid (cubic interpolation between exact nodes, SimdGeometry::grid): within
+// kFloatTolerance too, validity the same, and it interpolates most cells of the pairs it takes.
 #include "simd_geometry.hpp"
 
 #include <gtest/gtest.h>
@@ -19,6 +21,7 @@ struct Pair {
   const char* dst;
   Size ds;
   double yaw, pitch, roll;
+  bool mostly_grid = false;  // near 1:1 scale: the grid interpolates most cells
 };
 
 TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
@@ -28,6 +31,12 @@ TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
       {"equirect", {32768, 16384}, "pinhole:hfov=90", {700, 500}, 170, 80, 5},
       {"equirect", {40000, 20000}, "cubemap", {6 * 256, 256}, 0, 30, 0},
       {"equirect", {4096, 2048}, "fisheye:fov=180", {600, 600}, 0, 0, 0},
+      // Grid pairs (a sphere to a convex target) near 1:1 scale, at the extremes: a pole inside,
+      // the seam across the middle, an 8K source (a smaller float budget), a tilted cube face.
+      {"equirect", {2048, 1024}, "fisheye:fov=180", {1024, 1024}, 0, 90, 0, true},
+      {"equirect", {2048, 1024}, "fisheye:fov=200", {1152, 1152}, 180, 10, 0, true},
+      {"equirect", {8192, 4096}, "fisheye:fov=180,model=equisolid", {1024, 1024}, 40, -30, 0},
+      {"cubemap", {6 * 1024, 1024}, "pinhole:hfov=100", {1000, 700}, 45, 35, 10, true},
       {"equirect", {4096, 2048}, "fisheye:fov=360,model=equisolid", {600, 600}, 30, -20, 0},
       {"equirect", {4096, 2048}, "fisheye:fov=120,model=orthographic", {400, 400}, 0, 45, 0},
       {"equirect", {4096, 2048}, "fisheye:fov=300,model=stereographic", {400, 400}, 0, -45, 0},
@@ -94,36 +103,52 @@ TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
   for (int64_t target : targets) {
     hwy::SetSupportedTargetsForTest(target);
     for (const Pair& c : pairs) {
-      const Projection sp = make_projection(parse_spec(c.src), c.ss), dp = make_projection(parse_spec(c.dst), c.ds);
-      const Eigen::Matrix3d r = rotation_from_ypr(c.yaw, c.pitch, c.roll);
-      test::MapComparison cmp;
-      int64_t taken = 0, tiles = 0;  // tiles: those with a valid pixel
-      bool floats = false;
-      TileMap tm;
-      for (int64_t ty = 0; ty < c.ds.height; ty += kTile)
-        for (int64_t tx = 0; tx < c.ds.width; tx += kTile) {
-          const TileRect rect{tx, ty, std::min(kTile, c.ds.width - tx), std::min(kTile, c.ds.height - ty)};
-          bool any = false;
-          for (int64_t j = 0; j < rect.h && !any; j += 4)
-            for (int64_t i = 0; i < rect.w && !any; i += 4) any = contains(dp, tx + i + 0.5, ty + j + 0.5);
-          tiles += any;
-          SimdGeometry g;
-          if (!simd_geometry_for(sp, dp, r, rect, g)) continue;
-          ++taken;
-          floats = g.use_float;
-          simd_map_tile(g, rect, tm);
-          test::compare_with_exact(sp, dp, r, rect, tm, 1e-9, cmp);
+      int64_t gridded = 0;  // tiles the grid may take (the first pass counts them)
+      for (bool grid : {false, true}) {
+        if (grid && gridded == 0) continue;  // the same as without
+        const Projection sp = make_projection(parse_spec(c.src), c.ss), dp = make_projection(parse_spec(c.dst), c.ds);
+        const Eigen::Matrix3d r = rotation_from_ypr(c.yaw, c.pitch, c.roll);
+        test::MapComparison cmp;
+        int64_t taken = 0, tiles = 0;  // tiles: those with a valid pixel
+        int64_t interpolated = 0, cells = 0;  // the grid's cells in tiles with a pixel
+        bool floats = false;
+        TileMap tm;
+        for (int64_t ty = 0; ty < c.ds.height; ty += kTile)
+          for (int64_t tx = 0; tx < c.ds.width; tx += kTile) {
+            const TileRect rect{tx, ty, std::min(kTile, c.ds.width - tx), std::min(kTile, c.ds.height - ty)};
+            bool any = false;
+            for (int64_t j = 0; j < rect.h && !any; j += 4)
+              for (int64_t i = 0; i < rect.w && !any; i += 4) any = contains(dp, tx + i + 0.5, ty + j + 0.5);
+            tiles += any;
+            SimdGeometry g;
+            if (!simd_geometry_for(sp, dp, r, rect, g)) continue;
+            ++taken;
+            floats = g.use_float;
+            simd_map_tile(g, rect, tm, grid);
+            gridded += !grid && g.grid && any;
+            if (g.grid && any) {
+              interpolated += tm.interpolated_cells;
+              cells += tm.interpolated_cells + tm.exact_cells;
+            }
+            test::compare_with_exact(sp, dp, r, rect, tm, 1e-9, cmp);
+          }
+        const double worst = cmp.worst;
+        const int64_t differ = cmp.differ, valid = cmp.valid;
+        const std::string name = std::string(c.src) + " -> " + c.dst + (grid ? " (grid)" : "") + " " + hwy::TargetName(target);
+        if (target == targets.front())
+          std::printf("[simd_geometry] %-34s -> %-36s %s%s max error %.2e px, %lld of %lld tiles, %lld of %lld "
+                      "pixels differ in validity\n", c.src, c.dst, floats ? "float " : "double", grid ? " grid" : "",
+                      worst, static_cast<long long>(taken), static_cast<long long>(tiles), static_cast<long long>(differ),
+                      static_cast<long long>(valid));
+        EXPECT_GT(taken * 10, tiles * 9) << name;
+        // Per axis kFloatTolerance: the distance within sqrt(2) of it.
+        EXPECT_LE(worst, floats ? std::sqrt(2.0) * SimdGeometry::kFloatTolerance : 1e-9) << name;
+        EXPECT_LE(differ, valid / 5000 + 4) << name;
+        // Most cells interpolated (the rest: rims, poles, seams, face edges).
+        if (grid && c.mostly_grid) {
+          EXPECT_GT(interpolated * 2, cells) << name << ": " << interpolated << " of " << cells << " cells";
         }
-      const double worst = cmp.worst;
-      const int64_t differ = cmp.differ, valid = cmp.valid;
-      if (target == targets.front())
-        std::printf("[simd_geometry] %-34s -> %-36s %s max error %.2e px, %lld of %lld tiles, %lld of %lld "
-                    "pixels differ in validity\n", c.src, c.dst, floats ? "float " : "double", worst, static_cast<long long>(taken),
-                    static_cast<long long>(tiles), static_cast<long long>(differ), static_cast<long long>(valid));
-      EXPECT_GT(taken * 10, tiles * 9) << c.src << " -> " << c.dst << " " << hwy::TargetName(target);
-      // Per axis kFloatTolerance: the distance within sqrt(2) of it.
-      EXPECT_LE(worst, floats ? std::sqrt(2.0) * SimdGeometry::kFloatTolerance : 1e-9) << c.src << " -> " << c.dst << " " << hwy::TargetName(target);
-      EXPECT_LE(differ, valid / 5000 + 4) << c.src << " -> " << c.dst << " " << hwy::TargetName(target);
+      }
     }
   }
   hwy::SetSupportedTargetsForTest(0);

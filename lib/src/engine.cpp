@@ -342,7 +342,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
       const TileMap* tm = cached(t);
       SimdGeometry g;
       if (!tm) {
-        if (fused(rect, g)) simd_map_tile(g, rect, wk.map);
+        if (fused(rect, g)) simd_map_tile(g, rect, wk.map, grid_suits(src.type()));  // the fused path's positions
         else map_tile(source_, target_, rotation_, rect, wk.map);
         tm = &wk.map;
       }

@@ -510,6 +510,25 @@ HWY_INLINE void SourceOfRays(D d, const SimdGeometry& g, V x, V y, V z, M ok_dst
   coarse = hn::And(ok, hn::Or(coarse_dst, coarse_src));
 }
 
+// The grid of TileRows (SimdGeometry::grid): cells of kGridCell pixels, and the cubic Lagrange
+// weights through nodes at t = -1, 0, 1, 2 (cells) at t = i / kGridCell.
+constexpr int64_t kGridCell = 16;
+template <class T>
+struct GridWeights {
+  T w[kGridCell][4];
+  HWY_ALIGN T by_node[4][kGridCell];  // the same, transposed
+  constexpr GridWeights() : w{}, by_node{} {
+    for (int i = 0; i < kGridCell; ++i) {
+      const double t = static_cast<double>(i) / kGridCell;
+      w[i][0] = static_cast<T>(-t * (t - 1) * (t - 2) / 6), w[i][1] = static_cast<T>((t + 1) * (t - 1) * (t - 2) / 2);
+      w[i][2] = static_cast<T>(-(t + 1) * t * (t - 2) / 2), w[i][3] = static_cast<T>((t + 1) * t * (t - 1) / 6);
+      for (int l = 0; l < 4; ++l) by_node[l][i] = w[i][l];
+    }
+  }
+};
+inline constexpr GridWeights<float> kGridWeights{};
+inline constexpr GridWeights<double> kGridWeightsD{};
+
 // The source positions of the rows of one tile, with per-tile tables where the geometry
 // separates into a column part and a row part:
 //   - equirect and cylindrical targets: rays (cos lat sin lon, -sin lat, cos lat cos lon) and
@@ -518,16 +537,24 @@ HWY_INLINE void SourceOfRays(D d, const SimdGeometry& g, V x, V y, V z, M ok_dst
 //   - equirect and cylindrical sources seen from pinhole or cube-face targets turned only about
 //     the vertical (g.separable): the ray's (x, z) depends on the column alone and y on the row
 //     alone, so the source x and x^2 + z^2 come from a column table and each pixel computes the
-//     latitude only (one arctangent instead of two).
+//     latitude only (one arctangent instead of two);
+//   - with the grid (SimdGeometry::grid, asked for by the caller): exact nodes every kGridCell px
+//     and the checked cubic between them (BuildGrid), per-pixel geometry only in failed cells.
 class TileRows {
  public:
   static constexpr int64_t kMaxTableWidth = 64;
+  static constexpr int64_t kGridCells = kMaxTableWidth / kGridCell;  // per axis
+  static constexpr int64_t kGridNodes = kGridCells + 3;               // a ring before, two after
+  static constexpr size_t kLanesD = HWY_MAX_BYTES / sizeof(double);
 
-  TileRows(const SimdGeometry& g, const TileRect& rect) : g_(g), x0_(rect.x0), y0_(rect.y0), n_(rect.w) {
+  // grid: interpolate between exact nodes where the pair allows it (SimdGeometry::grid).
+  TileRows(const SimdGeometry& g, const TileRect& rect, bool grid = false)
+      : g_(g), x0_(rect.x0), y0_(rect.y0), n_(rect.w) {
     const bool fits = rect.w <= kMaxTableWidth && rect.h <= kMaxTableWidth;
     cylinder_ = g.dst == SimdGeometry::Dst::Cylindrical;
     table_ = (g.dst == SimdGeometry::Dst::Equirect || cylinder_) && fits;
-    separable_ = g.separable && fits;
+    grid_ = grid && g.grid && fits && g.use_float;
+    separable_ = g.separable && fits && !grid_;
     // Vector functions (a few ulp), every entry: rows read whole vectors past n.
     const DD dd;
     const hn::Rebind<float, DD> df;
@@ -572,6 +599,7 @@ class TileRows {
       store(hn::IfThenElseZero(ok_x, hn::Set(dd, 1.0)), col_ok_d_, col_ok_f_, i);
       hn::Store(y, dd, row_a_ + i);
     }
+    if (grid_) BuildGrid(rect);
   }
 
   // Calls sink(sx, sy, ok, i, m) for output pixels (x0 + i .. x0 + i + m - 1, y), i from 0 to n
@@ -598,19 +626,46 @@ class TileRows {
     const DF32 df;
     const auto NF = static_cast<int64_t>(hn::Lanes(df));
     const auto py = hn::Set(df, static_cast<float>(y) + 0.5f);
+    // The grid's row: its cell row and the cubic weights along y. (A vector lies in one cell.)
+    static_assert(kGridCell % (HWY_MAX_BYTES / sizeof(float)) == 0);
+    const int64_t j = y - y0_, b = j / kGridCell;
+    const float* wy = kGridWeights.w[j % kGridCell];
     for (int64_t i = 0; i < n_; i += NF) {
       const int64_t m = std::min(NF, n_ - i);
       hn::Vec<DF32> sx, sy;
       hn::Mask<DF32> ok, coarse;
-      Positions(df, hn::Iota(df, static_cast<float>(x0_ + i) + 0.5f), py, i, static_cast<float>(ra),
-                static_cast<float>(rb), sx, sy, ok, coarse);
-      ok = hn::And(ok, hn::FirstN(df, static_cast<size_t>(m)));
-      if (HWY_LIKELY(hn::AllFalse(df, hn::And(coarse, ok)))) {
-        sink(sx, sy, ok, i, m);
+      if (grid_ && cell_[b][i / kGridCell]) {
+        // base + the column node's cubic in y + the rows' offsets from it, interpolated along y.
+        const int64_t a = i / kGridCell;
+        float cx = 0, cy = 0;
+        for (int k = 0; k < 4; ++k) cx += wy[k] * col_x_[b][a][k], cy += wy[k] * col_y_[b][a][k];
+        sx = hn::Set(df, cx), sy = hn::Set(df, cy);
+        for (int k = 0; k < 4; ++k) {
+          sx = hn::MulAdd(hn::Set(df, wy[k]), hn::LoadU(df, rel_x_[b + k] + i), sx);
+          sy = hn::MulAdd(hn::Set(df, wy[k]), hn::LoadU(df, rel_y_[b + k] + i), sy);
+        }
+        sx = hn::Add(sx, hn::Set(df, base_x_[b][a])), sy = hn::Add(sy, hn::Set(df, base_y_[b][a]));
+        ok = hn::FirstN(df, static_cast<size_t>(m));
       } else {
-        doubles(i, i + m);
+        Positions(df, hn::Iota(df, static_cast<float>(x0_ + i) + 0.5f), py, i, static_cast<float>(ra),
+                  static_cast<float>(rb), sx, sy, ok, coarse);
+        ok = hn::And(ok, hn::FirstN(df, static_cast<size_t>(m)));
+        if (HWY_UNLIKELY(!hn::AllFalse(df, hn::And(coarse, ok)))) {
+          doubles(i, i + m);
+          continue;
+        }
       }
+      sink(sx, sy, ok, i, m);
     }
+  }
+
+  // The grid's cells over the tile, and those interpolated (0 without the grid).
+  int64_t cells() const { return cells_; }
+  int64_t grid_cells() const {
+    int64_t n = 0;
+    for (int64_t b = 0; grid_ && b < kGridCells; ++b)
+      for (int64_t a = 0; a < kGridCells; ++a) n += cell_[b][a];
+    return n;
   }
 
  private:
@@ -654,9 +709,123 @@ class TileRows {
     SourceOfRays(d, g_, x, y, z, ok_dst, coarse_dst, sx, sy, ok, coarse);
   }
 
+  // Grid mode (SimdGeometry::grid): node (r, c) at pixel centre (x0 + (c - 1) kGridCell + 1/2,
+  // y0 + (r - 1) kGridCell + 1/2); cell (b, a) spans pixels [a, a + 1) kGridCell x [b, b + 1)
+  // kGridCell and interpolates nodes b..b+3 x a..a+3.
+  void BuildGrid(const TileRect& rect) {
+    const DD dd;
+    const auto ND = static_cast<int64_t>(hn::Lanes(dd));
+    const int64_t ncx = (rect.w + kGridCell - 1) / kGridCell, ncy = (rect.h + kGridCell - 1) / kGridCell;
+    const int64_t nnx = ncx + 3, nny = ncy + 3;
+    cells_ = ncx * ncy;
+    double nx[kGridNodes][kGridNodes], ny[kGridNodes][kGridNodes];
+    bool nok[kGridNodes][kGridNodes];
+    HWY_ALIGN double bx[kLanesD], by[kLanesD], bo[kLanesD];
+    // Exact positions (double lanes) of points (px[q], py[q]), q < n, into the three arrays.
+    auto exact = [&](const double* px, const double* py, int64_t n, double* ox, double* oy, bool* ook) {
+      for (int64_t q = 0; q < n; q += ND) {
+        const int64_t m = std::min(ND, n - q);
+        VD sx, sy;
+        MD ok, coarse;
+        HWY_ALIGN double qx[kLanesD] = {}, qy[kLanesD] = {};
+        for (int64_t l = 0; l < m; ++l) qx[l] = px[q + l], qy[l] = py[q + l];
+        Positions(dd, hn::Load(dd, qx), hn::Load(dd, qy), 0, 0.0, 0.0, sx, sy, ok, coarse);
+        hn::Store(sx, dd, bx), hn::Store(sy, dd, by), hn::Store(hn::IfThenElseZero(ok, hn::Set(dd, 1.0)), dd, bo);
+        for (int64_t l = 0; l < m; ++l) ox[q + l] = bx[l], oy[q + l] = by[l], ook[q + l] = bo[l] != 0.0;
+      }
+    };
+    for (int64_t r = 0; r < nny; ++r) {
+      double px[kGridNodes], py[kGridNodes];
+      for (int64_t c = 0; c < nnx; ++c)
+        px[c] = static_cast<double>(x0_ + (c - 1) * kGridCell) + 0.5, py[c] = static_cast<double>(y0_ + (r - 1) * kGridCell) + 0.5;
+      exact(px, py, nnx, nx[r], ny[r], nok[r]);
+    }
+    // The cubic through a cell's nodes at (i, j) pixels from its corner.
+    auto interp = [&](int64_t a, int64_t b, int64_t i, int64_t j, double& ix, double& iy) {
+      ix = iy = 0;
+      for (int k = 0; k < 4; ++k)
+        for (int l = 0; l < 4; ++l) {
+          const double w = kGridWeightsD.w[j][k] * kGridWeightsD.w[i][l];
+          ix += w * nx[b + k][a + l], iy += w * ny[b + k][a + l];
+        }
+    };
+    // Cells whose 16 nodes are valid, then the centre check, then (where the centre errs by over
+    // a sixteenth of the tolerance) eight more, as map_tile.
+    constexpr int q4 = kGridCell / 4, h3 = 3 * kGridCell / 4, c2 = kGridCell / 2;
+    constexpr int64_t kChecks[9][2] = {{c2, c2}, {q4, q4}, {h3, q4}, {q4, h3}, {h3, h3}, {c2, q4}, {q4, c2}, {h3, c2}, {c2, h3}};
+    const double tol = g_.grid_tolerance;
+    int64_t todo[kGridCells * kGridCells], n_todo = 0;
+    for (int64_t b = 0; b < kGridCells; ++b)
+      for (int64_t a = 0; a < kGridCells; ++a) {
+        bool all = a < ncx && b < ncy;
+        for (int k = 0; k < 16 && all; ++k) all = nok[b + k / 4][a + k % 4];
+        cell_[b][a] = all;
+        if (all) todo[n_todo++] = b * kGridCells + a;
+      }
+    for (int pass = 0; pass < 2 && n_todo > 0; ++pass) {
+      const int first = pass == 0 ? 0 : 1, count = pass == 0 ? 1 : 8;
+      double px[kGridCells * kGridCells * 8], py[kGridCells * kGridCells * 8], ex[kGridCells * kGridCells * 8],
+          ey[kGridCells * kGridCells * 8];
+      bool eok[kGridCells * kGridCells * 8];
+      int64_t n = 0;
+      for (int64_t t = 0; t < n_todo; ++t)
+        for (int k = first; k < first + count; ++k) {
+          const int64_t a = todo[t] % kGridCells, b = todo[t] / kGridCells;
+          px[n] = static_cast<double>(x0_ + a * kGridCell + kChecks[k][0]) + 0.5;
+          py[n++] = static_cast<double>(y0_ + b * kGridCell + kChecks[k][1]) + 0.5;
+        }
+      exact(px, py, n, ex, ey, eok);
+      int64_t next = 0;
+      n = 0;
+      for (int64_t t = 0; t < n_todo; ++t) {
+        const int64_t a = todo[t] % kGridCells, b = todo[t] / kGridCells;
+        double worst = 0;
+        for (int k = first; k < first + count; ++k, ++n) {
+          double ix, iy;
+          interp(a, b, kChecks[k][0], kChecks[k][1], ix, iy);
+          worst = std::max(worst, eok[n] ? (ix - ex[n]) * (ix - ex[n]) + (iy - ey[n]) * (iy - ey[n]) : HUGE_VAL);
+        }
+        cell_[b][a] = worst <= tol * tol;  // (squared distances)
+        if (pass == 0 && cell_[b][a] && worst > tol * tol / 256) todo[next++] = todo[t];
+      }
+      n_todo = next;
+    }
+    // Per cell: an integer base near its positions; per node row, the cubic along x less its
+    // column node a + 1; per node and cell column, that node less the base (all small: float).
+    const hn::ScalableTag<float> df;
+    const auto NF = static_cast<int64_t>(hn::Lanes(df));
+    for (int64_t r = 0; r < nny; ++r)
+      for (int64_t c = 0; c < ncx * kGridCell; c += NF) {
+        const int64_t a = c / kGridCell, i = c % kGridCell;
+        auto vx = hn::Zero(df), vy = hn::Zero(df);
+        for (int l = 0; l < 4; ++l) {
+          const auto w = hn::LoadU(df, kGridWeights.by_node[l] + i);
+          vx = hn::MulAdd(w, hn::Set(df, static_cast<float>(nx[r][a + l] - nx[r][a + 1])), vx);
+          vy = hn::MulAdd(w, hn::Set(df, static_cast<float>(ny[r][a + l] - ny[r][a + 1])), vy);
+        }
+        hn::Store(vx, df, rel_x_[r] + c), hn::Store(vy, df, rel_y_[r] + c);
+      }
+    for (int64_t b = 0; b < ncy; ++b)
+      for (int64_t a = 0; a < ncx; ++a) {
+        if (!cell_[b][a]) continue;
+        base_x_[b][a] = static_cast<float>(std::nearbyint(nx[b + 1][a + 1]));
+        base_y_[b][a] = static_cast<float>(std::nearbyint(ny[b + 1][a + 1]));
+        for (int k = 0; k < 4; ++k) {
+          col_x_[b][a][k] = static_cast<float>(nx[b + k][a + 1] - static_cast<double>(base_x_[b][a]));
+          col_y_[b][a][k] = static_cast<float>(ny[b + k][a + 1] - static_cast<double>(base_y_[b][a]));
+        }
+      }
+  }
+
+
   const SimdGeometry& g_;
   int64_t x0_, y0_, n_;
-  bool table_, cylinder_, separable_;
+  bool table_, cylinder_, separable_, grid_;
+  int64_t cells_ = 0;
+  bool cell_[kGridCells][kGridCells];
+  float base_x_[kGridCells][kGridCells], base_y_[kGridCells][kGridCells];
+  float col_x_[kGridCells][kGridCells][4], col_y_[kGridCells][kGridCells][4];  // a cell's column nodes less its base
+  HWY_ALIGN float rel_x_[kGridNodes][kMaxTableWidth], rel_y_[kGridNodes][kMaxTableWidth];
   // Per column, two values a, b (and the separable form's ok), in both lane types; per row two.
   HWY_ALIGN double col_a_d_[kMaxTableWidth + kPad], col_b_d_[kMaxTableWidth + kPad], col_ok_d_[kMaxTableWidth + kPad];
   HWY_ALIGN float col_a_f_[kMaxTableWidth + kPad], col_b_f_[kMaxTableWidth + kPad], col_ok_f_[kMaxTableWidth + kPad];

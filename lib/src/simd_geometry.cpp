@@ -20,8 +20,10 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 // The positions the fused converter computes (TileRows), stored in double.
-void MapTile(const SimdGeometry& g, const TileRect& rect, TileMap& out) {
-  const TileRows rows(g, rect);
+void MapTile(const SimdGeometry& g, const TileRect& rect, bool grid, TileMap& out) {
+  const TileRows rows(g, rect, grid);
+  out.interpolated_cells = rows.grid_cells();
+  out.exact_cells = grid && g.grid ? rows.cells() - out.interpolated_cells : 0;
   for (int64_t j = 0; j < rect.h; ++j) {
     const size_t row = static_cast<size_t>(j * rect.w);
     rows.Row(rect.y0 + j, [&](auto sx, auto sy, auto ok, int64_t i, int64_t m) {
@@ -328,6 +330,15 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
   // Target pixel coordinates are exact in float up to 2^23.
   const Size ts = size_of(dst);
   g.use_float = g.use_float && std::max(ts.width, ts.height) < (int64_t{1} << 23);
+  // The grid's float positions: the interpolation's error, one rounding of the position, and
+  // float sums of offsets below ~1e3 px (under 1e-5 px) within kFloatTolerance.
+  const Size ss = size_of(src);
+  g.grid_tolerance = tol - static_cast<double>(std::max(ss.width, ss.height)) * kHalfUlp - 1e-5;
+  const bool every_ray = (g.src == SimdGeometry::Src::Equirect && gs[10] != 0 && gs[12] != 0) ||
+                         g.src == SimdGeometry::Src::Cubemap;
+  const bool convex = g.dst == SimdGeometry::Dst::Pinhole || g.dst == SimdGeometry::Dst::CubeFace ||
+                      g.dst == SimdGeometry::Dst::Fisheye;
+  g.grid = g.use_float && every_ray && convex && g.grid_tolerance > 0.25 * tol;
   auto round = [](const double* a, float* b, int n) {
     for (int i = 0; i < n; ++i) b[i] = static_cast<float>(a[i]);
   };
@@ -341,14 +352,13 @@ void simd_tile_bounds(const SimdGeometry& g, const TileRect& rect, std::array<do
   HWY_DYNAMIC_DISPATCH(TileBounds)(g, rect, box.data());
 }
 
-void simd_map_tile(const SimdGeometry& g, const TileRect& rect, TileMap& out) {
+void simd_map_tile(const SimdGeometry& g, const TileRect& rect, TileMap& out, bool grid) {
   const auto n = static_cast<size_t>(rect.w * rect.h);
   out.rect = rect;
   out.xs.resize(n);
   out.ys.resize(n);
   out.ok.resize(n);
-  out.exact_cells = out.interpolated_cells = 0;
-  HWY_DYNAMIC_DISPATCH(MapTile)(g, rect, out);
+  HWY_DYNAMIC_DISPATCH(MapTile)(g, rect, grid, out);
 }
 
 }  // namespace panoproj

@@ -9,7 +9,8 @@
 // lanes elsewhere: near an equirect pole the longitude atan2(x, z) divides float's ~1e-7 absolute
 // ray error by cos(latitude) (float everywhere erred by 0.1 px at 32768 px, measured), and float
 // positions themselves are coarse beyond a few thousand pixels. Tested against the exact map in
-// tests/simd_geometry_test.cpp; other pairs use the tile mapper. Internal.
+// tests/simd_geometry_test.cpp; other pairs use the tile mapper. For uint8 sources, pairs with
+// SimdGeometry::grid interpolate between exact nodes instead (TileRows). Internal.
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
@@ -37,6 +38,12 @@ struct SimdGeometry {
   // A longitude-axis source and a pinhole or cube-face target turned only about the vertical:
   // the ray's (x, z) follows the column and y the row (TileRows' column tables).
   bool separable;
+  // Exact positions at nodes every kGridCell pixels and cubic interpolation between them, in
+  // cells where exact check points agree within grid_tolerance (TileRows): a source whose every
+  // ray has a pixel (a full equirect, a cubemap) and a target whose valid pixels form a convex
+  // set (pinhole, cube face, fisheye), so a cell whose nodes are all valid is valid throughout.
+  bool grid;
+  double grid_tolerance;
   template <class T>
   struct Params {
     T d[16];  // target parameters (see simd_geometry.cpp)
@@ -57,8 +64,9 @@ struct SimdGeometry {
 bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
                        const TileRect& rect, SimdGeometry& g);
 
-// Fills out (a TileMap of rect's size) with the source positions of the tile's pixel centres.
-void simd_map_tile(const SimdGeometry& g, const TileRect& rect, TileMap& out);
+// Fills out (a TileMap of rect's size) with the source positions of the tile's pixel centres;
+// grid: interpolated between exact nodes where g.grid allows, as the fused uint8 converter.
+void simd_map_tile(const SimdGeometry& g, const TileRect& rect, TileMap& out, bool grid = false);
 
 // Widens box {x0, y0, x1, y1} to the tile's valid source positions (the same positions, nothing
 // stored: the footprint of a fused tile).

@@ -760,7 +760,7 @@ void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& sour
   s.dering = derings(interp) && !footprint, s.footprint = footprint;
   const Interp k = KernelFor(interp, footprint);
   const auto NF = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>())), ND = static_cast<int64_t>(hn::Lanes(DD()));
-  const TileRows rows(g, rect);
+  const TileRows rows(g, rect, grid_suits(s.type));
   // A coarse float vector becomes NF / ND double blocks.
   Chunked(s, k, rect, (rect.w + NF - 1) / NF * ((NF + ND - 1) / ND), out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
     return PlanFusedRows(s, support(k), rows, rect, j0, j1, blk, misses);

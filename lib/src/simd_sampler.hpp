@@ -46,8 +46,13 @@ struct SimdMisses {
 void simd_sample(const SimdSource& src, Interp interp, const TileMap& tm, unsigned char* out, int64_t out_stride,
                  SimdMisses& misses, const FootprintField* footprint = nullptr);
 
+// Whether a source of type t takes positions interpolated on the grid (SimdGeometry::grid):
+// uint8, where their error (within kFloatTolerance per axis) moves a sample by < 0.25 LSB even at
+// 160 LSB per px; wider types would resolve it and keep per-pixel geometry.
+inline bool grid_suits(PixelType t) { return t == PixelType::U8; }
+
 // The same for the output pixels of rect in g's target, the positions from the vector geometry
-// (g must be valid for rect): no map is stored.
+// (g must be valid for rect; on its grid where grid_suits(src.type)): no map is stored.
 void simd_convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& src, Interp interp,
                   unsigned char* out, int64_t out_stride, SimdMisses& misses, const FootprintField* footprint = nullptr);
 
