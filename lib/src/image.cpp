@@ -12,16 +12,6 @@
 
 namespace panoproj {
 
-size_t bytes_of(PixelType t) {
-  switch (t) {
-    case PixelType::U8: return 1;
-    case PixelType::U16:
-    case PixelType::F16: return 2;
-    case PixelType::F32: return 4;
-  }
-  return 1;
-}
-
 const char* name_of(PixelType t) {
   switch (t) {
     case PixelType::U8: return "uint8";

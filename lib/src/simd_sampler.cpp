@@ -339,7 +339,12 @@ class TapPairs {
 
   TapPairs(const SimdSource& s, const TapBlock& blk)
       : pb_(s.channels), base_(reinterpret_cast<const uint64_t*>(blk.base)), blk_(blk) {
-#if HWY_TARGET > HWY_AVX3
+#if HWY_TARGET <= HWY_AVX3
+    // Lanes not sampled read the base. (Clamped once here, read per lane from memory by Fetch:
+    // the compiler moved each offset through vector registers and back, ~6 instructions a read.)
+    const hn::RebindToSigned<DU> di;
+    hn::Store(hn::Max(hn::Load(di, blk.off), hn::Zero(di)), di, at_);
+#else
     const hn::RebindToSigned<DU> di;
     const hn::Half<decltype(di)> dih;
     const auto off = hn::Max(hn::Load(di, blk.off), hn::Zero(di));
@@ -376,7 +381,9 @@ class TapPairs {
     // AVX-512: 64-bit loads into 128-bit halves, then inserts: on Zen 4 two 8-lane gathers take
     // ~10 ns per 16 lanes in L1, these loads ~6 ns (a micro-benchmark); e->cube bilinear ~7% less.
     const unsigned char* p = reinterpret_cast<const unsigned char*>(base_) + bytes;
-    auto at = [&](int l) { return p + std::max(blk_.off[l], 0); };  // lanes not sampled: the base
+    // (A volatile read: else gcc keeps the stored vector and extracts each lane through vector
+    // registers again.)
+    auto at = [&](int l) { return p + static_cast<const volatile int32_t*>(at_)[l]; };
     auto two = [&](int l) {
       const __m128i a = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(at(l)));
       return _mm_castpd_si128(_mm_loadh_pd(_mm_castsi128_pd(a), reinterpret_cast<const double*>(at(l + 1))));
@@ -401,7 +408,9 @@ class TapPairs {
   int pb_;
   const uint64_t* base_;
   const TapBlock& blk_;
-#if HWY_TARGET > HWY_AVX3
+#if HWY_TARGET <= HWY_AVX3
+  HWY_ALIGN int32_t at_[kMaxLanes];  // first-tap offsets, 0 for lanes not sampled
+#else
   hn::Vec<DI64> lo_, hi_;  // 64-bit first-tap offsets of lanes [0, N/2) and [N/2, N)
 #endif
 };

@@ -13,7 +13,16 @@ namespace panoproj {
 
 enum class PixelType { U8, U16, F16, F32 };
 
-size_t bytes_of(PixelType t);
+// (Inline: the SIMD sampler's planning loop asks per vector.)
+constexpr size_t bytes_of(PixelType t) {
+  switch (t) {
+    case PixelType::U8: return 1;
+    case PixelType::U16:
+    case PixelType::F16: return 2;
+    case PixelType::F32: return 4;
+  }
+  return 1;
+}
 const char* name_of(PixelType t);
 // Largest sample value mapping to 1.0 (255, 65535; 1 for half and float).
 double unit_of(PixelType t);
