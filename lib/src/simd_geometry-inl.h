@@ -510,24 +510,21 @@ HWY_INLINE void SourceOfRays(D d, const SimdGeometry& g, V x, V y, V z, M ok_dst
   coarse = hn::And(ok, hn::Or(coarse_dst, coarse_src));
 }
 
-// The grid of TileRows (SimdGeometry::grid): cells of kGridCell pixels, and the cubic Lagrange
-// weights through nodes at t = -1, 0, 1, 2 (cells) at t = i / kGridCell.
+// The grid of TileRows (SimdGeometry::grid): cells of kGridCell pixels, and lagrange_cubic at
+// t = i / kGridCell in float.
 constexpr int64_t kGridCell = 16;
-template <class T>
 struct GridWeights {
-  T w[kGridCell][4];
-  HWY_ALIGN T by_node[4][kGridCell];  // the same, transposed
+  float w[kGridCell][4];
+  HWY_ALIGN float by_node[4][kGridCell];  // the same, transposed
   constexpr GridWeights() : w{}, by_node{} {
     for (int i = 0; i < kGridCell; ++i) {
-      const double t = static_cast<double>(i) / kGridCell;
-      w[i][0] = static_cast<T>(-t * (t - 1) * (t - 2) / 6), w[i][1] = static_cast<T>((t + 1) * (t - 1) * (t - 2) / 2);
-      w[i][2] = static_cast<T>(-(t + 1) * t * (t - 2) / 2), w[i][3] = static_cast<T>((t + 1) * t * (t - 1) / 6);
-      for (int l = 0; l < 4; ++l) by_node[l][i] = w[i][l];
+      double d[4] = {};
+      lagrange_cubic(static_cast<double>(i) / kGridCell, d);
+      for (int l = 0; l < 4; ++l) w[i][l] = by_node[l][i] = static_cast<float>(d[l]);
     }
   }
 };
-inline constexpr GridWeights<float> kGridWeights{};
-inline constexpr GridWeights<double> kGridWeightsD{};
+inline constexpr GridWeights kGridWeights{};
 
 // The source positions of the rows of one tile, with per-tile tables where the geometry
 // separates into a column part and a row part:
@@ -626,25 +623,16 @@ class TileRows {
     const DF32 df;
     const auto NF = static_cast<int64_t>(hn::Lanes(df));
     const auto py = hn::Set(df, static_cast<float>(y) + 0.5f);
-    // The grid's row: its cell row and the cubic weights along y. (A vector lies in one cell.)
+    // The grid's row and cell row. (A vector lies in one cell.)
     static_assert(kGridCell % (HWY_MAX_BYTES / sizeof(float)) == 0);
     const int64_t j = y - y0_, b = j / kGridCell;
-    const float* wy = kGridWeights.w[j % kGridCell];
     for (int64_t i = 0; i < n_; i += NF) {
       const int64_t m = std::min(NF, n_ - i);
       hn::Vec<DF32> sx, sy;
       hn::Mask<DF32> ok, coarse;
       if (grid_ && cell_[b][i / kGridCell]) {
-        // base + the column node's cubic in y + the rows' offsets from it, interpolated along y.
-        const int64_t a = i / kGridCell;
-        float cx = 0, cy = 0;
-        for (int k = 0; k < 4; ++k) cx += wy[k] * col_x_[b][a][k], cy += wy[k] * col_y_[b][a][k];
-        sx = hn::Set(df, cx), sy = hn::Set(df, cy);
-        for (int k = 0; k < 4; ++k) {
-          sx = hn::MulAdd(hn::Set(df, wy[k]), hn::LoadU(df, rel_x_[b + k] + i), sx);
-          sy = hn::MulAdd(hn::Set(df, wy[k]), hn::LoadU(df, rel_y_[b + k] + i), sy);
-        }
-        sx = hn::Add(sx, hn::Set(df, base_x_[b][a])), sy = hn::Add(sy, hn::Set(df, base_y_[b][a]));
+        GridOffsets(df, i, j, sx, sy);
+        sx = hn::Add(sx, hn::Set(df, base_x_[b][i / kGridCell])), sy = hn::Add(sy, hn::Set(df, base_y_[b][i / kGridCell]));
         ok = hn::FirstN(df, static_cast<size_t>(m));
       } else {
         Positions(df, hn::Iota(df, static_cast<float>(x0_ + i) + 0.5f), py, i, static_cast<float>(ra),
@@ -709,6 +697,22 @@ class TileRows {
     SourceOfRays(d, g_, x, y, z, ok_dst, coarse_dst, sx, sy, ok, coarse);
   }
 
+  // The grid's positions of the float vector of pixels from column i on, in row j of the tile
+  // (cell (j, i) / kGridCell), less the cell's base: the column node's cubic in y + the node
+  // rows' offsets from it, interpolated along y. BuildGrid checks these very values.
+  template <class DF32, class V = hn::Vec<DF32>>
+  HWY_INLINE void GridOffsets(DF32 df, int64_t i, int64_t j, V& sx, V& sy) const {
+    const int64_t a = i / kGridCell, b = j / kGridCell;
+    const float* wy = kGridWeights.w[j % kGridCell];
+    float cx = 0, cy = 0;
+    for (int k = 0; k < 4; ++k) cx += wy[k] * col_x_[b][a][k], cy += wy[k] * col_y_[b][a][k];
+    sx = hn::Set(df, cx), sy = hn::Set(df, cy);
+    for (int k = 0; k < 4; ++k) {
+      sx = hn::MulAdd(hn::Set(df, wy[k]), hn::LoadU(df, rel_x_[b + k] + i), sx);
+      sy = hn::MulAdd(hn::Set(df, wy[k]), hn::LoadU(df, rel_y_[b + k] + i), sy);
+    }
+  }
+
   // Grid mode (SimdGeometry::grid): node (r, c) at pixel centre (x0 + (c - 1) kGridCell + 1/2,
   // y0 + (r - 1) kGridCell + 1/2); cell (b, a) spans pixels [a, a + 1) kGridCell x [b, b + 1)
   // kGridCell and interpolates nodes b..b+3 x a..a+3.
@@ -740,15 +744,6 @@ class TileRows {
         px[c] = static_cast<double>(x0_ + (c - 1) * kGridCell) + 0.5, py[c] = static_cast<double>(y0_ + (r - 1) * kGridCell) + 0.5;
       exact(px, py, nnx, nx[r], ny[r], nok[r]);
     }
-    // The cubic through a cell's nodes at (i, j) pixels from its corner.
-    auto interp = [&](int64_t a, int64_t b, int64_t i, int64_t j, double& ix, double& iy) {
-      ix = iy = 0;
-      for (int k = 0; k < 4; ++k)
-        for (int l = 0; l < 4; ++l) {
-          const double w = kGridWeightsD.w[j][k] * kGridWeightsD.w[i][l];
-          ix += w * nx[b + k][a + l], iy += w * ny[b + k][a + l];
-        }
-    };
     // Cells whose 16 nodes are valid, then the centre check, then (where the centre errs by over
     // a sixteenth of the tolerance) eight more, as map_tile.
     constexpr int q4 = kGridCell / 4, h3 = 3 * kGridCell / 4, c2 = kGridCell / 2;
@@ -761,6 +756,31 @@ class TileRows {
         for (int k = 0; k < 16 && all; ++k) all = nok[b + k / 4][a + k % 4];
         cell_[b][a] = all;
         if (all) todo[n_todo++] = b * kGridCells + a;
+      }
+    // Per cell: an integer base near its positions; per node row, the cubic along x less its
+    // column node a + 1; per node and cell column, that node less the base (all small: float).
+    const hn::ScalableTag<float> df;
+    const auto NF = static_cast<int64_t>(hn::Lanes(df));
+    for (int64_t r = 0; r < nny; ++r)
+      for (int64_t c = 0; c < ncx * kGridCell; c += NF) {
+        const int64_t a = c / kGridCell, i = c % kGridCell;
+        auto vx = hn::Zero(df), vy = hn::Zero(df);
+        for (int l = 0; l < 4; ++l) {
+          const auto w = hn::LoadU(df, kGridWeights.by_node[l] + i);
+          vx = hn::MulAdd(w, hn::Set(df, static_cast<float>(nx[r][a + l] - nx[r][a + 1])), vx);
+          vy = hn::MulAdd(w, hn::Set(df, static_cast<float>(ny[r][a + l] - ny[r][a + 1])), vy);
+        }
+        hn::Store(vx, df, rel_x_[r] + c), hn::Store(vy, df, rel_y_[r] + c);
+      }
+    for (int64_t b = 0; b < ncy; ++b)
+      for (int64_t a = 0; a < ncx; ++a) {
+        if (!cell_[b][a]) continue;  // (nodes not all valid)
+        base_x_[b][a] = static_cast<float>(std::nearbyint(nx[b + 1][a + 1]));
+        base_y_[b][a] = static_cast<float>(std::nearbyint(ny[b + 1][a + 1]));
+        for (int k = 0; k < 4; ++k) {
+          col_x_[b][a][k] = static_cast<float>(nx[b + k][a + 1] - static_cast<double>(base_x_[b][a]));
+          col_y_[b][a][k] = static_cast<float>(ny[b + k][a + 1] - static_cast<double>(base_y_[b][a]));
+        }
       }
     for (int pass = 0; pass < 2 && n_todo > 0; ++pass) {
       const int first = pass == 0 ? 0 : 1, count = pass == 0 ? 1 : 8;
@@ -781,42 +801,23 @@ class TileRows {
         const int64_t a = todo[t] % kGridCells, b = todo[t] / kGridCells;
         double worst = 0;
         for (int k = first; k < first + count; ++k, ++n) {
-          double ix, iy;
-          interp(a, b, kChecks[k][0], kChecks[k][1], ix, iy);
-          worst = std::max(worst, eok[n] ? (ix - ex[n]) * (ix - ex[n]) + (iy - ey[n]) * (iy - ey[n]) : HUGE_VAL);
+          // The vector Row makes there (before its base), and the check point's lane of it.
+          const int64_t i = a * kGridCell + kChecks[k][0], lane = i % NF;
+          hn::Vec<decltype(df)> vx, vy;
+          GridOffsets(df, i - lane, b * kGridCell + kChecks[k][1], vx, vy);
+          HWY_ALIGN float gx[kMaxTableWidth], gy[kMaxTableWidth];
+          hn::Store(vx, df, gx), hn::Store(vy, df, gy);
+          // (The base added in double: Row's last rounding is in the budget, not in the check.)
+          const double dx = base_x_[b][a] + static_cast<double>(gx[lane]) - ex[n];
+          const double dy = base_y_[b][a] + static_cast<double>(gy[lane]) - ey[n];
+          worst = std::max(worst, eok[n] ? dx * dx + dy * dy : HUGE_VAL);
         }
         cell_[b][a] = worst <= tol * tol;  // (squared distances)
         if (pass == 0 && cell_[b][a] && worst > tol * tol / 256) todo[next++] = todo[t];
       }
       n_todo = next;
     }
-    // Per cell: an integer base near its positions; per node row, the cubic along x less its
-    // column node a + 1; per node and cell column, that node less the base (all small: float).
-    const hn::ScalableTag<float> df;
-    const auto NF = static_cast<int64_t>(hn::Lanes(df));
-    for (int64_t r = 0; r < nny; ++r)
-      for (int64_t c = 0; c < ncx * kGridCell; c += NF) {
-        const int64_t a = c / kGridCell, i = c % kGridCell;
-        auto vx = hn::Zero(df), vy = hn::Zero(df);
-        for (int l = 0; l < 4; ++l) {
-          const auto w = hn::LoadU(df, kGridWeights.by_node[l] + i);
-          vx = hn::MulAdd(w, hn::Set(df, static_cast<float>(nx[r][a + l] - nx[r][a + 1])), vx);
-          vy = hn::MulAdd(w, hn::Set(df, static_cast<float>(ny[r][a + l] - ny[r][a + 1])), vy);
-        }
-        hn::Store(vx, df, rel_x_[r] + c), hn::Store(vy, df, rel_y_[r] + c);
-      }
-    for (int64_t b = 0; b < ncy; ++b)
-      for (int64_t a = 0; a < ncx; ++a) {
-        if (!cell_[b][a]) continue;
-        base_x_[b][a] = static_cast<float>(std::nearbyint(nx[b + 1][a + 1]));
-        base_y_[b][a] = static_cast<float>(std::nearbyint(ny[b + 1][a + 1]));
-        for (int k = 0; k < 4; ++k) {
-          col_x_[b][a][k] = static_cast<float>(nx[b + k][a + 1] - static_cast<double>(base_x_[b][a]));
-          col_y_[b][a][k] = static_cast<float>(ny[b + k][a + 1] - static_cast<double>(base_y_[b][a]));
-        }
-      }
   }
-
 
   const SimdGeometry& g_;
   int64_t x0_, y0_, n_;

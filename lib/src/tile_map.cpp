@@ -8,17 +8,11 @@
 namespace panoproj {
 namespace {
 
-// Cubic Lagrange weights through nodes at t = -1, 0, 1, 2 (cell units), at t = i / kCell.
+// lagrange_cubic at t = i / kCell.
 struct Lagrange {
   double w[kCell + 1][4];
   Lagrange() {
-    for (int i = 0; i <= kCell; ++i) {
-      const double t = static_cast<double>(i) / kCell;
-      w[i][0] = -t * (t - 1) * (t - 2) / 6;
-      w[i][1] = (t + 1) * (t - 1) * (t - 2) / 2;
-      w[i][2] = -(t + 1) * t * (t - 2) / 2;
-      w[i][3] = (t + 1) * t * (t - 1) / 6;
-    }
+    for (int i = 0; i <= kCell; ++i) lagrange_cubic(static_cast<double>(i) / kCell, w[i]);
   }
 };
 const Lagrange kLagrange;

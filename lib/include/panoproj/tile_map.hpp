@@ -23,6 +23,14 @@ inline constexpr int64_t kTile = 64;  // output tile side: the unit of work and 
 inline constexpr int kCell = 8;
 inline constexpr double kMapTolerance = 1.0 / 1024;  // source pixels, at the checked points
 
+// Cubic Lagrange weights through nodes at t = -1, 0, 1, 2 (cells), at t.
+constexpr void lagrange_cubic(double t, double w[4]) {
+  w[0] = -t * (t - 1) * (t - 2) / 6;
+  w[1] = (t + 1) * (t - 1) * (t - 2) / 2;
+  w[2] = -(t + 1) * t * (t - 2) / 2;
+  w[3] = (t + 1) * t * (t - 1) / 6;
+}
+
 struct TileRect {
   int64_t x0, y0, w, h;
 };
