@@ -353,13 +353,22 @@ class TapPairs {
 #endif
   }
 
-  void Get(int64_t bytes, VU& first, VU& second) const {
+  // For R byte offsets at once (each lane's offset read once for all R).
+  template <int R>
+  void Get(const int64_t (&bytes)[R], VU (&first)[R], VU (&second)[R]) const {
     const DU du;
-    V64 lo, hi;
-    Fetch(bytes, lo, hi);
-    first = hn::ConcatEven(du, hn::BitCast(du, hi), hn::BitCast(du, lo));
-    second = hn::ConcatEven(du, hn::BitCast(du, hn::ShiftRightSame(hi, 8 * pb_)),
-                            hn::BitCast(du, hn::ShiftRightSame(lo, 8 * pb_)));
+    V64 lo[R], hi[R];
+    Fetch<R>(bytes, lo, hi);
+    for (int r = 0; r < R; ++r) {
+      first[r] = hn::ConcatEven(du, hn::BitCast(du, hi[r]), hn::BitCast(du, lo[r]));
+      second[r] = hn::ConcatEven(du, hn::BitCast(du, hn::ShiftRightSame(hi[r], 8 * pb_)),
+                                 hn::BitCast(du, hn::ShiftRightSame(lo[r], 8 * pb_)));
+    }
+  }
+  void Get(int64_t bytes, VU& first, VU& second) const {
+    VU f[1], s[1];
+    Get<1>({bytes}, f, s);
+    first = f[0], second = s[0];
   }
 
   // Stores the block's pixels from one packed word per lane; lanes not sampled here are 0.
@@ -375,33 +384,43 @@ class TapPairs {
   using DI64 = hn::RebindToSigned<D64>;
   using V64 = hn::Vec<D64>;
 
-  // The 8 bytes at each lane's first tap + bytes: lanes [0, N/2) in lo, [N/2, N) in hi.
-  void Fetch(int64_t bytes, V64& lo, V64& hi) const {
+  // The 8 bytes at each lane's first tap + bytes[r]: lanes [0, N/2) in lo[r], [N/2, N) in hi[r].
+  template <int R>
+  void Fetch(const int64_t (&bytes)[R], V64 (&lo)[R], V64 (&hi)[R]) const {
 #if HWY_TARGET <= HWY_AVX3
     // AVX-512: 64-bit loads into 128-bit halves, then inserts: on Zen 4 two 8-lane gathers take
     // ~10 ns per 16 lanes in L1, these loads ~6 ns (a micro-benchmark); e->cube bilinear ~7% less.
-    const unsigned char* p = reinterpret_cast<const unsigned char*>(base_) + bytes;
+    const unsigned char* p = reinterpret_cast<const unsigned char*>(base_);
     // (A volatile read: else gcc keeps the stored vector and extracts each lane through vector
     // registers again.)
     auto at = [&](int l) { return p + static_cast<const volatile int32_t*>(at_)[l]; };
-    auto two = [&](int l) {
-      const __m128i a = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(at(l)));
-      return _mm_castpd_si128(_mm_loadh_pd(_mm_castsi128_pd(a), reinterpret_cast<const double*>(at(l + 1))));
+    auto two = [&](int l, __m128i (&out)[R]) {
+      const unsigned char *a = at(l), *b = at(l + 1);
+      for (int r = 0; r < R; ++r) {
+        const __m128i v = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(a + bytes[r]));
+        out[r] = _mm_castpd_si128(_mm_loadh_pd(_mm_castsi128_pd(v), reinterpret_cast<const double*>(b + bytes[r])));
+      }
     };
-    auto eight = [&](int l) {
-      const __m256i a = _mm256_set_m128i(two(l + 2), two(l)), b = _mm256_set_m128i(two(l + 6), two(l + 4));
-      // gcc 12's own header passes an undefined vector to the masked builtin behind this and then
-      // warns that it "may be used uninitialized" (a false positive: no lane of it is kept).
+    auto eight = [&](int l, V64 (&out)[R]) {
+      __m128i q[4][R];
+      for (int k = 0; k < 4; ++k) two(l + 2 * k, q[k]);
+      for (int r = 0; r < R; ++r) {
+        const __m256i a = _mm256_set_m128i(q[1][r], q[0][r]), b = _mm256_set_m128i(q[3][r], q[2][r]);
+        // gcc 12's own header passes an undefined vector to the masked builtin behind this and
+        // then warns that it "may be used uninitialized" (a false positive: no lane is kept).
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-      return _mm512_inserti64x4(_mm512_castsi256_si512(a), b, 1);
+        out[r] = V64{_mm512_inserti64x4(_mm512_castsi256_si512(a), b, 1)};
 #pragma GCC diagnostic pop
+      }
     };
-    lo = V64{eight(0)}, hi = V64{eight(8)};
+    eight(0, lo), eight(8, hi);
 #else
     const D64 d64;
-    const auto at = hn::Set(DI64(), bytes);
-    lo = hn::GatherOffset(d64, base_, hn::Add(lo_, at)), hi = hn::GatherOffset(d64, base_, hn::Add(hi_, at));
+    for (int r = 0; r < R; ++r) {
+      const auto at = hn::Set(DI64(), bytes[r]);
+      lo[r] = hn::GatherOffset(d64, base_, hn::Add(lo_, at)), hi[r] = hn::GatherOffset(d64, base_, hn::Add(hi_, at));
+    }
 #endif
   }
 
@@ -439,9 +458,10 @@ HWY_INLINE void BilinearU8(const SimdSource& s, const TapBlock& blk, unsigned ch
   const V16 wx0 = hn::Not(wx1), wy0 = hn::Not(wy1);  // 65535 - w in each half
   const VU high_bytes = hn::Set(du, 0xFF00FF00u);
   V16 even[2], odd[2];  // horizontal blends of rows 0 and 1: channels 0, 2 and 1, 3, x 256
+  VU first[2], second[2];  // both taps of rows 0 and 1
+  taps.Get<2>({0, s.stride}, first, second);
   for (int r = 0; r < 2; ++r) {
-    VU p0, p1;  // both taps of row r
-    taps.Get(static_cast<int64_t>(r) * s.stride, p0, p1);
+    const VU p0 = first[r], p1 = second[r];
     const V16 e0 = hn::BitCast(d16, hn::And(hn::ShiftLeft<8>(p0), high_bytes));
     const V16 e1 = hn::BitCast(d16, hn::And(hn::ShiftLeft<8>(p1), high_bytes));
     const V16 o0 = hn::BitCast(d16, hn::And(p0, high_bytes)), o1 = hn::BitCast(d16, hn::And(p1, high_bytes));
