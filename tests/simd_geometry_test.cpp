@@ -2,8 +2,9 @@
 // takes: positions within 1e-9 px where it runs in double, within SimdGeometry::kFloatTolerance
 // per axis where float lanes are allowed (modulo the identities: seam, poles, shared cube edges);
 // validity identical but for a few rim pixels; and it takes (90% of) the tiles that have pixels.
-// The same with the grid (cubic interpolation between exact nodes, SimdGeometry::grid): within
-// kFloatTolerance too, validity the same, and it interpolates most cells of the pairs it takes.
+// The same with the grid (cubic interpolation between exact nodes, SimdGeometry::grid), on the
+// widest and the narrowest target: within the same bound, validity the same, and near 1:1 scale
+// it interpolates most cells.
 #include "simd_geometry.hpp"
 
 #include <gtest/gtest.h>
@@ -106,6 +107,9 @@ TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
       int64_t gridded = 0;  // tiles the grid may take (the first pass counts them)
       for (bool grid : {false, true}) {
         if (grid && gridded == 0) continue;  // the same as without
+        // The grid's code differs between targets by lane count only: the widest (one vector per
+        // cell row) and the narrowest (several) cover it at less of the CI's time.
+        if (grid && target != targets.front() && target != targets.back()) continue;
         const Projection sp = make_projection(parse_spec(c.src), c.ss), dp = make_projection(parse_spec(c.dst), c.ds);
         const Eigen::Matrix3d r = rotation_from_ypr(c.yaw, c.pitch, c.roll);
         test::MapComparison cmp;

@@ -757,8 +757,8 @@ class TileRows {
         cell_[b][a] = all;
         if (all) todo[n_todo++] = b * kGridCells + a;
       }
-    // Per cell: an integer base near its positions; per node row, the cubic along x less its
-    // column node a + 1; per node and cell column, that node less the base (all small: float).
+    // Per node row, the cubic along x less the cell's column node a + 1; per cell, an integer
+    // base near its positions and that column's four nodes less it (all small: float).
     const hn::ScalableTag<float> df;
     const auto NF = static_cast<int64_t>(hn::Lanes(df));
     for (int64_t r = 0; r < nny; ++r)
