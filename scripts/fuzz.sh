@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# Fuzzes the spec parser and the image-reading path with libFuzzer under ASan and UBSan (fuzz/):
+# Fuzzes the spec parser, the image-reading path, the Photo Sphere XMP reader and whole conversions
+# of small images with libFuzzer under ASan and UBSan (fuzz/):
 # installs clang if missing, builds in build-fuzz/, runs each target SECONDS (default 30) from
 # the seed corpora in fuzz/corpus/ (new inputs go to a scratch copy, the repository's stay as
 # they are). A crash leaves its input in build-fuzz/ and fails. The seed is fixed (SEED, default
 # 1) so that a CI run is repeatable; pass another to explore further.
-# Usage: [SEED=N] scripts/fuzz.sh [SECONDS]
+# Usage: [SEED=N] [TARGETS="spec read xmp convert"] scripts/fuzz.sh [SECONDS]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-30}
@@ -13,14 +14,14 @@ build="$root/build-fuzz"
 [[ -f "$build/build.ninja" ]] ||
   CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPANOPROJ_BUILD_FUZZ=ON \
     -DPANOPROJ_BUILD_TESTS=OFF >/dev/null
-ninja -C "$build" spec_fuzz read_fuzz | grep -v '^ninja: no work to do' || true
-for t in spec read; do
+ninja -C "$build" spec_fuzz read_fuzz xmp_fuzz convert_fuzz | grep -v '^ninja: no work to do' || true
+for t in ${TARGETS:-spec read xmp convert}; do
   work="$build/corpus-$t"
   rm -rf "$work" && mkdir -p "$work"
   cp "$root/fuzz/corpus/$t/"* "$work/"
   echo "fuzz: ${t}_fuzz for ${seconds} s"
-  # A single allocation over 2 GB ends the run as out-of-memory (read_fuzz skips headers declaring
-  # such sizes). .ci/lsan.supp: OpenImageIO's own leak on damaged PNGs (see there).
+  # A single allocation over 2 GB ends the run as out-of-memory (the targets read and convert under
+  # a 64 MB panoproj memory limit). .ci/lsan.supp: OpenImageIO's own leak on damaged PNGs (see there).
   # The whole log is kept; on a failure its report (from the first ERROR line) is shown.
   log="$build/${t}_fuzz.log"
   if (cd "$build" && UBSAN_OPTIONS=halt_on_error=1 ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \

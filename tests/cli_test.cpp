@@ -147,10 +147,11 @@ TEST_F(Cli, TiltedPhotoSpheresAreLevelledByTheirPose) {
   ASSERT_EQ(run("convert " + p("pano.png") + " " + p("plain.jpg") + " --to equirect --size 128x64 -q --no-metadata").code, 0);
   const Equirect full = std::get<Equirect>(make_projection(parse_spec("equirect"), {128, 64}));
   auto posed = [&](const std::string& name, double pitch, double roll) {
-    fs::copy_file(p("plain.jpg"), p(name));
+    std::ifstream plain(p("plain.jpg"), std::ios::binary);
+    const std::string bytes{std::istreambuf_iterator<char>(plain), {}};
     PhotoSphere ps = photo_sphere_of(full);
     ps.pose_pitch = pitch, ps.pose_roll = roll;
-    add_xmp(p(name), photo_sphere_xmp(ps));
+    write_bytes(with_xmp(bytes, photo_sphere_xmp(ps)), p(name), false);
   };
   posed("pitched.jpg", 10, 0);
   posed("rolled.jpg", 0, 7);

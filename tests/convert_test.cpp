@@ -50,7 +50,7 @@ TEST(Plan, RefusesBadParameters) {
   EXPECT_EQ(plan_error("equirect", {64, 32}, "equirect", o), "yaw: nan (expected a finite angle in degrees)");
   o = {};
   o.size = Size{0, 10};
-  EXPECT_EQ(plan_error("equirect", {64, 32}, "equirect", o), "size: 0x10 (expected at least 1x1)");
+  EXPECT_EQ(plan_error("equirect", {64, 32}, "equirect", o), "size: 0x10 (expected 1 to 2147483647 pixels a side)");
   EXPECT_EQ(plan_error("cubemap", {600, 120}, "equirect"),
             "cubemap: layout=6x1 needs a 6F x 1F image with square faces; got 600x120 (check the "
             "size or the layout)");

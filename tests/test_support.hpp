@@ -145,6 +145,16 @@ inline Image area_downsample(const Image& im, int factor) {
 }
 
 // A fixture with a fresh folder per test (named after it), removed afterwards.
+// A test image whose samples all differ (alpha, where there is one, alternates 0.25 / 0.75).
+inline Image pattern(Size s, int nc, PixelType t, int alpha) {
+  Image im(s, nc, t, alpha);
+  for (int64_t y = 0; y < s.height; ++y)
+    for (int64_t x = 0; x < s.width; ++x)
+      for (int c = 0; c < nc; ++c)
+        set(im, x, y, c, c == alpha ? 0.25 + 0.5 * ((x + y) % 2) : std::fmod(0.013 * x + 0.029 * y + 0.3 * c, 1.0));
+  return im;
+}
+
 class TempDirTest : public ::testing::Test {
  protected:
   void SetUp() override {

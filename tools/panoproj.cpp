@@ -13,6 +13,7 @@
 #include "panoproj/accuracy.hpp"
 #include "panoproj/convert_job.hpp"
 #include "panoproj/io.hpp"
+#include "panoproj/limits.hpp"
 #include "panoproj/rotation.hpp"
 #include "panoproj/stability.hpp"
 #include "panoproj/error.hpp"
@@ -239,11 +240,25 @@ int main(int argc, char** argv) {
 
   auto* info = app.add_subcommand("info", "list projections, their parameters and defaults");
 
+  std::string memory_limit_text;
+  for (auto* sub : {convert, maps, accuracy})
+    sub->add_option("--memory-limit", memory_limit_text,
+                    "bytes a job may allocate, e.g. 4G or 512M (default: the memory available now); larger "
+                    "jobs are refused before any work");
+
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // One line, exit 1 (CLI11's own codes are 100 and up).
+    std::fprintf(stderr, "panoproj: error: %s (see panoproj %s--help)\n", one_line(e.what()).c_str(),
+                 argc > 1 && argv[1][0] != '-' ? (std::string(argv[1]) + " ").c_str() : "");
+    return 1;
   }
+  install_signal_cleanup();
 
   try {
     if (info->parsed()) {
@@ -258,8 +273,19 @@ int main(int argc, char** argv) {
       std::printf("\n%zu cases, %lld outside their bounds\n", results.size(), static_cast<long long>(failed));
       return failed ? 1 : 0;
     }
+    const int64_t memory_limit = memory_limit_text.empty() ? 0 : parse_memory_limit(memory_limit_text);
+    job.options.memory_limit = maps_job.options.memory_limit = memory_limit;
     if (accuracy->parsed()) {
+      // Every parameter and output path is checked before the sweep.
+      check_threads(sweep.threads);
+      if (sweep.runs < 1 || sweep.runs > 1000)
+        throw Error("runs: " + std::to_string(sweep.runs) + " (expected 1 to 1000)");
+      if (sweep.truth_supersample < 1 || sweep.truth_supersample > 64)
+        throw Error("truth-supersample: " + std::to_string(sweep.truth_supersample) + " (expected 1 to 64)");
+      for (const std::string* path : {&acc_csv, &acc_json, &acc_plot})
+        if (!path->empty()) check_output_path(*path, acc_overwrite);
       ConvertOptions o;
+      o.memory_limit = memory_limit;
       o.yaw = acc_yaw, o.pitch = acc_pitch, o.roll = acc_roll;
       if (!acc_size.empty()) o.size = parse_size(acc_size);
       const Plan plan = make_plan(parse_size(acc_from_size), parse_spec(acc_from), parse_spec(acc_to), o);
@@ -270,15 +296,14 @@ int main(int argc, char** argv) {
       const auto options = sweep_options(parse_list(acc_interp, [](std::string_view t) { return parse_interp(t); }),
                                          parse_list(acc_antialias, parse_antialias),
                                          parse_list(acc_engine, [](std::string_view t) { return parse_engine(t); }));
-      for (const std::string* path : {&acc_csv, &acc_json, &acc_plot})
-        if (!path->empty() && std::filesystem::exists(*path) && !acc_overwrite)
-          throw Error("output " + *path + " exists (pass --overwrite to replace it)");
       const Size fs = size_of(plan.source), ts = size_of(plan.target);
       const std::string about = std::string("scene ") + acc_scene + ", " + acc_from + " " + std::to_string(fs.width) + "x" +
                                 std::to_string(fs.height) + " -> " + acc_to + " " + std::to_string(ts.width) + "x" +
                                 std::to_string(ts.height) + ", " + acc_type + ", " +
                                 std::to_string(resolve_threads(sweep.threads)) + " threads, median of " +
                                 std::to_string(sweep.runs) + " runs, SIMD " + simd_target();
+      // The scene, the truth and an output per option in flight (4 channels at most).
+      require_memory("the accuracy sweep", add_bytes(image_bytes(fs, 4, bytes_of(sweep.type)), image_bytes(ts, 12, bytes_of(sweep.type))), memory_limit);
       const auto results = run_sweep(plan.source, plan.target, plan.rotation, sweep, options);
       std::printf("%s\n\n%s", about.c_str(), sweep_table(results).c_str());
       if (!acc_csv.empty()) write_text(sweep_csv(results), acc_csv, acc_overwrite);
@@ -332,8 +357,12 @@ int main(int argc, char** argv) {
         },
         [&](double f) { bar.update(f); });
     return 0;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "panoproj: error: out of memory (ask for a smaller size, or set --memory-limit to be "
+                         "refused before the work starts)\n");
+    return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "panoproj: error: %s\n", e.what());
+    std::fprintf(stderr, "panoproj: error: %s\n", one_line(e.what()).c_str());
     return 1;
   }
 }

@@ -4,6 +4,8 @@
 #include <sstream>
 
 #include "panoproj/error.hpp"
+#include "panoproj/limits.hpp"
+#include "panoproj/parallel.hpp"
 #include "panoproj/rotation.hpp"
 
 namespace panoproj {
@@ -13,23 +15,24 @@ Plan make_plan(Size source_size, const ProjectionSpec& from, const ProjectionSpe
   for (const auto& [name, v] : {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"roll", o.roll}}) {
     if (!std::isfinite(v) || std::fabs(v) > 1e6) {
       std::ostringstream s;
-      s << name << ": " << v << " (expected a finite angle in degrees)";
+      s << name << ": " << v << (std::isfinite(v) ? " (expected degrees within +-1e6; any angle mod 360 turns alike)"
+                                                  : " (expected a finite angle in degrees)");
       throw Error(s.str());
     }
   }
-  if (o.threads < 0)
-    throw Error("threads: " + std::to_string(o.threads) + " (expected 0 for all cores, or more)");
+  check_threads(o.threads);
   Projection source = make_projection(from, source_size);
   Size size;
   if (o.size) {
     size = *o.size;
-    if (size.width < 1 || size.height < 1)
-      throw Error("size: " + std::to_string(size.width) + "x" + std::to_string(size.height) +
-                  " (expected at least 1x1)");
+    if (size.width < 1 || size.height < 1 || size.width > kMaxSide || size.height > kMaxSide)
+      throw Error("size: " + size_text(size) + " (expected 1 to " + std::to_string(kMaxSide) + " pixels a side)");
   } else {
     size = default_size(to, center_density(source));
   }
   Projection target = make_projection(to, size);
+  // Absurd sizes stop here, before any per-tile work: the output alone, at one byte a pixel.
+  require_memory("output " + size_text(size_of(target)), image_bytes(size_of(target), 1, 1), o.memory_limit);
   return {std::move(source), std::move(target), rotation_from_ypr(o.yaw, o.pitch, o.roll)};
 }
 
@@ -47,9 +50,18 @@ const Image& source_for(const Image& source, const ConvertOptions& options, Imag
   return storage;
 }
 
+void require_job_memory(const Plan& plan, int channels, PixelType type, const ConvertOptions& options,
+                        uint64_t more) {
+  const Size out = size_of(plan.target);
+  const int out_channels = channels + (options.add_alpha && channels < 4 && channels != 2 ? 1 : 0);
+  require_memory("output " + size_text(out) + " (" + std::to_string(out_channels) + " channels of " + name_of(type) + ")",
+                 add_bytes(image_bytes(out, out_channels, bytes_of(type)), more), options.memory_limit);
+}
+
 Image convert(const Image& source, const ProjectionSpec& from, const ProjectionSpec& to,
               const ConvertOptions& options) {
   const Plan plan = make_plan(source.size(), from, to, options);
+  require_job_memory(plan, source.channels(), source.type(), options, 0);
   Image storage;
   return Converter(plan.source, plan.target, plan.rotation, options.interp, options.engine, options.threads, false,
                    antialias_of(options), options.edges)

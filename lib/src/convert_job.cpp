@@ -7,7 +7,9 @@
 
 #include "panoproj/engine.hpp"
 #include "panoproj/error.hpp"
+#include "panoproj/limits.hpp"
 #include "panoproj/photo_sphere.hpp"
+#include "atomic_output.hpp"
 
 namespace panoproj {
 namespace fs = std::filesystem;
@@ -39,7 +41,7 @@ ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const s
   if (const auto ps = read_photo_sphere(input)) return parse_spec(photo_sphere_spec(*ps, size));
   if (size.width == 2 * size.height) return parse_spec("equirect");
   throw Error("cannot tell the projection of " + input + " (" + std::to_string(size.width) + "x" +
-              std::to_string(size.height) + " is not a 2:1 equirect): give --from SPEC");
+              std::to_string(size.height) + " is not a 2:1 equirect): give " + option_text("from") + " SPEC");
 }
 
 namespace {
@@ -85,7 +87,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     throw Error(out_faces ? "output " + job.output +
                                 " needs {face} or {index} for cubemap:layout=files"
                           : "output " + job.output +
-                                " has {face}/{index} but --to is not cubemap:layout=files");
+                                " has {face}/{index} but " + option_text("to") + " is not cubemap:layout=files");
   if (batch) {
     if (job.output.find("{stem}") == std::string::npos && job.output.find("{n}") == std::string::npos)
       throw Error("output " + job.output + " names one file for " + std::to_string(job.inputs.size()) +
@@ -109,17 +111,15 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     for (const auto& i : all_inputs)
       if (same_file(all_outputs[a], i))
         throw Error("output " + all_outputs[a] + " is the input (choose another output path)");
-    if (std::error_code ec; !job.write.overwrite && fs::exists(all_outputs[a], ec))
-      throw Error("output " + all_outputs[a] + " exists (pass --overwrite to replace it)");
+    check_output_path(all_outputs[a], job.write.overwrite);
   }
 
   std::optional<ProjectionSpec> from;
   if (job.from) from = parse_spec(*job.from);  // early: a bad spec fails before any reading
   if (from && is_cube_files(*from) != in_faces)
-    throw Error(in_faces ? "input " + job.inputs[0] + " is a face pattern but --from is not "
-                                                      "cubemap:layout=files"
-                         : "--from cubemap:layout=files needs an input pattern with {face} or "
-                           "{index}");
+    throw Error(in_faces ? "input " + job.inputs[0] + " is a face pattern but " + option_text("from") +
+                               " is not cubemap:layout=files"
+                         : option_text("from") + " cubemap:layout=files needs an input pattern with {face} or {index}");
   // A batch shares one geometry: every header is read (no pixels) before any work.
   Size batch_size{};
   if (batch) {
@@ -144,10 +144,13 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     options.size = Size{6 * options.size->width, options.size->height};
   }
   // Plan from the first input's header; then read of each input only what the view needs.
-  const Size frame = in_faces ? Size{} : (batch ? batch_size : read_image_size(job.inputs[0]));
+  const ImageInfo info = in_faces ? ImageInfo{} : read_image_info(job.inputs[0]);
+  const Size frame = in_faces ? Size{} : (batch ? batch_size : info.size);
   std::optional<Image> faces;
-  if (in_faces) faces = read_cube_faces(job.inputs[0]);
+  if (in_faces) faces = read_cube_faces(job.inputs[0], options.memory_limit);
   const Size source_size = in_faces ? faces->size() : frame;
+  const int channels = in_faces ? faces->channels() : info.channels;
+  const PixelType type = in_faces ? faces->type() : info.type;
   if (!from) from = infer_source_spec(std::nullopt, job.inputs[0], source_size);
   Plan plan = make_plan(source_size, *from, to, options);
   // A Photo Sphere taken tilted is levelled by its pose (unless --from overrides the metadata).
@@ -162,17 +165,29 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   // The map is kept (built once for the footprint, the first image and the rest of a batch)
   // while it fits kMapCacheBudget; beyond, memory stays source + output + tile buffers and the
   // map is made twice (footprint, then conversion) and again per frame.
+  // Sizes the output formats cannot hold, and jobs over the memory budget, stop before any work.
   const Size out_size = size_of(plan.target);
-  const bool cache = out_size.width * out_size.height * kCachedMapBytesPerPixel <= kMapCacheBudget;
+  for (const auto& o : all_outputs) check_writable_size(o, out_faces ? Size{out_size.height, out_size.height} : out_size);
+  const uint64_t map_bytes = image_bytes(out_size, 1, kCachedMapBytesPerPixel);
+  const bool cache = map_bytes <= static_cast<uint64_t>(kMapCacheBudget);
+  const PixelType out_type = job.write.type.value_or(type);
+  const uint64_t written = out_type == type ? 0 : image_bytes(out_size, channels + 1, bytes_of(out_type));
+  require_job_memory(plan, channels, type, options, add_bytes(cache ? map_bytes : 0, written));
   const auto t_map = std::chrono::steady_clock::now();
   const Converter converter(plan.source, plan.target, plan.rotation, options.interp, options.engine,
                             options.threads, cache, antialias_of(options), options.edges);
   const Converter::Region need = converter.source_footprint();
+  if (!in_faces) {
+    const Size window{need.x1 - need.x0, need.y1 - need.y0};
+    require_job_memory(plan, channels, type, options,
+                       add_bytes(add_bytes(cache ? map_bytes : 0, written), image_bytes(window, channels + 1, bytes_of(type))));
+  }
   const double map_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count();
   Image out;  // one buffer for every frame of a batch
   for (size_t n = 0; n < job.inputs.size(); ++n) {
     const Image input = in_faces ? std::move(*faces)
-                                 : read_image_region(job.inputs[n], need.x0, need.y0, need.x1, need.y1);
+                                 : read_image_region(job.inputs[n], need.x0, need.y0, need.x1, need.y1,
+                                                     options.memory_limit);
     Image with_alpha;
     const Image& source = source_for(input, options, with_alpha);
     const auto t0 = std::chrono::steady_clock::now();
@@ -204,9 +219,12 @@ Size run_maps(const MapsJob& job) {
   const std::string ext = fs::path(job.output).extension().string();
   if (ext != ".exr" && ext != ".tif" && ext != ".tiff")
     throw Error("output " + job.output + " cannot hold float maps (use .exr or .tif)");
-  if (!job.write.overwrite && fs::exists(job.output))
-    throw Error("output " + job.output + " exists (pass --overwrite to replace it)");
+  check_output_path(job.output, job.write.overwrite);
   const Plan plan = make_plan(job.source_size, parse_spec(job.from), parse_spec(job.to), job.options);
+  // The map (2 floats a pixel) and its encoded copy.
+  const Size out = size_of(plan.target);
+  check_writable_size(job.output, out);
+  require_memory("map " + size_text(out), image_bytes(out, 4, sizeof(float)), job.options.memory_limit);
   const Image map = build_map(plan.source, plan.target, plan.rotation, job.convention, job.options.threads);
   WriteOptions w = job.write;
   w.channel_names = {"x", "y"};

@@ -2,6 +2,7 @@
 #include "panoproj/io.hpp"
 
 #include <Imath/half.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
@@ -12,13 +13,15 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <new>
 #include <system_error>
 #include <vector>
 
 #include "panoproj/error.hpp"
+#include "panoproj/limits.hpp"
 #include "panoproj/photo_sphere.hpp"
+#include "atomic_output.hpp"
+#include "input_check.hpp"
 
 namespace panoproj {
 
@@ -45,44 +48,44 @@ PixelType from_oiio(OIIO::TypeDesc t) {
   return PixelType::F32;
 }
 
-std::string one_line(std::string s) {
-  std::replace(s.begin(), s.end(), '\n', ' ');
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  return s;
+// Largest side each format's writer takes (libjpeg ends the process beyond 65500; the others
+// store sides as 32-bit integers).
+int64_t max_side(const std::string& lower_ext) {
+  return lower_ext == ".jpg" || lower_ext == ".jpeg" ? 65500 : INT_MAX;
 }
 
-// Temporary name in the target's folder, keeping the extension (it selects the format).
-std::string temp_path(const std::string& path) {
-  const fs::path p(path);
-  std::string name = ".";
-  name += p.stem().string();
-  name += ".panoproj-tmp-" + std::to_string(::getpid());
-  name += p.extension().string();
-  return (p.parent_path() / name).string();
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
 }
 
-void check_target(const std::string& path, const WriteOptions& options) {
-  std::error_code ec;
-  if (fs::exists(path, ec) && !options.overwrite)
-    throw Error("output " + path + " exists (pass --overwrite to replace it)");
-  const fs::path dir = fs::path(path).parent_path();
-  if (!dir.empty() && !fs::is_directory(dir, ec))
-    throw Error("output folder " + dir.string() + " does not exist (create it first)");
+}  // namespace
+
+void check_writable_size(const std::string& path, Size size) {
+  const std::string ext = lower_extension(path);
+  if (size.width > max_side(ext) || size.height > max_side(ext))
+    throw Error("cannot write " + path + ": " + size_text(size) + " pixels, over the " +
+                (ext == ".jpg" || ext == ".jpeg" ? "JPEG" : "format") + " limit of " + std::to_string(max_side(ext)) +
+                " a side (choose a smaller size or another format)");
 }
 
-// Writes to `tmp`; throws on failure (and removes what it wrote).
-void write_file(const Image& in, const std::string& tmp, const std::string& shown_path,
-                const WriteOptions& options) {
+namespace {
+
+// The file's bytes, encoded in memory (OpenImageIO writing to an IOProxy): no codec touches the
+// disk, so none can fail there or end the process on a write error; OutputSet writes the bytes.
+std::string encode(const Image& in, const std::string& path, const WriteOptions& options) {
   const Image* image = &in;
   Image converted;
   if (options.type && *options.type != in.type()) {
     converted = convert_pixels(in, *options.type);
     image = &converted;
   }
-  auto out = OIIO::ImageOutput::create(tmp);
-  if (!out)
-    throw Error("cannot write " + shown_path + ": no image format for its extension (" +
-                one_line(OIIO::geterror()) + "; use .jpg .png .tif .exr .hdr)");
+  const std::string ext = lower_extension(path);
+  check_writable_size(path, image->size());
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out || !out->supports("ioproxy"))
+    throw Error("cannot write " + path + ": no image format for its extension (use .jpg .png .tif .exr .hdr)");
   int nch = image->channels();
   int alpha = image->alpha_channel();
   // Formats without alpha (JPEG, HDR) get the colour channels only.
@@ -109,109 +112,114 @@ void write_file(const Image& in, const std::string& tmp, const std::string& show
       spec.attribute(a.name, OIIO::TypeDesc(OIIO::TypeDesc::UINT8, static_cast<int>(b->size())), b->data());
     }
   }
-  if (fs::path(shown_path).extension() == ".jpg" || fs::path(shown_path).extension() == ".jpeg")
-    spec.attribute("Compression", "jpeg:95");
-  bool ok = out->open(tmp, spec);
+  if (ext == ".jpg" || ext == ".jpeg") spec.attribute("Compression", "jpeg:95");
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput sink(bytes);
+  bool ok = out->set_ioproxy(&sink) && out->open(path, spec);
   if (ok) {
     const auto stride = static_cast<OIIO::stride_t>(image->pixel_bytes());
     ok = out->write_image(oiio_type(image->type()), image->data(), stride);
   }
   ok = out->close() && ok;
-  if (!ok) {
-    const std::string why = one_line(out->geterror());
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw Error("cannot write " + shown_path + ": " + why);
-  }
-}
-
-void commit(const std::string& tmp, const std::string& path) {
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw Error("cannot write " + path + ": rename failed (" + ec.message() + ")");
-  }
+  if (!ok) throw Error("cannot write " + path + ": " + one_line(out->geterror()), ErrorKind::File);
+  std::string file(bytes.begin(), bytes.end());
+  if (!options.xmp.empty() && (ext == ".jpg" || ext == ".jpeg" || ext == ".png")) file = with_xmp(file, options.xmp);
+  return file;
 }
 
 }  // namespace
 
 namespace {
-// Opens an image for reading (samples as stored: no premultiplication), checking its channels.
-std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error("input " + path + " does not exist (check the path)");
+
+// An input opened for reading (samples as stored: no premultiplication): a regular file of one of
+// the five formats by its magic bytes, read by that format's reader alone, its channels checked.
+struct Opened {
+  InputFile file;
+  std::unique_ptr<OIIO::ImageInput> in;
+};
+
+Opened open_input(const std::string& path) {
+  Opened o{probe_input(path), nullptr};
   // Samples exactly as stored: no conversion of straight (PNG, TIFF) alpha to premultiplied.
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
-  auto in = OIIO::ImageInput::open(path, &config);
-  if (!in)
-    throw Error("cannot read " + path + ": " + one_line(OIIO::geterror()) +
-                " (expected a JPEG, PNG, TIFF, EXR or HDR image)");
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.nchannels < 1 || spec.nchannels > 4)
-    throw Error("input " + path + " has " + std::to_string(spec.nchannels) +
-                " channels (expected 1 to 4)");
-  return in;
-}
-}  // namespace
-
-void write_text(const std::string& text, const std::string& path, bool overwrite) {
-  WriteOptions options;
-  options.overwrite = overwrite;
-  check_target(path, options);
-  const std::string tmp = temp_path(path);
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out.flush()) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw Error("cannot write " + path + " (disk full or no permission?)");
-    }
+  o.in = OIIO::ImageInput::create(o.file.format, false, &config);
+  OIIO::ImageSpec spec;
+  if (!o.in || !o.in->open(path, spec, config)) {
+    const std::string why = o.in ? o.in->geterror() : OIIO::geterror();
+    throw Error("cannot read " + path + ": " + one_line(why) + " (the file is damaged or not an image)",
+                ErrorKind::File);
   }
-  commit(tmp, path);
+  const OIIO::ImageSpec& s = o.in->spec();
+  if (s.nchannels < 1 || s.nchannels > 4)
+    throw Error("input " + path + " has " + std::to_string(s.nchannels) + " channels (expected 1 to 4)",
+                ErrorKind::File);
+  if (s.width < 1 || s.height < 1)
+    throw Error("input " + path + " declares " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                    " pixels (a damaged header)",
+                ErrorKind::File);
+  return o;
 }
 
-namespace {
-// The buffer for `size` pixels of the file's layout; a header declaring more than memory allows
-// (a damaged or hostile file, or a real one too big for this machine) is a one-line error.
+// Checks, before any pixel is decoded, that the file can hold what its header declares and that
+// `window` pixels of it fit the memory budget.
+void check_input(const std::string& path, const Opened& o, Size window, int64_t memory_limit) {
+  const OIIO::ImageSpec& s = o.in->spec();
+  const int bits = s.get_int_attribute("oiio:BitsPerSample", static_cast<int>(s.format.size() * 8));
+  check_plausible(path, o.file, {s.width, s.height}, s.nchannels, bits, s.get_string_attribute("compression"),
+                  window, image_bytes(window, s.nchannels, bytes_of(from_oiio(s.format))), memory_limit);
+}
+
+// The buffer for `size` pixels of the file's layout.
 Image allocate_for(const std::string& path, Size size, const OIIO::ImageSpec& spec, PixelType type) {
   const int alpha = spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel : -1;
   try {
     return Image(size, spec.nchannels, type, alpha);
   } catch (const std::bad_alloc&) {
-    const double gb = static_cast<double>(size.width) * static_cast<double>(size.height) * spec.nchannels *
-                      static_cast<double>(bytes_of(type)) / 1e9;
-    char text[160];
-    std::snprintf(text, sizeof text, ": it declares %lldx%lld pixels of %d channels (%.1f GB), more memory than can be allocated",
-                  static_cast<long long>(size.width), static_cast<long long>(size.height), spec.nchannels, gb);
-    throw Error("cannot read " + path + text);
+    throw Error("cannot read " + path + ": " + size_text(size) + " pixels (" +
+                    bytes_text(image_bytes(size, spec.nchannels, bytes_of(type))) + ") cannot be allocated",
+                ErrorKind::Memory);
   }
 }
-}  // namespace
 
-Size read_image_size(const std::string& path) {
-  const auto in = open_input(path);
-  return {in->spec().width, in->spec().height};
+[[noreturn]] void damaged(const std::string& path, OIIO::ImageInput& in) {
+  throw Error("cannot read " + path + ": " + one_line(in.geterror()) + " (the file is damaged or truncated)",
+              ErrorKind::File);
 }
 
-Image read_image(const std::string& path) {
-  auto in = open_input(path);
-  const OIIO::ImageSpec& spec = in->spec();
+}  // namespace
+
+void write_bytes(std::string_view bytes, const std::string& path, bool overwrite) {
+  OutputSet set(overwrite);
+  set.add(path, bytes);
+  set.commit();
+}
+
+void write_text(const std::string& text, const std::string& path, bool overwrite) { write_bytes(text, path, overwrite); }
+
+ImageInfo read_image_info(const std::string& path) {
+  const Opened o = open_input(path);
+  const OIIO::ImageSpec& s = o.in->spec();
+  return {{s.width, s.height}, s.nchannels, from_oiio(s.format)};
+}
+
+Size read_image_size(const std::string& path) { return read_image_info(path).size; }
+
+Image read_image(const std::string& path, int64_t memory_limit) {
+  Opened o = open_input(path);
+  const OIIO::ImageSpec& spec = o.in->spec();
+  check_input(path, o, {spec.width, spec.height}, memory_limit);
   const PixelType type = from_oiio(spec.format);
   Image image = allocate_for(path, {spec.width, spec.height}, spec, type);
-  const bool ok = in->read_image(0, 0, 0, spec.nchannels, oiio_type(type), image.data());
-  if (!ok || in->has_error())
-    throw Error("cannot read " + path + ": " + one_line(in->geterror()) +
-                " (the file is damaged or truncated)");
+  const bool ok = o.in->read_image(0, 0, 0, spec.nchannels, oiio_type(type), image.data());
+  if (!ok || o.in->has_error()) damaged(path, *o.in);
   return image;
 }
 
 Metadata read_metadata(const std::string& path) {
-  const auto in = open_input(path);
+  const Opened o = open_input(path);
   Metadata out;
-  for (const OIIO::ParamValue& p : in->spec().extra_attribs) {
+  for (const OIIO::ParamValue& p : o.in->spec().extra_attribs) {
     const std::string name = p.name().string();
     if (name.rfind("oiio:", 0) == 0) continue;
     const OIIO::TypeDesc t = p.type();
@@ -250,8 +258,10 @@ Metadata read_metadata(const std::string& path) {
   return out;
 }
 
-Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
-  auto in = open_input(path);
+Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1,
+                        int64_t memory_limit) {
+  Opened o = open_input(path);
+  auto& in = o.in;
   const OIIO::ImageSpec& spec = in->spec();
   const int64_t w = spec.width, h = spec.height;
   x0 = std::clamp<int64_t>(x0, 0, w), x1 = std::clamp<int64_t>(x1, x0, w);
@@ -260,8 +270,10 @@ Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t
   const bool whole = x0 == 0 && y0 == 0 && x1 == w && y1 == h;
   if (whole || spec.x != 0 || spec.y != 0 || spec.depth > 1) {
     in.reset();
-    return read_image(path);
+    return read_image(path, memory_limit);
   }
+  // (A JPEG decodes the rows above the region too.)
+  check_input(path, o, {w, o.file.format == "jpeg" ? y1 : y1 - y0}, memory_limit);
   const PixelType type = from_oiio(spec.format);
   Image win;
   bool ok;
@@ -282,29 +294,13 @@ Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t
                             static_cast<OIIO::stride_t>(win.row_bytes()));
     win.set_window(0, y0, {w, h});
   }
-  if (!ok || in->has_error())
-    throw Error("cannot read " + path + ": " + one_line(in->geterror()) +
-                " (the file is damaged or truncated)");
+  if (!ok || in->has_error()) damaged(path, *in);
   return win;
 }
 
 void write_image(const Image& image, const std::string& path, const WriteOptions& options) {
-  check_target(path, options);
-  const std::string tmp = temp_path(path);
-  write_file(image, tmp, path, options);
-  const std::string ext = fs::path(path).extension().string();
-  std::string lower = ext;
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (!options.xmp.empty() && (lower == ".jpg" || lower == ".jpeg" || lower == ".png")) {
-    try {
-      add_xmp(tmp, options.xmp);
-    } catch (...) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw;
-    }
-  }
-  commit(tmp, path);
+  check_output_path(path, options.overwrite);
+  write_bytes(encode(image, path, options), path, options.overwrite);
 }
 
 Image convert_pixels(const Image& in, PixelType type) {
@@ -323,7 +319,8 @@ Image convert_pixels(const Image& in, PixelType type) {
       case PixelType::F32: { float t; std::memcpy(&t, p, 4); v = t; break; }
     }
     v = v / from_unit * to_unit;
-    if (to_int) v = std::clamp(std::nearbyint(v), 0.0, to_unit);
+    // NaN has no integer: 0 (as -inf); +inf is the largest value.
+    if (to_int) v = std::isnan(v) ? 0.0 : std::clamp(std::nearbyint(v), 0.0, to_unit);
     unsigned char* q = out.data() + i * bytes_of(type);
     switch (type) {
       case PixelType::U8: *q = static_cast<uint8_t>(v); break;
@@ -349,11 +346,11 @@ std::string face_path(std::string_view pattern, int face) {
   return s;
 }
 
-Image read_cube_faces(const std::string& pattern) {
+Image read_cube_faces(const std::string& pattern, int64_t memory_limit) {
   Image strip;
   for (int f = 0; f < 6; ++f) {
     const std::string path = face_path(pattern, f);
-    const Image face = read_image(path);
+    const Image face = read_image(path, memory_limit);
     if (face.width() != face.height())
       throw Error("cube face " + path + " is " + std::to_string(face.width()) + "x" +
                   std::to_string(face.height()) + " (expected square faces)");
@@ -375,28 +372,20 @@ Image read_cube_faces(const std::string& pattern) {
   return strip;
 }
 
-void write_cube_faces(const Image& strip, const std::string& pattern,
-                      const WriteOptions& options) {
+void write_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options) {
+  if (strip.width() != 6 * strip.height())
+    throw Error("cube faces: a " + size_text(strip.size()) + " image (expected the 6x1 strip of six square faces, " +
+                "6N x N pixels)");
   const int64_t f = strip.height();
-  std::vector<std::string> paths, temps;
+  for (int i = 0; i < 6; ++i) check_output_path(face_path(pattern, i), options.overwrite);
+  OutputSet set(options.overwrite);
   for (int i = 0; i < 6; ++i) {
-    paths.push_back(face_path(pattern, i));
-    check_target(paths.back(), options);
+    Image face({f, f}, strip.channels(), strip.type(), strip.alpha_channel(), Image::Unfilled{});
+    for (int64_t y = 0; y < f; ++y) std::memcpy(face.row(y), strip.pixel(i * f, y), face.row_bytes());
+    const std::string path = face_path(pattern, i);
+    set.add(path, encode(face, path, options));
   }
-  try {
-    for (int i = 0; i < 6; ++i) {
-      Image face({f, f}, strip.channels(), strip.type(), strip.alpha_channel());
-      for (int64_t y = 0; y < f; ++y)
-        std::memcpy(face.row(y), strip.pixel(i * f, y), face.row_bytes());
-      temps.push_back(temp_path(paths[i]));
-      write_file(face, temps.back(), paths[i], options);
-    }
-  } catch (...) {
-    std::error_code ec;
-    for (const auto& t : temps) fs::remove(t, ec);
-    throw;
-  }
-  for (int i = 0; i < 6; ++i) commit(temps[i], paths[i]);
+  set.commit();
 }
 
 }  // namespace panoproj

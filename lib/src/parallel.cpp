@@ -1,5 +1,9 @@
 #include "panoproj/parallel.hpp"
 
+#include <string>
+
+#include "panoproj/error.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <exception>
@@ -36,6 +40,12 @@ class FirstError {
 };
 
 }  // namespace
+
+void check_threads(int threads) {
+  if (threads < 0 || threads > kMaxThreads)
+    throw Error("threads: " + std::to_string(threads) + " (expected 0 for all cores, or 1 to " +
+                std::to_string(kMaxThreads) + ")");
+}
 
 int resolve_threads(int threads) {
   if (threads > 0) return threads;

@@ -4,28 +4,17 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <sstream>
+
 
 #include "panoproj/error.hpp"
 #include "panoproj/rotation.hpp"
+#include "input_check.hpp"
 
 namespace panoproj {
 namespace {
 
 constexpr char kXmpHeader[] = "http://ns.adobe.com/xap/1.0/";  // then a NUL, then the packet
-
-// The file's first `most` bytes (all of them by default).
-std::string slurp(const std::string& path, size_t most = std::string::npos) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read " + path + " (give an existing image file)");
-  if (most == std::string::npos) return {std::istreambuf_iterator<char>(in), {}};
-  std::string b(most, '\0');
-  in.read(b.data(), static_cast<std::streamsize>(most));
-  b.resize(static_cast<size_t>(in.gcount()));
-  return b;
-}
 
 // The XMP packet of JPEG bytes, or "" (segments walked from the start marker to the scan).
 std::string jpeg_xmp(const std::string& b) {
@@ -118,16 +107,21 @@ std::optional<std::string> field(const std::string& xmp, const std::string& name
   return std::nullopt;
 }
 
-double number(const std::string& xmp, const char* name, double fallback) {
+// A field's number; a field present but not a finite number is refused (read as 0 it would place
+// the panorama wrongly without a word).
+double number(const std::string& xmp, const char* name, double fallback, const std::string& path) {
   const auto v = field(xmp, name);
   if (!v) return fallback;
   char* end = nullptr;
   const double d = std::strtod(v->c_str(), &end);
-  return end == v->c_str() || !std::isfinite(d) ? fallback : d;
+  if (end == v->c_str() || !std::isfinite(d) || std::fabs(d) > 1e12)
+    throw Error("Photo Sphere metadata of " + path + ": GPano:" + name + " is \"" + one_line(v->substr(0, 40)) +
+                "\" (expected a finite number; give " + option_text("from") + " SPEC to override it)");
+  return d;
 }
 
-int64_t integer(const std::string& xmp, const char* name, int64_t fallback) {
-  return std::llround(number(xmp, name, static_cast<double>(fallback)));
+int64_t integer(const std::string& xmp, const char* name, int64_t fallback, const std::string& path) {
+  return std::llround(number(xmp, name, static_cast<double>(fallback), path));
 }
 
 }  // namespace
@@ -135,24 +129,24 @@ int64_t integer(const std::string& xmp, const char* name, int64_t fallback) {
 std::optional<PhotoSphere> read_photo_sphere(const std::string& path) {
   // The segments or chunks before the image data: the XMP packet comes early (4 MB leave room
   // for EXIF, ICC profiles and thumbnails before it). Other formats: the signature alone is read.
-  const std::string signature = slurp(path, 8);
+  const std::string signature = read_head(path, 8);
   const bool jpeg = signature.compare(0, 2, "\xFF\xD8") == 0, png = signature == std::string(kPngSignature, 8);
   if (!jpeg && !png) return std::nullopt;
-  const std::string head = slurp(path, size_t{4} << 20);
+  const std::string head = read_head(path, size_t{4} << 20);
   const std::string xmp = jpeg ? jpeg_xmp(head) : png_xmp(head);
   if (xmp.empty()) return std::nullopt;
   const auto type = field(xmp, "ProjectionType");
   if (!type) return std::nullopt;
   PhotoSphere ps;
   ps.projection_type = *type;
-  ps.full_width = integer(xmp, "FullPanoWidthPixels", 0);
-  ps.full_height = integer(xmp, "FullPanoHeightPixels", ps.full_width / 2);
-  ps.crop_width = integer(xmp, "CroppedAreaImageWidthPixels", ps.full_width);
-  ps.crop_height = integer(xmp, "CroppedAreaImageHeightPixels", ps.full_height);
-  ps.crop_left = integer(xmp, "CroppedAreaLeftPixels", 0);
-  ps.crop_top = integer(xmp, "CroppedAreaTopPixels", 0);
-  ps.pose_pitch = number(xmp, "PosePitchDegrees", 0.0);
-  ps.pose_roll = number(xmp, "PoseRollDegrees", 0.0);
+  ps.full_width = integer(xmp, "FullPanoWidthPixels", 0, path);
+  ps.full_height = integer(xmp, "FullPanoHeightPixels", ps.full_width / 2, path);
+  ps.crop_width = integer(xmp, "CroppedAreaImageWidthPixels", ps.full_width, path);
+  ps.crop_height = integer(xmp, "CroppedAreaImageHeightPixels", ps.full_height, path);
+  ps.crop_left = integer(xmp, "CroppedAreaLeftPixels", 0, path);
+  ps.crop_top = integer(xmp, "CroppedAreaTopPixels", 0, path);
+  ps.pose_pitch = number(xmp, "PosePitchDegrees", 0.0, path);
+  ps.pose_roll = number(xmp, "PoseRollDegrees", 0.0, path);
   return ps;
 }
 
@@ -226,23 +220,18 @@ std::string photo_sphere_xmp(const PhotoSphere& ps) {
   return o.str();
 }
 
-void add_xmp(const std::string& path, const std::string& xmp) {
-  const std::string b = slurp(path);
+std::string with_xmp(const std::string& b, const std::string& xmp) {
   if (b.compare(0, 8, std::string(kPngSignature, 8)) == 0) {
     // An iTXt chunk right after IHDR (the first chunk: 8 + 25 bytes).
-    if (b.size() < 33 || b.compare(12, 4, "IHDR") != 0) throw Error("cannot add XMP to " + path + " (a damaged PNG)");
+    if (b.size() < 33 || b.compare(12, 4, "IHDR") != 0) throw Error("cannot add XMP: a damaged PNG");
     std::string chunk = std::string("iTXt") + std::string(kPngXmpKeyword, sizeof kPngXmpKeyword) + std::string(4, '\0') + xmp;
     chunk = be32_bytes(static_cast<uint32_t>(chunk.size() - 4)) + chunk + be32_bytes(crc32(chunk));
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << b.substr(0, 33) << chunk << b.substr(33);
-    if (!out) throw Error("cannot write " + path + " (disk full or not writable)");
-    return;
+    return b.substr(0, 33) + chunk + b.substr(33);
   }
-  const std::string& jpeg_path = path;
   const size_t payload = sizeof kXmpHeader + xmp.size();
   if (b.size() < 2 || static_cast<unsigned char>(b[0]) != 0xFF || static_cast<unsigned char>(b[1]) != 0xD8 ||
       payload + 2 > 0xFFFF)
-    throw Error("cannot add XMP to " + jpeg_path + " (not a JPEG, or the packet is over 64 KB)");
+    throw Error("cannot add XMP: not a JPEG or PNG, or the packet is over 64 KB");
   std::string seg = "\xFF\xE1";
   seg += static_cast<char>((payload + 2) >> 8);
   seg += static_cast<char>((payload + 2) & 0xFF);
@@ -256,9 +245,7 @@ void add_xmp(const std::string& path, const std::string& xmp) {
     if (len < 2 || at + 2 + len > b.size()) break;
     at += 2 + len;
   }
-  std::ofstream out(jpeg_path, std::ios::binary | std::ios::trunc);
-  out << b.substr(0, at) << seg << b.substr(at);
-  if (!out) throw Error("cannot write " + jpeg_path + " (disk full or not writable)");
+  return b.substr(0, at) + seg + b.substr(at);
 }
 
 }  // namespace panoproj

@@ -4,12 +4,12 @@
 #include "panoproj/spec.hpp"
 
 #include <cctype>
-#include <fstream>
 #include <sstream>
 #include <utility>
 #include <vector>
 
 #include "panoproj/error.hpp"
+#include "input_check.hpp"
 
 namespace panoproj {
 namespace {
@@ -105,18 +105,20 @@ Pairs parse_yaml(const std::string& text, const std::string& path) {
 }  // namespace
 
 std::string spec_from_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read the spec file " + path + " (give an existing JSON or YAML file after @)");
-  // A spec file is a few lines: at most 1 MiB is read (a device or a wrong file stops there).
+  // A spec file is a few lines: at most 1 MiB is read; read_head refuses directories, FIFOs and
+  // devices before reading.
   constexpr size_t kMax = size_t{1} << 20;
-  std::string text(kMax + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<size_t>(in.gcount()));
+  std::string text = read_head(path, kMax + 1, "the spec file", "a JSON or YAML file after @");
   if (text.size() > kMax) throw Error(path + " is over 1 MiB (expected a small JSON or YAML spec file)");
+  if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);  // a UTF-8 byte order mark
   const std::string head = trim(text);
   const Pairs pairs = !head.empty() && head[0] == '{' ? parse_json(head, path) : parse_yaml(text, path);
   std::string name, keys;
-  for (const auto& [k, v] : pairs) {
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const auto& [k, v] = pairs[i];
+    for (size_t j = 0; j < i; ++j)
+      if (pairs[j].first == k)
+        throw Error(path + ": the key \"" + k + "\" is given twice (expected each key once)");
     if (k == "projection") {
       name = v;
     } else {

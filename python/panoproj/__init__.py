@@ -12,12 +12,18 @@ Conventions (the same as the ``panoproj`` command; see docs/projections.md):
 - Sizes are ``(width, height)`` like OpenCV's ``dsize`` (or ``"WxH"``); angles in degrees.
 - Pixel coordinates put pixel centres at ``i + 0.5`` (panoproj's convention); rays are unit
   vectors, x right, y down, z forward.
-- Every heavy call releases the GIL. Errors: ``ValueError`` (bad parameters or shapes),
-  ``TypeError`` (dtype, argument types), ``OSError`` (files), with the command's one-line message.
+- Every heavy call releases the GIL. Errors, each with the command's one-line message:
+  ``ValueError`` (bad parameters or shapes), ``TypeError`` (dtype, argument types), ``OSError``
+  (files: ``FileNotFoundError`` for a missing input, ``FileExistsError`` for an existing output
+  without ``overwrite=True``), ``MemoryError`` (a job over ``memory_limit``, by default the memory
+  available now, refused before any work).
+- Writes cannot lose data: a temporary file beside the target, synced, then renamed; on any error
+  the old file is intact and nothing is left behind.
 """
 
 from __future__ import annotations
 
+import functools
 import re
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
@@ -126,6 +132,9 @@ def _spec(p: Union[str, Projection, None]) -> Optional[str]:
     return None if p is None else str(projection(p))
 
 
+_MAX_SIDE = 2**31 - 1
+
+
 def _size(size: SizeLike) -> Optional[Tuple[int, int]]:
     if size is None:
         return None
@@ -133,14 +142,63 @@ def _size(size: SizeLike) -> Optional[Tuple[int, int]]:
         m = re.fullmatch(r"\s*(\d+)\s*x\s*(\d+)\s*", size)
         if not m:
             raise ValueError(f"size: {size!r} (expected WxH, e.g. 4096x2048)")
-        return int(m.group(1)), int(m.group(2))
+        w, h = int(m.group(1)), int(m.group(2))
+    else:
+        try:
+            w, h = size
+        except (TypeError, ValueError):
+            raise TypeError(f"size: {size!r} (expected (width, height))") from None
+        if not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in (w, h)):
+            raise TypeError(f"size: {size!r} (expected two integers, (width, height))")
+        w, h = int(w), int(h)
+    if not (1 <= w <= _MAX_SIDE and 1 <= h <= _MAX_SIDE):
+        raise ValueError(f"size: {w}x{h} (expected 1 to {_MAX_SIDE} pixels a side)")
+    return w, h
+
+
+def _int(name: str, v: Any, lo: int, hi: int, expected: str) -> int:
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+        raise TypeError(f"{name}: {v!r} (expected an integer, {expected})")
+    if not lo <= int(v) <= hi:
+        raise ValueError(f"{name}: {int(v)} (expected {expected})")
+    return int(v)
+
+
+def _threads(threads: Any) -> int:
+    return _int("threads", threads, 0, 1024, "0 for all cores, or 1 to 1024")
+
+
+def _angle(name: str, v: Any) -> float:
     try:
-        w, h = size
+        return float(v)
+    except OverflowError:
+        raise ValueError(f"{name}: {v!r} (expected a finite angle in degrees)") from None
     except (TypeError, ValueError):
-        raise TypeError(f"size: {size!r} (expected (width, height))") from None
-    if not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in (w, h)):
-        raise TypeError(f"size: {size!r} (expected two integers, (width, height))")
-    return int(w), int(h)
+        raise TypeError(f"{name}: {v!r} (expected a number of degrees)") from None
+
+
+def _memory_limit(limit: Union[int, str, None]) -> int:
+    """Bytes (or text such as "4G", "512M"); None: the memory available when a job starts."""
+    if limit is None:
+        return 0
+    if isinstance(limit, str):
+        return _core.parse_memory_limit(limit)
+    return _int("memory_limit", limit, 10**6, 9 * 10**18, "at least 1000000 bytes, or text such as '4G'")
+
+
+def _one_line_type_errors(fn):
+    """pybind11 answers an argument of a type it cannot convert with a list of overloads: one
+    line instead, naming the call."""
+    @functools.wraps(fn)
+    def call(*args, **kwargs):
+        try:
+            return fn(*args, **kwargs)
+        except TypeError as e:
+            if "incompatible function arguments" in str(e) or "incompatible constructor arguments" in str(e):
+                raise TypeError(f"{fn.__qualname__}: an argument of the wrong type (see help(panoproj."
+                                f"{fn.__qualname__}))") from None
+            raise
+    return call
 
 
 def _antialias(antialias: Union[str, int, None]) -> Optional[str]:
@@ -164,11 +222,12 @@ def _fill(fill: FillLike) -> Optional[str]:
     return ",".join(repr(v) for v in values)
 
 
+@_one_line_type_errors
 def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Projection, None],
             dst: Union[str, Projection], *, size: SizeLike = None, yaw: float = 0.0,
             pitch: float = 0.0, roll: float = 0.0, interp: str = "bicubic", threads: int = 0,
             engine: str = "simd", antialias: Union[str, int, None] = None, alpha: bool = False,
-            fill: FillLike = None) -> np.ndarray:
+            fill: FillLike = None, memory_limit: Union[int, str, None] = None) -> np.ndarray:
     """Converts ``image`` from projection ``src`` to ``dst`` and returns the new image.
 
     ``src=None`` takes a 2:1 image as a full equirect (as the command does); a list of six
@@ -183,15 +242,19 @@ def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Proj
     without a source are 0 (alpha 0). ``alpha=True`` adds an alpha channel if there is none and antialiases
     the field's edge (alpha = each edge pixel's covered share); ``fill`` (``(r, g, b[, a])`` in unit
     range, or ``"#rrggbb"``) colours what has no source, blended into the antialiased edge.
+    ``memory_limit`` (bytes, or ``"4G"``; default: the memory available now) bounds what the job
+    allocates: a larger one raises MemoryError before any work.
     """
-    return _core.convert(image, _spec(src), _spec(dst), _size(size), float(yaw), float(pitch),
-                         float(roll), interp, int(threads), engine, _antialias(antialias), bool(alpha), _fill(fill))
+    return _core.convert(image, _spec(src), _spec(dst), _size(size), _angle("yaw", yaw), _angle("pitch", pitch),
+                         _angle("roll", roll), interp, _threads(threads), engine, _antialias(antialias), bool(alpha),
+                         _fill(fill), _memory_limit(memory_limit))
 
 
+@_one_line_type_errors
 def build_map(src: Union[str, Projection], dst: Union[str, Projection],
               source_size: SizeLike, *, size: SizeLike = None, yaw: float = 0.0,
               pitch: float = 0.0, roll: float = 0.0, convention: str = "opencv",
-              threads: int = 0) -> Tuple[np.ndarray, np.ndarray]:
+              threads: int = 0, memory_limit: Union[int, str, None] = None) -> Tuple[np.ndarray, np.ndarray]:
     """Source-coordinate maps ``(map_x, map_y)``, float32 arrays of the output's shape.
 
     With ``convention="opencv"`` (pixel centres at integers, -1 where no source) they go straight
@@ -199,8 +262,9 @@ def build_map(src: Union[str, Projection], dst: Union[str, Projection],
     i + 0.5 and NaN where no source. Within 1/256 px of the exact map; cv2.remap itself rounds
     positions to 1/32 px and cannot wrap seams, poles or cube edges.
     """
-    return _core.build_map(_spec(src), _spec(dst), _size(source_size), _size(size), float(yaw),
-                           float(pitch), float(roll), convention, int(threads))
+    return _core.build_map(_spec(src), _spec(dst), _size(source_size), _size(size), _angle("yaw", yaw),
+                           _angle("pitch", pitch), _angle("roll", roll), convention, _threads(threads),
+                           _memory_limit(memory_limit))
 
 
 class Plan:
@@ -215,14 +279,15 @@ class Plan:
 
     __slots__ = ("_args", "_plan")
 
+    @_one_line_type_errors
     def __init__(self, src: Union[str, Projection], dst: Union[str, Projection],
                  source_size: SizeLike, *, size: SizeLike = None, yaw: float = 0.0,
                  pitch: float = 0.0, roll: float = 0.0, interp: str = "bicubic",
                  threads: int = 0, engine: str = "simd", antialias: Union[str, int, None] = None,
-                 alpha: bool = False, fill: FillLike = None) -> None:
-        self._args = (_spec(src), _spec(dst), _size(source_size), _size(size), float(yaw),
-                      float(pitch), float(roll), interp, int(threads), engine, _antialias(antialias), bool(alpha),
-                      _fill(fill))
+                 alpha: bool = False, fill: FillLike = None, memory_limit: Union[int, str, None] = None) -> None:
+        self._args = (_spec(src), _spec(dst), _size(source_size), _size(size), _angle("yaw", yaw),
+                      _angle("pitch", pitch), _angle("roll", roll), interp, _threads(threads), engine,
+                      _antialias(antialias), bool(alpha), _fill(fill), _memory_limit(memory_limit))
         self._plan = _core.Plan(*self._args)
 
     @property
@@ -242,8 +307,11 @@ class Plan:
         """The output's (width, height)."""
         return tuple(self._plan.size)
 
+    @_one_line_type_errors
     def run(self, image: Union[np.ndarray, Sequence[np.ndarray]],
             out: Optional[np.ndarray] = None) -> np.ndarray:
+        """Converts ``image``; with ``out``, into that array (which must not share memory with
+        ``image``: ValueError)."""
         return self._plan.run(image, out)
 
     __call__ = run
@@ -256,40 +324,47 @@ class Plan:
         self._plan = _core.Plan(*self._args)
 
     def __repr__(self) -> str:
-        src, dst, source_size, size, yaw, pitch, roll, interp, threads, engine, antialias, alpha, fill = self._args
+        src, dst, source_size, size, yaw, pitch, roll, interp, threads, engine, antialias, alpha, fill, limit = self._args
         return (f"Plan({src!r}, {dst!r}, source_size={source_size}, size={self.size}, yaw={yaw}, "
                 f"pitch={pitch}, roll={roll}, interp={interp!r}, threads={threads}, "
-                f"engine={engine!r}, antialias={antialias!r}, alpha={alpha}, fill={fill!r})")
+                f"engine={engine!r}, antialias={antialias!r}, alpha={alpha}, fill={fill!r}"
+                + (f", memory_limit={limit})" if limit else ")"))
 
 
-def read(path: str, *, metadata: bool = False):
+@_one_line_type_errors
+def read(path: str, *, metadata: bool = False, memory_limit: Union[int, str, None] = None):
     """Reads an image file (JPEG, PNG, TIFF, EXR, HDR ...) through OpenImageIO as an array of the
     file's sample type (other types become float32). A path with ``{face}`` or ``{index}`` reads
     six cube face files as one 6x1 cubemap. With ``metadata=True`` returns ``(array, dict)``, the
     dict holding the file's attributes by OpenImageIO's names (EXIF, XMP, ICC profile ...)."""
     path = str(path)
-    array = _core.read_faces(path) if re.search(r"\{(face|index)\}", path) else _core.read(path)
+    limit = _memory_limit(memory_limit)
+    array = _core.read_faces(path, limit) if re.search(r"\{(face|index)\}", path) else _core.read(path, limit)
     if metadata:
         return array, _core.read_metadata(path.replace("{face}", "front").replace("{index}", "0"))
     return array
 
 
+@_one_line_type_errors
 def write(path: str, array: np.ndarray, *, overwrite: bool = False, dtype: Optional[str] = None,
           metadata: Optional[Dict[str, Any]] = None) -> None:
     """Writes an array atomically (a temporary file, then a rename): the format follows the
     extension. An existing file is replaced only with ``overwrite=True``. ``dtype`` converts the
     samples first (e.g. ``"uint8"`` for a JPEG of a float image); ``metadata`` attributes are
     written where the format has a place for them. A path with ``{face}``/``{index}`` writes a
-    6x1 cubemap as six files."""
+    6x1 cubemap (6N x N) as six files, all replaced or none. On any error (a full disk, no
+    permission) the old file is intact and no temporary is left."""
     _core.write(str(path), array, bool(overwrite), dtype, dict(metadata or {}))
 
 
+@_one_line_type_errors
 def to_ray(proj: Union[str, Projection], size: SizeLike, x, y) -> Tuple[np.ndarray, np.ndarray]:
     """Unit rays through pixel positions (x, y) of ``proj`` at ``size``: ``(rays[..., 3], ok)``;
     where ``ok`` is False (outside the projection) the ray is NaN."""
     return _core.to_ray(_spec(proj), _size(size), x, y)
 
 
+@_one_line_type_errors
 def to_pixel(proj: Union[str, Projection], size: SizeLike,
              rays) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pixel positions of rays (``[..., 3]``, any length but 0) in ``proj`` at ``size``:
@@ -297,6 +372,7 @@ def to_pixel(proj: Union[str, Projection], size: SizeLike,
     return _core.to_pixel(_spec(proj), _size(size), rays)
 
 
+@_one_line_type_errors
 def split_faces(image: np.ndarray, layout: Union[str, Projection] = "cubemap") -> List[np.ndarray]:
     """The six faces (front, right, back, left, up, down) of a cubemap image, as views."""
     spec = _spec(layout)

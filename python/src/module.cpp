@@ -22,6 +22,7 @@
 #include "panoproj/engine.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
+#include "panoproj/limits.hpp"
 #include "panoproj/maps.hpp"
 
 namespace py = pybind11;
@@ -29,18 +30,15 @@ using namespace panoproj;
 
 namespace {
 
-// Errors of file I/O, raised as OSError.
-struct IoError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-// Runs a file operation, its panoproj::Error raised as OSError.
+// Runs a file operation: its errors of plain values (a path's extension, a file's contents)
+// are raised as OSError; the more specific kinds keep their own class.
 template <class F>
 auto file_op(F&& f) {
   try {
     return f();
   } catch (const Error& e) {
-    throw IoError(e.what());
+    if (e.kind() == ErrorKind::Value) throw Error(e.what(), ErrorKind::File);
+    throw;
   }
 }
 
@@ -157,8 +155,9 @@ std::optional<ProjectionSpec> spec_of(const std::optional<std::string>& text) {
 ConvertOptions options_of(std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
                           const std::string& interp, int threads, const std::string& engine,
                           const std::optional<std::string>& antialias, bool alpha = false,
-                          const std::optional<std::string>& fill = std::nullopt) {
+                          const std::optional<std::string>& fill = std::nullopt, int64_t memory_limit = 0) {
   ConvertOptions o;
+  o.memory_limit = memory_limit;
   o.add_alpha = alpha;
   if (fill) o.edges.colour = parse_fill_colour(*fill);
   o.edges.soft = alpha || fill.has_value();
@@ -192,11 +191,12 @@ class PyPlan {
     std::optional<std::string> antialias;
     bool alpha;
     std::optional<std::string> fill;
+    int64_t memory_limit;
   };
   explicit PyPlan(Params p)
       : p_(std::move(p)),
         options_(options_of(p_.size, p_.yaw, p_.pitch, p_.roll, p_.interp, p_.threads, p_.engine, p_.antialias, p_.alpha,
-                            p_.fill)),
+                            p_.fill, p_.memory_limit)),
         plan_(make_plan(size_pair(p_.source_size), parse_spec(p_.src), parse_spec(p_.dst), options_)),
         converter_(plan_.source, plan_.target, plan_.rotation, options_.interp, options_.engine, options_.threads,
                    true, antialias_of(options_), options_.edges) {}
@@ -209,6 +209,7 @@ class PyPlan {
     Image with_alpha;
     const Image& in = source_for(raw, options_, with_alpha);
     const bool flat = py::isinstance<py::array>(src) && src.cast<py::array>().ndim() == 2 && in.channels() == 1;
+    require_job_memory(plan_, raw.channels(), raw.type(), options_, 0);
     if (out) {
       // Written in place: must be C-contiguous, writable, of the output's shape and dtype.
       const Size s = size_of(plan_.target);
@@ -218,6 +219,12 @@ class PyPlan {
         throw py::value_error("out: expected a writable C-contiguous " + std::string(name_of(in.type())) + " array of " +
                               std::to_string(s.height) + "x" + std::to_string(s.width) + "x" +
                               std::to_string(in.channels()));
+      // The engine reads the image while it writes out: they must not overlap.
+      const auto* o0 = static_cast<const unsigned char*>(out->data());
+      const unsigned char* o1 = o0 + out->nbytes();
+      if (o0 < in.data() + in.byte_size() && in.data() < o1)
+        throw py::value_error("out: shares memory with the image (expected a separate array: the conversion reads the "
+                              "image while it writes out)");
       Image o = Image::view(static_cast<unsigned char*>(out->mutable_data()), s, in.channels(), in.type(),
                             in.alpha_channel());
       {
@@ -289,13 +296,23 @@ using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "panoproj's compiled core; use the panoproj package.";
+  use_python_option_names();
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
-    } catch (const IoError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
     } catch (const Error& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyObject* type = PyExc_ValueError;
+      switch (e.kind()) {
+        case ErrorKind::Value: type = PyExc_ValueError; break;
+        case ErrorKind::File: type = PyExc_OSError; break;
+        case ErrorKind::Exists: type = PyExc_FileExistsError; break;
+        case ErrorKind::Missing: type = PyExc_FileNotFoundError; break;
+        case ErrorKind::Memory: type = PyExc_MemoryError; break;
+      }
+      PyErr_SetString(type, e.what());
+    } catch (const std::bad_alloc&) {
+      PyErr_SetString(PyExc_MemoryError, "out of memory (ask for a smaller size, or pass memory_limit= to be refused "
+                                         "before the work starts)");
     }
   });
 
@@ -317,13 +334,14 @@ PYBIND11_MODULE(_core, m) {
   m.def("canonical", [](const std::string& text) { return parse_spec(text).str(); },
         "The canonical text of a spec; raises ValueError naming a bad part.");
   m.def("simd_target", &simd_target);
+  m.def("parse_memory_limit", [](const std::string& text) { return parse_memory_limit(text); }, py::arg("text"));
 
   m.def(
       "convert",
       [](const py::object& src_image, std::optional<std::string> src, const std::string& dst,
          std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
          const std::string& interp, int threads, const std::string& engine, const std::optional<std::string>& antialias,
-         bool alpha, const std::optional<std::string>& fill) {
+         bool alpha, const std::optional<std::string>& fill, int64_t memory_limit) {
         std::optional<ProjectionSpec> from = spec_of(src);
         py::object keep;
         const Image in = source_of(src_image, keep, from);
@@ -332,7 +350,8 @@ PYBIND11_MODULE(_core, m) {
                       " image is not a 2:1 equirect (give src, e.g. 'fisheye:fov=180')");
         if (!from) from = parse_spec("equirect");
         const ProjectionSpec to = parse_spec(dst);
-        const ConvertOptions o = options_of(size, yaw, pitch, roll, interp, threads, engine, antialias, alpha, fill);
+        const ConvertOptions o =
+            options_of(size, yaw, pitch, roll, interp, threads, engine, antialias, alpha, fill, memory_limit);
         const bool flat = py::isinstance<py::array>(src_image) && src_image.cast<py::array>().ndim() == 2 && !alpha;
         Image out;
         {
@@ -343,15 +362,19 @@ PYBIND11_MODULE(_core, m) {
       },
       py::arg("image"), py::arg("src"), py::arg("dst"), py::arg("size"), py::arg("yaw"), py::arg("pitch"),
       py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"), py::arg("antialias"),
-      py::arg("alpha") = false, py::arg("fill") = std::nullopt);
+      py::arg("alpha") = false, py::arg("fill") = std::nullopt, py::arg("memory_limit") = 0);
 
   m.def(
       "build_map",
       [](const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size,
          std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
-         const std::string& convention, int threads) {
-        const ConvertOptions o = options_of(size, yaw, pitch, roll, "bilinear", threads, "simd", std::nullopt);
+         const std::string& convention, int threads, int64_t memory_limit) {
+        const ConvertOptions o =
+            options_of(size, yaw, pitch, roll, "bilinear", threads, "simd", std::nullopt, false, std::nullopt, memory_limit);
         const Plan plan = make_plan(size_pair(source_size), parse_spec(src), parse_spec(dst), o);
+        // The 2-float map and the two arrays split from it.
+        require_memory("map " + size_text(size_of(plan.target)), image_bytes(size_of(plan.target), 4, sizeof(float)),
+                       memory_limit);
         MapConvention c;
         if (convention == "opencv") c = MapConvention::OpenCV;
         else if (convention == "panoproj") c = MapConvention::Panoproj;
@@ -364,29 +387,35 @@ PYBIND11_MODULE(_core, m) {
         return split_map(std::move(map));
       },
       py::arg("src"), py::arg("dst"), py::arg("source_size"), py::arg("size"), py::arg("yaw"), py::arg("pitch"),
-      py::arg("roll"), py::arg("convention"), py::arg("threads"));
+      py::arg("roll"), py::arg("convention"), py::arg("threads"), py::arg("memory_limit") = 0);
 
   py::class_<PyPlan>(m, "Plan")
       .def(py::init([](const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size,
                        std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
                        const std::string& interp, int threads, const std::string& engine,
-                       std::optional<std::string> antialias, bool alpha, std::optional<std::string> fill) {
+                       std::optional<std::string> antialias, bool alpha, std::optional<std::string> fill,
+                       int64_t memory_limit) {
              return std::make_unique<PyPlan>(PyPlan::Params{src, dst, source_size, size, yaw, pitch, roll, interp, threads,
-                                                            engine, antialias, alpha, fill});
+                                                            engine, antialias, alpha, fill, memory_limit});
            }),
            py::arg("src"), py::arg("dst"), py::arg("source_size"), py::arg("size"), py::arg("yaw"),
            py::arg("pitch"), py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"),
-           py::arg("antialias"), py::arg("alpha") = false, py::arg("fill") = std::nullopt)
+           py::arg("antialias"), py::arg("alpha") = false, py::arg("fill") = std::nullopt, py::arg("memory_limit") = 0)
       .def("run", &PyPlan::run, py::arg("image"), py::arg("out") = std::nullopt)
       .def_property_readonly("size", [](const PyPlan& p) {
         const Size s = size_of(p.plan().target);
         return std::pair{s.width, s.height};
       });
 
-  m.def("read", [](const std::string& path) { return read_array([&] { return read_image(path); }); }, py::arg("path"));
   m.def(
-      "read_faces", [](const std::string& pattern) { return read_array([&] { return read_cube_faces(pattern); }); },
-      py::arg("pattern"));
+      "read", [](const std::string& path, int64_t limit) { return read_array([&] { return read_image(path, limit); }); },
+      py::arg("path"), py::arg("memory_limit") = 0);
+  m.def(
+      "read_faces",
+      [](const std::string& pattern, int64_t limit) {
+        return read_array([&] { return read_cube_faces(pattern, limit); });
+      },
+      py::arg("pattern"), py::arg("memory_limit") = 0);
   m.def(
       "read_metadata",
       [](const std::string& path) {

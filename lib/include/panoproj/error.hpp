@@ -3,12 +3,30 @@
 // Messages are one line: "what: value (expected ...)". Kernels never throw.
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace panoproj {
 
+// What went wrong, for front ends that map it (Python: ValueError, OSError, FileExistsError,
+// FileNotFoundError, MemoryError).
+enum class ErrorKind { Value, File, Exists, Missing, Memory };
+
 class Error : public std::runtime_error {
  public:
-  explicit Error(const std::string& message) : std::runtime_error(message) {}
+  explicit Error(const std::string& message, ErrorKind kind = ErrorKind::Value)
+      : std::runtime_error(message), kind_(kind) {}
+  ErrorKind kind() const { return kind_; }
+
+ private:
+  ErrorKind kind_;
 };
+
+// An option as the user writes it in messages: "--overwrite" on the command line (default),
+// "overwrite=True" once the Python module called use_python_option_names().
+std::string option_text(std::string_view cli_option);
+void use_python_option_names();
+
+// A library's message as one line of at most 240 characters (newlines folded, the rest cut).
+std::string one_line(std::string text);
 
 }  // namespace panoproj

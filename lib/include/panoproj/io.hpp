@@ -1,8 +1,14 @@
 #pragma once
 // Image files through OpenImageIO: JPEG, PNG, TIFF 8/16-bit, OpenEXR half/float, Radiance HDR
 // (and whatever else the installed OpenImageIO reads).
-// Writing is atomic: a temporary file beside the target, then rename. An existing output is
-// replaced only with overwrite = true; the caller refuses outputs that are inputs.
+// Reading: only regular files, recognised by their magic bytes, whose header is plausible for the
+// file's size and whose pixels fit the memory budget (limits.hpp; memory_limit 0: the machine's
+// available memory), are decoded; anything else is a one-line Error.
+// Writing cannot lose data: the file is encoded in memory, written to a temporary created
+// exclusively beside the target (every write checked, synced), then renamed; on any failure the
+// temporary is removed and an existing file is left as it was. An existing output (of any kind,
+// a dangling link too) is replaced only with overwrite = true; the caller refuses outputs that
+// are inputs.
 #include <optional>
 #include <string>
 #include <string_view>
@@ -29,32 +35,52 @@ struct WriteOptions {
   std::string xmp;  // an XMP packet added to a JPEG or PNG output (photo_sphere.hpp); other formats: none
 };
 
-Image read_image(const std::string& path);
+struct ImageInfo {
+  Size size;
+  int channels = 0;
+  PixelType type = PixelType::U8;
+};
+
+Image read_image(const std::string& path, int64_t memory_limit = 0);
 // The file's attributes (OpenImageIO's own "oiio:*" bookkeeping left out); throws like read_image.
 Metadata read_metadata(const std::string& path);
 // The image's size from its header only (no pixels decoded); throws like read_image.
 Size read_image_size(const std::string& path);
+ImageInfo read_image_info(const std::string& path);
 // Reads at least the pixels [x0, x1) x [y0, y1) as a window of the file's frame (image.hpp):
 // tiled files (TIFF, EXR) decode only the tiles the region touches; scanline files keep whole
 // rows y0..y1 (JPEG decodes the rows above on the way without keeping them; TIFF and EXR strips
 // read directly), so a damaged part outside the region is never needed. OpenImageIO's PNG reader
 // decodes a whole PNG internally first: PNG sources save no memory. A region covering the frame
 // is read_image.
-Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1);
+Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1,
+                        int64_t memory_limit = 0);
 void write_image(const Image& image, const std::string& path, const WriteOptions& options);
-// A text file (CSV, JSON ...), written like images: to a temporary file, then renamed.
+// Throws unless `path` may be written: its folder exists, and it is not a directory nor (without
+// overwrite) an existing entry of any kind, a dangling link included.
+void check_output_path(const std::string& path, bool overwrite);
+// Throws unless the format of `path` (by extension) can hold an image of `size` (JPEG: 65500 a
+// side; others 2^31 - 1); write_image checks it too, this lets a job fail before its work.
+void check_writable_size(const std::string& path, Size size);
+// A text file (CSV, JSON ...) or any bytes, written like images.
 void write_text(const std::string& text, const std::string& path, bool overwrite);
+void write_bytes(std::string_view bytes, const std::string& path, bool overwrite);
+// Removes the temporaries of writes under way (and restores old files moved aside by a face set's
+// commit) on SIGINT, SIGTERM and SIGHUP, then dies of the signal as before. For programs that own
+// their signals (the panoproj command); Python keeps its own.
+void install_signal_cleanup();
 
 // Converts samples to another type (integers scale by their unit: 255 <-> 65535 <-> 1.0;
-// floats are clamped to [0, 1] when going to integers).
+// floats are clamped to [0, 1] when going to integers, NaN and -inf to 0, +inf to the unit).
 Image convert_pixels(const Image& image, PixelType type);
 
 // Six cube faces as separate files: a pattern containing {face} (front, right, back, left,
 // up, down) and/or {index} (0..5). In memory the faces form the 6x1 strip.
 bool is_face_pattern(std::string_view path);
 std::string face_path(std::string_view pattern, int face);
-Image read_cube_faces(const std::string& pattern);
-// All six are written to temporary files first and renamed only when every one succeeded.
+Image read_cube_faces(const std::string& pattern, int64_t memory_limit = 0);
+// `strip` must be 6N x N. All six are written to temporary files first and renamed only when
+// every one succeeded (old files restored if a rename fails).
 void write_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options);
 
 extern const char* const kFaceNames[6];

@@ -40,10 +40,10 @@ std::string photo_sphere_spec(const PhotoSphere& ps, Size size);
 // The fields describing an equirect projection (full or partial) on its own frame.
 PhotoSphere photo_sphere_of(const Equirect& e);
 
-// The XMP packet (an XML document) holding ps's fields, and its insertion into a JPEG file (an
-// APP1 segment after its JFIF and EXIF segments) or a PNG file (an iTXt chunk after IHDR),
-// replacing none: a new file has no XMP. Throws panoproj::Error for other files.
+// The XMP packet (an XML document) holding ps's fields, and its insertion into a JPEG file's bytes
+// (an APP1 segment after its JFIF and EXIF segments) or a PNG file's (an iTXt chunk after IHDR),
+// replacing none: a new file has no XMP. Throws panoproj::Error for other bytes.
 std::string photo_sphere_xmp(const PhotoSphere& ps);
-void add_xmp(const std::string& path, const std::string& xmp);
+std::string with_xmp(const std::string& file_bytes, const std::string& xmp);
 
 }  // namespace panoproj

@@ -1,0 +1,31 @@
+#pragma once
+// Sizes and memory, checked before anything is planned or allocated: byte counts that cannot
+// overflow, and a budget (default: the machine's available memory) that a job's buffers must fit.
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "panoproj/projections/frame.hpp"
+
+namespace panoproj {
+
+// w x h x channels x sample_bytes, saturating at UINT64_MAX instead of overflowing.
+uint64_t image_bytes(Size size, int channels, uint64_t sample_bytes);
+uint64_t add_bytes(uint64_t a, uint64_t b);
+
+// The bytes a job may allocate: `limit` when positive, else the memory available now
+// (MemAvailable in /proc/meminfo, else physical memory).
+uint64_t memory_budget(int64_t limit);
+
+// Throws Error(ErrorKind::Memory): "<what> needs 6.4 GB, over the memory limit of 2.0 GB (...)".
+void require_memory(const std::string& what, uint64_t bytes, int64_t limit);
+
+// "1.5 GB", "312 MB", "4 kB", "12 bytes" (decimal units).
+std::string bytes_text(uint64_t bytes);
+// "4G", "512M", "1.5GB", "800000000": bytes; throws Error naming the text otherwise.
+int64_t parse_memory_limit(std::string_view text);
+
+// "4096x2048".
+std::string size_text(Size size);
+
+}  // namespace panoproj
