@@ -19,7 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   const size_t a = text.find('\n');
   const size_t b = a == std::string::npos ? a : text.find('\n', a + 1);
-  if (b == std::string::npos || b + 9 > text.size()) return 0;
+  if (b == std::string::npos || b + 10 > text.size()) return 0;  // two lines, then 9 option bytes
   const auto* p = data + b + 1;
   static const Interp kInterp[] = {Interp::Nearest, Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3,
                                    Interp::BicubicDering, Interp::Lanczos3Dering};

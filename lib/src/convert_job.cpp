@@ -177,10 +177,13 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const Converter converter(plan.source, plan.target, plan.rotation, options.interp, options.engine,
                             options.threads, cache, antialias_of(options), options.edges);
   const Converter::Region need = converter.source_footprint();
+  // The source's part that the view needs, with the output and maps: checked from the header
+  // (a forged one is refused by the file's size first), before any pixel is decoded.
   if (!in_faces) {
-    const Size window{need.x1 - need.x0, need.y1 - need.y0};
-    require_job_memory(plan, channels, type, options,
-                       add_bytes(add_bytes(cache ? map_bytes : 0, written), image_bytes(window, channels + 1, bytes_of(type))));
+    const int out_channels = channels + (options.add_alpha ? 1 : 0);
+    const uint64_t job_bytes = add_bytes(add_bytes(cache ? map_bytes : 0, written),
+                                         image_bytes(out_size, out_channels, bytes_of(type)));
+    check_readable(job.inputs[0], need.x0, need.y0, need.x1, need.y1, options.memory_limit, job_bytes);
   }
   const double map_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count();
   Image out;  // one buffer for every frame of a batch

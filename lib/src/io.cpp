@@ -85,7 +85,8 @@ std::string encode(const Image& in, const std::string& path, const WriteOptions&
   check_writable_size(path, image->size());
   auto out = OIIO::ImageOutput::create(path);
   if (!out || !out->supports("ioproxy"))
-    throw Error("cannot write " + path + ": no image format for its extension (use .jpg .png .tif .exr .hdr)");
+    throw Error("cannot write " + path + ": no image format for its extension (use .jpg .png .tif .exr .hdr)",
+                ErrorKind::File);
   int nch = image->channels();
   int alpha = image->alpha_channel();
   // Formats without alpha (JPEG, HDR) get the colour channels only.
@@ -163,11 +164,27 @@ Opened open_input(const std::string& path) {
 
 // Checks, before any pixel is decoded, that the file can hold what its header declares and that
 // `window` pixels of it fit the memory budget.
-void check_input(const std::string& path, const Opened& o, Size window, int64_t memory_limit) {
+void check_input(const std::string& path, const Opened& o, Size window, int64_t memory_limit, uint64_t other_bytes = 0) {
   const OIIO::ImageSpec& s = o.in->spec();
   const int bits = s.get_int_attribute("oiio:BitsPerSample", static_cast<int>(s.format.size() * 8));
   check_plausible(path, o.file, {s.width, s.height}, s.nchannels, bits, s.get_string_attribute("compression"),
-                  window, image_bytes(window, s.nchannels, bytes_of(from_oiio(s.format))), memory_limit);
+                  window, add_bytes(image_bytes(window, s.nchannels, bytes_of(from_oiio(s.format))), other_bytes),
+                  memory_limit);
+}
+
+// The pixels a read of [x0, x1) x [y0, y1) decodes (clamped to the frame): whole rows of a
+// scanline file, from the top for a JPEG (it decodes the rows above too), tile-aligned bounds of
+// a tiled file.
+Size decoded_window(const OIIO::ImageSpec& spec, const std::string& format, int64_t x0, int64_t y0, int64_t x1,
+                    int64_t y1) {
+  const int64_t w = spec.width, h = spec.height;
+  x0 = std::clamp<int64_t>(x0, 0, w), x1 = std::clamp<int64_t>(x1, x0, w);
+  y0 = std::clamp<int64_t>(y0, 0, h), y1 = std::clamp<int64_t>(y1, y0, h);
+  if (spec.tile_width > 0) {
+    const int64_t tw = spec.tile_width, th = spec.tile_height;
+    return {std::min(w, (x1 + tw - 1) / tw * tw) - x0 / tw * tw, std::min(h, (y1 + th - 1) / th * th) - y0 / th * th};
+  }
+  return {w, format == "jpeg" ? y1 : y1 - y0};
 }
 
 // The buffer for `size` pixels of the file's layout.
@@ -204,6 +221,12 @@ ImageInfo read_image_info(const std::string& path) {
 }
 
 Size read_image_size(const std::string& path) { return read_image_info(path).size; }
+
+void check_readable(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1, int64_t memory_limit,
+                    uint64_t other_bytes) {
+  const Opened o = open_input(path);
+  check_input(path, o, decoded_window(o.in->spec(), o.file.format, x0, y0, x1, y1), memory_limit, other_bytes);
+}
 
 Image read_image(const std::string& path, int64_t memory_limit) {
   Opened o = open_input(path);
@@ -272,8 +295,7 @@ Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t
     in.reset();
     return read_image(path, memory_limit);
   }
-  // (A JPEG decodes the rows above the region too.)
-  check_input(path, o, {w, o.file.format == "jpeg" ? y1 : y1 - y0}, memory_limit);
+  check_input(path, o, decoded_window(spec, o.file.format, x0, y0, x1, y1), memory_limit);
   const PixelType type = from_oiio(spec.format);
   Image win;
   bool ok;

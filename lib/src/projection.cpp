@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -521,8 +522,8 @@ Size default_size(const ProjectionSpec& s, double density) {
   const Size size{px(w), px(h)};
   if (!(w < 1e12 && h < 1e12) || size.width * size.height > kMaxDefaultPixels) {
     std::ostringstream o;
-    o << "the default output size for " << s.str() << " would be " << w << "x" << h
-      << " pixels (over " << (kMaxDefaultPixels >> 20) << " Mpx); give --size WxH";
+    o << std::fixed << std::setprecision(0) << "the default output size for " << s.str() << " would be " << w << "x"
+      << h << " pixels (over " << (kMaxDefaultPixels >> 20) << " Mpx); give " << option_text("size") << " WxH";
     throw Error(o.str());
   }
   return size;

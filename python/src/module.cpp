@@ -4,7 +4,8 @@
 //     copied once to C order;
 //   - outputs are the engine's own buffers, handed to numpy with a capsule that frees them;
 //   - every heavy call releases the GIL;
-//   - panoproj::Error becomes ValueError (OSError from read/write), a wrong dtype TypeError.
+//   - panoproj::Error becomes the class of its kind (ValueError, OSError, FileExistsError,
+//     FileNotFoundError, MemoryError), std::bad_alloc a one-line MemoryError, a wrong dtype TypeError.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -29,19 +30,6 @@ namespace py = pybind11;
 using namespace panoproj;
 
 namespace {
-
-// Runs a file operation: its errors of plain values (a path's extension, a file's contents)
-// are raised as OSError; the more specific kinds keep their own class.
-template <class F>
-auto file_op(F&& f) {
-  try {
-    return f();
-  } catch (const Error& e) {
-    if (e.kind() == ErrorKind::Value) throw Error(e.what(), ErrorKind::File);
-    throw;
-  }
-}
-
 
 PixelType pixel_type(const py::dtype& dt) {
   if (dt.is(py::dtype::of<uint8_t>())) return PixelType::U8;
@@ -102,7 +90,7 @@ py::array read_array(Read&& read) {
   Image im;
   {
     py::gil_scoped_release unlocked;
-    im = file_op(read);
+    im = read();
   }
   return array_of(std::move(im), true);
 }
@@ -420,7 +408,7 @@ PYBIND11_MODULE(_core, m) {
       "read_metadata",
       [](const std::string& path) {
         py::dict out;
-        for (const Attribute& a : file_op([&] { return read_metadata(path); })) out[py::str(a.name)] = metadata_value(a);
+        for (const Attribute& a : read_metadata(path)) out[py::str(a.name)] = metadata_value(a);
         return out;
       },
       py::arg("path"));
@@ -435,7 +423,7 @@ PYBIND11_MODULE(_core, m) {
         if (dtype) w.type = pixel_type(py::dtype(*dtype));
         for (const auto& [k, v] : metadata) w.metadata.push_back(attribute_of(k.cast<std::string>(), v));
         py::gil_scoped_release unlocked;
-        file_op([&] { is_face_pattern(path) ? write_cube_faces(im, path, w) : write_image(im, path, w); });
+        is_face_pattern(path) ? write_cube_faces(im, path, w) : write_image(im, path, w);
       },
       py::arg("path"), py::arg("array"), py::arg("overwrite"), py::arg("dtype"), py::arg("metadata"));
 

@@ -42,3 +42,7 @@ def smooth_equirect(w, h, dtype=np.uint8, channels=3):
     if np.issubdtype(dtype, np.integer):
         img = np.round(img * np.iinfo(dtype).max)
     return np.ascontiguousarray(img.astype(dtype))
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "why: reproduces a failure listed under 'Why' in issue 15 (test_robustness.py)")

@@ -1,0 +1,803 @@
+"""The robustness suite: the command and the Python module at their file boundary, under faults,
+hostile files, absurd sizes, bad parameters and signals (the library's own cases are in
+tests/robustness_test.cpp). Table-driven; every case asserts
+
+- the exit status (1) or the exception's class,
+- one line on stderr naming the value,
+- that nothing was written, left behind or clobbered (the folder's listing and old files' bytes),
+- bounded memory: the child's peak RSS (os.wait4), under 300 MB for hostile files,
+- and a timeout, as a guard against hangs (not a timing assertion).
+
+Write faults are injected below every library: RLIMIT_FSIZE (the kernel fails each write past an
+offset with EFBIG), strace's syscall injection (ENOSPC, EDQUOT, EIO on write; EIO on fsync; EROFS
+on rename) and, where a mount is permitted, a 1 MiB tmpfs. Each case checks that its fault fired.
+Cases marked ``why`` reproduce the failures listed under "Why" in issue 15.
+"""
+import os
+import pathlib
+import re
+import resource
+import shutil
+import signal
+import stat
+import struct
+import subprocess
+import sys
+import threading
+import time
+import zlib
+
+import numpy as np
+import pytest
+
+import panoproj as pp
+from conftest import smooth_equirect
+
+HOSTILE_RSS = 300 << 20
+DEFAULT_RSS = 1500 << 20
+STRACE = shutil.which("strace")
+
+
+# ---------------------------------------------------------------------------------------------
+# Running the command
+
+class Run:
+    def __init__(self, code, out, err, rss, trace=""):
+        self.code, self.out, self.err, self.rss, self.trace = code, out, err, rss, trace
+
+    def error_line(self):
+        lines = [l for l in self.err.splitlines() if l.strip()]
+        assert len(lines) == 1, f"expected one line on stderr, got {lines!r}"
+        return lines[0]
+
+
+def run(cli, args, cwd, *, fsize=None, strace=None, timeout=60, on_start=None):
+    """Runs the command in cwd; fsize: RLIMIT_FSIZE bytes; strace: injection arguments."""
+    trace_path = pathlib.Path(cwd) / ".trace"
+    cmd = [os.path.abspath(cli)] + [str(a) for a in args]
+    if strace:
+        cmd = [STRACE, "-f", "-qq", "-o", str(trace_path)] + strace + cmd
+
+    def limits():
+        if fsize is not None:
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # ignored dispositions survive exec
+            resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, resource.RLIM_INFINITY))
+
+    # Pipes, not files: RLIMIT_FSIZE must not stop the error line itself.
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, cwd=cwd,
+                         preexec_fn=limits)
+    texts = {}
+
+    def drain(name, pipe):
+        texts[name] = pipe.read().decode(errors="replace")
+
+    readers = [threading.Thread(target=drain, args=(n, f)) for n, f in (("out", p.stdout), ("err", p.stderr))]
+    for t in readers:
+        t.start()
+    timer = threading.Timer(timeout, p.kill)
+    timer.start()
+    try:
+        if on_start:
+            on_start(p)
+        _, status, usage = os.wait4(p.pid, 0)
+    finally:
+        timer.cancel()
+    for t in readers:
+        t.join()
+    p.returncode = os.waitstatus_to_exitcode(status)
+    assert p.returncode != -signal.SIGKILL, f"{args} did not finish within {timeout} s"
+    trace = _read(trace_path)
+    if trace_path.exists():
+        trace_path.unlink()
+    return Run(p.returncode, texts["out"], texts["err"], usage.ru_maxrss * 1024, trace)
+
+
+def _read(path):
+    try:
+        return pathlib.Path(path).read_text(errors="replace")
+    except FileNotFoundError:
+        return ""
+
+
+def listing(folder):
+    return sorted(p.name for p in pathlib.Path(folder).iterdir() if p.name not in (".stdout", ".stderr", ".trace"))
+
+
+def snapshot(folder):
+    """Every entry's kind and bytes (links by their target), to show nothing changed."""
+    shot = {}
+    for p in pathlib.Path(folder).iterdir():
+        if p.name in (".stdout", ".stderr", ".trace"):
+            continue
+        if p.is_symlink():
+            shot[p.name] = ("link", os.readlink(p))
+        elif p.is_dir():
+            shot[p.name] = ("dir",)
+        elif p.is_file():
+            shot[p.name] = ("file", p.read_bytes())
+        else:
+            shot[p.name] = ("other",)
+    return shot
+
+
+def expect_refused(r, *needles, rss=DEFAULT_RSS):
+    assert r.code == 1, f"exit {r.code}, stderr {r.err!r}"
+    line = r.error_line()
+    assert line.startswith("panoproj: error: "), line
+    for n in needles:
+        assert n in line, f"{n!r} not in {line!r}"
+    assert r.rss < rss, f"peak memory {r.rss >> 20} MB"
+    return line
+
+
+# ---------------------------------------------------------------------------------------------
+# Inputs
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    """Small valid inputs of every format, and hostile ones derived from them."""
+    d = tmp_path_factory.mktemp("inputs")
+    img = smooth_equirect(256, 128)
+    paths = {}
+    for ext in ("jpg", "png", "tif", "exr", "hdr"):
+        a = img if ext in ("jpg", "png", "tif") else img.astype(np.float32) / 255
+        pp.write(str(d / f"pano.{ext}"), a)
+        paths[ext] = d / f"pano.{ext}"
+    big = smooth_equirect(2048, 1024)
+    pp.write(str(d / "big.png"), big)
+    paths["big"] = d / "big.png"
+    # A JPEG patched to declare 65500 x 32750 (its SOF0 frame header).
+    b = bytearray(paths["jpg"].read_bytes())
+    sof = b.find(b"\xff\xc0")
+    b[sof + 5:sof + 9] = struct.pack(">HH", 32750, 65500)
+    (d / "patched.jpg").write_bytes(bytes(b))
+    paths["patched_jpeg"] = d / "patched.jpg"
+    # A 1 kB TIFF declaring 100000 x 40000 RGB (one IFD, one strip past the end).
+    tags = [(256, 4, 100000), (257, 4, 40000), (258, 3, 8), (259, 3, 1), (262, 3, 2), (273, 4, 200),
+            (277, 3, 3), (278, 4, 40000), (279, 4, 12000000000 % 2**32)]
+    t = b"II*\0" + struct.pack("<I", 8) + struct.pack("<H", len(tags))
+    for tag, typ, v in tags:
+        t += struct.pack("<HHI", tag, typ, 1) + (struct.pack("<HH", v, 0) if typ == 3 else struct.pack("<I", v))
+    t += struct.pack("<I", 0) + b"\0" * (1024 - len(t) - 4)
+    (d / "huge.tif").write_bytes(t)
+    paths["huge_tiff"] = d / "huge.tif"
+    # A PNG whose IHDR (CRC correct) declares 1000000 x 1000000, then a little deflate data.
+    ihdr = b"IHDR" + struct.pack(">IIBBBBB", 1000000, 1000000, 8, 2, 0, 0, 0)
+    idat = b"IDAT" + zlib.compress(b"\0" * 10000)
+    png = b"\x89PNG\r\n\x1a\n"
+    for chunk in (ihdr, idat, b"IEND"):
+        png += struct.pack(">I", len(chunk) - 4) + chunk + struct.pack(">I", zlib.crc32(chunk))
+    (d / "huge.png").write_bytes(png)
+    paths["huge_png"] = d / "huge.png"
+    # An EXR whose dataWindow is patched to 0..999999 x 0..999999.
+    e = bytearray(paths["exr"].read_bytes())
+    for name in (b"dataWindow", b"displayWindow"):
+        at = e.find(name + b"\0box2i\0") + len(name) + 1 + 6 + 4
+        e[at:at + 16] = struct.pack("<iiii", 0, 0, 999999, 999999)
+    (d / "huge.exr").write_bytes(bytes(e))
+    paths["huge_exr"] = d / "huge.exr"
+    (d / "huge.hdr").write_bytes(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1000000 +X 1000000\n" + b"\x02" * 64)
+    paths["huge_hdr"] = d / "huge.hdr"
+    for ext in ("jpg", "png", "tif", "exr", "hdr"):
+        data = paths[ext].read_bytes()
+        (d / f"cut.{ext}").write_bytes(data[:len(data) // 2])
+        paths[f"cut_{ext}"] = d / f"cut.{ext}"
+    (d / "garbage.jpg").write_bytes(b"x" * 3000)
+    (d / "empty.png").write_bytes(b"")
+    os.mkfifo(d / "fifo.jpg")
+    (d / "dir.jpg").mkdir()
+    os.symlink("/dev/zero", d / "zero.jpg")
+    for k in ("garbage", "empty", "fifo", "dir", "zero"):
+        paths[k] = d / {"garbage": "garbage.jpg", "empty": "empty.png", "fifo": "fifo.jpg", "dir": "dir.jpg",
+                        "zero": "zero.jpg"}[k]
+    paths["devzero"] = pathlib.Path("/dev/zero")
+    # Faces (front ... down) for face-set inputs.
+    faces = d / "faces"
+    faces.mkdir()
+    for i, n in enumerate(("front", "right", "back", "left", "up", "down")):
+        pp.write(str(faces / f"{n}.png"), np.full((32, 32, 3), 40 * i, np.uint8))
+    paths["faces"] = faces / "{face}.png"
+    return paths
+
+
+def gpano_jpeg(folder, field, value, base):
+    """The sample JPEG with Photo Sphere XMP in which `field` reads `value`."""
+    fields = dict(ProjectionType="equirectangular", FullPanoWidthPixels="256", FullPanoHeightPixels="128",
+                  CroppedAreaImageWidthPixels="256", CroppedAreaImageHeightPixels="128", CroppedAreaLeftPixels="0",
+                  CroppedAreaTopPixels="0", PosePitchDegrees="0")
+    fields[field] = value
+    xmp = ('<x:xmpmeta xmlns:x="adobe:ns:meta/"><rdf:RDF xmlns:rdf="http://www.w3.org/1999/02/22-rdf-syntax-ns#">'
+           '<rdf:Description xmlns:GPano="http://ns.google.com/photos/1.0/panorama/" '
+           + " ".join(f'GPano:{k}="{v}"' for k, v in fields.items()) + "/></rdf:RDF></x:xmpmeta>").encode()
+    payload = b"http://ns.adobe.com/xap/1.0/\0" + xmp
+    data = base.read_bytes()
+    seg = b"\xff\xe1" + struct.pack(">H", len(payload) + 2) + payload
+    out = pathlib.Path(folder) / f"gpano_{field}_{value}.jpg".replace("/", "_")
+    out.write_bytes(data[:2] + seg + data[2:])
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# 1. Bad parameters: exit 1, one line naming the value, nothing written.
+
+PARAMS = [
+    # (id, args after "convert IN OUT" unless they start with a subcommand, needle, why)
+    ("pitch_1e308", ["--to", "fisheye", "--pitch", "1e308"], "pitch: 1e+308 (expected degrees within", True),
+    ("pitch_nan", ["--to", "fisheye", "--pitch", "nan"], "pitch: nan (expected a finite angle", False),
+    ("yaw_inf", ["--to", "fisheye", "--yaw", "inf"], "yaw: inf", False),
+    ("roll_text", ["--to", "fisheye", "--roll", "abc"], "--roll", False),
+    ("threads_negative", ["--to", "fisheye", "--threads", "-5"], "threads: -5", False),
+    ("threads_huge", ["--to", "fisheye", "--threads", "100000"], "threads: 100000", False),
+    ("size_zero", ["--to", "fisheye", "--size", "0x0"], "size: 0x0", False),
+    ("size_text", ["--to", "fisheye", "--size", "big"], "size: big", False),
+    ("size_2e32", ["--to", "fisheye", "--size", "4294967296x4294967296"], "4294967296x4294967296", True),
+    ("size_2e31_by_1", ["--to", "equirect", "--size", "2147483648x1"], "2147483648x1", True),
+    ("size_4e6_squared", ["--to", "fisheye", "--size", "4000000x4000000"], "needs 16 TB", True),
+    ("jpeg_over_65500", ["--to", "equirect", "--size", "65501x16"], "over the JPEG limit of 65500", False),
+    ("memory_limit_text", ["--to", "fisheye", "--memory-limit", "lots"], "memory limit: lots", False),
+    ("memory_limit_small", ["--to", "fisheye", "--size", "4000x4000", "--memory-limit", "10M"],
+     "over the memory limit of 10 MB", False),
+    ("interp", ["--to", "fisheye", "--interp", "cubic"], "cubic", False),
+    ("engine", ["--to", "fisheye", "--engine", "gpu"], "gpu", False),
+    ("antialias", ["--to", "fisheye", "--antialias", "99"], "99", False),
+    ("depth", ["--to", "fisheye", "--depth", "int7"], "int7", False),
+    ("fill", ["--to", "fisheye", "--fill", "purple"], "purple", False),
+    ("unknown_projection", ["--to", "mercatorish"], "mercatorish", False),
+    ("fov_400", ["--to", "fisheye:fov=400"], "fov", False),
+    ("fov_nan", ["--to", "fisheye:fov=nan"], "fov", False),
+    ("unknown_option", ["--to", "fisheye", "--frobnicate"], "--frobnicate", True),
+    ("missing_to", [], "--to", True),
+    ("faces_without_files_layout", ["--to", "equirect"], "{face}", False),
+    ("accuracy_threads", ["accuracy", "--to", "fisheye", "--threads", "-5"], "threads: -5", True),
+    ("accuracy_runs", ["accuracy", "--to", "fisheye", "--runs", "0"], "runs: 0", False),
+    ("accuracy_size", ["accuracy", "--to", "fisheye", "--size", "4294967296x4294967296"], "4294967296x4294967296", True),
+    ("accuracy_from_size", ["accuracy", "--to", "fisheye", "--from-size", "4000000x2000000"], "give --size", False),
+    ("accuracy_csv_folder", ["accuracy", "--to", "fisheye", "--csv", "nowhere/a.csv"], "output folder nowhere", True),
+    ("maps_size", ["maps", "m.exr", "--from", "equirect", "--source-size", "64x32", "--to", "fisheye",
+                   "--size", "4294967296x4294967296"], "4294967296x4294967296", True),
+    ("maps_convention", ["maps", "m.exr", "--from", "equirect", "--source-size", "64x32", "--to", "fisheye",
+                         "--convention", "matlab"], "matlab", False),
+    ("maps_extension", ["maps", "m.png", "--from", "equirect", "--source-size", "64x32", "--to", "fisheye"],
+     "cannot hold float maps", False),
+    ("no_subcommand", ["--version-of-nothing"], "panoproj: error:", True),
+]
+
+
+def _table(rows):
+    """Rows as pytest params named by their first field, marked `why` where their last says so."""
+    return [pytest.param(r, id=r[0], marks=[pytest.mark.why] if r[-1] is True else []) for r in rows]
+
+
+@pytest.mark.parametrize("case", _table(PARAMS))
+def test_bad_parameters(cli, files, tmp_path, case):
+    name, args, needle, _ = case
+    if args and args[0] in ("accuracy", "maps") or name == "no_subcommand":
+        full = args
+    else:
+        out = "o.jpg" if name == "jpeg_over_65500" else ("{face}.png" if name == "faces_without_files_layout" else "o.png")
+        full = ["convert", files["png"], out] + args
+    before = snapshot(tmp_path)
+    r = run(cli, full, tmp_path)
+    expect_refused(r, needle)
+    assert r.out == "", r.out  # refused before any work (an accuracy sweep prints its table)
+    assert snapshot(tmp_path) == before
+
+
+# Spec files (@file): each refused in one line naming the file.
+def spec_file_cases(tmp):
+    (tmp / "dup.json").write_text('{"projection": "fisheye", "projection": "pinhole"}')
+    (tmp / "dupkey.yaml").write_text("projection: fisheye\nfov: 180\nfov: 200\n")
+    (tmp / "nested.json").write_text('{"projection": "fisheye", "fov": {"a": 1}}')
+    (tmp / "specdir").mkdir()
+    os.mkfifo(tmp / "spec.fifo")
+    return [("dup_projection", "@dup.json", 'the key "projection" is given twice'),
+            ("dup_key", "@dupkey.yaml", 'the key "fov" is given twice'),
+            ("nested", "@nested.json", "not a string or number"),
+            ("directory", "@specdir", "cannot read the spec file specdir: a directory"),
+            ("fifo", "@spec.fifo", "cannot read the spec file spec.fifo: a FIFO"),
+            ("missing", "@none.yaml", "the spec file none.yaml does not exist")]
+
+
+SPEC_IDS = ["dup_projection", "dup_key", "nested", "directory", "fifo", "missing"]
+
+
+@pytest.mark.parametrize("which", [pytest.param(i, marks=[pytest.mark.why] if i in ("dup_projection", "directory", "fifo")
+                                                else []) for i in SPEC_IDS])
+def test_bad_spec_files(cli, files, tmp_path, which):
+    cases = {c[0]: c for c in spec_file_cases(tmp_path)}
+    _, spec, needle = cases[which]
+    before = snapshot(tmp_path)
+    r = run(cli, ["convert", files["png"], "o.png", "--to", spec], tmp_path, timeout=20)
+    expect_refused(r, needle)
+    assert snapshot(tmp_path) == before
+
+
+@pytest.mark.why
+def test_yaml_spec_with_a_byte_order_mark_is_read(cli, files, tmp_path):
+    (tmp_path / "bom.yaml").write_bytes(b"\xef\xbb\xbfprojection: fisheye\nfov: 180\n")
+    r = run(cli, ["convert", files["png"], "o.png", "--to", "@bom.yaml", "--size", "32x32", "-q"], tmp_path)
+    assert r.code == 0, r.err
+    assert (tmp_path / "o.png").exists()
+
+
+@pytest.mark.parametrize("field,value", [("FullPanoWidthPixels", "nan"), ("FullPanoWidthPixels", "inf"),
+                                         ("CroppedAreaLeftPixels", "-inf"), ("CroppedAreaTopPixels", "abc"),
+                                         ("PosePitchDegrees", "nan"), ("FullPanoHeightPixels", "1e400")])
+@pytest.mark.why
+def test_gpano_fields_that_are_not_finite_numbers_are_refused(cli, files, tmp_path, field, value):
+    src = gpano_jpeg(tmp_path, field, value, files["jpg"])
+    before = snapshot(tmp_path)
+    r = run(cli, ["convert", src, "o.png", "--to", "pinhole", "--size", "32x32"], tmp_path)
+    expect_refused(r, f"GPano:{field} is \"{value}\"", "--from")
+    assert snapshot(tmp_path) == before
+
+
+# ---------------------------------------------------------------------------------------------
+# 2. Hostile and odd inputs: refused in one line, within 300 MB, without hanging.
+
+HOSTILE = [
+    ("patched_jpeg", "too few to hold them", True), ("huge_tiff", "too few to hold them", True),
+    ("huge_png", "too few to hold them", False), ("huge_exr", "cannot read", False),
+    ("huge_hdr", "too few to hold them", False), ("cut_jpg", "cannot read", False), ("cut_png", "cannot read", False),
+    ("cut_tif", "cannot read", False), ("cut_exr", "cannot read", False), ("cut_hdr", "cannot read", False),
+    ("garbage", "not a JPEG, PNG, TIFF, OpenEXR or Radiance HDR image", False), ("empty", "the file is empty", False),
+    ("fifo", "a FIFO", True), ("dir", "a directory", False), ("zero", "a device", True), ("devzero", "a device", True),
+]
+
+
+@pytest.mark.parametrize("case", _table(HOSTILE))
+def test_hostile_inputs(cli, files, tmp_path, case):
+    key, needle, _ = case
+    src = files[key]
+    before = snapshot(tmp_path)
+    r = run(cli, ["convert", src, "o.png", "--to", "fisheye", "--size", "64x64", "--from", "equirect"], tmp_path,
+            timeout=30)
+    line = expect_refused(r, needle, rss=HOSTILE_RSS)
+    assert str(src) in line
+    assert len(line) < 400
+    assert snapshot(tmp_path) == before
+
+
+def test_a_region_of_a_plausible_file_still_converts(cli, files, tmp_path):
+    # The patched JPEG's first rows are plausible for its bytes: a view of them decodes what is
+    # there and fails cleanly at the damage, within bounded memory.
+    r = run(cli, ["convert", files["patched_jpeg"], "o.png", "--from", "equirect", "--to", "pinhole:hfov=1",
+                  "--pitch", "89", "--size", "16x16"], tmp_path, timeout=60)
+    assert r.rss < HOSTILE_RSS
+    assert r.code in (0, 1)
+    if r.code:
+        r.error_line()
+        assert listing(tmp_path) == []
+
+
+# ---------------------------------------------------------------------------------------------
+# 3. Outputs: never clobbered without --overwrite, never through links, nothing half-written.
+
+def test_existing_output_needs_overwrite(cli, files, tmp_path):
+    (tmp_path / "o.png").write_bytes(b"old")
+    r = run(cli, ["convert", files["png"], "o.png", "--to", "fisheye", "--size", "32x32"], tmp_path)
+    expect_refused(r, "output o.png exists (pass --overwrite to replace it)")
+    assert (tmp_path / "o.png").read_bytes() == b"old"
+
+
+@pytest.mark.why
+def test_dangling_link_output_needs_overwrite(cli, files, tmp_path):
+    os.symlink(tmp_path / "nowhere.png", tmp_path / "o.png")
+    r = run(cli, ["convert", files["png"], "o.png", "--to", "fisheye", "--size", "32x32"], tmp_path)
+    expect_refused(r, "output o.png exists (a link)")
+    assert os.path.islink(tmp_path / "o.png") and not (tmp_path / "nowhere.png").exists()
+
+
+def test_overwriting_a_link_replaces_the_link_not_its_target(cli, files, tmp_path):
+    (tmp_path / "precious").write_bytes(b"precious")
+    os.symlink(tmp_path / "precious", tmp_path / "o.png")
+    r = run(cli, ["convert", files["png"], "o.png", "--to", "fisheye", "--size", "32x32", "--overwrite", "-q"], tmp_path)
+    assert r.code == 0, r.err
+    assert not os.path.islink(tmp_path / "o.png")
+    assert (tmp_path / "precious").read_bytes() == b"precious"
+
+
+@pytest.mark.parametrize("case", ["directory", "missing_folder", "same_path", "hard_link", "symlink_to_input"])
+def test_outputs_that_cannot_be_written(cli, files, tmp_path, case):
+    src = tmp_path / "in.png"
+    shutil.copy(files["png"], src)
+    out, needle = "o.png", ""
+    if case == "directory":
+        (tmp_path / "o.png").mkdir()
+        needle = "output o.png is a directory"
+    elif case == "missing_folder":
+        out, needle = "nowhere/o.png", "output folder nowhere does not exist"
+    elif case == "same_path":
+        out, needle = "in.png", "is the input"
+    elif case == "hard_link":
+        os.link(src, tmp_path / "o.png")
+        needle = "is the input"
+    else:
+        os.symlink(src, tmp_path / "o.png")
+        needle = "is the input"
+    before = snapshot(tmp_path)
+    r = run(cli, ["convert", "in.png", out, "--to", "equirect", "--size", "32x16", "--overwrite"], tmp_path)
+    expect_refused(r, needle)
+    assert snapshot(tmp_path) == before
+
+
+@pytest.mark.why
+def test_long_output_names_fit_their_temporaries(cli, files, tmp_path):
+    name = "n" * 245 + ".png"  # 249 bytes: a temporary named after it would pass NAME_MAX
+    r = run(cli, ["convert", files["png"], name, "--to", "fisheye", "--size", "32x32", "-q"], tmp_path)
+    assert r.code == 0, r.err
+    assert listing(tmp_path) == [name]
+
+
+@pytest.mark.why
+def test_face_set_with_a_directory_among_its_faces_replaces_none(cli, files, tmp_path):
+    for n in ("front", "right", "back", "up", "down"):
+        (tmp_path / f"{n}.png").write_bytes(b"old " + n.encode())
+    (tmp_path / "left.png").mkdir()
+    before = snapshot(tmp_path)
+    r = run(cli, ["convert", files["png"], "{face}.png", "--to", "cubemap:layout=files", "--size", "16x16",
+                  "--overwrite"], tmp_path)
+    expect_refused(r, "left.png is a directory")
+    assert "Success" not in r.err
+    assert snapshot(tmp_path) == before
+
+
+@pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")
+@pytest.mark.why
+def test_temporaries_are_created_exclusively_under_unpredictable_names(cli, files, tmp_path):
+    names = []
+    for k in range(2):
+        r = run(cli, ["convert", files["png"], f"o{k}.png", "--to", "fisheye", "--size", "32x32", "-q"], tmp_path,
+                strace=["-e", "trace=openat"])
+        assert r.code == 0, r.err
+        opens = [l for l in r.trace.splitlines() if ".panoproj-" in l and "O_CREAT" in l]
+        assert len(opens) == 1, opens
+        assert "O_EXCL" in opens[0] and "O_NOFOLLOW" in opens[0], opens[0]
+        names.append(re.search(r"\.panoproj-([0-9a-f]+)\.tmp", opens[0]).group(1))
+    assert names[0] != names[1] and len(names[0]) == 16
+
+
+@pytest.mark.why
+def test_planted_links_at_temporary_names_are_never_followed(cli, files, tmp_path):
+    # Without knowing the random name, an attacker can only plant many: none is followed (the
+    # temporary is created with O_EXCL | O_NOFOLLOW, so a planted name would be skipped).
+    (tmp_path / "root-only").write_bytes(b"secret")
+    for k in range(200):
+        os.symlink(tmp_path / "root-only", tmp_path / f".o.panoproj-tmp-{os.getpid() + k}.png")
+    r = run(cli, ["convert", files["png"], "o.png", "--to", "fisheye", "--size", "32x32", "-q"], tmp_path)
+    assert r.code == 0, r.err
+    assert (tmp_path / "root-only").read_bytes() == b"secret"
+    assert not os.path.islink(tmp_path / "o.png")
+
+
+# ---------------------------------------------------------------------------------------------
+# 4. Write faults: the write fails, the old file is intact, no temporary is left, one line names
+#    the output and the system's reason; the fault is shown to have fired.
+
+FORMATS = ["jpg", "png", "tif", "exr", "hdr"]
+
+
+def _fault_target(kind, ext):
+    """(args, outputs) of a job writing `kind` in format ext."""
+    if kind == "convert":
+        return ["--to", "fisheye", "--size", "192x192", "--overwrite"], [f"o.{ext}"]
+    if kind == "faces":
+        return ["--to", "cubemap:layout=files", "--size", "64x64", "--overwrite"], \
+            [f"{n}.{ext}" for n in ("front", "right", "back", "left", "up", "down")]
+    raise AssertionError(kind)
+
+
+def _old_files(tmp_path, outputs):
+    for o in outputs:
+        (tmp_path / o).write_bytes(b"old " + o.encode())
+
+
+def _assert_old_intact(tmp_path, outputs):
+    for o in outputs:
+        assert (tmp_path / o).read_bytes() == b"old " + o.encode(), o
+    assert sorted(listing(tmp_path)) == sorted(outputs), listing(tmp_path)
+
+
+FSIZE_CASES = [(kind, ext, cut) for kind in ("convert",) for ext in FORMATS for cut in (0, 0.3, 0.97)] + \
+              [("faces", "png", cut) for cut in (0, 0.5, 0.97)] + [("faces", "jpg", 0.5)]
+
+
+@pytest.mark.parametrize("kind,ext,cut", FSIZE_CASES, ids=[f"{k}-{e}-{c}" for k, e, c in FSIZE_CASES])
+@pytest.mark.why
+def test_writes_cut_at_a_byte_offset(cli, files, tmp_path, kind, ext, cut):
+    args, outputs = _fault_target(kind, ext)
+    full = ["convert", files["png"], outputs[0] if kind == "convert" else "{face}." + ext] + args
+    r = run(cli, full + ["-q"], tmp_path)
+    assert r.code == 0, r.err
+    size = max((tmp_path / o).stat().st_size for o in outputs)
+    limit = int(size * cut)
+    _old_files(tmp_path, outputs)
+    r = run(cli, full, tmp_path, fsize=limit)
+    line = expect_refused(r, "cannot write ", f"writing byte {limit} of", "File too large")
+    assert ".panoproj-" not in line
+    _assert_old_intact(tmp_path, outputs)
+
+
+@pytest.mark.parametrize("what", ["maps", "csv", "json", "plot"])
+@pytest.mark.why
+def test_other_outputs_cut_at_a_byte_offset(cli, tmp_path, what):
+    if what == "maps":
+        args, out = ["maps", "m.exr", "--from", "equirect", "--source-size", "256x128", "--to", "fisheye",
+                     "--size", "64x64", "--overwrite"], "m.exr"
+    else:
+        out = {"csv": "a.csv", "json": "a.json", "plot": "a.png"}[what]
+        args = ["accuracy", "--to", "fisheye", "--from-size", "128x64", "--size", "32x32", "--interp", "bilinear",
+                "--antialias", "off", "--engine", "simd", "--runs", "1", f"--{what}", out, "--overwrite"]
+    (tmp_path / out).write_bytes(b"old " + out.encode())
+    r = run(cli, args, tmp_path, fsize=10)
+    expect_refused(r, f"cannot write {out}: writing byte 10 of", "File too large")
+    _assert_old_intact(tmp_path, [out])
+
+
+STRACE_CASES = [("write-ENOSPC", ext) for ext in FORMATS] + \
+               [("write-EDQUOT", "png"), ("write-EIO", "png"), ("fsync-EIO", "png"), ("fsync-ENOSPC", "jpg"),
+                ("fsync-EIO", "exr"), ("rename-EROFS", "png"), ("faces-rename-EIO", "png"), ("faces-write-ENOSPC", "png")]
+
+
+@pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")
+@pytest.mark.parametrize("fault,ext", STRACE_CASES, ids=[f"{f}-{e}" for f, e in STRACE_CASES])
+@pytest.mark.why
+def test_injected_system_call_faults(cli, files, tmp_path, fault, ext):
+    faces = fault.startswith("faces")
+    args, outputs = _fault_target("faces" if faces else "convert", ext)
+    call, err = fault.replace("faces-", "").split("-")
+    # The k-th call of its kind fails: the first write is the temporary's (nothing else is written
+    # before the error line); for a face set, the fourth face's write, or the third rename.
+    when = {"write": 4 if faces else 1, "fsync": 1, "rename": 3 if faces else 1}[call]
+    syscall = "rename,renameat,renameat2" if call == "rename" else call
+    _old_files(tmp_path, outputs)
+    full = ["convert", files["png"], outputs[0] if not faces else "{face}." + ext] + args
+    r = run(cli, full, tmp_path, strace=["-e", f"trace={syscall}", "-e", f"inject={syscall}:error={err}:when={when}"])
+    assert f"{err}" in r.trace and "(INJECTED)" in r.trace, r.trace[-2000:]
+    reason = os.strerror(getattr(__import__("errno"), err))
+    expect_refused(r, "cannot write ", reason)
+    _assert_old_intact(tmp_path, outputs)
+
+
+def _tmpfs_available():
+    if not shutil.which("unshare"):
+        return False
+    return subprocess.run(["unshare", "-rm", "sh", "-c", "mount -t tmpfs -o size=64k tmpfs /mnt"],
+                          capture_output=True).returncode == 0
+
+
+@pytest.mark.skipif(not _tmpfs_available(), reason="no tmpfs mount permitted here")
+@pytest.mark.parametrize("kind", ["convert", "faces"])
+@pytest.mark.why
+def test_full_tmpfs(cli, files, tmp_path, kind):
+    # A 1 MiB tmpfs holding the old outputs; the new ones do not fit.
+    ext = "png"
+    args, outputs = _fault_target(kind, ext)
+    args = [a if a not in ("192x192", "64x64") else ("1024x1024" if kind == "convert" else "512x512") for a in args]
+    noise = tmp_path / "noise.png"  # incompressible: the outputs cannot fit 1 MiB
+    pp.write(str(noise), np.random.default_rng(1).integers(0, 256, (512, 1024, 3), np.uint8))
+    mnt = tmp_path / "mnt"
+    mnt.mkdir()
+    target = outputs[0] if kind == "convert" else "{face}.png"
+    script = (f"mount -t tmpfs -o size=1m tmpfs {mnt} && cd {mnt} && "
+              + " && ".join(f"printf 'old {o}' > {o}" for o in outputs)
+              + f" && {os.path.abspath(cli)} convert {noise} '{target}' {' '.join(args)}; echo \"rc=$?\";"
+              + " for f in * .[!.]*; do [ -e \"$f\" ] && printf '%s:%s\\n' \"$f\" \"$(cat \"$f\" | head -c 40)\"; done; true")
+    p = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True, text=True, errors="replace",
+                       timeout=120)
+    assert "rc=1" in p.stdout, p.stdout + p.stderr
+    assert "No space left on device" in p.stderr, p.stderr
+    err_lines = [l for l in p.stderr.splitlines() if l.strip()]
+    assert len(err_lines) == 1 and err_lines[0].startswith("panoproj: error: cannot write "), err_lines
+    left = sorted(l for l in p.stdout.splitlines() if ":" in l)
+    assert left == sorted(f"{o}:old {o}" for o in outputs), left
+
+
+# ---------------------------------------------------------------------------------------------
+# 5. Signals during a write: the temporary is removed, the old file intact.
+
+@pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP], ids=["INT", "TERM", "HUP"])
+@pytest.mark.parametrize("kind", ["convert", "faces"])
+@pytest.mark.why
+def test_signals_during_a_write_leave_nothing_behind(cli, files, tmp_path, sig, kind):
+    args, outputs = _fault_target(kind, "png")
+    _old_files(tmp_path, outputs)
+    full = ["convert", files["png"], outputs[0] if kind == "convert" else "{face}.png"] + args
+
+    def interrupt(p):
+        # strace holds the first fsync for 3 s: the temporary exists then. Signal the tracee.
+        deadline = time.time() + 20
+        while time.time() < deadline:
+            kids = _children(p.pid)
+            if kids and any(n.startswith(".panoproj-") for n in os.listdir(tmp_path)):
+                time.sleep(0.3)
+                os.kill(kids[0], sig)
+                return
+            time.sleep(0.05)
+
+    r = run(cli, full, tmp_path, strace=["-e", "trace=fsync", "-e", "inject=fsync:delay_enter=3000000:when=1"],
+            on_start=lambda p: threading.Thread(target=interrupt, args=(p,), daemon=True).start())
+    assert r.code in (-sig, 128 + sig), (r.code, r.err)
+    _assert_old_intact(tmp_path, outputs)
+
+
+def _children(pid):
+    try:
+        with open(f"/proc/{pid}/task/{pid}/children") as f:
+            return [int(x) for x in f.read().split()]
+    except OSError:
+        return []
+
+
+# ---------------------------------------------------------------------------------------------
+# 6. The Python module: the same guarantees, Python's classes and wording.
+
+def _python(code, *, fsize=None, timeout=60):
+    """Runs code in a fresh interpreter (a fault must not end this one); returns (rc, out, err)."""
+    def limits():
+        if fsize is not None:
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+            resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, resource.RLIM_INFINITY))
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout,
+                       preexec_fn=limits, env=dict(os.environ))
+    return p.returncode, p.stdout, p.stderr
+
+
+@pytest.mark.parametrize("ext", FORMATS)
+@pytest.mark.why
+def test_python_write_on_a_full_disk_raises_and_keeps_the_old_file(tmp_path, ext):
+    path = tmp_path / f"x.{ext}"
+    path.write_bytes(b"old")
+    code = (f"import numpy as np, panoproj as pp\n"
+            f"a = np.full((64, 64, 3), 0.5, np.float32) if '{ext}' in ('exr', 'hdr') else np.full((64, 64, 3), 9, np.uint8)\n"
+            f"try:\n    pp.write({str(path)!r}, a, overwrite=True)\n"
+            f"except OSError as e:\n    print('OSError', e)\nprint('alive')\n")
+    rc, out, err = _python(code, fsize=20)
+    assert rc == 0 and "alive" in out, (rc, out, err)
+    assert f"OSError cannot write {path}: writing byte 20 of" in out and "File too large" in out, out
+    assert path.read_bytes() == b"old"
+    assert listing(tmp_path) == [f"x.{ext}"]
+
+
+@pytest.mark.why
+def test_python_write_checks_a_face_patterns_array(tmp_path):
+    with pytest.raises(ValueError, match=r"cube faces: a 300x256 image \(expected the 6x1 strip"):
+        pp.write(str(tmp_path / "{face}.png"), np.zeros((256, 300, 3), np.uint8))
+    assert listing(tmp_path) == []
+
+
+@pytest.mark.parametrize("case", ["exists", "dangling", "directory", "missing_folder"])
+def test_python_write_refusals(tmp_path, case):
+    img = np.zeros((8, 8, 3), np.uint8)
+    p = tmp_path / "x.png"
+    if case == "exists":
+        p.write_bytes(b"old")
+        with pytest.raises(FileExistsError, match=r"x\.png exists \(pass overwrite=True to replace it\)"):
+            pp.write(str(p), img)
+        assert p.read_bytes() == b"old"
+    elif case == "dangling":
+        os.symlink(tmp_path / "nowhere", p)
+        with pytest.raises(FileExistsError, match="a link"):
+            pp.write(str(p), img)
+    elif case == "directory":
+        p.mkdir()
+        with pytest.raises(OSError, match="is a directory"):
+            pp.write(str(p), img, overwrite=True)
+    else:
+        with pytest.raises(FileNotFoundError, match="output folder"):
+            pp.write(str(tmp_path / "nowhere" / "x.png"), img)
+
+
+@pytest.mark.parametrize("case", ["same", "view", "overlap"])
+@pytest.mark.why
+def test_plan_run_refuses_an_out_that_shares_the_images_memory(case):
+    img = smooth_equirect(128, 64)
+    plan = pp.Plan("equirect", "equirect", (128, 64))
+    big = np.zeros((128, 128, 3), np.uint8)
+    if case == "same":
+        src, out = img, img
+    elif case == "view":
+        src, out = big[:64], big[:64]
+    else:
+        src, out = big[:64], big[32:96]
+    src[...] = img
+    with pytest.raises(ValueError, match="out: shares memory with the image"):
+        plan.run(np.ascontiguousarray(src) if case == "overlap" and False else src, out=out)
+
+
+PY_IMG = "np.zeros((32, 64, 3), np.uint8)"
+PONDS = str(pathlib.Path(__file__).resolve().parents[2] / "samples" / "images" / "jordan_pond_4096x2048.jpg")
+PY_CALLS = [
+    # (id, call, exception class, needle, why); each runs in a fresh interpreter (the code before
+    # issue 15 crashed on some: a segfault must not end the suite).
+    ("convert_2e32", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', size=(2**32, 2**32))", "ValueError",
+     "4294967296x4294967296", True),
+    ("convert_huge", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', size=(2**31 - 1, 2**31 - 1))", "MemoryError",
+     "over the memory limit", False),
+    ("convert_limit", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', size=(4000, 4000), memory_limit='10M')",
+     "MemoryError", "memory_limit=", False),
+    ("build_map_2e32", "pp.build_map('equirect', 'fisheye', (64, 32), size=(2**32, 2**32))", "ValueError",
+     "4294967296x4294967296", True),
+    ("build_map_huge", "pp.build_map('equirect', 'fisheye', (64, 32), size=(100000, 100000))", "MemoryError",
+     "map 100000x100000 needs 160 GB", False),
+    ("plan_huge", "pp.Plan('equirect', 'fisheye', (64, 32), size=(1 << 30, 1 << 30))", "MemoryError", "needs", False),
+    ("size_2e70", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', size=(2**70, 1))", "ValueError",
+     "size: 1180591620717411303424x1", True),
+    ("threads_2e70", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', threads=2**70)", "ValueError",
+     "threads: 1180591620717411303424", True),
+    ("threads_text", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', threads='many')", "TypeError", "threads: 'many'",
+     False),
+    ("yaw_1e400", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', yaw=10**400)", "ValueError", "yaw:", False),
+    ("size_text_pair", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', size=('a', 'b'))", "TypeError", "size:", False),
+    ("memory_limit_text", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', memory_limit='lots')", "ValueError",
+     "memory limit: lots", False),
+    ("memory_limit_tiny", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', memory_limit=5)", "ValueError",
+     "memory_limit: 5", False),
+    ("image_not_array", "pp.convert('not an image', 'equirect', 'fisheye')", "TypeError", "image", False),
+    ("write_not_array", "pp.write('/tmp/never-written.png', 'pixels')", "TypeError", "write", True),
+    ("to_ray_text", "pp.to_ray('pinhole', (10, 10), 'a', 'b')", "Exception", "", False),
+    ("src_wording", "pp.convert(np.zeros((33, 64, 3), np.uint8), None, 'fisheye')", "ValueError", "give src", False),
+    ("overwrite_wording", "open('/tmp/pp-exists.png', 'wb').close(); pp.write('/tmp/pp-exists.png', "
+                          "np.zeros((4, 4, 3), np.uint8))", "FileExistsError", "overwrite=True", True),
+    ("read_limit", f"pp.read({PONDS!r}, memory_limit='10M')", "MemoryError", "memory_limit=", False),
+    ("faces_strip", "pp.write('/tmp/pp-never-{face}.png', np.zeros((256, 300, 3), np.uint8))", "ValueError",
+     "300x256", True),
+]
+
+
+@pytest.mark.parametrize("case", _table(PY_CALLS))
+def test_python_sizes_types_and_wording(case):
+    name, call, cls, needle, _ = case
+    code = (f"import numpy as np, panoproj as pp\ntry:\n    {call}\n    print('no error')\n"
+            f"except {cls} as e:\n    print(type(e).__name__ + ': ' + str(e).replace(chr(10), '<NL>'))\n")
+    rc, out, err = _python(code, timeout=60)
+    assert rc == 0, f"the interpreter ended: {rc} {err[-500:]}"
+    text = out.strip()
+    assert "<NL>" not in text and "incompatible function arguments" not in text and "bad_alloc" not in text, text
+    assert text != "no error" and needle in text, text
+    assert "--" not in text, text  # Python wording, not the command's
+
+
+PY_READS = [("fifo", OSError, "a FIFO"), ("dir", OSError, "a directory"), ("devzero", OSError, "a device"),
+            ("zero", OSError, "a device"), ("patched_jpeg", OSError, "too few to hold them"),
+            ("huge_tiff", OSError, "too few to hold them"), ("garbage", OSError, "not a JPEG"),
+            ("missing", FileNotFoundError, "does not exist")]
+
+
+@pytest.mark.parametrize("case", PY_READS, ids=[c[0] for c in PY_READS])
+def test_python_reads_of_hostile_files(files, case):
+    key, cls, needle = case
+    path = files[key] if key != "missing" else "/nonexistent/x.png"
+    code = (f"import panoproj as pp, resource\n"
+            f"try:\n    pp.read({str(path)!r})\nexcept {cls.__name__} as e:\n    print(type(e).__name__, e)\n"
+            f"print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)\n")
+    rc, out, err = _python(code, timeout=30)
+    assert rc == 0, err
+    first, rss = out.strip().splitlines()
+    assert first.startswith(cls.__name__) and needle in first, first
+    assert int(rss) * 1024 < HOSTILE_RSS
+
+
+def test_nan_and_inf_pixels_have_defined_integers(tmp_path):
+    img = np.full((32, 64, 3), 0.5, np.float32)
+    img[:, :8] = np.nan
+    img[:, 8:16] = np.inf
+    img[:, 16:24] = -np.inf
+    pp.write(str(tmp_path / "n.png"), img, dtype="uint8")
+    back = pp.read(str(tmp_path / "n.png"))
+    assert (back[:, :8] == 0).all() and (back[:, 8:16] == 255).all() and (back[:, 16:24] == 0).all()
+    assert (back[:, 32:] == 128).all()
+    # A non-finite sample makes every output sample whose kernel support holds it non-finite
+    # (NaN where it meets a zero weight: inf x 0), across the seam and the poles too; no further.
+    out = pp.convert(img, "equirect", "equirect", interp="bilinear", antialias="off")
+    assert not np.isfinite(out[1:-1, :24]).any() and np.isnan(out[1:-1, 63]).all()
+    assert np.isfinite(out[1:-1, 24:62]).all()
+
+
+def test_the_suite_has_its_count():
+    """The issue asks for at least 150 cases across these classes (here and in
+    tests/robustness_test.cpp)."""
+    here = (len(PARAMS) + len(SPEC_IDS) + 1 + 6 + len(HOSTILE) + 1 + 3 + 5 + 1 + 1 + 2 + len(FSIZE_CASES) + 4
+            + len(STRACE_CASES) + 2 + 6 + len(FORMATS) + 1 + 4 + 3 + len(PY_CALLS) + len(PY_READS) + 1)
+    assert here >= 150, here
