@@ -9,7 +9,6 @@
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/photo_sphere.hpp"
-#include "atomic_output.hpp"
 
 namespace panoproj {
 namespace fs = std::filesystem;
@@ -162,12 +161,12 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     o << from_text << ", levelled by its Photo Sphere pose: pitch " << ps->pose_pitch << ", roll " << ps->pose_roll;
     from_text = o.str();
   }
-  // The map is kept (built once for the footprint, the first image and the rest of a batch)
-  // while it fits kMapCacheBudget; beyond, memory stays source + output + tile buffers and the
-  // map is made twice (footprint, then conversion) and again per frame.
   // Sizes the output formats cannot hold, and jobs over the memory budget, stop before any work.
   const Size out_size = size_of(plan.target);
   for (const auto& o : all_outputs) check_writable_size(o, out_faces ? Size{out_size.height, out_size.height} : out_size);
+  // The map is kept (built once for the footprint, the first image and the rest of a batch)
+  // while it fits kMapCacheBudget; beyond, memory stays source + output + tile buffers and the
+  // map is made twice (footprint, then conversion) and again per frame.
   const uint64_t map_bytes = image_bytes(out_size, 1, kCachedMapBytesPerPixel);
   const bool cache = map_bytes <= static_cast<uint64_t>(kMapCacheBudget);
   const PixelType out_type = job.write.type.value_or(type);
