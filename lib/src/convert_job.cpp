@@ -25,10 +25,17 @@ std::vector<std::string> expand(const std::string& path, bool faces) {
   return out;
 }
 
+// The same file by inode, or (where either cannot be looked at) the same normalised path; a path
+// that cannot be resolved is never taken for another.
 bool same_file(const std::string& a, const std::string& b) {
-  std::error_code ec;
-  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
-  return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+  std::error_code ea, eb;
+  if (fs::exists(a, ea) && fs::exists(b, eb)) {
+    const bool same = fs::equivalent(a, b, ea);
+    if (!ea) return same;
+  }
+  const fs::path ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
+  if (ea || eb) return fs::absolute(a).lexically_normal() == fs::absolute(b).lexically_normal();
+  return ca == cb;
 }
 
 }  // namespace

@@ -595,6 +595,50 @@ def test_full_tmpfs(cli, files, tmp_path, kind):
     assert left == sorted(f"{o}:old {o}" for o in outputs), left
 
 
+def test_a_folder_without_write_permission(cli, files):
+    # As root the permission is dropped to nobody's (setpriv); otherwise the folder is made
+    # read-only. The folders are outside pytest's (which only root may enter).
+    import tempfile
+    base = pathlib.Path(tempfile.mkdtemp(prefix="panoproj-perm-"))
+    try:
+        base.chmod(0o755)
+        shutil.copy(files["png"], base / "in.png")
+        (base / "in.png").chmod(0o644)
+        folder = base / "ro"
+        folder.mkdir()
+        (folder / "o.png").write_bytes(b"old")
+        args = [os.path.abspath(cli), "convert", str(base / "in.png"), str(folder / "o.png"), "--to", "fisheye",
+                "--size", "32x32", "--overwrite"]
+        if os.geteuid() == 0:
+            if not shutil.which("setpriv"):
+                pytest.skip("root without setpriv")
+            folder.chmod(0o755)
+            args = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"] + args
+        else:
+            folder.chmod(0o555)
+        p = subprocess.run(args, capture_output=True, text=True, timeout=60)
+        folder.chmod(0o755)
+        assert p.returncode == 1, p.stderr
+        lines = p.stderr.strip().splitlines()
+        assert len(lines) == 1 and f"cannot write {folder / 'o.png'}" in lines[0] and "Permission denied" in lines[0], \
+            lines
+        assert (folder / "o.png").read_bytes() == b"old" and listing(folder) == ["o.png"]
+    finally:
+        shutil.rmtree(base)
+
+
+@pytest.mark.skipif(not _tmpfs_available(), reason="no tmpfs mount permitted here")
+def test_a_read_only_file_system(cli, files, tmp_path):
+    mnt = tmp_path / "mnt"
+    mnt.mkdir()
+    script = (f"mount -t tmpfs -o ro tmpfs {mnt} && {os.path.abspath(cli)} convert {files['png']} {mnt}/o.png "
+              f"--to fisheye --size 32x32; echo \"rc=$?\"; ls -A {mnt}")
+    p = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True, text=True, timeout=60)
+    assert "rc=1" in p.stdout and p.stdout.strip().endswith("rc=1"), p.stdout  # nothing listed after
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and "cannot write" in lines[0] and "Read-only file system" in lines[0], lines
+
+
 # ---------------------------------------------------------------------------------------------
 # 5. Signals during a write: the temporary is removed, the old file intact.
 
