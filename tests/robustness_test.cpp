@@ -181,8 +181,11 @@ TEST_F(Robustness, AFaceSetWithOneUnwritableFaceWritesNone) {
   WriteOptions w;
   w.overwrite = true;
   EXPECT_THROW(write_cube_faces(strip, path("{face}.png"), w), Error);
-  for (int f = 0; f < 6; ++f)
-    if (f != 3) EXPECT_EQ(bytes_of_file(face_path(path("{face}.png"), f)), "old") << f;
+  for (int f = 0; f < 6; ++f) {
+    if (f != 3) {
+      EXPECT_EQ(bytes_of_file(face_path(path("{face}.png"), f)), "old") << f;
+    }
+  }
   EXPECT_EQ(others({"front.png", "right.png", "back.png", "left.png", "up.png", "down.png"}).size(), 0u);
 }
 
@@ -246,7 +249,9 @@ TEST_P(HostileInput, IsRefusedInOneLineBeforeDecoding) {
       const std::string m = e.what();
       EXPECT_NE(m.find(file), std::string::npos) << m;
       // (A region's first rows may be plausible for the file: then its decoder says what is wrong.)
-      if (!region) EXPECT_NE(m.find(c.expected), std::string::npos) << m;
+      if (!region) {
+        EXPECT_NE(m.find(c.expected), std::string::npos) << m;
+      }
       EXPECT_EQ(m.find('\n'), std::string::npos) << m;
       EXPECT_LE(m.size(), 400u) << m;
     }

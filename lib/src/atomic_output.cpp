@@ -76,8 +76,8 @@ std::string random_sibling(const std::string& path) {
 bool lexists(const std::string& path, struct stat* st) { return ::lstat(path.c_str(), st) == 0; }
 
 void sync_folder(const std::string& path) {
-  std::string dir = fs::path(path).parent_path().string();
-  if (dir.empty()) dir = ".";
+  const fs::path parent = fs::path(path).parent_path();
+  const fs::path dir = parent.empty() ? fs::path(".") : parent;
   const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd < 0) return;
   (void)::fsync(fd);  // best effort: the renames are done, a failure here loses nothing

@@ -183,20 +183,17 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const Converter converter(plan.source, plan.target, plan.rotation, options.interp, options.engine,
                             options.threads, cache, antialias_of(options), options.edges);
   const Converter::Region need = converter.source_footprint();
-  // The source's part that the view needs, with the output and maps: checked from the header
-  // (a forged one is refused by the file's size first), before any pixel is decoded.
-  if (!in_faces) {
-    const int out_channels = channels + (options.add_alpha ? 1 : 0);
-    const uint64_t job_bytes = add_bytes(add_bytes(cache ? map_bytes : 0, written),
-                                         image_bytes(out_size, out_channels, bytes_of(type)));
-    check_readable(job.inputs[0], need.x0, need.y0, need.x1, need.y1, options.memory_limit, job_bytes);
-  }
+  // The output and maps, counted with the source's needed part when it is read (from its header,
+  // before any pixel is decoded; a forged header is refused by the file's size first).
+  const int out_channels = channels + (options.add_alpha ? 1 : 0);
+  const uint64_t job_bytes =
+      add_bytes(add_bytes(cache ? map_bytes : 0, written), image_bytes(out_size, out_channels, bytes_of(type)));
   const double map_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count();
   Image out;  // one buffer for every frame of a batch
   for (size_t n = 0; n < job.inputs.size(); ++n) {
     const Image input = in_faces ? std::move(*faces)
                                  : read_image_region(job.inputs[n], need.x0, need.y0, need.x1, need.y1,
-                                                     options.memory_limit);
+                                                     options.memory_limit, job_bytes);
     Image with_alpha;
     const Image& source = source_for(input, options, with_alpha);
     const auto t0 = std::chrono::steady_clock::now();

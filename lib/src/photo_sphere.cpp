@@ -220,13 +220,12 @@ std::string photo_sphere_xmp(const PhotoSphere& ps) {
   return o.str();
 }
 
-std::string with_xmp(const std::string& b, const std::string& xmp) {
-  if (b.compare(0, 8, std::string(kPngSignature, 8)) == 0) {
+XmpInsertion xmp_insertion(std::string_view b, const std::string& xmp) {
+  if (b.substr(0, 8) == std::string_view(kPngSignature, 8)) {
     // An iTXt chunk right after IHDR (the first chunk: 8 + 25 bytes).
-    if (b.size() < 33 || b.compare(12, 4, "IHDR") != 0) throw Error("cannot add XMP: a damaged PNG");
+    if (b.size() < 33 || b.substr(12, 4) != "IHDR") throw Error("cannot add XMP: a damaged PNG");
     std::string chunk = std::string("iTXt") + std::string(kPngXmpKeyword, sizeof kPngXmpKeyword) + std::string(4, '\0') + xmp;
-    chunk = be32_bytes(static_cast<uint32_t>(chunk.size() - 4)) + chunk + be32_bytes(crc32(chunk));
-    return b.substr(0, 33) + chunk + b.substr(33);
+    return {33, be32_bytes(static_cast<uint32_t>(chunk.size() - 4)) + chunk + be32_bytes(crc32(chunk))};
   }
   const size_t payload = sizeof kXmpHeader + xmp.size();
   if (b.size() < 2 || static_cast<unsigned char>(b[0]) != 0xFF || static_cast<unsigned char>(b[1]) != 0xD8 ||
@@ -245,7 +244,12 @@ std::string with_xmp(const std::string& b, const std::string& xmp) {
     if (len < 2 || at + 2 + len > b.size()) break;
     at += 2 + len;
   }
-  return b.substr(0, at) + seg + b.substr(at);
+  return {at, std::move(seg)};
+}
+
+std::string with_xmp(const std::string& file_bytes, const std::string& xmp) {
+  const XmpInsertion x = xmp_insertion(file_bytes, xmp);
+  return file_bytes.substr(0, x.offset) + x.bytes + file_bytes.substr(x.offset);
 }
 
 }  // namespace panoproj

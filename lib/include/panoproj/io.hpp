@@ -52,13 +52,10 @@ ImageInfo read_image_info(const std::string& path);
 // rows y0..y1 (JPEG decodes the rows above on the way without keeping them; TIFF and EXR strips
 // read directly), so a damaged part outside the region is never needed. OpenImageIO's PNG reader
 // decodes a whole PNG internally first: PNG sources save no memory. A region covering the frame
-// is read_image.
+// is read_image. Before any pixel is decoded, the decoded part and `other_bytes` (a job's output
+// and maps) are checked against the memory limit.
 Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1,
-                        int64_t memory_limit = 0);
-// Throws what read_image_region would for this region, from the header alone, counting
-// `other_bytes` (a job's output and maps) against the memory limit besides the pixels decoded.
-void check_readable(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1, int64_t memory_limit,
-                    uint64_t other_bytes);
+                        int64_t memory_limit = 0, uint64_t other_bytes = 0);
 void write_image(const Image& image, const std::string& path, const WriteOptions& options);
 // Throws unless `path` may be written: its folder exists, and it is not a directory nor (without
 // overwrite) an existing entry of any kind, a dangling link included.

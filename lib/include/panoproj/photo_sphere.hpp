@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "panoproj/projection.hpp"
 
@@ -44,6 +45,11 @@ PhotoSphere photo_sphere_of(const Equirect& e);
 // (an APP1 segment after its JFIF and EXIF segments) or a PNG file's (an iTXt chunk after IHDR),
 // replacing none: a new file has no XMP. Throws panoproj::Error for other bytes.
 std::string photo_sphere_xmp(const PhotoSphere& ps);
-std::string with_xmp(const std::string& file_bytes, const std::string& xmp);
+struct XmpInsertion {
+  size_t offset;      // where in the file
+  std::string bytes;  // the segment or chunk to insert there
+};
+XmpInsertion xmp_insertion(std::string_view file_bytes, const std::string& xmp);
+std::string with_xmp(const std::string& file_bytes, const std::string& xmp);  // the file with it inserted
 
 }  // namespace panoproj
