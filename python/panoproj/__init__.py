@@ -333,7 +333,7 @@ class Plan:
 
 @_one_line_type_errors
 def read(path: str, *, metadata: bool = False, memory_limit: Union[int, str, None] = None):
-    """Reads an image file (JPEG, PNG, TIFF, EXR, HDR ...) through OpenImageIO as an array of the
+    """Reads an image file (JPEG, PNG, TIFF, EXR or HDR, by its magic bytes) through OpenImageIO as an array of the
     file's sample type (other types become float32). A path with ``{face}`` or ``{index}`` reads
     six cube face files as one 6x1 cubemap. With ``metadata=True`` returns ``(array, dict)``, the
     dict holding the file's attributes by OpenImageIO's names (EXIF, XMP, ICC profile ...)."""

@@ -1,6 +1,6 @@
 #pragma once
 // Image files through OpenImageIO: JPEG, PNG, TIFF 8/16-bit, OpenEXR half/float, Radiance HDR
-// (and whatever else the installed OpenImageIO reads).
+// (only these five, recognised by their magic bytes).
 // Reading: only regular files, recognised by their magic bytes, whose header is plausible for the
 // file's size and whose pixels fit the memory budget (limits.hpp; memory_limit 0: the machine's
 // available memory), are decoded; anything else is a one-line Error.
