@@ -177,21 +177,6 @@ void check_input(const std::string& path, const Opened& o, Size window, int64_t 
                   memory_limit);
 }
 
-// The pixels a read of [x0, x1) x [y0, y1) decodes (clamped to the frame): whole rows of a
-// scanline file, from the top for a JPEG (it decodes the rows above too), tile-aligned bounds of
-// a tiled file.
-Size decoded_window(const OIIO::ImageSpec& spec, const std::string& format, int64_t x0, int64_t y0, int64_t x1,
-                    int64_t y1) {
-  const int64_t w = spec.width, h = spec.height;
-  x0 = std::clamp<int64_t>(x0, 0, w), x1 = std::clamp<int64_t>(x1, x0, w);
-  y0 = std::clamp<int64_t>(y0, 0, h), y1 = std::clamp<int64_t>(y1, y0, h);
-  if (spec.tile_width > 0) {
-    const int64_t tw = spec.tile_width, th = spec.tile_height;
-    return {std::min(w, (x1 + tw - 1) / tw * tw) - x0 / tw * tw, std::min(h, (y1 + th - 1) / th * th) - y0 / th * th};
-  }
-  return {w, format == "jpeg" ? y1 : y1 - y0};
-}
-
 // The buffer for `size` pixels of the file's layout.
 Image allocate_for(const std::string& path, Size size, const OIIO::ImageSpec& spec, PixelType type) {
   const int alpha = spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels ? spec.alpha_channel : -1;
@@ -299,21 +284,24 @@ Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t
   const bool whole = x0 == 0 && y0 == 0 && x1 == w && y1 == h;
   // (One open only: a progressive JPEG's open reads all its scans.)
   if (whole || spec.x != 0 || spec.y != 0 || spec.depth > 1) return decode_whole(path, o, memory_limit, other_bytes);
-  check_input(path, o, decoded_window(spec, o.file.format, x0, y0, x1, y1), memory_limit, other_bytes);
   const PixelType type = from_oiio(spec.format);
   Image win;
   bool ok;
+  // Each branch checks what it decodes before allocating: tile-aligned bounds; whole rows (a JPEG
+  // decodes the rows above the region too).
   if (spec.tile_width > 0) {
     // Tile-aligned bounds (or the frame's edge), as read_tiles requires.
     const int64_t tw = spec.tile_width, th = spec.tile_height;
     const int64_t tx0 = x0 / tw * tw, ty0 = y0 / th * th;
     const int64_t tx1 = std::min(w, (x1 + tw - 1) / tw * tw), ty1 = std::min(h, (y1 + th - 1) / th * th);
+    check_input(path, o, {tx1 - tx0, ty1 - ty0}, memory_limit, other_bytes);
     win = allocate_for(path, {tx1 - tx0, ty1 - ty0}, spec, type);
     ok = in->read_tiles(0, 0, static_cast<int>(tx0), static_cast<int>(tx1), static_cast<int>(ty0),
                         static_cast<int>(ty1), 0, 1, 0, spec.nchannels, oiio_type(type), win.data(),
                         static_cast<OIIO::stride_t>(win.pixel_bytes()), static_cast<OIIO::stride_t>(win.row_bytes()));
     win.set_window(tx0, ty0, {w, h});
   } else {
+    check_input(path, o, {w, o.file.format == "jpeg" ? y1 : y1 - y0}, memory_limit, other_bytes);
     win = allocate_for(path, {w, y1 - y0}, spec, type);
     ok = in->read_scanlines(0, 0, static_cast<int>(y0), static_cast<int>(y1), 0, 0, spec.nchannels,
                             oiio_type(type), win.data(), static_cast<OIIO::stride_t>(win.pixel_bytes()),
