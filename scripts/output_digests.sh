@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Prints the SHA-256 of a fixed set of conversions: every projection as target and as source,
+# every kernel, every antialiasing mode, the three engines, alpha/fill, float output and maps.
+# Run it with the CLI of two commits and diff the lists: a restructuring must leave them equal.
+# Usage: scripts/output_digests.sh [PANOPROJ_CLI] > digests.txt   (default: build/tools/panoproj)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cli=$(realpath "${1:-$root/build/tools/panoproj}")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+run() { "$cli" "$@" --quiet --threads 2; }
+
+# A small equirect source (itself a conversion, digested below).
+run convert "$root/samples/images/jordan_pond_4096x2048.jpg" --to equirect --size 512x256 --interp bilinear src.png
+cp "$root/samples/images/stellarium_trees_fisheye210_512.png" fish.png
+
+# Every catalogue form as target (from the equirect), then back to an equirect (as source).
+targets=(
+  "pinhole:hfov=100|320x240" "brown-conrady:k1=-0.2,k2=0.05,p1=0.001|320x240" "fisheye:fov=200|256x256"
+  "fisheye:fov=180,model=equisolid|256x256" "fisheye:fov=170,model=orthographic,clip=none|256x200"
+  "fisheye:fov=300,model=stereographic,aspect=stretch|300x256" "dual-fisheye|512x256" "dual-fisheye:layout=top-bottom,fov=200,feather=10|256x512"
+  "kannala-brandt:k1=0.03,k2=-0.01,fov=220|256x256" "double-sphere:xi=-0.2,alpha=0.6|256x256" "unified:xi=0.8|256x256"
+  "extended-unified:alpha=0.6,beta=1.1|256x256" "ptlens:a=0.01,b=-0.03,c=0.02|256x256" "equirect:hfov=200,vfov=100,lon0=30,lat0=20|300x150"
+  "cylindrical:vfov=120|400x200" "cubemap|768x128" "cubemap:layout=cross|512x384" "cubemap:layout=3x2|384x256" "aitoff|400x200"
+  "hammer|400x200" "eckert-greifendorff|400x200" "bonne|400x300" "bonne:phi1=-30,lon0=40|400x300" "bonne:phi1=0|400x300"
+)
+i=0
+for t in "${targets[@]}"; do
+  spec=${t%|*} size=${t#*|} i=$((i + 1))
+  run convert src.png --to "$spec" --size "$size" --yaw 20 --pitch -10 to_$i.png
+  run convert to_$i.png --from "$spec" --to equirect --size 256x128 back_$i.png
+done
+run convert src.png --to cubemap:layout=files --size 64x64 "face_{face}.png"
+run convert "face_{face}.png" --to equirect --size 256x128 from_faces.png
+
+# Kernels, antialiasing, engines.
+for k in nearest bilinear bicubic lanczos3 bicubic-dering lanczos3-dering; do
+  run convert src.png --to pinhole:hfov=70 --size 200x150 --yaw 30 --roll 5 --interp "$k" k_$k.png
+  run convert to_16.png --from cubemap --to fisheye:fov=190 --size 200x200 --interp "$k" kc_$k.png
+  run convert src.png --to hammer --size 160x80 --interp "$k" kh_$k.png
+done
+for a in auto off mip 3; do
+  run convert src.png --to equirect --size 128x64 --antialias "$a" aa_$a.png
+  run convert src.png --to pinhole:hfov=150 --size 120x90 --antialias "$a" aap_$a.png
+  run convert fish.png --from fisheye:fov=210 --to cubemap --size 192x32 --antialias "$a" aaf_$a.png
+done
+for e in simd scalar reference; do
+  run convert src.png --to fisheye:fov=180 --size 160x160 --pitch 40 --engine "$e" e_$e.png
+done
+run convert "$root/samples/images/mars_spirit_1024x512_rgba.png" --to pinhole:hfov=120 --size 160x120 --alpha alpha.png
+run convert src.png --to fisheye:fov=150 --size 160x160 --fill 1,0.5,0 --alpha fill_alpha.png
+run convert src.png --to aitoff --size 200x100 --fill '#ff8000' fill.png
+run convert "$root/samples/images/blender_city_1024x512.exr" --to cubemap --size 288x48 --depth float float.exr
+run convert src.png --to cylindrical --size 200x100 --depth uint16 u16.png
+run convert fish.png --from "@$root/samples/lenses/fisheye_220_kannala_brandt.yaml" --to equirect --size 256x128 lens.png
+"$cli" maps --from equirect --source-size 512x256 --to pinhole:hfov=90 --size 64x48 --yaw 10 map_pinhole.tif >/dev/null
+"$cli" maps --from cubemap --source-size 384x64 --to aitoff --size 128x64 map_aitoff.exr >/dev/null
+
+for f in $(ls | LC_ALL=C sort); do
+  # (the maps' TIFF and OpenEXR headers carry the time they were written: masked)
+  echo "$(perl -0777 -pe 's/\d{4}:\d\d:\d\d \d\d:\d\d:\d\d/DATE/g' "$f" | sha256sum | cut -d' ' -f1)  $f"
+done
