@@ -6,6 +6,7 @@
 //  - rays: random directions d with a pixel come back as the same ray (angle).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <random>
 
@@ -52,7 +53,10 @@ TEST_P(RoundTrip, PixelsAndRays) {
   const Case& c = GetParam();
   const ProjectionSpec spec = parse_spec(c.spec);
   const Projection p = make_projection(spec, c.size);
-  const double lon0 = spec.def().kind >= Kind::Aitoff ? deg2rad(*spec.number("lon0")) : 0.0;
+  // (lon0: the world maps' central meridian; equirect and cylindrical decide before using it.)
+  const bool has_lon0 = std::any_of(spec.def().params.begin(), spec.def().params.end(),
+                                    [](const ParamDef& k) { return std::string_view(k.key) == "lon0"; });
+  const double lon0 = has_lon0 ? deg2rad(*spec.number("lon0")) : 0.0;
   const double W = static_cast<double>(c.size.width), H = static_cast<double>(c.size.height);
   // Grid: every step-th pixel edge and centre, plus the exact borders and the frame centre.
   std::vector<double> xs, ys;

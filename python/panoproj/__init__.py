@@ -31,10 +31,10 @@ import numpy as np
 
 from . import _core
 
+# (the projection classes, one per catalogue name, are added below as they are made)
 __all__ = [
-    "Projection", "Pinhole", "BrownConrady", "Fisheye", "KannalaBrandt", "DoubleSphere", "Unified", "ExtendedUnified", "Ptlens", "Equirect", "Cylindrical", "Cubemap", "Aitoff", "Hammer",
-    "EckertGreifendorff", "Bonne", "projection", "convert", "build_map", "Plan", "read", "write",
-    "to_ray", "to_pixel", "split_faces", "simd_target",
+    "Projection", "projection", "convert", "build_map", "Plan", "read", "write", "to_ray", "to_pixel", "split_faces",
+    "simd_target",
 ]
 
 SizeLike = Union[Tuple[int, int], str, None]
@@ -112,6 +112,7 @@ for _def in _core.catalog():
         "name": _def["name"], "_keys": tuple(p["key"] for p in _def["params"]), "__doc__": _doc,
         "__module__": __name__})
     globals()[_class_name(_def["name"])] = _CLASSES[_def["name"]]
+    __all__.append(_class_name(_def["name"]))
 del _def, _doc
 
 

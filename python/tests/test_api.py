@@ -13,6 +13,13 @@ ALL = ["pinhole:hfov=100", "fisheye:fov=250,model=equisolid", "fisheye:fov=180,m
        "hammer", "eckert-greifendorff", "bonne:phi1=30", "dual-fisheye:fov=180,roll2=90"]
 
 
+def test_every_catalogue_projection_is_exported():
+    names = [d["name"] for d in pp._core.catalog()]
+    exported = {c.name for c in (getattr(pp, n) for n in pp.__all__) if isinstance(c, type) and issubclass(c, pp.Projection) and c is not pp.Projection}
+    assert exported == set(names)
+    assert pp.DualFisheye().name == "dual-fisheye"
+
+
 def test_keyword_constructors_and_spec_text_agree():
     f = pp.Fisheye(fov=180, model="equisolid")
     assert str(f) == "fisheye:fov=180,model=equisolid"

@@ -1,26 +1,23 @@
 #pragma once
-// The closed set of projections, their factory and the row forms the pipeline uses.
-// Dispatch (std::visit) happens once per row, so inner loops see one concrete type.
+// The closed set of projections (projections/list.hpp), their factory and the row forms the
+// pipeline uses. Dispatch (std::visit) happens once per row, so inner loops see one concrete type.
 #include <cstdint>
 #include <variant>
 
-#include "panoproj/projections/aitoff.hpp"
-#include "panoproj/projections/bonne.hpp"
-#include "panoproj/projections/brown_conrady.hpp"
-#include "panoproj/projections/cubemap.hpp"
-#include "panoproj/projections/cylindrical.hpp"
-#include "panoproj/projections/dual_fisheye.hpp"
-#include "panoproj/projections/equirect.hpp"
-#include "panoproj/projections/fisheye.hpp"
-#include "panoproj/projections/hammer.hpp"
-#include "panoproj/projections/lens.hpp"
-#include "panoproj/projections/pinhole.hpp"
 #include "panoproj/spec.hpp"
 
 namespace panoproj {
 
-using Projection =
-    std::variant<Pinhole, BrownConrady, Fisheye, DualFisheye, Lens, Equirect, Cylindrical, Cubemap, Aitoff, Hammer, Bonne>;
+namespace detail {
+template <class Void, class... Types>
+struct VariantOf {  // std::variant<Types...> of the list "void, Types..." the macro below makes
+  using type = std::variant<Types...>;
+};
+}  // namespace detail
+// Its index is the spec's Kind.
+#define PANOPROJ_TYPE_(Type) , Type
+using Projection = detail::VariantOf<void PANOPROJ_PROJECTIONS(PANOPROJ_TYPE_)>::type;
+#undef PANOPROJ_TYPE_
 
 // Validates the spec against the image size; throws panoproj::Error.
 Projection make_projection(const ProjectionSpec& spec, Size size);
@@ -58,11 +55,7 @@ inline bool source_pixel(const Projection& src, const Projection& dst, const Eig
 void to_ray_row(const Projection& p, double y, int64_t x0, int64_t n, Ray* rays, uint8_t* ok);
 // Whether the projection shows the whole sphere (cubemap, full equirect, the world maps): a
 // conversion to it reaches (nearly) every pixel of any source.
-inline bool shows_whole_sphere(const Projection& p) {
-  if (const auto* e = std::get_if<Equirect>(&p)) return e->reaches_north_pole() && e->reaches_south_pole();
-  return std::holds_alternative<Cubemap>(p) || std::holds_alternative<Aitoff>(p) || std::holds_alternative<Hammer>(p) ||
-         std::holds_alternative<Bonne>(p);
-}
+bool shows_whole_sphere(const Projection& p);
 // The same projection on a frame of `size` showing the same field: pixel positions scale by
 // size / size_of(p) per axis (mip levels, supersampled targets). A cubemap's size must hold
 // whole faces in its layout. Throws panoproj::Error otherwise.

@@ -1,16 +1,22 @@
 #pragma once
 // Projection specs: "name[:key=value[,key=value...]]", angles in degrees, sizes in pixels.
-// One table (projection_catalog) defines every name, key, default and range; the parser, the
-// factories, `panoproj info` and the docs all read it.
+// One table (projection_catalog, gathered from each projection's module) defines every name, key,
+// default and range; the parser, the factories, `panoproj info`, Python's classes and the docs
+// all read it.
 #include <map>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "panoproj/projections/list.hpp"
+
 namespace panoproj {
 
-enum class Kind { Pinhole, BrownConrady, Fisheye, DualFisheye, Lens, Equirect, Cylindrical, Cubemap, Aitoff, Hammer, Bonne };
+// The projection type a spec makes (one per line of projections/list.hpp, in its order).
+#define PANOPROJ_KIND_(Type) Type,
+enum class Kind { PANOPROJ_PROJECTIONS(PANOPROJ_KIND_) };
+#undef PANOPROJ_KIND_
 
 enum class ParamType { Number, Integer, Choice };
 
@@ -26,9 +32,9 @@ struct ParamDef {
 
 struct ProjectionDef {
   const char* name;
-  Kind kind;
   const char* summary;
   std::vector<ParamDef> params;
+  Kind kind{};  // set by projection_catalog from the module that declares the entry
 };
 
 const std::vector<ProjectionDef>& projection_catalog();

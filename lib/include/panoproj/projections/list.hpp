@@ -1,0 +1,29 @@
+#pragma once
+// The closed list of projection types, in catalogue order: one include and one X(Type) line each.
+// Kind (spec.hpp), the Projection variant (projection.hpp) and the table of projection modules
+// (lib/src/projections/module.hpp: catalogue entries, validation, construction, default size,
+// rescaling, one file per type) are generated from it.
+#include "panoproj/projections/aitoff.hpp"
+#include "panoproj/projections/bonne.hpp"
+#include "panoproj/projections/brown_conrady.hpp"
+#include "panoproj/projections/cubemap.hpp"
+#include "panoproj/projections/cylindrical.hpp"
+#include "panoproj/projections/dual_fisheye.hpp"
+#include "panoproj/projections/equirect.hpp"
+#include "panoproj/projections/fisheye.hpp"
+#include "panoproj/projections/hammer.hpp"
+#include "panoproj/projections/lens.hpp"
+#include "panoproj/projections/pinhole.hpp"
+
+#define PANOPROJ_PROJECTIONS(X) \
+  X(Pinhole)                    \
+  X(BrownConrady)               \
+  X(Fisheye)                    \
+  X(DualFisheye)                \
+  X(Lens)                       \
+  X(Equirect)                   \
+  X(Cylindrical)                \
+  X(Cubemap)                    \
+  X(Aitoff)                     \
+  X(Hammer)                     \
+  X(Bonne)

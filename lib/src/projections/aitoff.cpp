@@ -1,0 +1,25 @@
+// The Aitoff module (module.hpp): the world map in a 2:1 ellipse.
+#include "module.hpp"
+#include "spec_support.hpp"
+
+namespace panoproj {
+namespace {
+using namespace spec_support;
+
+std::vector<ProjectionDef> catalog() { return {{"aitoff", "Aitoff world map (2:1 ellipse)", {lon0()}}}; }
+
+Projection make(const ProjectionSpec& s, Size size) { return Aitoff(size, rad(s, "lon0")); }
+
+// Unit scale at the centre: the frame in plane units.
+Size size_for(const ProjectionSpec& s, double density) {
+  return map_size(s, Aitoff({1000, 1000}, rad(s, "lon0")).frame(), density);
+}
+
+Projection rescale(const Projection& p, Size size, double, double) { return Aitoff(size, std::get<Aitoff>(p).lon0()); }
+
+}  // namespace
+
+const ProjectionModule kAitoffModule{catalog, [](const ProjectionSpec&) {}, make, size_for, rescale,
+                                     [](const Projection&) { return true; }};
+
+}  // namespace panoproj

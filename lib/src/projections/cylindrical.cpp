@@ -1,0 +1,36 @@
+// The cylindrical module (module.hpp): a panorama linear in longitude and in tan(latitude).
+#include "module.hpp"
+#include "spec_support.hpp"
+
+namespace panoproj {
+namespace {
+using namespace spec_support;
+
+std::vector<ProjectionDef> catalog() {
+  return {{"cylindrical", "cylindrical panorama (vertical extent vfov < 180 deg)",
+           {number("hfov", "360", 0, 360, true, false, "longitude span (deg)"),
+            number("vfov", "100", 0, 180, true, true, "vertical span (deg), linear in tan(latitude)"), lon0(), lat0()}}};
+}
+
+Projection make(const ProjectionSpec& s, Size size) {
+  return Cylindrical(size, rad(s, "hfov"), rad(s, "vfov"), rad(s, "lon0"), rad(s, "lat0"));
+}
+
+Size size_for(const ProjectionSpec& s, double density) {
+  const double top = rad(s, "lat0") + 0.5 * rad(s, "vfov");
+  const double bottom = rad(s, "lat0") - 0.5 * rad(s, "vfov");
+  return framed_size(s, density * rad(s, "hfov"), density * (std::tan(top) - std::tan(bottom)));
+}
+
+Projection rescale(const Projection& p, Size size, double, double) {
+  const auto& q = std::get<Cylindrical>(p);
+  const double top = std::atan(q.t_top()), bottom = std::atan(q.t_bottom());
+  return Cylindrical(size, q.axis().hfov, top - bottom, q.axis().lon0, 0.5 * (top + bottom));
+}
+
+}  // namespace
+
+const ProjectionModule kCylindricalModule{catalog, [](const ProjectionSpec& s) { check_latitude_span(s, true); }, make,
+                                          size_for, rescale};
+
+}  // namespace panoproj

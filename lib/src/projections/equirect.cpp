@@ -1,0 +1,38 @@
+// The equirectangular module (module.hpp): a full or partial longitude-latitude panorama.
+#include "module.hpp"
+#include "spec_support.hpp"
+
+namespace panoproj {
+namespace {
+using namespace spec_support;
+
+std::vector<ProjectionDef> catalog() {
+  return {{"equirect", "equirectangular (spherical) panorama, full or partial",
+           {number("hfov", "360", 0, 360, true, false, "longitude span (deg)"),
+            number("vfov", "180", 0, 180, true, false, "latitude span (deg)"), lon0(), lat0()}}};
+}
+
+Projection make(const ProjectionSpec& s, Size size) {
+  return Equirect(size, rad(s, "hfov"), rad(s, "vfov"), rad(s, "lon0"), rad(s, "lat0"));
+}
+
+Size size_for(const ProjectionSpec& s, double density) {
+  return framed_size(s, density * rad(s, "hfov"), density * rad(s, "vfov"));
+}
+
+Projection rescale(const Projection& p, Size size, double, double) {
+  const auto& q = std::get<Equirect>(p);
+  return Equirect(size, q.axis().hfov, q.vfov(), q.axis().lon0, q.lat_top() - 0.5 * q.vfov());
+}
+
+bool whole_sphere(const Projection& p) {
+  const auto& e = std::get<Equirect>(p);
+  return e.reaches_north_pole() && e.reaches_south_pole();
+}
+
+}  // namespace
+
+const ProjectionModule kEquirectModule{
+    catalog, [](const ProjectionSpec& s) { check_latitude_span(s, false); }, make, size_for, rescale, whole_sphere};
+
+}  // namespace panoproj

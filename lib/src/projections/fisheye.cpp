@@ -1,0 +1,82 @@
+// The fisheye module (module.hpp): one of four radial laws, fov up to 360 degrees, a circle or a
+// stretched ellipse.
+#include <algorithm>
+#include <sstream>
+
+#include "module.hpp"
+#include "spec_support.hpp"
+
+namespace panoproj {
+
+namespace spec_support {
+
+FisheyeModel fisheye_model(const std::string& m) {
+  if (m == "equisolid") return FisheyeModel::Equisolid;
+  if (m == "orthographic") return FisheyeModel::Orthographic;
+  if (m == "stereographic") return FisheyeModel::Stereographic;
+  return FisheyeModel::Equidistant;
+}
+
+void check_fisheye_fov(const ProjectionSpec& s, const char* key, double fov) {
+  const auto model = fisheye_model(s.choice("model"));
+  std::ostringstream o;
+  o << key << "=" << fov;
+  if (model == FisheyeModel::Orthographic && fov > 180) fail(s, o.str() + " is too wide for model=orthographic (expected <= 180)");
+  if (model == FisheyeModel::Stereographic && fov >= 360)
+    fail(s, o.str() + " is not reachable with model=stereographic (expected < 360)");
+}
+
+Fisheye fisheye_scaled(const Fisheye& q, Size size, double sx, double sy) {
+  return Fisheye(size, q.psi_max(), q.model(), q.clip(), q.cx() * sx, q.cy() * sy, q.rx() * sx, q.ry() * sy);
+}
+
+}  // namespace spec_support
+
+namespace {
+using namespace spec_support;
+
+std::vector<ProjectionDef> catalog() {
+  return {{"fisheye", "fisheye lens with a radial law, fov up to 360 deg",
+           {number("fov", "180", 0, 360, true, false, "full field of view across the image circle"),
+            choice("model", "equidistant", "equidistant|equisolid|orthographic|stereographic",
+                   "lens law (orthographic: fov <= 180; stereographic: fov < 360)"),
+            choice("clip", "circle", "circle|none", "circle: pixels outside the image circle are invalid; none: keep rays past fov/2"),
+            choice("aspect", "keep", "keep|stretch", "keep: a circle of square pixels; stretch: an ellipse filling the frame"),
+            number("radius", "", 0, kInf, true, true, "image-circle radius in pixels (aspect=keep); default: half the shorter side"),
+            center("cx"), center("cy")}}};
+}
+
+void check(const ProjectionSpec& s) {
+  check_fisheye_fov(s, "fov", *s.number("fov"));
+  if (s.given("radius") && s.choice("aspect") == "stretch") fail(s, "radius applies to aspect=keep only (stretch fills the frame)");
+}
+
+Projection make(const ProjectionSpec& s, Size size) {
+  const double w = static_cast<double>(size.width), h = static_cast<double>(size.height);
+  const double psi_max = 0.5 * rad(s, "fov");
+  double rx, ry;
+  if (s.choice("aspect") == "stretch") {
+    rx = 0.5 * w;
+    ry = 0.5 * h;
+  } else {
+    rx = ry = s.given("radius") ? *s.number("radius") : 0.5 * std::min(w, h);
+  }
+  return Fisheye(size, psi_max, fisheye_model(s.choice("model")), s.choice("clip") == "circle", center_of(s, "cx", w),
+                 center_of(s, "cy", h), rx, ry);
+}
+
+Size size_for(const ProjectionSpec& s, double density) {
+  const double r =
+      s.given("radius") ? *s.number("radius") : density * Fisheye::law(fisheye_model(s.choice("model")), 0.5 * rad(s, "fov"));
+  return framed_size(s, 2.0 * r, 2.0 * r);
+}
+
+Projection rescale(const Projection& p, Size size, double sx, double sy) {
+  return fisheye_scaled(std::get<Fisheye>(p), size, sx, sy);
+}
+
+}  // namespace
+
+const ProjectionModule kFisheyeModule{catalog, check, make, size_for, rescale};
+
+}  // namespace panoproj
