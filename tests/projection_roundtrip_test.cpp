@@ -21,6 +21,7 @@ struct Case {
   Size size;
   double pixel_bound;  // px
 };
+void PrintTo(const Case& c, std::ostream* os) { *os << c.spec << " at " << c.size.width << "x" << c.size.height; }
 
 // Where one ray has several pixels (or none is unique), for the case's projection.
 bool on_identity_set(const Projection& p, double lon0, double x, double y, const Ray& d) {
@@ -187,7 +188,10 @@ const Case kCases[] = {
     {"bonne:phi1=-30,lon0=10", {2048, 2048}, 1e-6},
 };
 
-INSTANTIATE_TEST_SUITE_P(AllProjections, RoundTrip, ::testing::ValuesIn(kCases));
+INSTANTIATE_TEST_SUITE_P(AllProjections, RoundTrip, ::testing::ValuesIn(kCases), [](const auto& info) {
+  return test::case_name(info.index, std::string(info.param.spec) + " " + std::to_string(info.param.size.width) + "x" +
+                                         std::to_string(info.param.size.height));
+});
 
 }  // namespace
 }  // namespace panoproj

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -169,6 +170,15 @@ class TempDirTest : public ::testing::Test {
 };
 
 // Angle between two rays, robust for tiny angles.
+// A test name from a case's parts: its index (unique, in table order) and its text with every
+// character GoogleTest does not allow in names made '_' ("fisheye:fov=200" -> "3_fisheye_fov_200").
+inline std::string case_name(size_t index, const std::string& text) {
+  std::string s = std::to_string(index) + "_" + text;
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return s;
+}
+
 inline double angle(const Ray& a, const Ray& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }

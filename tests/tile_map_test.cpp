@@ -19,6 +19,7 @@ struct Pair {
   Size dst_size;
   double yaw, pitch, roll;
 };
+void PrintTo(const Pair& c, std::ostream* os) { *os << c.src << " to " << c.dst; }
 
 class TileMapAccuracy : public ::testing::TestWithParam<Pair> {};
 
@@ -70,7 +71,9 @@ const Pair kPairs[] = {
     {"cylindrical", {4096, 1400}, "fisheye:fov=180", {1024, 1024}, 0, 90, 0},
 };
 
-INSTANTIATE_TEST_SUITE_P(Pairs, TileMapAccuracy, ::testing::ValuesIn(kPairs));
+INSTANTIATE_TEST_SUITE_P(Pairs, TileMapAccuracy, ::testing::ValuesIn(kPairs), [](const auto& info) {
+  return test::case_name(info.index, std::string(info.param.src) + " to " + info.param.dst);
+});
 
 }  // namespace
 }  // namespace panoproj
