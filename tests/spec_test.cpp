@@ -49,10 +49,11 @@ TEST(Spec, EveryCatalogEntryParsesWithItsDefaults) {
 }
 
 TEST(Spec, ErrorsNameTheValueAndWhatWasExpected) {
-  EXPECT_EQ(error_of("fishey"),
-            "unknown projection 'fishey' (expected one of: pinhole, brown-conrady, fisheye, dual-fisheye, kannala-brandt, "
-            "double-sphere, unified, extended-unified, ptlens, equirect, cylindrical, cubemap, aitoff, "
-            "hammer, eckert-greifendorff, bonne)");
+  // Every catalogue name, in catalogue order (a new projection's module adds its own).
+  std::string names;
+  for (const auto& d : projection_catalog()) names += (names.empty() ? "" : ", ") + std::string(d.name);
+  EXPECT_EQ(error_of("fishey"), "unknown projection 'fishey' (expected one of: " + names + ")");
+  EXPECT_EQ(names.rfind("pinhole, brown-conrady, fisheye, dual-fisheye, kannala-brandt, double-sphere, unified, ", 0), 0u);
   EXPECT_EQ(error_of("fisheye:fov=nan"), "fisheye: fov=nan is not finite (expected 0 < fov <= 360)");
   EXPECT_EQ(error_of("fisheye:fov=inf"), "fisheye: fov=inf is not finite (expected 0 < fov <= 360)");
   EXPECT_EQ(error_of("fisheye:fov=-10"), "fisheye: fov=-10 is out of range (expected 0 < fov <= 360)");
@@ -123,6 +124,23 @@ TEST_F(SpecFile, BadFilesNameTheFileAndTheFix) {
   // Keys are checked as in spec text.
   EXPECT_NE(error_of(write("f.yaml", "projection: unified\nzeta: 1\n")).find("unknown key 'zeta'"), std::string::npos);
   EXPECT_NE(error_of(write("g.yaml", "projection: \"@x\"\n")).find("cannot name another"), std::string::npos);
+}
+
+// A key the code asks for but the catalogue does not declare is a bug, not the user's input: an
+// InternalError, which a handler of Error (the user's mistakes) does not catch.
+TEST(Spec, AKeyMissingFromTheCatalogueIsAnInternalError) {
+  const ProjectionSpec s = parse_spec("fisheye:fov=200");
+  EXPECT_THROW(s.number("hfov"), InternalError);
+  EXPECT_THROW(s.choice("layout"), InternalError);
+  bool caught_as_user_error = false;
+  try {
+    s.number("hfov");
+  } catch (const Error&) {
+    caught_as_user_error = true;
+  } catch (const InternalError& e) {
+    EXPECT_EQ(std::string(e.what()), "internal error: fisheye has no key hfov");
+  }
+  EXPECT_FALSE(caught_as_user_error);
 }
 
 }  // namespace panoproj

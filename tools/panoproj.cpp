@@ -361,6 +361,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "panoproj: error: out of memory (ask for a smaller size, or set --memory-limit to be "
                          "refused before the work starts)\n");
     return 1;
+  } catch (const InternalError& e) {
+    std::fprintf(stderr, "panoproj: %s (a bug: please report it with the command line)\n", one_line(e.what()).c_str());
+    return 70;  // EX_SOFTWARE
   } catch (const std::exception& e) {
     std::fprintf(stderr, "panoproj: error: %s\n", one_line(e.what()).c_str());
     return 1;

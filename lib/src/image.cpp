@@ -103,7 +103,7 @@ bool Image::operator==(const Image& o) const {
 
 Image Image::with_alpha() const {
   if (alpha_ >= 0 || channels_ > 3)
-    throw Error("internal: with_alpha on an image with alpha or 4 channels");
+    throw InternalError("with_alpha on an image with alpha or 4 channels");
   Image out(size_, channels_ + 1, type_, channels_, Unfilled{});
   out.set_window(ox_, oy_, frame_size());
   const size_t sb = bytes_of(type_), pb = pixel_bytes(), ob = out.pixel_bytes();

@@ -735,7 +735,7 @@ template <class Plan>
 void Chunked(const SimdSource& s, Interp interp, const TileRect& rect, int64_t blocks_per_row, unsigned char* out,
              int64_t out_stride, Plan&& plan) {
   if (blocks_per_row > kChunkBlocks)  // a row must fit a chunk: rects up to kTile wide do
-    throw Error("internal: a " + std::to_string(rect.w) + "-px rect is wider than the SIMD sampler's chunks (at most " +
+    throw InternalError("a " + std::to_string(rect.w) + "-px rect is wider than the SIMD sampler's chunks (at most " +
                 std::to_string(kTile) + ")");
   TapBlock blocks[kChunkBlocks];
   const int64_t rows = std::max<int64_t>(1, kChunkBlocks / blocks_per_row);

@@ -89,7 +89,7 @@ std::optional<double> ProjectionSpec::number(std::string_view key) const {
     if (text.empty()) return std::nullopt;
     return std::strtod(text.c_str(), nullptr);
   }
-  throw Error(std::string("internal: ") + def_->name + " has no key " + std::string(key));
+  throw InternalError(std::string(def_->name) + " has no key " + std::string(key));
 }
 
 std::string ProjectionSpec::choice(std::string_view key) const {
@@ -98,7 +98,7 @@ std::string ProjectionSpec::choice(std::string_view key) const {
     auto it = values_.find(std::string(key));
     return it != values_.end() ? it->second : p.default_text;
   }
-  throw Error(std::string("internal: ") + def_->name + " has no key " + std::string(key));
+  throw InternalError(std::string(def_->name) + " has no key " + std::string(key));
 }
 
 std::string ProjectionSpec::str() const {

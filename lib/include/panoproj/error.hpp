@@ -1,6 +1,7 @@
 #pragma once
-// The one exception type the library throws at its edges (spec parsing, factories, I/O).
-// Messages are one line: "what: value (expected ...)". Kernels never throw.
+// The exception the library throws at its edges (spec parsing, factories, I/O) for what the user
+// gave: one line, "what: value (expected ...)". Kernels never throw. A broken invariant (a bug,
+// not a user's mistake) throws InternalError instead.
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -19,6 +20,14 @@ class Error : public std::runtime_error {
 
  private:
   ErrorKind kind_;
+};
+
+// A broken invariant of the library: a bug to report, never the user's input. Not an Error, so
+// front ends show it as what it is (the command: "internal error ... please report"; Python:
+// RuntimeError).
+class InternalError : public std::logic_error {
+ public:
+  explicit InternalError(const std::string& what) : std::logic_error("internal error: " + what) {}
 };
 
 // An option as the user writes it in messages: "--overwrite" on the command line (default),
