@@ -15,8 +15,8 @@
 #include "panoproj/rotation.hpp"
 #include "panoproj/scene.hpp"
 #include "panoproj/spec.hpp"
-#include "pyramid.hpp"
-#include "subpixels.hpp"
+#include "sampling/pyramid.hpp"
+#include "sampling/subpixels.hpp"
 #include "test_support.hpp"
 
 namespace panoproj {

@@ -15,7 +15,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "dual_blend.hpp"
+#include "sampling/dual_blend.hpp"
 #include "panoproj/engine.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"

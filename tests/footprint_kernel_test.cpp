@@ -9,8 +9,8 @@
 #include <random>
 #include <set>
 
-#include "footprint_kernel.hpp"
-#include "map_steps.hpp"
+#include "sampling/footprint_kernel.hpp"
+#include "sampling/map_steps.hpp"
 #include "panoproj/antialias.hpp"
 #include "panoproj/conventions.hpp"
 #include "panoproj/engine.hpp"

@@ -5,7 +5,7 @@
 // The same with the grid (cubic interpolation between exact nodes, SimdGeometry::grid), on the
 // widest and the narrowest target: within the same bound, validity the same, and near 1:1 scale
 // it interpolates most cells.
-#include "simd_geometry.hpp"
+#include "geometry/simd_geometry.hpp"
 
 #include <gtest/gtest.h>
 #include <hwy/targets.h>

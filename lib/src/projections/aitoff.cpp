@@ -1,6 +1,6 @@
 // The Aitoff module (module.hpp): the world map in a 2:1 ellipse.
-#include "module.hpp"
-#include "spec_support.hpp"
+#include "projections/module.hpp"
+#include "projections/spec_support.hpp"
 
 namespace panoproj {
 namespace {

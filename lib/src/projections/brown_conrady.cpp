@@ -2,8 +2,8 @@
 // distortion.
 #include <sstream>
 
-#include "module.hpp"
-#include "spec_support.hpp"
+#include "projections/module.hpp"
+#include "projections/spec_support.hpp"
 
 namespace panoproj {
 namespace {

@@ -2,9 +2,9 @@
 // cross) or six files, and the layouts' cells.
 #include <sstream>
 
-#include "module.hpp"
+#include "projections/module.hpp"
 #include "panoproj/error.hpp"
-#include "spec_support.hpp"
+#include "projections/spec_support.hpp"
 
 namespace panoproj {
 

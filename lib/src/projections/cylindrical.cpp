@@ -1,6 +1,6 @@
 // The cylindrical module (module.hpp): a panorama linear in longitude and in tan(latitude).
-#include "module.hpp"
-#include "spec_support.hpp"
+#include "projections/module.hpp"
+#include "projections/spec_support.hpp"
 
 namespace panoproj {
 namespace {

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <sstream>
 
-#include "module.hpp"
+#include "projections/module.hpp"
 #include "panoproj/rotation.hpp"
-#include "spec_support.hpp"
+#include "projections/spec_support.hpp"
 
 namespace panoproj {
 namespace {

@@ -1,6 +1,6 @@
 // The equirectangular module (module.hpp): a full or partial longitude-latitude panorama.
-#include "module.hpp"
-#include "spec_support.hpp"
+#include "projections/module.hpp"
+#include "projections/spec_support.hpp"
 
 namespace panoproj {
 namespace {

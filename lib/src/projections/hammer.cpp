@@ -1,7 +1,7 @@
 // The Hammer module (module.hpp): Hammer-Wagner equal-area world maps, Eckert-Greifendorff among
 // them.
-#include "module.hpp"
-#include "spec_support.hpp"
+#include "projections/module.hpp"
+#include "projections/spec_support.hpp"
 
 namespace panoproj {
 namespace {

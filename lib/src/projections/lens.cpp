@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <sstream>
 
-#include "module.hpp"
-#include "spec_support.hpp"
+#include "projections/module.hpp"
+#include "projections/spec_support.hpp"
 
 namespace panoproj {
 namespace {

@@ -1,8 +1,8 @@
 // The pinhole's module (module.hpp): a rectilinear camera given by hfov/vfov or a focal length.
 #include <cmath>
 
-#include "module.hpp"
-#include "spec_support.hpp"
+#include "projections/module.hpp"
+#include "projections/spec_support.hpp"
 
 namespace panoproj {
 namespace {

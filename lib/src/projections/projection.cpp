@@ -5,7 +5,7 @@
 #include <sstream>
 #include <string>
 
-#include "module.hpp"
+#include "projections/module.hpp"
 #include "panoproj/error.hpp"
 
 namespace panoproj {

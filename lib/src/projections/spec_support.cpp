@@ -1,5 +1,5 @@
 // Helpers the projection modules share (spec_support.hpp).
-#include "spec_support.hpp"
+#include "projections/spec_support.hpp"
 
 #include <algorithm>
 #include <iomanip>

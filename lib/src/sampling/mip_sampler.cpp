@@ -1,4 +1,4 @@
-#include "mip_sampler.hpp"
+#include "sampling/mip_sampler.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -9,8 +9,8 @@
 #include <type_traits>
 #include <utility>
 
-#include "map_steps.hpp"
-#include "sample_io.hpp"
+#include "sampling/map_steps.hpp"
+#include "base/sample_io.hpp"
 
 namespace panoproj {
 

@@ -1,9 +1,9 @@
-#include "pyramid.hpp"
+#include "sampling/pyramid.hpp"
 
 #include <algorithm>
 #include <type_traits>
 
-#include "sample_io.hpp"
+#include "base/sample_io.hpp"
 
 namespace panoproj {
 namespace {

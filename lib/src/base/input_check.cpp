@@ -1,4 +1,4 @@
-#include "input_check.hpp"
+#include "base/input_check.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>

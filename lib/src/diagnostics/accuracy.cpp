@@ -9,7 +9,7 @@
 #include <string>
 
 #include "panoproj/error.hpp"
-#include "sample_io.hpp"
+#include "base/sample_io.hpp"
 
 namespace panoproj {
 

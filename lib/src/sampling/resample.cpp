@@ -10,9 +10,9 @@
 
 #include "panoproj/parallel.hpp"
 #include "panoproj/source_edges.hpp"
-#include "footprint_kernel.hpp"
-#include "reference_sampler.hpp"
-#include "sample_io.hpp"
+#include "sampling/footprint_kernel.hpp"
+#include "sampling/reference_sampler.hpp"
+#include "base/sample_io.hpp"
 
 namespace panoproj {
 namespace {

@@ -7,14 +7,14 @@
 #include <string>
 #include <vector>
 
-#include "edge_pass.hpp"
+#include "sampling/edge_pass.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/parallel.hpp"
 #include "panoproj/source_edges.hpp"
 #include "panoproj/tile_map.hpp"
-#include "reference_sampler.hpp"
-#include "sample_io.hpp"
-#include "simd_geometry.hpp"
+#include "sampling/reference_sampler.hpp"
+#include "base/sample_io.hpp"
+#include "geometry/simd_geometry.hpp"
 
 namespace panoproj {
 

@@ -13,8 +13,8 @@
 #include "panoproj/image.hpp"
 #include "panoproj/interpolator.hpp"
 #include "panoproj/tile_map.hpp"
-#include "footprint_kernel.hpp"
-#include "simd_geometry.hpp"
+#include "sampling/footprint_kernel.hpp"
+#include "geometry/simd_geometry.hpp"
 
 namespace panoproj {
 

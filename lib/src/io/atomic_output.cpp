@@ -1,4 +1,4 @@
-#include "atomic_output.hpp"
+#include "io/atomic_output.hpp"
 
 #include <fcntl.h>
 #include <sys/random.h>

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "panoproj/tile_map.hpp"
-#include "pyramid.hpp"
+#include "sampling/pyramid.hpp"
 
 namespace panoproj {
 

@@ -9,7 +9,7 @@
 
 #include "panoproj/error.hpp"
 #include "panoproj/rotation.hpp"
-#include "input_check.hpp"
+#include "base/input_check.hpp"
 
 namespace panoproj {
 namespace {

@@ -1,7 +1,7 @@
 // Tile maps from the vector geometry of simd_geometry-inl.h (Highway, runtime dispatch), and the
 // choice of pairs and parameters.
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "simd_geometry.cpp"
+#define HWY_TARGET_INCLUDE "geometry/simd_geometry.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 // Order matters: foreach_target re-includes this file once per target.
 #include <hwy/highway.h>
@@ -11,8 +11,8 @@
 #include <cmath>
 #include <limits>
 
-#include "simd_geometry-inl.h"
-#include "simd_geometry.hpp"
+#include "geometry/simd_geometry-inl.h"
+#include "geometry/simd_geometry.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace panoproj {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "panoproj/error.hpp"
-#include "input_check.hpp"
+#include "base/input_check.hpp"
 
 namespace panoproj {
 namespace {

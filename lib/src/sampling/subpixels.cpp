@@ -1,11 +1,11 @@
-#include "subpixels.hpp"
+#include "sampling/subpixels.hpp"
 
 #include <array>
 #include <cstring>
 #include <type_traits>
 #include <vector>
 
-#include "sample_io.hpp"
+#include "base/sample_io.hpp"
 
 namespace panoproj {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "panoproj/error.hpp"
 #include "panoproj/parallel.hpp"
-#include "sample_io.hpp"
+#include "base/sample_io.hpp"
 
 namespace panoproj {
 

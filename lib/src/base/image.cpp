@@ -8,7 +8,7 @@
 #include <new>
 
 #include "panoproj/error.hpp"
-#include "sample_io.hpp"
+#include "base/sample_io.hpp"
 
 namespace panoproj {
 

@@ -18,7 +18,7 @@
 #include <limits>
 #include <type_traits>
 
-#include "simd_geometry.hpp"
+#include "geometry/simd_geometry.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace panoproj {

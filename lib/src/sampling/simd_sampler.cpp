@@ -2,7 +2,7 @@
 // run time. Positions and tap indices in double; weights and accumulation in float. The reference
 // (double) agrees within the bounds stated in tests/engine_test.cpp.
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "simd_sampler.cpp"
+#define HWY_TARGET_INCLUDE "sampling/simd_sampler.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 // Order matters: foreach_target re-includes this file once per target.
 #include <hwy/contrib/math/math-inl.h>
@@ -18,8 +18,8 @@
 #include <string>
 
 #include "panoproj/error.hpp"
-#include "simd_geometry-inl.h"
-#include "simd_sampler.hpp"
+#include "geometry/simd_geometry-inl.h"
+#include "sampling/simd_sampler.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace panoproj {

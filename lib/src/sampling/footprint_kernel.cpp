@@ -1,10 +1,10 @@
-#include "footprint_kernel.hpp"
+#include "sampling/footprint_kernel.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 
-#include "map_steps.hpp"
+#include "sampling/map_steps.hpp"
 
 namespace panoproj {
 

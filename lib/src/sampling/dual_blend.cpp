@@ -1,10 +1,10 @@
-#include "dual_blend.hpp"
+#include "sampling/dual_blend.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#include "sample_io.hpp"
+#include "base/sample_io.hpp"
 
 namespace panoproj {
 namespace {

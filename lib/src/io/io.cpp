@@ -20,8 +20,8 @@
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/photo_sphere.hpp"
-#include "atomic_output.hpp"
-#include "input_check.hpp"
+#include "io/atomic_output.hpp"
+#include "base/input_check.hpp"
 
 namespace panoproj {
 
