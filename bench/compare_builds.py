@@ -3,7 +3,7 @@
 that the shared machine's load hits both alike. Prints, per case, the median over rounds of each
 build's per-run median, the spread (min..max over rounds) and new / old.
 
-    .venv/bin/python bench/compare_builds.py OLD_BUILD NEW_BUILD [--rounds 5] [--runs 11]
+    .venv/bin/python bench/compare_builds.py OLD_BUILD NEW_BUILD [--rounds 5] [--runs 11] [--only remap|python]
 
 Each BUILD is a directory made by scripts/bench.sh (build-bench/: bench/bench_remap, python/).
 """
@@ -49,11 +49,12 @@ def main():
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--runs", type=int, default=11)
     ap.add_argument("--pause", type=float, default=2.0, help="seconds between runs (thread pools spin down)")
+    ap.add_argument("--only", choices=("remap", "python"), help="one of the two benchmarks")
     a = ap.parse_args()
     times = {"old": {}, "new": {}}
     for i in range(a.rounds):
         for which, build in (("old", a.old), ("new", a.new)) if i % 2 == 0 else (("new", a.new), ("old", a.old)):
-            for bench in (remap_cases, python_cases):
+            for bench in [b for n, b in (("remap", remap_cases), ("python", python_cases)) if a.only in (None, n)]:
                 for case, ms in bench(build, a.runs).items():
                     times[which].setdefault(case, []).append(ms)
                 time.sleep(a.pause)

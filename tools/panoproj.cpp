@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <deque>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -14,6 +15,7 @@
 #include "panoproj/convert_job.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/limits.hpp"
+#include "panoproj/options.hpp"
 #include "panoproj/rotation.hpp"
 #include "panoproj/stability.hpp"
 #include "panoproj/error.hpp"
@@ -23,19 +25,6 @@
 namespace {
 
 using namespace panoproj;
-
-Size parse_size(const std::string& text) {
-  const auto x = text.find('x');
-  if (x != std::string::npos) {
-    try {
-      size_t a = 0, b = 0;
-      const long long w = std::stoll(text.substr(0, x), &a), h = std::stoll(text.substr(x + 1), &b);
-      if (a == x && b == text.size() - x - 1 && w > 0 && h > 0) return {w, h};
-    } catch (const std::exception&) {
-    }
-  }
-  throw Error("size: " + text + " (expected WxH with positive integers, e.g. 2048x1024)");
-}
 
 std::optional<PixelType> parse_depth(const std::string& text) {
   if (text.empty() || text == "keep") return std::nullopt;
@@ -113,6 +102,37 @@ auto parse_list(const std::string& text, F&& parse) {
   return v;
 }
 
+// The options table's rows (options.hpp) that a subcommand takes, each bound to storage of its
+// type; apply() sets those given on the command line.
+class TableOptions {
+ public:
+  TableOptions(CLI::App* sub, unsigned use) {
+    for (const OptionDef& d : conversion_options()) {
+      if (!(d.use & use)) continue;
+      Row& r = rows_.emplace_back(Row{&d, {}, nullptr});
+      const std::string flag = flag_of(d);
+      switch (d.type) {
+        case OptionType::Angle: r.option = sub->add_option(flag, r.value.emplace<double>(), d.help); break;
+        case OptionType::Integer: r.option = sub->add_option(flag, r.value.emplace<int64_t>(), d.help); break;
+        case OptionType::Flag: r.option = sub->add_flag(flag, r.value.emplace<bool>(), d.help); break;
+        case OptionType::Text: r.option = sub->add_option(flag, r.value.emplace<std::string>(), d.help); break;
+      }
+    }
+  }
+  void apply(ConvertOptions& options) const {
+    for (const Row& r : rows_)
+      if (r.option->count() > 0) r.def->set(options, r.value);
+  }
+
+ private:
+  struct Row {
+    const OptionDef* def;
+    OptionValue value;
+    CLI::Option* option;
+  };
+  std::deque<Row> rows_;  // (stable addresses: CLI11 keeps pointers into the values)
+};
+
 void print_info() {
   std::cout << "Projections (spec: name[:key=value,...], angles in degrees, sizes in pixels):\n";
   for (const auto& d : projection_catalog()) {
@@ -143,7 +163,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   ConvertJob job;
-  std::string size_text, interp_text = "bicubic", depth_text, engine_text = "simd";
+  std::string depth_text;
   std::string from_text;
   auto* convert = app.add_subcommand("convert", "convert one image (or cube-face set) to another projection");
   std::vector<std::string> files;
@@ -156,28 +176,7 @@ int main(int argc, char** argv) {
                       "source projection spec (default: 2:1 image = equirect; face pattern = "
                       "cubemap:layout=files)");
   convert->add_option("--to", job.to, "target projection spec, e.g. fisheye:fov=180")->required();
-  convert->add_option("--size", size_text,
-                      "output size WxH (cube faces: one face); default: source resolution, square "
-                      "pixels");
-  convert->add_option("--yaw", job.options.yaw, "degrees, positive looks right");
-  convert->add_option("--pitch", job.options.pitch, "degrees, positive looks up");
-  convert->add_option("--roll", job.options.roll, "degrees, positive turns the view clockwise");
-  convert->add_option("--interp", interp_text, "nearest|bilinear|bicubic|lanczos3|bicubic-dering|lanczos3-dering (default bicubic; -dering: no ringing)");
-  convert->add_option("--threads", job.options.threads, "worker threads (default: all cores)");
-  convert->add_option("--engine", engine_text,
-                      "simd (default) | scalar (same tiles, no SIMD) | reference (exact, slow)");
-  std::string antialias_text;
-  convert->add_option("--antialias", antialias_text,
-                      "auto (default: where the output shrinks the source, each pixel the area-weighted mean of "
-                      "the source pixels under its footprint) | off | mip (mip levels) | N (N x N sub-pixels, "
-                      "2..16); the reference engine has none");
-  convert->add_flag("--alpha", job.options.add_alpha,
-                    "output alpha: 0 where there is no source, the covered share of each pixel on the field's edge "
-                    "(antialiased edges; a source without alpha gets an opaque one)");
-  std::string fill_text;
-  convert->add_option("--fill", fill_text,
-                      "colour where there is no source, blended into the field's antialiased edge: R,G,B[,A] in "
-                      "unit range (1,1,1 is white) or #rrggbb[aa] (default: 0, or alpha 0)");
+  const TableOptions convert_options(convert, kUseConvert);
   convert->add_option("--depth", depth_text, "output samples: keep|uint8|uint16|half|float");
   convert->add_flag("--overwrite", job.write.overwrite, "replace an existing output");
   bool no_metadata = false;
@@ -188,27 +187,22 @@ int main(int argc, char** argv) {
   convert->add_flag("-v,--verbose", verbose, "let image libraries print their own warnings");
 
   MapsJob maps_job;
-  std::string maps_size, maps_source_size, maps_convention = "opencv";
+  std::string maps_source_size, maps_convention = "opencv";
   auto* maps = app.add_subcommand("maps", "write the source-coordinate map of a conversion (float x, y)");
   maps->add_option("output", maps_job.output, "map file: .exr or .tif (2 float channels: x, y)")->required();
   maps->add_option("--from", maps_job.from, "source projection spec")->required();
   maps->add_option("--source-size", maps_source_size, "source image size WxH")->required();
   maps->add_option("--to", maps_job.to, "target projection spec")->required();
-  maps->add_option("--size", maps_size, "output size WxH (default: as for convert)");
-  maps->add_option("--yaw", maps_job.options.yaw, "degrees, positive looks right");
-  maps->add_option("--pitch", maps_job.options.pitch, "degrees, positive looks up");
-  maps->add_option("--roll", maps_job.options.roll, "degrees, positive turns the view clockwise");
+  const TableOptions maps_options(maps, kUseMaps);
   maps->add_option("--convention", maps_convention,
                    "opencv (default: centres at integers, -1 where no source, for cv::remap) | "
                    "panoproj (centres at i + 0.5, NaN where no source)");
-  maps->add_option("--threads", maps_job.options.threads, "worker threads (default: all cores)");
   maps->add_flag("--overwrite", maps_job.write.overwrite, "replace an existing output");
 
   SweepSetup sweep;
-  std::string acc_scene = "chart", acc_from = "equirect", acc_from_size = "4096x2048", acc_to, acc_size,
+  std::string acc_scene = "chart", acc_from = "equirect", acc_from_size = "4096x2048", acc_to,
               acc_type = "uint8", acc_interp = "nearest,bilinear,bicubic,lanczos3", acc_antialias = "off,auto,mip,4",
               acc_engine = "simd,reference", acc_csv, acc_json, acc_plot;
-  double acc_yaw = 0, acc_pitch = 0, acc_roll = 0;
   bool acc_overwrite = false;
   auto* accuracy = app.add_subcommand(
       "accuracy", "measure error against time: a synthetic scene converted with each option, against its truth");
@@ -216,10 +210,7 @@ int main(int argc, char** argv) {
   accuracy->add_option("--from", acc_from, "source projection spec (default equirect)");
   accuracy->add_option("--from-size", acc_from_size, "source size WxH (default 4096x2048)");
   accuracy->add_option("--to", acc_to, "target projection spec")->required();
-  accuracy->add_option("--size", acc_size, "target size WxH (default: as for convert)");
-  accuracy->add_option("--yaw", acc_yaw, "degrees, positive looks right");
-  accuracy->add_option("--pitch", acc_pitch, "degrees, positive looks up");
-  accuracy->add_option("--roll", acc_roll, "degrees, positive turns the view clockwise");
+  const TableOptions accuracy_options(accuracy, kUseAccuracy);
   accuracy->add_option("--type", acc_type, "samples: uint8 (default) | uint16 | half | float");
   accuracy->add_option("--interp", acc_interp, "kernels to sweep (default nearest,bilinear,bicubic,lanczos3)");
   accuracy->add_option("--antialias", acc_antialias, "antialiasing to sweep (default off,auto,mip,4)");
@@ -227,7 +218,6 @@ int main(int argc, char** argv) {
                        "engines to sweep: simd (float geometry where within 1/1024 px), reference (exact double, "
                        "no antialiasing); default both");
   accuracy->add_option("--runs", sweep.runs, "timed runs per option, median reported (default 5)");
-  accuracy->add_option("--threads", sweep.threads, "worker threads (default: all cores)");
   accuracy->add_option("--truth-supersample", sweep.truth_supersample,
                        "rays per axis of each truth pixel (default 8: its area average)");
   accuracy->add_option("--csv", acc_csv, "also write the results as CSV");
@@ -239,12 +229,6 @@ int main(int argc, char** argv) {
       "stability", "round-trip every projection at its extremes and singular points; exit 1 if a bound fails");
 
   auto* info = app.add_subcommand("info", "list projections, their parameters and defaults");
-
-  std::string memory_limit_text;
-  for (auto* sub : {convert, maps, accuracy})
-    sub->add_option("--memory-limit", memory_limit_text,
-                    "bytes a job may allocate, e.g. 4G or 512M (default: the memory available now); larger "
-                    "jobs are refused before any work");
 
   try {
     app.parse(argc, argv);
@@ -273,21 +257,17 @@ int main(int argc, char** argv) {
       std::printf("\n%zu cases, %lld outside their bounds\n", results.size(), static_cast<long long>(failed));
       return failed ? 1 : 0;
     }
-    const int64_t memory_limit = memory_limit_text.empty() ? 0 : parse_memory_limit(memory_limit_text);
-    job.options.memory_limit = maps_job.options.memory_limit = memory_limit;
     if (accuracy->parsed()) {
       // Every parameter and output path is checked before the sweep.
-      check_threads(sweep.threads);
+      ConvertOptions o;
+      accuracy_options.apply(o);
+      sweep.threads = o.threads;
       if (sweep.runs < 1 || sweep.runs > 1000)
         throw Error("runs: " + std::to_string(sweep.runs) + " (expected 1 to 1000)");
       if (sweep.truth_supersample < 1 || sweep.truth_supersample > 64)
         throw Error("truth-supersample: " + std::to_string(sweep.truth_supersample) + " (expected 1 to 64)");
       for (const std::string* path : {&acc_csv, &acc_json, &acc_plot})
         if (!path->empty()) check_output_path(*path, acc_overwrite);
-      ConvertOptions o;
-      o.memory_limit = memory_limit;
-      o.yaw = acc_yaw, o.pitch = acc_pitch, o.roll = acc_roll;
-      if (!acc_size.empty()) o.size = parse_size(acc_size);
       const Plan plan = make_plan(parse_size(acc_from_size), parse_spec(acc_from), parse_spec(acc_to), o);
       sweep.scene = parse_scene(acc_scene);
       const auto type = parse_depth(acc_type);
@@ -303,7 +283,7 @@ int main(int argc, char** argv) {
                                 std::to_string(resolve_threads(sweep.threads)) + " threads, median of " +
                                 std::to_string(sweep.runs) + " runs, SIMD " + simd_target();
       // The scene, the truth and an output per option in flight (4 channels at most).
-      require_memory("the accuracy sweep", add_bytes(image_bytes(fs, 4, bytes_of(sweep.type)), image_bytes(ts, 12, bytes_of(sweep.type))), memory_limit);
+      require_memory("the accuracy sweep", add_bytes(image_bytes(fs, 4, bytes_of(sweep.type)), image_bytes(ts, 12, bytes_of(sweep.type))), o.memory_limit);
       const auto results = run_sweep(plan.source, plan.target, plan.rotation, sweep, options);
       std::printf("%s\n\n%s", about.c_str(), sweep_table(results).c_str());
       if (!acc_csv.empty()) write_text(sweep_csv(results), acc_csv, acc_overwrite);
@@ -317,7 +297,7 @@ int main(int argc, char** argv) {
     }
     if (maps->parsed()) {
       maps_job.source_size = parse_size(maps_source_size);
-      if (!maps_size.empty()) maps_job.options.size = parse_size(maps_size);
+      maps_options.apply(maps_job.options);
       if (maps_convention != "opencv" && maps_convention != "panoproj")
         throw Error("convention: " + maps_convention + " (expected opencv or panoproj)");
       maps_job.convention = maps_convention == "opencv" ? MapConvention::OpenCV : MapConvention::Panoproj;
@@ -327,12 +307,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (!from_text.empty()) job.from = from_text;
-    if (!size_text.empty()) job.options.size = parse_size(size_text);
-    job.options.interp = parse_interp(interp_text);
-    job.options.engine = parse_engine(engine_text);
-    if (!antialias_text.empty()) job.options.antialias = parse_antialias(antialias_text);
-    if (!fill_text.empty()) job.options.edges.colour = parse_fill_colour(fill_text);
-    job.options.edges.soft = job.options.add_alpha || !fill_text.empty();
+    convert_options.apply(job.options);
     job.write.type = parse_depth(depth_text);
     job.keep_metadata = !no_metadata;
     job.output = files.back();
@@ -351,7 +326,7 @@ int main(int argc, char** argv) {
                       "read %.0f%% of the source\n",
                       r.input.c_str(), dims(r.input_size, r.input_faces).c_str(), r.from.c_str(),
                       r.output.c_str(), dims(r.output_size, r.output_faces).c_str(), r.to.c_str(),
-                      r.seconds, interp_text.c_str(), name_of(antialias_of(job.options)).c_str(), engine_text.c_str(), simd_target(),
+                      r.seconds, name_of(job.options.interp), name_of(antialias_of(job.options)).c_str(), name_of(job.options.engine), simd_target(),
                       resolve_threads(job.options.threads), 100 * r.read_fraction);
           std::fflush(stdout);
         },

@@ -24,6 +24,7 @@ Conventions (the same as the ``panoproj`` command; see docs/projections.md):
 from __future__ import annotations
 
 import functools
+import inspect
 import re
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
@@ -223,12 +224,77 @@ def _fill(fill: FillLike) -> Optional[str]:
     return ",".join(repr(v) for v in values)
 
 
+# The conversion options, declared once in C++ (lib/src/engine/options.cpp): each is a keyword of
+# convert / build_map / Plan where the table says so, its value checked here by its type (a few
+# by name, for their Python forms) and handed to the row's setter.
+_OPTIONS = _core.options()
+
+
+def _option_text(name: str, v: Any) -> str:
+    if not isinstance(v, str):
+        raise TypeError(f"{name}: {v!r} (expected text)")
+    return v
+
+
+def _integer(name: str, v: Any) -> int:
+    return _int(name, v, -2**63, 2**63 - 1, "a 64-bit integer")
+
+
+_BY_TYPE = {"angle": _angle, "integer": _integer, "flag": lambda name, v: bool(v), "text": _option_text}
+# Options with Python forms of their own: (width, height) sizes, sub-pixel counts, colour tuples, byte counts.
+_BY_NAME = {
+    "size": lambda name, v: None if _size(v) is None else "%dx%d" % _size(v),
+    "threads": lambda name, v: _threads(v),
+    "antialias": lambda name, v: _antialias(v),
+    "fill": lambda name, v: _fill(v),
+    "memory_limit": lambda name, v: str(_memory_limit(v)) if _memory_limit(v) else None,
+}
+
+
+def _core_options(given: Dict[str, Any]) -> Dict[str, Any]:
+    """Keyword options as the core takes them (table order; None: not given)."""
+    out = {}
+    for o in _OPTIONS:
+        if o["name"] in given:
+            v = (_BY_NAME.get(o["name"]) or _BY_TYPE[o["type"]])(o["name"], given[o["name"]])
+            if v is not None:
+                out[o["name"]] = v
+    return out
+
+
+def _takes_options(use: str):
+    """Gives fn (whose last parameter is ``options``) the table's options for ``use`` as keyword-only
+    arguments, with their defaults, in its signature and docstring."""
+    rows = [o for o in _OPTIONS if use in o["use"]]
+    names = [o["name"] for o in rows]
+
+    def wrap(fn):
+        sig = inspect.signature(fn)
+        fixed = [p for p in sig.parameters.values() if p.name not in ("self", "options")]
+        first = [p for p in sig.parameters.values() if p.name == "self"]
+
+        @functools.wraps(fn)
+        def call(*args, **kwargs):
+            given = {k: kwargs.pop(k) for k in list(kwargs) if k in names}
+            bad = [k for k in kwargs if k not in {p.name for p in fixed}]
+            if bad:
+                raise TypeError(f"{fn.__qualname__}: unknown option {bad[0]!r} (expected one of: "
+                                f"{', '.join(names + [p.name for p in fixed if p.kind == p.KEYWORD_ONLY])})")
+            return fn(*args, options=given, **kwargs)
+
+        keywords = [inspect.Parameter(o["name"], inspect.Parameter.KEYWORD_ONLY, default=eval(o["default"]))
+                    for o in rows]
+        call.__signature__ = sig.replace(parameters=first + fixed + keywords)
+        call.__doc__ = (fn.__doc__ or "") + "\n    Options (the command's flags of the same names):\n" + "\n".join(
+            f"      {o['name']} = {o['default']}: {o['help']}" for o in rows) + "\n"
+        return call
+    return wrap
+
+
 @_one_line_type_errors
+@_takes_options("convert")
 def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Projection, None],
-            dst: Union[str, Projection], *, size: SizeLike = None, yaw: float = 0.0,
-            pitch: float = 0.0, roll: float = 0.0, interp: str = "bicubic", threads: int = 0,
-            engine: str = "simd", antialias: Union[str, int, None] = None, alpha: bool = False,
-            fill: FillLike = None, memory_limit: Union[int, str, None] = None) -> np.ndarray:
+            dst: Union[str, Projection], options: Dict[str, Any]) -> np.ndarray:
     """Converts ``image`` from projection ``src`` to ``dst`` and returns the new image.
 
     ``src=None`` takes a 2:1 image as a full equirect (as the command does); a list of six
@@ -246,16 +312,13 @@ def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Proj
     ``memory_limit`` (bytes, or ``"4G"``; default: the memory available now) bounds what the job
     allocates: a larger one raises MemoryError before any work.
     """
-    return _core.convert(image, _spec(src), _spec(dst), _size(size), _angle("yaw", yaw), _angle("pitch", pitch),
-                         _angle("roll", roll), interp, _threads(threads), engine, _antialias(antialias), bool(alpha),
-                         _fill(fill), _memory_limit(memory_limit))
+    return _core.convert(image, _spec(src), _spec(dst), _core_options(options))
 
 
 @_one_line_type_errors
-def build_map(src: Union[str, Projection], dst: Union[str, Projection],
-              source_size: SizeLike, *, size: SizeLike = None, yaw: float = 0.0,
-              pitch: float = 0.0, roll: float = 0.0, convention: str = "opencv",
-              threads: int = 0, memory_limit: Union[int, str, None] = None) -> Tuple[np.ndarray, np.ndarray]:
+@_takes_options("maps")
+def build_map(src: Union[str, Projection], dst: Union[str, Projection], source_size: SizeLike, *,
+              convention: str = "opencv", options: Dict[str, Any]) -> Tuple[np.ndarray, np.ndarray]:
     """Source-coordinate maps ``(map_x, map_y)``, float32 arrays of the output's shape.
 
     With ``convention="opencv"`` (pixel centres at integers, -1 where no source) they go straight
@@ -263,9 +326,7 @@ def build_map(src: Union[str, Projection], dst: Union[str, Projection],
     i + 0.5 and NaN where no source. Within 1/256 px of the exact map; cv2.remap itself rounds
     positions to 1/32 px and cannot wrap seams, poles or cube edges.
     """
-    return _core.build_map(_spec(src), _spec(dst), _size(source_size), _size(size), _angle("yaw", yaw),
-                           _angle("pitch", pitch), _angle("roll", roll), convention, _threads(threads),
-                           _memory_limit(memory_limit))
+    return _core.build_map(_spec(src), _spec(dst), _size(source_size), convention, _core_options(options))
 
 
 class Plan:
@@ -275,20 +336,16 @@ class Plan:
     registers; later runs reuse it. ``plan(image)`` or ``plan.run(image, out=array)`` (writes
     into a C-contiguous array of the output's shape and dtype). Safe to call from several
     threads at once. Pickles as its parameters, so it can be sent to multiprocessing, Dask or
-    Ray workers (each rebuilds its map on its first run).
+    Ray workers (each rebuilds its map on its first run). Takes convert's options.
     """
 
     __slots__ = ("_args", "_plan")
 
     @_one_line_type_errors
-    def __init__(self, src: Union[str, Projection], dst: Union[str, Projection],
-                 source_size: SizeLike, *, size: SizeLike = None, yaw: float = 0.0,
-                 pitch: float = 0.0, roll: float = 0.0, interp: str = "bicubic",
-                 threads: int = 0, engine: str = "simd", antialias: Union[str, int, None] = None,
-                 alpha: bool = False, fill: FillLike = None, memory_limit: Union[int, str, None] = None) -> None:
-        self._args = (_spec(src), _spec(dst), _size(source_size), _size(size), _angle("yaw", yaw),
-                      _angle("pitch", pitch), _angle("roll", roll), interp, _threads(threads), engine,
-                      _antialias(antialias), bool(alpha), _fill(fill), _memory_limit(memory_limit))
+    @_takes_options("convert")
+    def __init__(self, src: Union[str, Projection], dst: Union[str, Projection], source_size: SizeLike,
+                 options: Dict[str, Any]) -> None:
+        self._args = (_spec(src), _spec(dst), _size(source_size), _core_options(options))
         self._plan = _core.Plan(*self._args)
 
     @property
@@ -325,11 +382,9 @@ class Plan:
         self._plan = _core.Plan(*self._args)
 
     def __repr__(self) -> str:
-        src, dst, source_size, size, yaw, pitch, roll, interp, threads, engine, antialias, alpha, fill, limit = self._args
-        return (f"Plan({src!r}, {dst!r}, source_size={source_size}, size={self.size}, yaw={yaw}, "
-                f"pitch={pitch}, roll={roll}, interp={interp!r}, threads={threads}, "
-                f"engine={engine!r}, antialias={antialias!r}, alpha={alpha}, fill={fill!r}"
-                + (f", memory_limit={limit})" if limit else ")"))
+        src, dst, source_size, options = self._args
+        shown = "".join(f", {k}={v!r}" for k, v in options.items() if k != "size")
+        return f"Plan({src!r}, {dst!r}, source_size={source_size}, size={self.size}{shown})"
 
 
 @_one_line_type_errors

@@ -25,6 +25,7 @@
 #include "panoproj/io.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/maps.hpp"
+#include "panoproj/options.hpp"
 
 namespace py = pybind11;
 using namespace panoproj;
@@ -140,21 +141,21 @@ std::optional<ProjectionSpec> spec_of(const std::optional<std::string>& text) {
   return parse_spec(*text);
 }
 
-ConvertOptions options_of(std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
-                          const std::string& interp, int threads, const std::string& engine,
-                          const std::optional<std::string>& antialias, bool alpha = false,
-                          const std::optional<std::string>& fill = std::nullopt, int64_t memory_limit = 0) {
+// Python's keyword options, by the table's names (panoproj/__init__.py hands over those given,
+// already of the row's type: float, int, bool or str), set in the order given.
+ConvertOptions options_from(const py::dict& given, unsigned use) {
   ConvertOptions o;
-  o.memory_limit = memory_limit;
-  o.add_alpha = alpha;
-  if (fill) o.edges.colour = parse_fill_colour(*fill);
-  o.edges.soft = alpha || fill.has_value();
-  o.yaw = yaw, o.pitch = pitch, o.roll = roll;
-  o.interp = parse_interp(interp);
-  o.engine = parse_engine(engine);
-  if (antialias) o.antialias = parse_antialias(*antialias);
-  o.threads = threads;
-  if (size) o.size = Size{size->first, size->second};
+  for (const auto& [key, value] : given) {
+    const OptionDef& d = conversion_option(key.cast<std::string>(), use);
+    OptionValue v;
+    switch (d.type) {
+      case OptionType::Angle: v = value.cast<double>(); break;
+      case OptionType::Integer: v = value.cast<int64_t>(); break;
+      case OptionType::Flag: v = value.cast<bool>(); break;
+      case OptionType::Text: v = value.cast<std::string>(); break;
+    }
+    d.set(o, v);
+  }
   return o;
 }
 
@@ -168,31 +169,17 @@ Size size_pair(std::pair<int64_t, int64_t> s) {
 // (panoproj.Plan wraps it and pickles its parameters). run() may be called from several threads.
 class PyPlan {
  public:
-  struct Params {
-    std::string src, dst;
-    std::pair<int64_t, int64_t> source_size;
-    std::optional<std::pair<int64_t, int64_t>> size;
-    double yaw, pitch, roll;
-    std::string interp;
-    int threads;
-    std::string engine;
-    std::optional<std::string> antialias;
-    bool alpha;
-    std::optional<std::string> fill;
-    int64_t memory_limit;
-  };
-  explicit PyPlan(Params p)
-      : p_(std::move(p)),
-        options_(options_of(p_.size, p_.yaw, p_.pitch, p_.roll, p_.interp, p_.threads, p_.engine, p_.antialias, p_.alpha,
-                            p_.fill, p_.memory_limit)),
-        plan_(make_plan(size_pair(p_.source_size), parse_spec(p_.src), parse_spec(p_.dst), options_)),
+  PyPlan(const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size, const py::dict& options)
+      : src_(src),
+        options_(options_from(options, kUseConvert)),
+        plan_(make_plan(size_pair(source_size), parse_spec(src), parse_spec(dst), options_)),
         converter_(plan_.source, plan_.target, plan_.rotation, options_.interp, options_.engine, options_.threads,
                    true, antialias_of(options_), options_.edges) {}
   const Plan& plan() const { return plan_; }
 
   py::array run(const py::object& src, std::optional<py::array> out) const {
     py::object keep;
-    std::optional<ProjectionSpec> spec = parse_spec(p_.src);
+    std::optional<ProjectionSpec> spec = parse_spec(src_);
     const Image raw = source_of(src, keep, spec);
     Image with_alpha;
     const Image& in = source_for(raw, options_, with_alpha);
@@ -230,7 +217,7 @@ class PyPlan {
   }
 
  private:
-  Params p_;
+  std::string src_;
   ConvertOptions options_;
   Plan plan_;
   Converter converter_;
@@ -304,6 +291,18 @@ PYBIND11_MODULE(_core, m) {
     }
   });
 
+  m.def("options", [] {
+    py::list out;
+    for (const OptionDef& d : conversion_options()) {
+      py::list use;
+      for (auto [bit, name] : {std::pair{kUseConvert, "convert"}, {kUseMaps, "maps"}, {kUseAccuracy, "accuracy"}})
+        if (d.use & bit) use.append(name);
+      const char* types[] = {"angle", "integer", "flag", "text"};
+      out.append(py::dict(py::arg("name") = d.name, py::arg("type") = types[static_cast<int>(d.type)],
+                          py::arg("use") = use, py::arg("default") = d.default_text, py::arg("help") = d.help));
+    }
+    return out;
+  });
   m.def("catalog", [] {
     py::list out;
     for (const ProjectionDef& d : projection_catalog()) {
@@ -327,9 +326,7 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "convert",
       [](const py::object& src_image, std::optional<std::string> src, const std::string& dst,
-         std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
-         const std::string& interp, int threads, const std::string& engine, const std::optional<std::string>& antialias,
-         bool alpha, const std::optional<std::string>& fill, int64_t memory_limit) {
+         const py::dict& options) {
         std::optional<ProjectionSpec> from = spec_of(src);
         py::object keep;
         const Image in = source_of(src_image, keep, from);
@@ -338,9 +335,8 @@ PYBIND11_MODULE(_core, m) {
                       " image is not a 2:1 equirect (give src, e.g. 'fisheye:fov=180')");
         if (!from) from = parse_spec("equirect");
         const ProjectionSpec to = parse_spec(dst);
-        const ConvertOptions o =
-            options_of(size, yaw, pitch, roll, interp, threads, engine, antialias, alpha, fill, memory_limit);
-        const bool flat = py::isinstance<py::array>(src_image) && src_image.cast<py::array>().ndim() == 2 && !alpha;
+        const ConvertOptions o = options_from(options, kUseConvert);
+        const bool flat = py::isinstance<py::array>(src_image) && src_image.cast<py::array>().ndim() == 2 && !o.add_alpha;
         Image out;
         {
           py::gil_scoped_release unlocked;
@@ -348,21 +344,18 @@ PYBIND11_MODULE(_core, m) {
         }
         return array_of(std::move(out), flat);
       },
-      py::arg("image"), py::arg("src"), py::arg("dst"), py::arg("size"), py::arg("yaw"), py::arg("pitch"),
-      py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"), py::arg("antialias"),
-      py::arg("alpha") = false, py::arg("fill") = std::nullopt, py::arg("memory_limit") = 0);
+      py::arg("image"), py::arg("src"), py::arg("dst"), py::arg("options"));
 
   m.def(
       "build_map",
       [](const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size,
-         std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
-         const std::string& convention, int threads, int64_t memory_limit) {
-        const ConvertOptions o =
-            options_of(size, yaw, pitch, roll, "bilinear", threads, "simd", std::nullopt, false, std::nullopt, memory_limit);
+         const std::string& convention, const py::dict& options) {
+        ConvertOptions o = options_from(options, kUseMaps);
+        o.interp = Interp::Bilinear;
         const Plan plan = make_plan(size_pair(source_size), parse_spec(src), parse_spec(dst), o);
         // The 2-float map and the two arrays split from it.
         require_memory("map " + size_text(size_of(plan.target)), image_bytes(size_of(plan.target), 4, sizeof(float)),
-                       memory_limit);
+                       o.memory_limit);
         MapConvention c;
         if (convention == "opencv") c = MapConvention::OpenCV;
         else if (convention == "panoproj") c = MapConvention::Panoproj;
@@ -370,25 +363,15 @@ PYBIND11_MODULE(_core, m) {
         Image map;
         {
           py::gil_scoped_release unlocked;
-          map = build_map(plan.source, plan.target, plan.rotation, c, threads);
+          map = build_map(plan.source, plan.target, plan.rotation, c, o.threads);
         }
         return split_map(std::move(map));
       },
-      py::arg("src"), py::arg("dst"), py::arg("source_size"), py::arg("size"), py::arg("yaw"), py::arg("pitch"),
-      py::arg("roll"), py::arg("convention"), py::arg("threads"), py::arg("memory_limit") = 0);
+      py::arg("src"), py::arg("dst"), py::arg("source_size"), py::arg("convention"), py::arg("options"));
 
   py::class_<PyPlan>(m, "Plan")
-      .def(py::init([](const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size,
-                       std::optional<std::pair<int64_t, int64_t>> size, double yaw, double pitch, double roll,
-                       const std::string& interp, int threads, const std::string& engine,
-                       std::optional<std::string> antialias, bool alpha, std::optional<std::string> fill,
-                       int64_t memory_limit) {
-             return std::make_unique<PyPlan>(PyPlan::Params{src, dst, source_size, size, yaw, pitch, roll, interp, threads,
-                                                            engine, antialias, alpha, fill, memory_limit});
-           }),
-           py::arg("src"), py::arg("dst"), py::arg("source_size"), py::arg("size"), py::arg("yaw"),
-           py::arg("pitch"), py::arg("roll"), py::arg("interp"), py::arg("threads"), py::arg("engine"),
-           py::arg("antialias"), py::arg("alpha") = false, py::arg("fill") = std::nullopt, py::arg("memory_limit") = 0)
+      .def(py::init<const std::string&, const std::string&, std::pair<int64_t, int64_t>, const py::dict&>(),
+           py::arg("src"), py::arg("dst"), py::arg("source_size"), py::arg("options"))
       .def("run", &PyPlan::run, py::arg("image"), py::arg("out") = std::nullopt)
       .def_property_readonly("size", [](const PyPlan& p) {
         const Size s = size_of(p.plan().target);

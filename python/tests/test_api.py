@@ -20,6 +20,22 @@ def test_every_catalogue_projection_is_exported():
     assert pp.DualFisheye().name == "dual-fisheye"
 
 
+def test_every_table_option_is_a_keyword_where_the_table_says():
+    import inspect
+    rows = pp._core.options()
+    for fn, use in ((pp.convert, "convert"), (pp.build_map, "maps"), (pp.Plan.__init__, "convert")):
+        params = inspect.signature(fn).parameters
+        for o in rows:
+            assert (o["name"] in params) == (use in o["use"]), (fn, o["name"])
+            if use in o["use"]:
+                assert params[o["name"]].kind is inspect.Parameter.KEYWORD_ONLY
+                assert o["help"] in fn.__doc__
+    with pytest.raises(TypeError, match="unknown option 'zoom'"):
+        pp.convert(np.zeros((8, 16, 3), np.uint8), "equirect", "pinhole", zoom=2)
+    with pytest.raises(TypeError, match="unknown option 'interp'"):
+        pp.build_map("equirect", "pinhole", (16, 8), interp="bicubic")
+
+
 def test_keyword_constructors_and_spec_text_agree():
     f = pp.Fisheye(fov=180, model="equisolid")
     assert str(f) == "fisheye:fov=180,model=equisolid"

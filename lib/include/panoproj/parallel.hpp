@@ -8,7 +8,7 @@ namespace panoproj {
 
 // Throws Error unless 0 (all cores) <= threads <= kMaxThreads.
 inline constexpr int kMaxThreads = 1024;
-void check_threads(int threads);
+void check_threads(int64_t threads);
 int resolve_threads(int threads);
 // Splits rows [0, rows) into contiguous bands, one per worker.
 void parallel_rows(int64_t rows, int threads, const std::function<void(int64_t, int64_t)>& band);

@@ -41,7 +41,7 @@ class FirstError {
 
 }  // namespace
 
-void check_threads(int threads) {
+void check_threads(int64_t threads) {
   if (threads < 0 || threads > kMaxThreads)
     throw Error("threads: " + std::to_string(threads) + " (expected 0 for all cores, or 1 to " +
                 std::to_string(kMaxThreads) + ")");

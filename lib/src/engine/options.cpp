@@ -1,0 +1,110 @@
+// The conversion options table (options.hpp).
+#include "panoproj/options.hpp"
+
+#include <algorithm>
+
+#include "panoproj/antialias.hpp"
+#include "panoproj/edge_fill.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/interpolator.hpp"
+#include "panoproj/limits.hpp"
+#include "panoproj/parallel.hpp"
+
+namespace panoproj {
+namespace {
+
+template <class T>
+const T& value_as(const OptionValue& v, const char* name) {
+  if (const T* p = std::get_if<T>(&v)) return *p;
+  throw InternalError(std::string("option ") + name + " was handed a value of another type");
+}
+
+std::vector<OptionDef> make_options() {
+  constexpr unsigned kAll = kUseConvert | kUseMaps | kUseAccuracy;
+  return {
+      {"size", OptionType::Text, kAll, "None",
+       "output size WxH (cube faces: one face); default: the source's resolution at the target's centre, square pixels",
+       [](ConvertOptions& o, const OptionValue& v) { o.size = parse_size(value_as<std::string>(v, "size")); }},
+      {"yaw", OptionType::Angle, kAll, "0.0", "degrees, positive looks right",
+       [](ConvertOptions& o, const OptionValue& v) { o.yaw = value_as<double>(v, "yaw"); }},
+      {"pitch", OptionType::Angle, kAll, "0.0", "degrees, positive looks up",
+       [](ConvertOptions& o, const OptionValue& v) { o.pitch = value_as<double>(v, "pitch"); }},
+      {"roll", OptionType::Angle, kAll, "0.0", "degrees, positive turns the view clockwise",
+       [](ConvertOptions& o, const OptionValue& v) { o.roll = value_as<double>(v, "roll"); }},
+      {"interp", OptionType::Text, kUseConvert, "'bicubic'",
+       "nearest|bilinear|bicubic|lanczos3|bicubic-dering|lanczos3-dering (default bicubic; -dering: no ringing)",
+       [](ConvertOptions& o, const OptionValue& v) { o.interp = parse_interp(value_as<std::string>(v, "interp")); }},
+      {"threads", OptionType::Integer, kAll, "0", "worker threads (default 0: all cores)",
+       [](ConvertOptions& o, const OptionValue& v) {
+         const int64_t n = value_as<int64_t>(v, "threads");
+         check_threads(n);
+         o.threads = static_cast<int>(n);
+       }},
+      {"engine", OptionType::Text, kUseConvert, "'simd'",
+       "simd (default) | scalar (same tiles, no SIMD) | reference (exact, slow)",
+       [](ConvertOptions& o, const OptionValue& v) { o.engine = parse_engine(value_as<std::string>(v, "engine")); }},
+      {"antialias", OptionType::Text, kUseConvert, "None",
+       "auto (default: where the output shrinks the source, each pixel the area-weighted mean of the source pixels "
+       "under its footprint) | off | mip (mip levels) | N (N x N sub-pixels, 2..16); the reference engine has none",
+       [](ConvertOptions& o, const OptionValue& v) { o.antialias = parse_antialias(value_as<std::string>(v, "antialias")); }},
+      {"alpha", OptionType::Flag, kUseConvert, "False",
+       "output alpha: 0 where there is no source, the covered share of each pixel on the field's edge (antialiased "
+       "edges; a source without alpha gets an opaque one)",
+       [](ConvertOptions& o, const OptionValue& v) {
+         o.add_alpha = value_as<bool>(v, "alpha");
+         o.edges.soft = o.edges.soft || o.add_alpha;
+       }},
+      {"fill", OptionType::Text, kUseConvert, "None",
+       "colour where there is no source, blended into the field's antialiased edge: R,G,B[,A] in unit range (1,1,1 "
+       "is white) or #rrggbb[aa] (default: 0, or alpha 0)",
+       [](ConvertOptions& o, const OptionValue& v) {
+         o.edges.colour = parse_fill_colour(value_as<std::string>(v, "fill"));
+         o.edges.soft = true;
+       }},
+      {"memory_limit", OptionType::Text, kAll, "None",
+       "bytes a job may allocate, e.g. 4G or 512M (default: the memory available now); larger jobs are refused "
+       "before any work",
+       [](ConvertOptions& o, const OptionValue& v) {
+         o.memory_limit = parse_memory_limit(value_as<std::string>(v, "memory_limit"));
+       }},
+  };
+}
+
+}  // namespace
+
+const std::vector<OptionDef>& conversion_options() {
+  static const std::vector<OptionDef> options = make_options();
+  return options;
+}
+
+const OptionDef& conversion_option(std::string_view name, unsigned use) {
+  std::string names;
+  for (const OptionDef& d : conversion_options()) {
+    if (!(d.use & use)) continue;
+    if (name == d.name) return d;
+    names += (names.empty() ? "" : ", ") + std::string(d.name);
+  }
+  throw Error("unknown option '" + std::string(name) + "' (expected one of: " + names + ")");
+}
+
+std::string flag_of(const OptionDef& option) {
+  std::string flag = std::string("--") + option.name;
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  return flag;
+}
+
+Size parse_size(std::string_view text, std::string_view what) {
+  const std::string t(text);
+  const auto x = t.find('x');
+  if (x != std::string::npos) {
+    try {
+      size_t a = 0, b = 0;
+      const long long w = std::stoll(t.substr(0, x), &a), h = std::stoll(t.substr(x + 1), &b);
+      if (a == x && b == t.size() - x - 1 && w > 0 && h > 0) return {w, h};
+    } catch (const std::exception&) {
+    }
+  }
+  throw Error(std::string(what) + ": " + t + " (expected WxH with positive integers, e.g. 2048x1024)");
+}
+
+}  // namespace panoproj

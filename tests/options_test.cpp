@@ -1,0 +1,96 @@
+// The conversion options table: every row sets its ConvertOptions field from its type's value,
+// refuses bad values naming itself, and is offered by the command for each subcommand it names.
+#include "panoproj/options.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <memory>
+
+#include "panoproj/error.hpp"
+
+namespace panoproj {
+namespace {
+
+// A valid value of each row, and the field it must change from the default.
+struct Good {
+  const char* name;
+  OptionValue value;
+  bool (*changed)(const ConvertOptions&);
+};
+const Good kGood[] = {
+    {"size", std::string("640x480"), [](const ConvertOptions& o) { return o.size == Size{640, 480}; }},
+    {"yaw", 12.5, [](const ConvertOptions& o) { return o.yaw == 12.5; }},
+    {"pitch", -3.0, [](const ConvertOptions& o) { return o.pitch == -3.0; }},
+    {"roll", 1e-9, [](const ConvertOptions& o) { return o.roll == 1e-9; }},
+    {"interp", std::string("lanczos3"), [](const ConvertOptions& o) { return o.interp == Interp::Lanczos3; }},
+    {"threads", int64_t{3}, [](const ConvertOptions& o) { return o.threads == 3; }},
+    {"engine", std::string("scalar"), [](const ConvertOptions& o) { return o.engine == Engine::Scalar; }},
+    {"antialias", std::string("4"), [](const ConvertOptions& o) { return o.antialias.has_value(); }},
+    {"alpha", true, [](const ConvertOptions& o) { return o.add_alpha && o.edges.soft; }},
+    {"fill", std::string("#ff0000"), [](const ConvertOptions& o) { return o.edges.colour && (*o.edges.colour)[0] == 1.0 && o.edges.soft; }},
+    {"memory_limit", std::string("2G"), [](const ConvertOptions& o) { return o.memory_limit == 2000000000; }},
+};
+
+TEST(Options, EveryRowSetsItsFieldAndHasACase) {
+  EXPECT_EQ(conversion_options().size(), std::size(kGood));  // a new row needs a case here
+  for (const Good& g : kGood) {
+    ConvertOptions o;
+    EXPECT_FALSE(g.changed(o)) << g.name;
+    conversion_option(g.name, kUseConvert).set(o, g.value);
+    EXPECT_TRUE(g.changed(o)) << g.name;
+  }
+}
+
+TEST(Options, BadValuesNameTheOption) {
+  auto error_of = [](const char* name, OptionValue v) -> std::string {
+    ConvertOptions o;
+    try {
+      conversion_option(name, kUseConvert).set(o, v);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(error_of("size", std::string("0x5")), "size: 0x5 (expected WxH with positive integers, e.g. 2048x1024)");
+  EXPECT_EQ(error_of("threads", int64_t{1} << 40), "threads: 1099511627776 (expected 0 for all cores, or 1 to 1024)");
+  EXPECT_NE(error_of("interp", std::string("cubic")).find("cubic"), std::string::npos);
+  EXPECT_NE(error_of("memory_limit", std::string("lots")).find("memory limit: lots"), std::string::npos);
+  // A name a call does not take, and a value of another type (a front end's bug).
+  EXPECT_THROW(conversion_option("interp", kUseMaps), Error);
+  try {
+    conversion_option("zoom", kUseConvert);
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("unknown option 'zoom' (expected one of: size, yaw, pitch, roll, ", 0), 0u);
+  }
+  ConvertOptions o;
+  EXPECT_THROW(conversion_option("yaw", kUseConvert).set(o, std::string("10")), InternalError);
+}
+
+// The command offers each row on each subcommand the row names, and no other.
+TEST(Options, TheCommandOffersEachRowWhereTheTableSays) {
+  auto help = [](const char* sub) {
+    std::string out;
+    const std::unique_ptr<FILE, int (*)(FILE*)> p(popen((std::string(PANOPROJ_CLI) + " " + sub + " --help").c_str(), "r"),
+                                                 pclose);
+    char buf[4096];
+    while (p && std::fgets(buf, sizeof buf, p.get())) out += buf;
+    return out;
+  };
+  for (auto [sub, use] : {std::pair{"convert", kUseConvert}, {"maps", kUseMaps}, {"accuracy", kUseAccuracy}}) {
+    const std::string text = help(sub);
+    for (const OptionDef& d : conversion_options()) {
+      const bool offered = text.find(flag_of(d) + " ") != std::string::npos;
+      // (accuracy has sweep lists of its own under --interp, --engine and --antialias)
+      if (d.use & use) {
+        EXPECT_TRUE(offered) << sub << " " << flag_of(d);
+      } else if (use != kUseAccuracy) {
+        EXPECT_FALSE(offered) << sub << " " << flag_of(d);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace panoproj
