@@ -173,8 +173,7 @@ class PyPlan {
       : src_(src),
         options_(options_from(options, kUseConvert)),
         plan_(make_plan(size_pair(source_size), parse_spec(src), parse_spec(dst), options_)),
-        converter_(plan_.source, plan_.target, plan_.rotation, options_.interp, options_.engine, options_.threads,
-                   true, antialias_of(options_), options_.edges) {}
+        converter_(converter_for(plan_, options_, true)) {}
   const Plan& plan() const { return plan_; }
 
   py::array run(const py::object& src, std::optional<py::array> out) const {

@@ -51,5 +51,8 @@ void require_job_memory(const Plan& plan, int channels, PixelType type, const Co
                         uint64_t more);
 Image convert(const Image& source, const ProjectionSpec& from, const ProjectionSpec& to,
               const ConvertOptions& options);
+// The plan's Converter with the options' kernel, engine, threads, antialiasing and edges
+// (cache_map: keep the tile maps for many runs).
+Converter converter_for(const Plan& plan, const ConvertOptions& options, bool cache_map = false);
 
 }  // namespace panoproj

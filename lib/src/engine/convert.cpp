@@ -63,9 +63,12 @@ Image convert(const Image& source, const ProjectionSpec& from, const ProjectionS
   const Plan plan = make_plan(source.size(), from, to, options);
   require_job_memory(plan, source.channels(), source.type(), options, 0);
   Image storage;
-  return Converter(plan.source, plan.target, plan.rotation, options.interp, options.engine, options.threads, false,
-                   antialias_of(options), options.edges)
-      .run(source_for(source, options, storage));
+  return converter_for(plan, options).run(source_for(source, options, storage));
+}
+
+Converter converter_for(const Plan& plan, const ConvertOptions& options, bool cache_map) {
+  return Converter(plan.source, plan.target, plan.rotation, options.interp, options.engine, options.threads, cache_map,
+                   antialias_of(options), options.edges);
 }
 
 }  // namespace panoproj

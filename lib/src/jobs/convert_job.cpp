@@ -180,8 +180,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const uint64_t written = out_type == type ? 0 : image_bytes(out_size, channels + 1, bytes_of(out_type));
   require_job_memory(plan, channels, type, options, add_bytes(cache ? map_bytes : 0, written));
   const auto t_map = std::chrono::steady_clock::now();
-  const Converter converter(plan.source, plan.target, plan.rotation, options.interp, options.engine,
-                            options.threads, cache, antialias_of(options), options.edges);
+  const Converter converter = converter_for(plan, options, cache);
   const Converter::Region need = converter.source_footprint();
   // The output and maps, counted with the source's needed part when it is read (from its header,
   // before any pixel is decoded; a forged header is refused by the file's size first).
