@@ -109,25 +109,22 @@ class TableOptions {
   TableOptions(CLI::App* sub, unsigned use) {
     for (const OptionDef& d : conversion_options()) {
       if (!(d.use & use)) continue;
-      Row& r = rows_.emplace_back(Row{&d, {}, nullptr});
-      const std::string flag = flag_of(d);
-      switch (d.type) {
-        case OptionType::Angle: r.option = sub->add_option(flag, r.value.emplace<double>(), d.help); break;
-        case OptionType::Integer: r.option = sub->add_option(flag, r.value.emplace<int64_t>(), d.help); break;
-        case OptionType::Flag: r.option = sub->add_flag(flag, r.value.emplace<bool>(), d.help); break;
-        case OptionType::Text: r.option = sub->add_option(flag, r.value.emplace<std::string>(), d.help); break;
-      }
+      Row& r = rows_.emplace_back(Row{&d, {}, false, nullptr});
+      // Flags as flags; values as text, which the table's types parse (CLI11 saturates integers).
+      r.option = d.type == OptionType::Flag ? sub->add_flag(flag_of(d), r.flag, d.help)
+                                            : sub->add_option(flag_of(d), r.text, d.help);
     }
   }
   void apply(ConvertOptions& options) const {
     for (const Row& r : rows_)
-      if (r.option->count() > 0) r.def->set(options, r.value);
+      if (r.option->count() > 0) r.def->set(options, r.def->type == OptionType::Flag ? OptionValue(r.flag) : option_value(*r.def, r.text));
   }
 
  private:
   struct Row {
     const OptionDef* def;
-    OptionValue value;
+    std::string text;
+    bool flag;
     CLI::Option* option;
   };
   std::deque<Row> rows_;  // (stable addresses: CLI11 keeps pointers into the values)

@@ -2,6 +2,8 @@
 #include "panoproj/options.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdlib>
 
 #include "panoproj/antialias.hpp"
 #include "panoproj/edge_fill.hpp"
@@ -91,6 +93,28 @@ std::string flag_of(const OptionDef& option) {
   std::string flag = std::string("--") + option.name;
   std::replace(flag.begin(), flag.end(), '_', '-');
   return flag;
+}
+
+OptionValue option_value(const OptionDef& option, const std::string& text) {
+  char* end = nullptr;
+  errno = 0;
+  switch (option.type) {
+    case OptionType::Angle: {
+      const double v = std::strtod(text.c_str(), &end);
+      if (text.empty() || end != text.c_str() + text.size())
+        throw Error(flag_of(option) + ": " + text + " is not a number (expected degrees)");
+      return v;
+    }
+    case OptionType::Integer: {
+      const long long v = std::strtoll(text.c_str(), &end, 10);
+      if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE)
+        throw Error(flag_of(option) + ": " + text + " is not a 64-bit integer");
+      return static_cast<int64_t>(v);
+    }
+    case OptionType::Flag: return true;
+    case OptionType::Text: return text;
+  }
+  throw InternalError("option type");
 }
 
 Size parse_size(std::string_view text, std::string_view what) {
