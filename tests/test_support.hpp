@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <stdlib.h>  // mkdtemp
+
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -158,18 +160,20 @@ inline Image pattern(Size s, int nc, PixelType t, int alpha) {
 
 class TempDirTest : public ::testing::Test {
  protected:
+  // A fresh folder per run (mkdtemp): runs of two checkouts at once must not share one.
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("panoproj_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
+    std::string dir = (std::filesystem::temp_directory_path() /
+                       ("panoproj_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+                        "_XXXXXX"))
+                          .string();
+    ASSERT_NE(::mkdtemp(dir.data()), nullptr) << dir;
+    dir_ = dir;
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::filesystem::path dir_;
 };
 
-// Angle between two rays, robust for tiny angles.
 // A test name from a case's parts: its index (unique, in table order) and its text with every
 // character GoogleTest does not allow in names made '_' ("fisheye:fov=200" -> "3_fisheye_fov_200").
 inline std::string case_name(size_t index, const std::string& text) {
@@ -179,6 +183,7 @@ inline std::string case_name(size_t index, const std::string& text) {
   return s;
 }
 
+// Angle between two rays, robust for tiny angles.
 inline double angle(const Ray& a, const Ray& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
