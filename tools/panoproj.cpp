@@ -5,8 +5,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <deque>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -110,14 +110,16 @@ class TableOptions {
     for (const OptionDef& d : conversion_options()) {
       if (!(d.use & use)) continue;
       Row& r = rows_.emplace_back(Row{&d, {}, false, nullptr});
-      // Flags as flags; values as text, which the table's types parse (CLI11 saturates integers).
+      // Flags bound to a bool (CLI11 refuses --alpha=maybe); values as text, which the table's
+      // types parse (CLI11 saturates integers).
       r.option = d.type == OptionType::Flag ? sub->add_flag(flag_of(d), r.flag, d.help)
                                             : sub->add_option(flag_of(d), r.text, d.help);
     }
   }
   void apply(ConvertOptions& options) const {
     for (const Row& r : rows_)
-      if (r.option->count() > 0) r.def->set(options, r.def->type == OptionType::Flag ? OptionValue(r.flag) : option_value(*r.def, r.text));
+      if (r.option->count() > 0)
+        r.def->set(options, r.def->type == OptionType::Flag ? OptionValue(r.flag) : option_value(*r.def, r.text));
   }
 
  private:
@@ -127,7 +129,7 @@ class TableOptions {
     bool flag;
     CLI::Option* option;
   };
-  std::deque<Row> rows_;  // (stable addresses: CLI11 keeps pointers into the values)
+  std::deque<Row> rows_;  // (stable addresses: CLI11 keeps pointers to text and flag)
 };
 
 void print_info() {

@@ -23,6 +23,7 @@ Conventions (the same as the ``panoproj`` command; see docs/projections.md):
 
 from __future__ import annotations
 
+import ast
 import functools
 import inspect
 import re
@@ -240,25 +241,36 @@ def _integer(name: str, v: Any) -> int:
     return _int(name, v, -2**63, 2**63 - 1, "a 64-bit integer")
 
 
+def _size_text(name: str, v: Any) -> Optional[str]:
+    size = _size(v)
+    return None if size is None else "%dx%d" % size
+
+
+def _bytes_text(name: str, v: Any) -> Optional[str]:
+    limit = _memory_limit(v)
+    return str(limit) if limit else None
+
+
 _BY_TYPE = {"angle": _angle, "integer": _integer, "flag": lambda name, v: bool(v), "text": _option_text}
 # Options with Python forms of their own: (width, height) sizes, sub-pixel counts, colour tuples, byte counts.
 _BY_NAME = {
-    "size": lambda name, v: None if _size(v) is None else "%dx%d" % _size(v),
+    "size": _size_text,
     "threads": lambda name, v: _threads(v),
     "antialias": lambda name, v: _antialias(v),
     "fill": lambda name, v: _fill(v),
-    "memory_limit": lambda name, v: str(_memory_limit(v)) if _memory_limit(v) else None,
+    "memory_limit": _bytes_text,
 }
+_CHECKS = {o["name"]: _BY_NAME.get(o["name"]) or _BY_TYPE[o["type"]] for o in _OPTIONS}
 
 
 def _core_options(given: Dict[str, Any]) -> Dict[str, Any]:
     """Keyword options as the core takes them (table order; None: not given)."""
     out = {}
-    for o in _OPTIONS:
-        if o["name"] in given:
-            v = (_BY_NAME.get(o["name"]) or _BY_TYPE[o["type"]])(o["name"], given[o["name"]])
+    for name, check in _CHECKS.items():
+        if name in given:
+            v = check(name, given[name])
             if v is not None:
-                out[o["name"]] = v
+                out[name] = v
     return out
 
 
@@ -272,17 +284,18 @@ def _takes_options(use: str):
         sig = inspect.signature(fn)
         fixed = [p for p in sig.parameters.values() if p.name not in ("self", "options")]
         first = [p for p in sig.parameters.values() if p.name == "self"]
+        own = {p.name for p in fixed}
+        expected = ", ".join(names + [p.name for p in fixed if p.kind == p.KEYWORD_ONLY])
 
         @functools.wraps(fn)
         def call(*args, **kwargs):
             given = {k: kwargs.pop(k) for k in list(kwargs) if k in names}
-            bad = [k for k in kwargs if k not in {p.name for p in fixed}]
+            bad = [k for k in kwargs if k not in own]
             if bad:
-                raise TypeError(f"{fn.__qualname__}: unknown option {bad[0]!r} (expected one of: "
-                                f"{', '.join(names + [p.name for p in fixed if p.kind == p.KEYWORD_ONLY])})")
+                raise TypeError(f"{fn.__qualname__}: unknown option {bad[0]!r} (expected one of: {expected})")
             return fn(*args, options=given, **kwargs)
 
-        keywords = [inspect.Parameter(o["name"], inspect.Parameter.KEYWORD_ONLY, default=eval(o["default"]))
+        keywords = [inspect.Parameter(o["name"], inspect.Parameter.KEYWORD_ONLY, default=ast.literal_eval(o["default"]))
                     for o in rows]
         call.__signature__ = sig.replace(parameters=first + fixed + keywords)
         call.__doc__ = (fn.__doc__ or "") + "\n    Options (the command's flags of the same names):\n" + "\n".join(
@@ -298,19 +311,11 @@ def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Proj
     """Converts ``image`` from projection ``src`` to ``dst`` and returns the new image.
 
     ``src=None`` takes a 2:1 image as a full equirect (as the command does); a list of six
-    arrays is a cubemap's faces. ``size`` is the output's (width, height); by default the
-    output keeps the source's resolution at its centre. ``yaw`` turns the view right, ``pitch``
-    up, ``roll`` clockwise (applied roll, pitch, then yaw). ``interp``: nearest, bilinear,
-    bicubic, lanczos3, or bicubic-dering / lanczos3-dering (clamped to the 2x2 taps around each
-    sample: no ringing at sharp edges). ``threads=0`` uses every core. ``antialias``: ``"auto"``
-    (where the output shrinks the source, each pixel the area-weighted mean of the source pixels
-    under its footprint), ``"off"``, ``"mip"`` (mip levels) or ``N`` (N x N sub-pixels); None:
-    auto, off for the reference engine. The result has the input's dtype and channels; pixels
-    without a source are 0 (alpha 0). ``alpha=True`` adds an alpha channel if there is none and antialiases
-    the field's edge (alpha = each edge pixel's covered share); ``fill`` (``(r, g, b[, a])`` in unit
-    range, or ``"#rrggbb"``) colours what has no source, blended into the antialiased edge.
-    ``memory_limit`` (bytes, or ``"4G"``; default: the memory available now) bounds what the job
-    allocates: a larger one raises MemoryError before any work.
+    arrays is a cubemap's faces. The result has the input's dtype and channels; pixels without a
+    source are 0 (alpha 0). In Python, ``size`` is ``(width, height)`` (or ``"WxH"``),
+    ``antialias`` may be a sub-pixel count ``N``, ``fill`` a tuple ``(r, g, b[, a])`` in unit range,
+    and ``memory_limit`` a byte count or text such as ``"4G"``; a job over it raises MemoryError
+    before any work.
     """
     return _core.convert(image, _spec(src), _spec(dst), _core_options(options))
 

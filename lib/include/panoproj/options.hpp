@@ -37,8 +37,8 @@ const std::vector<OptionDef>& conversion_options();
 const OptionDef& conversion_option(std::string_view name, unsigned use);
 // "--memory-limit" for "memory_limit".
 std::string flag_of(const OptionDef& option);
-// The command's text of a non-flag option as its type's value ("nan" and "inf" pass as numbers:
-// the plan names them); throws Error naming the flag for text that is not one.
+// The command's text of a value option as its type's value ("nan" and "inf" pass as numbers: the
+// plan names them); throws Error naming the flag for text that is not one. (Flags have no text.)
 OptionValue option_value(const OptionDef& option, const std::string& text);
 
 // "WxH", both positive integers; throws Error naming `what`.

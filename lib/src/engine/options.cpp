@@ -111,10 +111,10 @@ OptionValue option_value(const OptionDef& option, const std::string& text) {
         throw Error(flag_of(option) + ": " + text + " is not a 64-bit integer");
       return static_cast<int64_t>(v);
     }
-    case OptionType::Flag: return true;
     case OptionType::Text: return text;
+    case OptionType::Flag: break;
   }
-  throw InternalError("option type");
+  throw InternalError(flag_of(option) + " is a flag: it has no text to parse");
 }
 
 Size parse_size(std::string_view text, std::string_view what) {

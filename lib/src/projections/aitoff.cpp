@@ -19,7 +19,6 @@ Projection rescale(const Projection& p, Size size, double, double) { return Aito
 
 }  // namespace
 
-const ProjectionModule kAitoffModule{catalog, [](const ProjectionSpec&) {}, make, size_for, rescale,
-                                     [](const Projection&) { return true; }};
+const ProjectionModule kAitoffModule{catalog, nullptr, make, size_for, rescale, always};
 
 }  // namespace panoproj

@@ -66,7 +66,6 @@ Projection rescale(const Projection& p, Size size, double, double) {
 
 }  // namespace
 
-const ProjectionModule kBonneModule{catalog, [](const ProjectionSpec&) {}, make, size_for, rescale,
-                                    [](const Projection&) { return true; }};
+const ProjectionModule kBonneModule{catalog, nullptr, make, size_for, rescale, always};
 
 }  // namespace panoproj

@@ -103,7 +103,6 @@ Projection rescale(const Projection& p, Size size, double, double) {
 
 }  // namespace
 
-const ProjectionModule kCubemapModule{catalog, [](const ProjectionSpec&) {}, make, size_for, rescale,
-                                      [](const Projection&) { return true; }};
+const ProjectionModule kCubemapModule{catalog, nullptr, make, size_for, rescale, always};
 
 }  // namespace panoproj

@@ -28,7 +28,6 @@ Projection rescale(const Projection& p, Size size, double, double) {
 
 }  // namespace
 
-const ProjectionModule kHammerModule{catalog, [](const ProjectionSpec&) {}, make, size_for, rescale,
-                                     [](const Projection&) { return true; }};
+const ProjectionModule kHammerModule{catalog, nullptr, make, size_for, rescale, always};
 
 }  // namespace panoproj

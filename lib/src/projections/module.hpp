@@ -13,7 +13,7 @@ namespace panoproj {
 struct ProjectionModule {
   // Its catalogue entries (names, keys, defaults, ranges; kind is filled in by the catalogue).
   std::vector<ProjectionDef> (*catalog)();
-  // Validation that does not depend on the frame; throws Error naming the key.
+  // Validation that does not depend on the frame; throws Error naming the key. Null: none.
   void (*check)(const ProjectionSpec& spec);
   // The projection on a frame of `size` (checked and non-empty); throws Error.
   Projection (*make)(const ProjectionSpec& spec, Size size);
@@ -26,6 +26,9 @@ struct ProjectionModule {
   // null: never.
   bool (*whole_sphere)(const Projection& p) = nullptr;
 };
+
+// whole_sphere of the forms that always show it.
+inline bool always(const Projection&) { return true; }
 
 #define PANOPROJ_MODULE_(Type) extern const ProjectionModule k##Type##Module;
 PANOPROJ_PROJECTIONS(PANOPROJ_MODULE_)

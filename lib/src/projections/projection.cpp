@@ -24,7 +24,7 @@ const ProjectionModule& module_of(const Projection& p) { return module_of(static
 
 Projection make_projection(const ProjectionSpec& s, Size size) {
   const ProjectionModule& m = module_of(s.kind());
-  m.check(s);
+  if (m.check) m.check(s);
   if (size.width < 1 || size.height < 1) {
     std::ostringstream o;
     o << "size " << size.width << "x" << size.height << " is empty (expected at least 1x1)";
@@ -35,7 +35,7 @@ Projection make_projection(const ProjectionSpec& s, Size size) {
 
 Size default_size(const ProjectionSpec& s, double density) {
   const ProjectionModule& m = module_of(s.kind());
-  m.check(s);
+  if (m.check) m.check(s);
   return m.default_size(s, density);
 }
 
