@@ -5,10 +5,12 @@
 // The same with the grid (cubic interpolation between exact nodes, SimdGeometry::grid), on the
 // widest and the narrowest target: within the same bound, validity the same, and near 1:1 scale
 // it interpolates most cells.
-#include "geometry/simd_geometry.hpp"
+#include "simd/geometry.hpp"
 
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
+
+#include <limits>
 
 #include "panoproj/rotation.hpp"
 #include "test_support.hpp"
@@ -177,6 +179,24 @@ TEST(SimdGeometry, SeparableFormOnlyForTurnsAboutTheVertical) {
   EXPECT_FALSE(separable(cube, up, 30, 0, 0));
   EXPECT_FALSE(separable(cube, first, 30, 1, 0));
   EXPECT_FALSE(separable(fish, first, 0, 0, 0));
+}
+
+// "Unbounded" limits (an unclipped stereographic fisheye's law, an unclipped source's psi_max)
+// are 1e300 in double lanes and infinity in float lanes, never a converted overflow.
+TEST(SimdGeometry, UnboundedLimitsStayUnboundedInFloatLanes) {
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(simd::lane<float>(1e300), inf);
+  EXPECT_EQ(simd::lane<float>(-1e300), -inf);
+  EXPECT_EQ(simd::lane<float>(0.1), 0.1f);
+  EXPECT_EQ(simd::lane<double>(1e300), 1e300);
+  const Projection e = make_projection(parse_spec("equirect"), {512, 256});
+  const Projection stereo = make_projection(parse_spec("fisheye:fov=300,model=stereographic,clip=none"), {256, 256});
+  SimdGeometry g;
+  ASSERT_TRUE(simd_geometry_for(e, stereo, Eigen::Matrix3d::Identity(), {0, 0, 64, 64}, g));
+  EXPECT_EQ(g.lf.target.fisheye.law_max, inf);
+  EXPECT_EQ(g.ld.target.fisheye.law_max, 1e300);
+  ASSERT_TRUE(simd_geometry_for(stereo, e, Eigen::Matrix3d::Identity(), {0, 0, 64, 64}, g));
+  EXPECT_EQ(g.lf.source.fisheye.psi_max, inf);
 }
 
 }  // namespace

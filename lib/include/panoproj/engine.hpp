@@ -1,6 +1,6 @@
 #pragma once
 // The fast engine: output tiles of kTile x kTile pixels over a thread pool. Per tile:
-//   - common pairs (simd_geometry.hpp): each vector of output pixels computes its source
+//   - common pairs (lib/src/simd/geometry.hpp): each vector of output pixels computes its source
 //     positions in double SIMD registers and samples them at once (fused, no map);
 //   - other pairs: a tile map (tile_map.hpp, cubic interpolation of exact nodes, within 1/256 px),
 //     then the same SIMD sampling from the map.
@@ -23,7 +23,7 @@
 
 namespace panoproj {
 
-struct SimdGeometry;  // internal (lib/src/simd_geometry.hpp)
+struct SimdGeometry;  // internal (lib/src/simd/geometry.hpp)
 
 enum class Engine {
   Simd,       // tiles; fused SIMD geometry for the common pairs (else interpolated coordinates);

@@ -19,7 +19,7 @@
 #include "sampling/mip_sampler.hpp"
 #include "sampling/pyramid.hpp"
 #include "sampling/reference_sampler.hpp"
-#include "geometry/simd_geometry.hpp"
+#include "simd/geometry.hpp"
 #include "sampling/simd_sampler.hpp"
 #include "sampling/subpixels.hpp"
 

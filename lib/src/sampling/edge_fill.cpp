@@ -14,7 +14,7 @@
 #include "panoproj/tile_map.hpp"
 #include "sampling/reference_sampler.hpp"
 #include "base/sample_io.hpp"
-#include "geometry/simd_geometry.hpp"
+#include "simd/geometry.hpp"
 
 namespace panoproj {
 

@@ -18,7 +18,7 @@
 #include <string>
 
 #include "panoproj/error.hpp"
-#include "geometry/simd_geometry-inl.h"
+#include "simd/tile_rows-inl.h"
 #include "sampling/simd_sampler.hpp"
 
 HWY_BEFORE_NAMESPACE();

@@ -14,7 +14,7 @@
 #include "panoproj/interpolator.hpp"
 #include "panoproj/tile_map.hpp"
 #include "sampling/footprint_kernel.hpp"
-#include "geometry/simd_geometry.hpp"
+#include "simd/geometry.hpp"
 
 namespace panoproj {
 

@@ -3,14 +3,14 @@
 // cylindrical, fisheye (any law, clipped or not), Hammer / Eckert-Greifendorff, Bonne, cube
 // tiles inside one face and dual-fisheye tiles inside one lens; sources equirect, cylindrical
 // (full or partial), cubemap, Hammer, Aitoff, Bonne, pinhole, fisheye and one lens of a dual
-// fisheye. Aitoff as a target has no closed-form inverse (a Newton
-// iteration per pixel costs more than the tile mapper's interpolation between exact nodes) and
-// stays with the tile mapper. Float lanes where they stay within kFloatTolerance, double
-// lanes elsewhere: near an equirect pole the longitude atan2(x, z) divides float's ~1e-7 absolute
-// ray error by cos(latitude) (float everywhere erred by 0.1 px at 32768 px, measured), and float
-// positions themselves are coarse beyond a few thousand pixels. Tested against the exact map in
-// tests/simd_geometry_test.cpp; other pairs use the tile mapper. For uint8 sources, pairs with
-// SimdGeometry::grid interpolate between exact nodes instead (TileRows). Internal.
+// fisheye. Each projection's lanes (its parameters, named) are in simd/<projection>.hpp and its
+// vector forms in simd/<projection>-inl.h; this pairs them. Float lanes where they stay within
+// kFloatTolerance, double lanes elsewhere: near an equirect pole the longitude atan2(x, z)
+// divides float's ~1e-7 absolute ray error by cos(latitude) (float everywhere erred by 0.1 px at
+// 32768 px, measured), and float positions themselves are coarse beyond a few thousand pixels.
+// Tested against the exact map in tests/simd_geometry_test.cpp; other pairs use the tile mapper.
+// For uint8 sources, pairs with SimdGeometry::grid interpolate between exact nodes instead
+// (TileRows). Internal.
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
@@ -18,16 +18,23 @@
 
 #include "panoproj/projection.hpp"
 #include "panoproj/tile_map.hpp"
+#include "simd/aitoff.hpp"
+#include "simd/bonne.hpp"
+#include "simd/cubemap.hpp"
+#include "simd/fisheye.hpp"
+#include "simd/hammer.hpp"
+#include "simd/lanes.hpp"
+#include "simd/longitude_axis.hpp"
+#include "simd/pinhole.hpp"
 
 namespace panoproj {
 
 struct SimdGeometry {
   // Error bound of float lanes, in source pixels: lanes that could exceed it are computed in
-  // double (see use_float and the coarse masks of simd_geometry-inl.h).
-  static constexpr double kFloatTolerance = 1.0 / 1024;
+  // double (see use_float and each source's coarse lanes).
+  static constexpr double kFloatTolerance = simd::kFloatTolerance;
   enum class Dst { Pinhole, Equirect, Cylindrical, CubeFace, Fisheye, Hammer, Bonne } dst;
   enum class Src { Equirect, Cylindrical, Cubemap, Hammer, Aitoff, Bonne, Pinhole, Fisheye } src;
-  int law;  // fisheye law (FisheyeModel as int)
   // Float lanes (twice as many per vector, shorter polynomials) where the source is small enough
   // for float positions to stay within kFloatTolerance; double lanes otherwise.
   bool use_float;
@@ -44,18 +51,36 @@ struct SimdGeometry {
   // set (pinhole, cube face, fisheye), so a cell whose nodes are all valid is valid throughout.
   bool grid;
   double grid_tolerance;
+  // The lanes of the pair in one lane type: the target's of kind dst and the source's of kind
+  // src (the others stay zero), and the rotation.
   template <class T>
-  struct Params {
-    T d[16];  // target parameters (see simd_geometry.cpp)
-    T s[16];  // source parameters
-    T r[9];   // rotation, row-major
+  struct Lanes {
+    struct {
+      simd::PinholeRays<T> pinhole;
+      simd::AxisRays<T> axis;  // equirect, cylindrical
+      simd::CubeFaceRays<T> cube_face;
+      simd::FisheyeRays<T> fisheye;
+      simd::HammerRays<T> hammer;
+      simd::BonneRays<T> bonne;
+    } target;
+    struct {
+      simd::AxisSource<T> axis;  // equirect, cylindrical
+      simd::CubemapSource<T> cubemap;
+      simd::PinholeSource<T> pinhole;
+      simd::FisheyeSource<T> fisheye;
+      simd::MapPixels<T> map;  // Hammer, Aitoff, Bonne: the frame
+      simd::HammerSource<T> hammer;
+      simd::AitoffSource<T> aitoff;
+      simd::BonneSource<T> bonne;
+    } source;
+    T rotation[9];  // row-major
   };
-  Params<double> pd;
-  Params<float> pf;  // the same, rounded to float
+  Lanes<double> ld;
+  Lanes<float> lf;  // the same, rounded to float
   template <class T>
-  const Params<T>& params() const {
-    if constexpr (std::is_same_v<T, float>) return pf;
-    else return pd;
+  const Lanes<T>& lanes() const {
+    if constexpr (std::is_same_v<T, float>) return lf;
+    else return ld;
   }
 };
 
