@@ -4,24 +4,18 @@
 #include <atomic>
 #include <array>
 #include <cmath>
-#include <optional>
 #include <string>
 #include <vector>
 
+#include "engine/tile_sampling.hpp"
+#include "engine/tile_strategies.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/parallel.hpp"
 #include "panoproj/resample.hpp"
-#include "panoproj/source_edges.hpp"
 #include "panoproj/tile_map.hpp"
-#include "sampling/dual_blend.hpp"
 #include "sampling/edge_pass.hpp"
 #include "sampling/footprint_kernel.hpp"
-#include "sampling/mip_sampler.hpp"
-#include "sampling/pyramid.hpp"
-#include "sampling/reference_sampler.hpp"
 #include "simd/geometry.hpp"
-#include "sampling/simd_sampler.hpp"
-#include "sampling/subpixels.hpp"
 
 namespace panoproj {
 
@@ -43,16 +37,6 @@ const char* name_of(Engine e) {
 const char* simd_target() { return simd_target_name(); }
 
 namespace {
-
-// The source as the SIMD kernels see it: the window held, and the cell taps must stay in (a cube
-// face: cube layouts put faces on a grid of face-sized cells; else the whole frame).
-SimdSource simd_source(const Image& src, const Projection& sp) {
-  int64_t cw = 0, ch = 0;
-  if (const auto* c = std::get_if<Cubemap>(&sp)) cw = ch = c->face_size();
-  if (const auto* d = std::get_if<DualFisheye>(&sp)) cw = d->cell_width(), ch = d->cell_height();
-  return {src.data(), static_cast<int64_t>(src.row_bytes()), src.channels(), src.alpha_channel(), src.type(),
-          src.origin_x(), src.origin_y(), src.origin_x() + src.width(), src.origin_y() + src.height(), cw, ch};
-}
 
 // Widens box {x0, y0, x1, y1} to the valid positions of a tile map.
 void widen_to(const TileMap& tm, std::array<double, 4>& b) {
@@ -206,165 +190,19 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
   if (out.size() != size_of(target_) || out.channels() != src.channels() || out.type() != src.type() ||
       out.alpha_channel() != src.alpha_channel())
     out = Image(size_of(target_), src.channels(), src.type(), src.alpha_channel(), Image::Unfilled{});
-  const SourceEdges edges(source_);
-  const SimdSource simd_src = simd_source(src, source_);
-  const bool use_simd = engine_ == Engine::Simd;
   const int64_t n_tiles = tile_count();
-  const int n_workers = workers_for(n_tiles, threads_);
   if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });
-  std::optional<Pyramid> pyramid;
-  if (antialias_.mode == Antialias::Mode::Mip) pyramid.emplace(src, source_);
-  struct Worker {
-    TileMap map;
-    SimdMisses misses;
-    EngineStats stats;
-    MipScratch mip;
-    std::vector<unsigned char> sub;  // a tile's sub-pixel samples
-    std::vector<float> weights;       // a dual fisheye's lens 0 weights over a tile
-    std::vector<unsigned char> other;  // and its lens 1 samples there
-    FootprintField field;              // the footprint kernel's widths over a tile
-    std::vector<float> ex, ey;         // and over a row (the scalar engine)
-  };
-  std::vector<Worker> workers(static_cast<size_t>(n_workers));
-  // The samples the SIMD kernels left in wk.misses (rect's pixel indices) by the edge rules
-  // (with fp: the footprint kernel, its widths there).
-  auto resolve_misses = [&](const Image& im, const SourceEdges& e, const TileRect& r, unsigned char* out_at,
-                            int64_t stride, Worker& wk, const FootprintField* fp) {
-    const uint8_t one = 1;
-    const auto pb = static_cast<int64_t>(im.pixel_bytes());
-    const SimdMisses& m = wk.misses;
-    for (size_t q = 0; q < m.index.size(); ++q) {
-      const int64_t i = m.index[q] % r.w, j = m.index[q] / r.w;
-      unsigned char* o = out_at + j * stride + i * pb;
-      if (!fp) {
-        sample_reference(im, e, interp_, &m.xs[q], &m.ys[q], &one, 1, o);
-        continue;
-      }
-      float ex, ey;
-      fp->at(i, j, ex, ey);
-      sample_footprint_reference(im, e, &m.xs[q], &m.ys[q], &ex, &ey, &one, 1, o);
-    }
-    wk.stats.edge_samples += static_cast<int64_t>(m.index.size());
-  };
-  // Samples positions map m of image im (edges e, SIMD view ss) into out: the SIMD kernels, and
-  // the reference's edge rules for the samples they leave (seams, poles, face edges, the
-  // window); the scalar engine samples all with the reference. fp: the footprint kernel and its
-  // widths over the rect, else interp_.
-  auto sample_map = [&](const Image& im, const SourceEdges& e, const SimdSource& ss, const TileMap& m,
-                        unsigned char* out_at, int64_t stride, Worker& wk, const FootprintField* fp) {
-    if (!use_simd) {
-      wk.ex.resize(static_cast<size_t>(m.rect.w)), wk.ey.resize(static_cast<size_t>(m.rect.w));
-      for (int64_t j = 0; j < m.rect.h; ++j) {
-        const size_t k = static_cast<size_t>(j * m.rect.w);
-        if (!fp) {
-          sample_reference(im, e, interp_, m.xs.data() + k, m.ys.data() + k, m.ok.data() + k, m.rect.w, out_at + j * stride);
-          continue;
-        }
-        for (int64_t i = 0; i < m.rect.w; ++i) fp->at(i, j, wk.ex[static_cast<size_t>(i)], wk.ey[static_cast<size_t>(i)]);
-        sample_footprint_reference(im, e, m.xs.data() + k, m.ys.data() + k, wk.ex.data(), wk.ey.data(), m.ok.data() + k,
-                                   m.rect.w, out_at + j * stride);
-      }
-      return;
-    }
-    wk.misses.clear();
-    simd_sample(ss, interp_, m, out_at, stride, wk.misses, fp);
-    resolve_misses(im, e, m.rect, out_at, stride, wk, fp);
-  };
-  // The tile rect of target t, seen through source projection sp, into out: fused where the SIMD
-  // geometry takes it, else from its map (the kept one, or made now); fp as sample_map's.
-  auto sample_from = [&](const Projection& sp, const Projection& t, const TileRect& rect, const TileMap* tm,
-                         unsigned char* out_at, int64_t stride, Worker& wk, const FootprintField* fp) {
-    SimdGeometry g;
-    const bool in_registers = !tm && fused(sp, t, rect, g);
-    if (!tm && !in_registers) map_tile(sp, t, rotation_, rect, wk.map), tm = &wk.map;
-    if (tm) wk.stats.interpolated_cells += tm->interpolated_cells, wk.stats.exact_cells += tm->exact_cells;
-    wk.stats.fused_tiles += in_registers;
-    if (!in_registers) return sample_map(src, edges, simd_src, *tm, out_at, stride, wk, fp);
-    wk.misses.clear();
-    simd_convert(g, rect, simd_src, interp_, out_at, stride, wk.misses, fp);
-    resolve_misses(src, edges, rect, out_at, stride, wk, fp);
-  };
-  // The same from source_; a dual fisheye's tiles from the lens that sees them all, or from both,
-  // blended (dual_blend.hpp).
-  const auto* dual = std::get_if<DualFisheye>(&source_);
-  auto sample_rect = [&](const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out_at,
-                         int64_t stride, Worker& wk, const FootprintField* fp = nullptr) {
-    if (lenses_.empty()) return sample_from(source_, t, rect, tm, out_at, stride, wk, fp);
-    const int side = dual_weights(*dual, t, rotation_, rect, wk.weights);
-    if (side >= 0) return sample_from(lenses_[static_cast<size_t>(side)], t, rect, nullptr, out_at, stride, wk, fp);
-    const auto pb = static_cast<int64_t>(src.pixel_bytes());
-    wk.other.resize(static_cast<size_t>(rect.w * rect.h * pb));
-    sample_from(lenses_[0], t, rect, nullptr, out_at, stride, wk, fp);
-    sample_from(lenses_[1], t, rect, nullptr, wk.other.data(), rect.w * pb, wk, fp);
-    blend_lenses(wk.weights.data(), rect, src.type(), src.channels(), src.alpha_channel(), out_at, stride, wk.other.data(),
-                 rect.w * pb);
-  };
+  const TileSampling sampling(src, source_, lenses_, rotation_, interp_, engine_ == Engine::Simd);
   // Where x wraps, footprints measure steps across the seam the short way.
-  const double wrap = edges.wraps_x() ? static_cast<double>(size_of(source_).width) : 0.0;
-  const bool cube_source = std::holds_alternative<Cubemap>(source_);
-  // The tile's n x n sub-pixels in the n-times target (in parts of at most kTile x kTile, the
-  // samplers' rect; with fp, the tile's footprint field, each through the footprint kernel),
-  // then their means.
-  auto subpixels = [&](int n, const TileRect& rect, unsigned char* corner, int64_t stride, Worker& wk,
-                       const FootprintField* fp) {
-    const TileRect sub{rect.x0 * n, rect.y0 * n, rect.w * n, rect.h * n};
-    const auto pb = static_cast<int64_t>(src.pixel_bytes()), sub_stride = sub.w * pb;
-    wk.sub.resize(static_cast<size_t>(sub_stride * sub.h));
-    const Projection& sub_target = sub_targets_[static_cast<size_t>(n)];
-    for (int64_t y = 0; y < sub.h; y += kTile)
-      for (int64_t x = 0; x < sub.w; x += kTile) {
-        const TileRect part{sub.x0 + x, sub.y0 + y, std::min(kTile, sub.w - x), std::min(kTile, sub.h - y)};
-        const FootprintField part_fp = fp ? fp->for_rect(rect, part, n) : FootprintField{};
-        sample_rect(sub_target, part, nullptr, wk.sub.data() + y * sub_stride + x * pb, sub_stride, wk, fp ? &part_fp : nullptr);
-      }
-    average_subpixels(src, wk.sub.data(), sub_stride, rect, n, corner, stride);
-  };
+  const double wrap = sampling.edges().wraps_x() ? static_cast<double>(size_of(source_).width) : 0.0;
+  const auto strategy = tile_strategy(antialias_, {sampling, source_, target_, sub_targets_, rotation_, wrap});
+  std::vector<TileScratch> workers(static_cast<size_t>(workers_for(n_tiles, threads_)));
   std::atomic<int64_t> done{0};
   int64_t last_percent = -1;
   parallel_tasks(n_tiles, threads_, [&](int64_t t, int w) {
-    Worker& wk = workers[static_cast<size_t>(w)];
     const TileRect rect = tile(t);
-    unsigned char* corner = out.pixel(rect.x0, rect.y0);
-    const auto stride = static_cast<int64_t>(out.row_bytes());
-    if (antialias_.mode == Antialias::Mode::Supersample) {
-      subpixels(antialias_.n, rect, corner, stride, wk, nullptr);
-    } else if (antialias_.mode == Antialias::Mode::Auto) {
-      // The tile's footprint side: as without antialiasing up to 2 source pixels (or where it is
-      // not known); else the footprint kernel, on n x n sub-pixels where the footprint is wider
-      // than the kernel reaches (footprint_kernel.hpp).
-      FootprintField& fp = wk.field;
-      const FootprintSides s = footprint_field(source_, target_, rotation_, rect, wrap, fp);
-      const int n = std::clamp(static_cast<int>(std::ceil(s.split / kFootprintReach - 1e-9)), 1, Antialias::kMaxAuto);
-      if (s.side <= 2.0) sample_rect(target_, rect, cached(t), corner, stride, wk);
-      else if (n == 1) sample_rect(target_, rect, cached(t), corner, stride, wk, &fp);
-      else subpixels(n, rect, corner, stride, wk, &fp);
-    } else if (pyramid) {
-      const TileMap* tm = cached(t);
-      SimdGeometry g;
-      if (!tm) {
-        if (fused(rect, g)) simd_map_tile(g, rect, wk.map, grid_suits(src.type()));  // the fused path's positions
-        else map_tile(source_, target_, rotation_, rect, wk.map);
-        tm = &wk.map;
-      }
-      sample_mip_tile(*pyramid, *tm, wrap,
-                      [&](int k, const TileMap& m, unsigned char* o, int64_t st) {
-                        // The level's rows the taps reach (the edge rules stay within them,
-                        // but a cube's, which read neighbouring faces anywhere: all rows).
-                        double y0 = HUGE_VAL, y1 = -HUGE_VAL;
-                        for (size_t i = 0; i < m.ok.size(); ++i)
-                          if (m.ok[i]) y0 = std::min(y0, m.ys[i]), y1 = std::max(y1, m.ys[i]);
-                        const int reach = support(interp_) / 2 + 1;
-                        if (cube_source) y0 = -HUGE_VAL, y1 = HUGE_VAL;
-                        pyramid->build_rows(k, static_cast<int64_t>(std::max(-1e15, std::floor(y0))) - reach,
-                                            static_cast<int64_t>(std::min(1e15, std::ceil(y1))) + reach + 1);
-                        const Pyramid::Level& l = pyramid->level(k);
-                        const Image& im = pyramid->image(k);
-                        sample_map(im, l.edges, simd_source(im, l.projection), m, o, st, wk, nullptr);
-                      },
-                      corner, stride, wk.mip);
-    } else {
-      sample_rect(target_, rect, cached(t), corner, stride, wk);
-    }
+    strategy->tile(rect, cached(t), out.pixel(rect.x0, rect.y0), static_cast<int64_t>(out.row_bytes()),
+                   workers[static_cast<size_t>(w)]);
     const int64_t d = ++done;
     if (w == 0 && progress && d * 100 / n_tiles != last_percent) {
       last_percent = d * 100 / n_tiles;
@@ -375,7 +213,7 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
   if (progress) progress(1.0);
   if (stats) {
     *stats = {n_tiles, 0, 0, 0, 0};
-    for (const Worker& wk : workers) {
+    for (const TileScratch& wk : workers) {
       stats->fused_tiles += wk.stats.fused_tiles;
       stats->edge_samples += wk.stats.edge_samples;
       stats->interpolated_cells += wk.stats.interpolated_cells;

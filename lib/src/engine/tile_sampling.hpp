@@ -1,0 +1,78 @@
+#pragma once
+// How the Converter samples one rect of a target from the source (the tiles' strategies,
+// tile_strategies.hpp, call it): the geometry fused in registers where the SIMD pair takes it,
+// else from the rect's map (the kept one, or made now); the SIMD kernels with the reference's
+// edge rules for the samples they leave (seams, poles, face edges, the window), or the reference
+// for all (the scalar engine); a dual fisheye's rects from the lens that sees them all, or from
+// both, blended (dual_blend.hpp). Internal.
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "panoproj/engine.hpp"
+#include "panoproj/image.hpp"
+#include "panoproj/source_edges.hpp"
+#include "panoproj/tile_map.hpp"
+#include "sampling/footprint_kernel.hpp"
+#include "sampling/mip_sampler.hpp"
+#include "sampling/simd_sampler.hpp"
+
+namespace panoproj {
+
+// One worker thread's buffers and counts.
+struct TileScratch {
+  TileMap map;
+  SimdMisses misses;
+  EngineStats stats;
+  MipScratch mip;
+  std::vector<unsigned char> sub;    // a tile's sub-pixel samples
+  std::vector<float> weights;        // a dual fisheye's lens 0 weights over a rect
+  std::vector<unsigned char> other;  // and its lens 1 samples there
+  FootprintField field;              // the footprint kernel's widths over a tile
+  std::vector<float> ex, ey;         // and over a row (the scalar engine)
+};
+
+// The source as the SIMD kernels see it: the window held, and the cell taps must stay in (a cube
+// face: cube layouts put faces on a grid of face-sized cells; else the whole frame).
+SimdSource simd_source(const Image& src, const Projection& sp);
+
+class TileSampling {
+ public:
+  // lenses: a dual-fisheye source's lenses alone (blended per rect), else empty. simd: the simd
+  // engine (fused geometry, SIMD kernels), else the scalar one.
+  TileSampling(const Image& src, const Projection& source, const std::vector<Projection>& lenses,
+               const Eigen::Matrix3d& rotation, Interp interp, bool simd);
+
+  // rect of target t into out (rows of stride bytes); tm: its kept map, or null. fp: the
+  // footprint kernel and its widths over the rect, else the interpolator.
+  void rect(const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out, int64_t stride,
+            TileScratch& wk, const FootprintField* fp = nullptr) const;
+  // Positions m of image im (edges e, SIMD view ss: the source or one of its mip levels).
+  void map(const Image& im, const SourceEdges& e, const SimdSource& ss, const TileMap& m, unsigned char* out,
+           int64_t stride, TileScratch& wk, const FootprintField* fp) const;
+  // Whether rect of target t from source sp runs fused (g filled).
+  bool fused(const Projection& sp, const Projection& t, const TileRect& rect, SimdGeometry& g) const;
+
+  const Image& image() const { return src_; }
+  const SourceEdges& edges() const { return edges_; }
+  Interp interp() const { return interp_; }
+
+ private:
+  // From source projection sp (the source, or one lens).
+  void from(const Projection& sp, const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out,
+            int64_t stride, TileScratch& wk, const FootprintField* fp) const;
+  // The samples the SIMD kernels left in wk.misses (rect's pixel indices), by the edge rules.
+  void resolve_misses(const Image& im, const SourceEdges& e, const TileRect& rect, unsigned char* out, int64_t stride,
+                      TileScratch& wk, const FootprintField* fp) const;
+
+  const Image& src_;
+  const Projection& source_;
+  const std::vector<Projection>& lenses_;
+  const Eigen::Matrix3d& rotation_;
+  Interp interp_;
+  bool simd_;
+  SourceEdges edges_;
+  SimdSource simd_src_;
+};
+
+}  // namespace panoproj

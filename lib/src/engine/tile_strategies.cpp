@@ -1,0 +1,130 @@
+#include "engine/tile_strategies.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sampling/pyramid.hpp"
+#include "sampling/subpixels.hpp"
+#include "simd/geometry.hpp"
+
+namespace panoproj {
+namespace {
+
+// The tile's n x n sub-pixels in the n-times target (in parts of at most kTile x kTile, the
+// samplers' rect; with fp, the tile's footprint field, each through the footprint kernel), then
+// their means.
+void subpixels(const TileJob& job, int n, const TileRect& rect, unsigned char* corner, int64_t stride, TileScratch& wk,
+               const FootprintField* fp) {
+  const Image& src = job.sampling.image();
+  const TileRect sub{rect.x0 * n, rect.y0 * n, rect.w * n, rect.h * n};
+  const auto pb = static_cast<int64_t>(src.pixel_bytes()), sub_stride = sub.w * pb;
+  wk.sub.resize(static_cast<size_t>(sub_stride * sub.h));
+  const Projection& sub_target = job.sub_targets[static_cast<size_t>(n)];
+  for (int64_t y = 0; y < sub.h; y += kTile)
+    for (int64_t x = 0; x < sub.w; x += kTile) {
+      const TileRect part{sub.x0 + x, sub.y0 + y, std::min(kTile, sub.w - x), std::min(kTile, sub.h - y)};
+      const FootprintField part_fp = fp ? fp->for_rect(rect, part, n) : FootprintField{};
+      job.sampling.rect(sub_target, part, nullptr, wk.sub.data() + y * sub_stride + x * pb, sub_stride, wk,
+                        fp ? &part_fp : nullptr);
+    }
+  average_subpixels(src, wk.sub.data(), sub_stride, rect, n, corner, stride);
+}
+
+class Plain final : public TileStrategy {
+ public:
+  explicit Plain(const TileJob& job) : job_(job) {}
+  void tile(const TileRect& rect, const TileMap* kept, unsigned char* corner, int64_t stride,
+            TileScratch& wk) const override {
+    job_.sampling.rect(job_.target, rect, kept, corner, stride, wk);
+  }
+
+ private:
+  TileJob job_;
+};
+
+class Supersample final : public TileStrategy {
+ public:
+  Supersample(const TileJob& job, int n) : job_(job), n_(n) {}
+  void tile(const TileRect& rect, const TileMap*, unsigned char* corner, int64_t stride, TileScratch& wk) const override {
+    subpixels(job_, n_, rect, corner, stride, wk, nullptr);
+  }
+
+ private:
+  TileJob job_;
+  int n_;
+};
+
+// The tile's footprint side: as without antialiasing up to 2 source pixels (or where it is not
+// known); else the footprint kernel, on n x n sub-pixels where the footprint is wider than the
+// kernel reaches (footprint_kernel.hpp).
+class Footprint final : public TileStrategy {
+ public:
+  explicit Footprint(const TileJob& job) : job_(job) {}
+  void tile(const TileRect& rect, const TileMap* kept, unsigned char* corner, int64_t stride,
+            TileScratch& wk) const override {
+    FootprintField& fp = wk.field;
+    const FootprintSides s = footprint_field(job_.source, job_.target, job_.rotation, rect, job_.wrap, fp);
+    const int n = std::clamp(static_cast<int>(std::ceil(s.split / kFootprintReach - 1e-9)), 1, Antialias::kMaxAuto);
+    if (s.side <= 2.0) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk);
+    else if (n == 1) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk, &fp);
+    else subpixels(job_, n, rect, corner, stride, wk, &fp);
+  }
+
+ private:
+  TileJob job_;
+};
+
+// Each tile's positions (kept, the fused path's, or mapped), then mip_sampler.hpp over the
+// source's levels, each level's rows built as the taps reach them.
+class Mip final : public TileStrategy {
+ public:
+  explicit Mip(const TileJob& job) : job_(job), pyramid_(job.sampling.image(), job.source) {}
+  void tile(const TileRect& rect, const TileMap* kept, unsigned char* corner, int64_t stride,
+            TileScratch& wk) const override {
+    const TileMap* tm = kept;
+    SimdGeometry g;
+    if (!tm) {
+      if (job_.sampling.fused(job_.source, job_.target, rect, g))
+        simd_map_tile(g, rect, wk.map, grid_suits(job_.sampling.image().type()));  // the fused path's positions
+      else
+        map_tile(job_.source, job_.target, job_.rotation, rect, wk.map);
+      tm = &wk.map;
+    }
+    const bool cube_source = std::holds_alternative<Cubemap>(job_.source);
+    const int reach = support(job_.sampling.interp()) / 2 + 1;
+    sample_mip_tile(
+        pyramid_, *tm, job_.wrap,
+        [&](int k, const TileMap& m, unsigned char* o, int64_t st) {
+          // The level's rows the taps reach (the edge rules stay within them, but a cube's, which
+          // read neighbouring faces anywhere: all rows).
+          double y0 = HUGE_VAL, y1 = -HUGE_VAL;
+          for (size_t i = 0; i < m.ok.size(); ++i)
+            if (m.ok[i]) y0 = std::min(y0, m.ys[i]), y1 = std::max(y1, m.ys[i]);
+          if (cube_source) y0 = -HUGE_VAL, y1 = HUGE_VAL;
+          pyramid_.build_rows(k, static_cast<int64_t>(std::max(-1e15, std::floor(y0))) - reach,
+                              static_cast<int64_t>(std::min(1e15, std::ceil(y1))) + reach + 1);
+          const Pyramid::Level& l = pyramid_.level(k);
+          const Image& im = pyramid_.image(k);
+          job_.sampling.map(im, l.edges, simd_source(im, l.projection), m, o, st, wk, nullptr);
+        },
+        corner, stride, wk.mip);
+  }
+
+ private:
+  TileJob job_;
+  Pyramid pyramid_;  // levels built as tiles read them (build_rows: const, thread-safe)
+};
+
+}  // namespace
+
+std::unique_ptr<TileStrategy> tile_strategy(const Antialias& antialias, const TileJob& job) {
+  switch (antialias.mode) {
+    case Antialias::Mode::Supersample: return std::make_unique<Supersample>(job, antialias.n);
+    case Antialias::Mode::Auto: return std::make_unique<Footprint>(job);
+    case Antialias::Mode::Mip: return std::make_unique<Mip>(job);
+    case Antialias::Mode::Off: break;
+  }
+  return std::make_unique<Plain>(job);
+}
+
+}  // namespace panoproj

@@ -1,0 +1,37 @@
+#pragma once
+// The Converter's per-tile strategies, one chosen per run from the antialiasing mode
+// (antialias.hpp): plain sampling; auto (per tile: plain, the footprint kernel, or the footprint
+// kernel on n x n sub-pixels); n x n sub-pixels (supersample); mip levels. Each samples through
+// TileSampling. Internal.
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "engine/tile_sampling.hpp"
+#include "panoproj/antialias.hpp"
+
+namespace panoproj {
+
+// What the strategies share over a run.
+struct TileJob {
+  const TileSampling& sampling;
+  const Projection& source;
+  const Projection& target;
+  const std::vector<Projection>& sub_targets;  // [n]: the target at n times its size
+  const Eigen::Matrix3d& rotation;
+  double wrap;  // the source's width where x wraps (footprints measure across the seam), else 0
+};
+
+class TileStrategy {
+ public:
+  virtual ~TileStrategy() = default;
+  // Writes tile rect of the target at corner (rows of stride bytes); kept: its kept map, or null.
+  virtual void tile(const TileRect& rect, const TileMap* kept, unsigned char* corner, int64_t stride,
+                    TileScratch& wk) const = 0;
+};
+
+// The strategy for antialias (mip builds the source's levels as its tiles read them).
+std::unique_ptr<TileStrategy> tile_strategy(const Antialias& antialias, const TileJob& job);
+
+}  // namespace panoproj
