@@ -15,8 +15,8 @@
 #include <OpenImageIO/imageio.h>
 #include <string>
 
-#include "panoproj/convert_job.hpp"
-#include "panoproj/engine.hpp"
+#include "panoproj/jobs.hpp"
+#include "panoproj/convert.hpp"
 #include "panoproj/rotation.hpp"
 
 using namespace panoproj;
@@ -129,7 +129,7 @@ int main(int argc, char** argv) {
     const Eigen::Matrix3d r = rotation_from_ypr(j.yaw, j.pitch, 0);
     t0 = std::chrono::steady_clock::now();
     EngineStats st;
-    const Image out = fast_remap(src, e, dst, r, Interp::Bilinear, Engine::Simd, threads, &st);
+    const Image out = Converter(e, dst, r, Interp::Bilinear, Engine::Simd, threads).run(src, &st);
     const double t = secs();
     // Spot check against nearest-free ground truth: bilinear of the pattern at the exact position.
     std::mt19937 rng(3);
@@ -151,10 +151,10 @@ int main(int argc, char** argv) {
         bad += std::fabs(out.pixel(x, y)[c] - want) > 1.5;
       }
     }
-    std::printf("equirect 40000x20000 -> %s %lldx%lld bilinear: %.2f s (%lld tiles, %lld fused; %lld edge samples), "
+    std::printf("equirect 40000x20000 -> %s %lldx%lld bilinear: %.2f s (%lld tiles, %lld fused; %lld SIMD misses), "
                 "%.1f Mpx/s; spot checks off by > 1 LSB: %d; peak RSS %.2f GB\n",
                 j.spec, static_cast<long long>(j.size.width), static_cast<long long>(j.size.height), t,
-                static_cast<long long>(st.tiles), static_cast<long long>(st.fused_tiles), static_cast<long long>(st.edge_samples),
+                static_cast<long long>(st.tiles), static_cast<long long>(st.fused_tiles), static_cast<long long>(st.simd_misses),
                 j.size.width * j.size.height / t / 1e6, bad, peak_gb());
   }
   }

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "panoproj/engine.hpp"
+#include "panoproj/convert.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/projection.hpp"
 #include "panoproj/rotation.hpp"
@@ -84,9 +84,9 @@ int main(int argc, char** argv) {
   const Image pano = read_image(std::string(PANOPROJ_SOURCE_DIR) + "/samples/images/jordan_pond_4096x2048.jpg");
   const Projection equirect = make_projection(parse_spec("equirect"), {4096, 2048});
   const Projection cube = make_projection(parse_spec("cubemap"), {6 * 1024, 1024});
-  const Image cube_img = fast_remap(pano, equirect, cube, Eigen::Matrix3d::Identity(), Interp::Bicubic, Engine::Simd, threads);
+  const Image cube_img = Converter(equirect, cube, Eigen::Matrix3d::Identity(), Interp::Bicubic, Engine::Simd, threads).run(pano);
   const Projection dual = make_projection(parse_spec("dual-fisheye:fov=200"), {4096, 2048});
-  const Image dual_img = fast_remap(pano, equirect, dual, Eigen::Matrix3d::Identity(), Interp::Bicubic, Engine::Simd, threads);
+  const Image dual_img = Converter(equirect, dual, Eigen::Matrix3d::Identity(), Interp::Bicubic, Engine::Simd, threads).run(pano);
 
   struct Case {
     const char* name;

@@ -8,7 +8,7 @@
 #include <cstring>
 #include <string>
 
-#include "panoproj/antialias.hpp"
+#include "panoproj/options.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/spec.hpp"

@@ -1,4 +1,4 @@
-// Antialiasing (antialias.hpp): mip levels, their blend, supersampling; against area-averaged
+// Antialiasing (options.hpp: Antialias): mip levels, their blend, supersampling; against area-averaged
 // truth from the analytic scenes (scene.hpp). Also rescaled() projections, which both rely on.
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
@@ -8,12 +8,12 @@
 #include <cstring>
 #include <random>
 
-#include "panoproj/accuracy.hpp"
-#include "panoproj/antialias.hpp"
-#include "panoproj/engine.hpp"
+#include "panoproj/diagnostics/accuracy.hpp"
+#include "panoproj/options.hpp"
+#include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/rotation.hpp"
-#include "panoproj/scene.hpp"
+#include "panoproj/diagnostics/scene.hpp"
 #include "panoproj/spec.hpp"
 #include "sampling/pyramid.hpp"
 #include "sampling/subpixels.hpp"

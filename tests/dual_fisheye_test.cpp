@@ -16,7 +16,7 @@
 #include <cstring>
 
 #include "sampling/dual_blend.hpp"
-#include "panoproj/engine.hpp"
+#include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/rotation.hpp"

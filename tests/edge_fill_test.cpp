@@ -1,4 +1,4 @@
-// Alpha, masks and fill (edge_fill.hpp, the converter's alpha handling):
+// Alpha, masks and fill (EdgeFill, the converter's alpha handling):
 //  - soft edges: on a fisheye target's rim, alpha follows the circle's exact area coverage of each
 //    pixel; inside, the pixels are the plain conversion's bytes; outside, alpha 0;
 //  - a fill colour is the alpha output composited over that colour (within 1 LSB), exactly the
@@ -14,8 +14,7 @@
 #include <vector>
 
 #include "panoproj/convert.hpp"
-#include "panoproj/edge_fill.hpp"
-#include "panoproj/engine.hpp"
+#include "panoproj/options.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/rotation.hpp"

@@ -11,12 +11,12 @@
 
 #include "sampling/footprint_kernel.hpp"
 #include "sampling/map_steps.hpp"
-#include "panoproj/antialias.hpp"
+#include "panoproj/options.hpp"
 #include "panoproj/conventions.hpp"
-#include "panoproj/engine.hpp"
-#include "panoproj/interpolator.hpp"
+#include "panoproj/convert.hpp"
+#include "sampling/interpolator.hpp"
 #include "panoproj/rotation.hpp"
-#include "panoproj/scene.hpp"
+#include "panoproj/diagnostics/scene.hpp"
 #include "panoproj/spec.hpp"
 #include "test_support.hpp"
 

@@ -10,7 +10,8 @@
 #include <cstring>
 #include <vector>
 
-#include "panoproj/engine.hpp"
+#include "panoproj/convert.hpp"
+#include "sampling/interpolator.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/rotation.hpp"
 #include "panoproj/spec.hpp"

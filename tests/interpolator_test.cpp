@@ -1,6 +1,6 @@
 // Kernel weights: taps around the sample, partition of unity, reproduction of polynomials,
 // interpolation at pixel centres.
-#include "panoproj/interpolator.hpp"
+#include "sampling/interpolator.hpp"
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "panoproj/engine.hpp"
+#include "panoproj/convert.hpp"
 #include "panoproj/rotation.hpp"
 #include "test_support.hpp"
 
@@ -27,7 +27,7 @@ Compared compare(const char* src_spec, Size ss, const char* dst_spec, Size ds, d
   const Projection dp = make_projection(parse_spec(dst_spec), ds);
   const Eigen::Matrix3d r = rotation_from_ypr(yaw, pitch, 0);
   const Image src = test::render(sp, test::band_limited_scene(0.03, ss.width), PixelType::U8);
-  const Image ours = fast_remap(src, sp, dp, r, Interp::Bilinear, Engine::Simd, 0);
+  const Image ours = test::fast_remap(src, sp, dp, r, Interp::Bilinear, Engine::Simd, 0);
   const Image map = build_map(sp, dp, r, MapConvention::OpenCV, 0);
   cv::Mat mx(static_cast<int>(ds.height), static_cast<int>(ds.width), CV_32FC1);
   cv::Mat my(mx.size(), CV_32FC1);

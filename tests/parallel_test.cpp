@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "panoproj/parallel.hpp"
+#include "base/parallel.hpp"
 
 namespace panoproj {
 namespace {

@@ -1,6 +1,6 @@
 // Whole-image behaviour of the reference remap, against analytic truth rendered directly in the
 // target projection.
-#include "panoproj/resample.hpp"
+#include "sampling/resample.hpp"
 
 #include <gtest/gtest.h>
 

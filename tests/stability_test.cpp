@@ -6,9 +6,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "panoproj/engine.hpp"
+#include "panoproj/convert.hpp"
 #include "panoproj/rotation.hpp"
-#include "panoproj/stability.hpp"
+#include "panoproj/diagnostics/stability.hpp"
 #include "test_support.hpp"
 
 namespace panoproj {

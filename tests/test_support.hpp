@@ -17,12 +17,19 @@
 #include <string>
 #include <vector>
 
+#include "panoproj/convert.hpp"
 #include "panoproj/image.hpp"
 #include "panoproj/projection.hpp"
 
 namespace panoproj::test {
 
 inline std::string source_dir() { return PANOPROJ_SOURCE_DIR; }
+
+// A one-off conversion (a Converter without kept maps or antialiasing).
+inline Image fast_remap(const Image& src, const Projection& sp, const Projection& dp, const Eigen::Matrix3d& rotation,
+                        Interp interp, Engine engine, int threads, EngineStats* stats = nullptr) {
+  return Converter(sp, dp, rotation, interp, engine, threads).run(src, stats);
+}
 inline std::string samples_dir() { return source_dir() + "/samples/images"; }
 
 // Scene value in [0, 1] for a unit ray, per channel.

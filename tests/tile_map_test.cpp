@@ -2,7 +2,7 @@
 // position error within 1/256 source pixel (kMapTolerance is checked at 5 points per cell;
 // this measures every pixel), and the same valid pixels except within that distance of a field
 // edge.
-#include "panoproj/tile_map.hpp"
+#include "geometry/tile_map.hpp"
 
 #include <gtest/gtest.h>
 

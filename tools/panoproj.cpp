@@ -1,4 +1,4 @@
-// The panoproj command: a thin front end over the library (lib/include/panoproj/convert_job.hpp).
+// The panoproj command: a thin front end over the library (lib/include/panoproj/jobs.hpp).
 #include <CLI/CLI.hpp>
 
 #include <fcntl.h>
@@ -11,15 +11,14 @@
 #include <iostream>
 #include <sstream>
 
-#include "panoproj/accuracy.hpp"
-#include "panoproj/convert_job.hpp"
+#include "panoproj/diagnostics/accuracy.hpp"
+#include "panoproj/jobs.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/options.hpp"
 #include "panoproj/rotation.hpp"
-#include "panoproj/stability.hpp"
+#include "panoproj/diagnostics/stability.hpp"
 #include "panoproj/error.hpp"
-#include "panoproj/parallel.hpp"
 #include "panoproj/spec.hpp"
 
 namespace {

@@ -19,13 +19,11 @@
 #include <vector>
 
 #include "panoproj/convert.hpp"
-#include "panoproj/antialias.hpp"
-#include "panoproj/engine.hpp"
+#include "panoproj/options.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/maps.hpp"
-#include "panoproj/options.hpp"
 
 namespace py = pybind11;
 using namespace panoproj;

@@ -1,30 +1,89 @@
 #pragma once
-// One conversion, in memory: plan (projections bound to sizes, rotation) then remap.
+// Conversions in memory: the Converter (one geometry applied to any number of images), and one
+// conversion from specs and options (plan: projections bound to sizes, rotation; then the
+// Converter).
+//
+// The Converter: output tiles of kTile x kTile pixels over a thread pool. Per tile:
+//   - common pairs (lib/src/simd/geometry.hpp): each vector of output pixels computes its source
+//     positions in double SIMD registers and samples them at once (fused, no map);
+//   - other pairs: a tile map (lib/src/geometry/tile_map.hpp, cubic interpolation of exact
+//     nodes, within 1/256 px),
+//     then the same SIMD sampling from the map.
+// The SIMD kernels (simd_sampler.hpp) take every sample whose taps stay inside one cube face or
+// the frame; the rest (seams, poles, face edges) get the reference sampler's edge rules (wrap,
+// pole crossing, cube neighbours, clamp). The scalar engine samples everything with the reference.
+// Tiles are fixed by the image size, not the thread count, so any number of threads gives the
+// same bytes.
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
 #include <optional>
+#include <string_view>
 
-#include "panoproj/antialias.hpp"
-#include "panoproj/engine.hpp"
 #include "panoproj/image.hpp"
-#include "panoproj/interpolator.hpp"
+#include "panoproj/options.hpp"
 #include "panoproj/projection.hpp"
 
 namespace panoproj {
 
-struct ConvertOptions {
-  double yaw = 0, pitch = 0, roll = 0;  // degrees, see rotation.hpp
-  Interp interp = Interp::Bicubic;
-  int threads = 0;                      // 0: all cores
-  Engine engine = Engine::Simd;         // see engine.hpp
-  std::optional<Antialias> antialias;   // see antialias.hpp; default: auto, off for the
-                                        // reference engine (which has none)
-  std::optional<Size> size;             // output size; default: default_size() at the source's
-                                        // centre density (square pixels)
-  EdgeFill edges;                       // edge_fill.hpp: pixels without a (whole) source
-  bool add_alpha = false;               // give a source without alpha an opaque one first, so
-                                        // the output has alpha (0 where it has no source)
-  int64_t memory_limit = 0;             // bytes a job may allocate; 0: the memory available
-                                        // (limits.hpp)
+// Bytes a cached map takes per output pixel (double x, y and a validity byte).
+inline constexpr int64_t kCachedMapBytesPerPixel = 2 * sizeof(double) + 1;
+
+struct EngineStats {
+  int64_t tiles = 0;
+  int64_t fused_tiles = 0;   // geometry in registers, no map (simd engine, the common pairs)
+  int64_t simd_misses = 0;  // samples the SIMD kernels left to the reference's edge rules
+  int64_t interpolated_cells = 0, exact_cells = 0;  // tile_map.hpp cells of the other tiles
 };
+
+// One geometry (projections, rotation, kernel), applied to any number of images of the source's
+// size. With cache_map, the tile maps of the tiles that are not fused (kCachedMapBytesPerPixel
+// per output pixel at most) are built once, on the first run, and reused: batches and video
+// frames pay for that geometry once. Fused tiles recompute theirs: in registers it costs less
+// than reading a stored map. run() may be called from several threads at once. antialias
+// (options.hpp: Antialias; off by default here, auto in the command and the Python module) needs the
+// simd or scalar engine; mip builds the source's levels on each run, as far as they are read.
+class Converter {
+ public:
+  // edges: what pixels without a source, or on the field's edge, get (EdgeFill, options.hpp; by default
+  // 0, decided at pixel centres).
+  Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
+            Engine engine, int threads, bool cache_map = false, Antialias antialias = {}, EdgeFill edges = {});
+
+  // Throws panoproj::Error if src's size is not the source projection's. progress, if given,
+  // is called from the calling thread with the fraction of tiles done.
+  Image run(const Image& src, EngineStats* stats = nullptr,
+            const std::function<void(double)>& progress = {}) const;
+  // The same into out, reusing its buffer when it already has the output's size and layout
+  // (video frames, batches: no new memory per frame).
+  void run(const Image& src, Image& out, EngineStats* stats = nullptr,
+           const std::function<void(double)>& progress = {}) const;
+
+  // The source pixels [x0, x1) x [y0, y1) that run() reads (with the kernel's taps and the
+  // edge rules: a seam or pole crossing widens it to the full width; cubemap sources and targets
+  // showing the whole sphere (cubemap, full equirect, the world maps) read all). Read
+  // only this part of a large source. With cache_map it builds and keeps the tile maps (run()
+  // then reuses them); without, it maps tile by tile and keeps nothing.
+  struct Region {
+    int64_t x0, y0, x1, y1;
+  };
+  Region source_footprint() const;
+
+  const Projection& source() const;
+  const Projection& target() const;
+  const Antialias& antialias() const;
+
+  ~Converter();
+  Converter(Converter&&) noexcept;
+  Converter& operator=(Converter&&) noexcept;
+
+ private:
+  struct Impl;  // lib/src/engine/engine.cpp
+  std::unique_ptr<Impl> impl_;
+};
+
+// The SIMD target in use (e.g. "AVX2").
+const char* simd_target();
 
 // Largest side of an output (the image formats' 32-bit sides).
 inline constexpr int64_t kMaxSide = 2147483647;

@@ -7,9 +7,14 @@
 #include <utility>
 #include <vector>
 
-#include "panoproj/projections/frame.hpp"
-
 namespace panoproj {
+
+// An image's (or a projection frame's) width and height in pixels.
+struct Size {
+  int64_t width = 0;
+  int64_t height = 0;
+  bool operator==(const Size&) const = default;
+};
 
 enum class PixelType { U8, U16, F16, F32 };
 

@@ -1,13 +1,19 @@
 #pragma once
-// Sizes and memory, checked before anything is planned or allocated: byte counts that cannot
-// overflow, and a budget (default: the machine's available memory) that a job's buffers must fit.
+// Sizes, memory and threads, checked before anything is planned or allocated: byte counts that
+// cannot overflow, a budget (default: the machine's available memory) that a job's buffers must
+// fit, and the thread count.
 #include <cstdint>
 #include <string>
 #include <string_view>
 
-#include "panoproj/projections/frame.hpp"
+#include "panoproj/image.hpp"
 
 namespace panoproj {
+
+// Threads: 0 is all cores; throws Error unless 0 <= threads <= kMaxThreads.
+inline constexpr int kMaxThreads = 1024;
+void check_threads(int64_t threads);
+int resolve_threads(int threads);  // 0 -> the cores
 
 // w x h x channels x sample_bytes, saturating at UINT64_MAX instead of overflowing.
 uint64_t image_bytes(Size size, int channels, uint64_t sample_bytes);

@@ -1,4 +1,4 @@
-#include "panoproj/parallel.hpp"
+#include "base/parallel.hpp"
 
 #include <string>
 

@@ -1,4 +1,4 @@
-#include "panoproj/accuracy.hpp"
+#include "panoproj/diagnostics/accuracy.hpp"
 
 #include <algorithm>
 #include <chrono>

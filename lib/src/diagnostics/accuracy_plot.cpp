@@ -8,7 +8,7 @@
 #include <cstring>
 #include <string>
 
-#include "panoproj/accuracy.hpp"
+#include "panoproj/diagnostics/accuracy.hpp"
 
 namespace panoproj {
 namespace {

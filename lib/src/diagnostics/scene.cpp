@@ -1,11 +1,11 @@
-#include "panoproj/scene.hpp"
+#include "panoproj/diagnostics/scene.hpp"
 
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "panoproj/error.hpp"
-#include "panoproj/parallel.hpp"
+#include "base/parallel.hpp"
 #include "base/sample_io.hpp"
 
 namespace panoproj {

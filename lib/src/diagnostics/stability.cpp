@@ -1,4 +1,4 @@
-#include "panoproj/stability.hpp"
+#include "panoproj/diagnostics/stability.hpp"
 
 #include <Eigen/Geometry>
 

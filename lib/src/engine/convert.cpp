@@ -5,7 +5,7 @@
 
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
-#include "panoproj/parallel.hpp"
+#include "base/parallel.hpp"
 #include "panoproj/rotation.hpp"
 
 namespace panoproj {

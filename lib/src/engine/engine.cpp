@@ -1,7 +1,9 @@
-#include "panoproj/engine.hpp"
+#include "panoproj/convert.hpp"
 
 #include <algorithm>
 #include <atomic>
+#include <memory>
+#include <mutex>
 #include <array>
 #include <cmath>
 #include <string>
@@ -10,9 +12,9 @@
 #include "engine/tile_sampling.hpp"
 #include "engine/tile_strategies.hpp"
 #include "panoproj/error.hpp"
-#include "panoproj/parallel.hpp"
-#include "panoproj/resample.hpp"
-#include "panoproj/tile_map.hpp"
+#include "base/parallel.hpp"
+#include "sampling/resample.hpp"
+#include "geometry/tile_map.hpp"
 #include "sampling/edge_pass.hpp"
 #include "sampling/footprint_kernel.hpp"
 #include "simd/geometry.hpp"
@@ -46,8 +48,52 @@ void widen_to(const TileMap& tm, std::array<double, 4>& b) {
 
 }  // namespace
 
-Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation,
-                     Interp interp, Engine engine, int threads, bool cache_map, Antialias antialias, EdgeFill edges)
+// The Converter's state: the projections, options and kept maps (convert.hpp's promises are kept
+// here), and the tiles.
+struct Converter::Impl {
+  Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
+       int threads, bool cache_map, Antialias antialias, EdgeFill edges);
+  Region source_footprint() const;
+  void run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress) const;
+
+  Projection source_, target_;
+  Antialias antialias_;
+  EdgeFill edges_;
+  std::vector<Projection> sub_targets_;  // [n]: the target at n times its size (sub-pixels)
+  Eigen::Matrix3d rotation_;
+  Interp interp_;
+  Engine engine_;
+  int threads_;
+  bool cache_map_;
+  std::vector<Projection> lenses_;      // a dual-fisheye source's lenses alone (blended per tile), else empty
+  mutable std::vector<TileMap> cache_;  // one per tile (empty for fused tiles), built on first use
+  mutable std::once_flag cache_once_;   // so that threads sharing a Converter build it once
+
+  void build_cache() const;
+  TileRect tile(int64_t t) const;  // tiles in row-major order
+  int64_t tile_count() const;
+  // True (and g filled) where the tile's geometry runs in registers fused with the sampling.
+  bool fused(const TileRect& rect, SimdGeometry& g) const;
+  const TileMap* cached(int64_t t) const;  // the kept map of a tile that has one, else null
+};
+
+Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
+                     Engine engine, int threads, bool cache_map, Antialias antialias, EdgeFill edges)
+    : impl_(std::make_unique<Impl>(std::move(source), std::move(target), rotation, interp, engine, threads, cache_map,
+                                   antialias, edges)) {}
+Converter::~Converter() = default;
+Converter::Converter(Converter&&) noexcept = default;
+Converter& Converter::operator=(Converter&&) noexcept = default;
+const Projection& Converter::source() const { return impl_->source_; }
+const Projection& Converter::target() const { return impl_->target_; }
+const Antialias& Converter::antialias() const { return impl_->antialias_; }
+Converter::Region Converter::source_footprint() const { return impl_->source_footprint(); }
+void Converter::run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress) const {
+  impl_->run(src, out, stats, progress);
+}
+
+Converter::Impl::Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
+                      int threads, bool cache_map, Antialias antialias, EdgeFill edges)
     : source_(std::move(source)), target_(std::move(target)), antialias_(antialias), edges_(edges),
       rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), cache_map_(cache_map) {
   if (antialias_.mode != Antialias::Mode::Off && engine_ == Engine::Reference)
@@ -70,24 +116,24 @@ Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d
     sub_targets_.push_back(n < 2 ? target_ : rescaled(target_, {s.width * n, s.height * n}));
 }
 
-TileRect Converter::tile(int64_t t) const {
+TileRect Converter::Impl::tile(int64_t t) const {
   const Size size = size_of(target_);
   const int64_t tiles_x = (size.width + kTile - 1) / kTile;
   const int64_t x0 = (t % tiles_x) * kTile, y0 = (t / tiles_x) * kTile;
   return {x0, y0, std::min(kTile, size.width - x0), std::min(kTile, size.height - y0)};
 }
 
-int64_t Converter::tile_count() const {
+int64_t Converter::Impl::tile_count() const {
   const Size size = size_of(target_);
   return ((size.width + kTile - 1) / kTile) * ((size.height + kTile - 1) / kTile);
 }
 
-bool Converter::fused(const Projection& source, const Projection& target, const TileRect& rect, SimdGeometry& g) const {
-  return engine_ == Engine::Simd && simd_geometry_for(source, target, rotation_, rect, g);
+bool Converter::Impl::fused(const TileRect& rect, SimdGeometry& g) const {
+  return engine_ == Engine::Simd && simd_geometry_for(source_, target_, rotation_, rect, g);
 }
 
 
-void Converter::build_cache() const {
+void Converter::Impl::build_cache() const {
   // Fused tiles recompute their geometry in registers faster than they could read a map: only the
   // others keep one (an empty TileMap marks a fused tile).
   std::vector<TileMap> maps(static_cast<size_t>(tile_count()));
@@ -99,13 +145,13 @@ void Converter::build_cache() const {
   cache_ = std::move(maps);
 }
 
-const TileMap* Converter::cached(int64_t t) const {
+const TileMap* Converter::Impl::cached(int64_t t) const {
   if (!cache_map_) return nullptr;
   const TileMap& tm = cache_[static_cast<size_t>(t)];
   return tm.rect.w > 0 ? &tm : nullptr;
 }
 
-Converter::Region Converter::source_footprint() const {
+Converter::Region Converter::Impl::source_footprint() const {
   const Size frame = size_of(source_);
   const Region all{0, 0, frame.width, frame.height};
   // A cube source is read whole, a dual fisheye's too (its blend reads both lenses, beyond either
@@ -173,8 +219,8 @@ Image Converter::run(const Image& src, EngineStats* stats,
   return out;
 }
 
-void Converter::run(const Image& src, Image& out, EngineStats* stats,
-                    const std::function<void(double)>& progress) const {
+void Converter::Impl::run(const Image& src, Image& out, EngineStats* stats,
+                          const std::function<void(double)>& progress) const {
   const Size expected = size_of(source_);
   if (src.frame_size() != expected)
     throw Error("image size " + std::to_string(src.frame_size().width) + "x" + std::to_string(src.frame_size().height) +
@@ -215,17 +261,11 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats,
     *stats = {n_tiles, 0, 0, 0, 0};
     for (const TileScratch& wk : workers) {
       stats->fused_tiles += wk.stats.fused_tiles;
-      stats->edge_samples += wk.stats.edge_samples;
+      stats->simd_misses += wk.stats.simd_misses;
       stats->interpolated_cells += wk.stats.interpolated_cells;
       stats->exact_cells += wk.stats.exact_cells;
     }
   }
-}
-
-Image fast_remap(const Image& src, const Projection& sp, const Projection& dp,
-                 const Eigen::Matrix3d& rotation, Interp interp, Engine engine, int threads,
-                 EngineStats* stats) {
-  return Converter(sp, dp, rotation, interp, engine, threads).run(src, stats);
 }
 
 }  // namespace panoproj

@@ -4,8 +4,8 @@
 #include <cstring>
 #include <limits>
 
-#include "panoproj/parallel.hpp"
-#include "panoproj/tile_map.hpp"
+#include "base/parallel.hpp"
+#include "geometry/tile_map.hpp"
 
 namespace panoproj {
 

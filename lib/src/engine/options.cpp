@@ -5,12 +5,10 @@
 #include <cerrno>
 #include <cstdlib>
 
-#include "panoproj/antialias.hpp"
-#include "panoproj/edge_fill.hpp"
 #include "panoproj/error.hpp"
-#include "panoproj/interpolator.hpp"
+#include "sampling/interpolator.hpp"
 #include "panoproj/limits.hpp"
-#include "panoproj/parallel.hpp"
+#include "base/parallel.hpp"
 
 namespace panoproj {
 namespace {

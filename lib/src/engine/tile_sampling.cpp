@@ -39,7 +39,7 @@ void TileSampling::resolve_misses(const Image& im, const SourceEdges& e, const T
     fp->at(i, j, ex, ey);
     sample_footprint_reference(im, e, &m.xs[q], &m.ys[q], &ex, &ey, &one, 1, o);
   }
-  wk.stats.edge_samples += static_cast<int64_t>(m.index.size());
+  wk.stats.simd_misses += static_cast<int64_t>(m.index.size());
 }
 
 void TileSampling::map(const Image& im, const SourceEdges& e, const SimdSource& ss, const TileMap& m,

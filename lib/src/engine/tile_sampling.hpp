@@ -9,10 +9,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "panoproj/engine.hpp"
+#include "panoproj/convert.hpp"
 #include "panoproj/image.hpp"
-#include "panoproj/source_edges.hpp"
-#include "panoproj/tile_map.hpp"
+#include "geometry/source_edges.hpp"
+#include "geometry/tile_map.hpp"
 #include "sampling/footprint_kernel.hpp"
 #include "sampling/mip_sampler.hpp"
 #include "sampling/simd_sampler.hpp"

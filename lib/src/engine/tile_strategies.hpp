@@ -1,6 +1,6 @@
 #pragma once
 // The Converter's per-tile strategies, one chosen per run from the antialiasing mode
-// (antialias.hpp): plain sampling; auto (per tile: plain, the footprint kernel, or the footprint
+// (options.hpp: Antialias): plain sampling; auto (per tile: plain, the footprint kernel, or the footprint
 // kernel on n x n sub-pixels); n x n sub-pixels (supersample); mip levels. Each samples through
 // TileSampling. Internal.
 #include <Eigen/Core>
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "engine/tile_sampling.hpp"
-#include "panoproj/antialias.hpp"
+#include "panoproj/options.hpp"
 
 namespace panoproj {
 

@@ -1,4 +1,4 @@
-#include "panoproj/source_edges.hpp"
+#include "geometry/source_edges.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "panoproj/tile_map.hpp"
+#include "geometry/tile_map.hpp"
 
 #include <algorithm>
 #include <array>

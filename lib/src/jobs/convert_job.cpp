@@ -1,11 +1,11 @@
-#include "panoproj/convert_job.hpp"
+#include "panoproj/jobs.hpp"
 
 #include <chrono>
 #include <filesystem>
 #include <sstream>
 #include <vector>
 
-#include "panoproj/engine.hpp"
+#include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/photo_sphere.hpp"

@@ -1,4 +1,4 @@
-#include "panoproj/antialias.hpp"
+#include "panoproj/options.hpp"
 
 #include <charconv>
 

@@ -7,7 +7,7 @@
 
 #include "panoproj/image.hpp"
 #include "panoproj/projection.hpp"
-#include "panoproj/tile_map.hpp"
+#include "geometry/tile_map.hpp"
 
 namespace panoproj {
 

@@ -1,4 +1,4 @@
-// Fill colours and the finishing pass over field edges (edge_fill.hpp, edge_pass.hpp).
+// Fill colours and the finishing pass over field edges (EdgeFill in options.hpp, edge_pass.hpp).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,9 +9,9 @@
 
 #include "sampling/edge_pass.hpp"
 #include "panoproj/error.hpp"
-#include "panoproj/parallel.hpp"
-#include "panoproj/source_edges.hpp"
-#include "panoproj/tile_map.hpp"
+#include "base/parallel.hpp"
+#include "geometry/source_edges.hpp"
+#include "geometry/tile_map.hpp"
 #include "sampling/reference_sampler.hpp"
 #include "base/sample_io.hpp"
 #include "simd/geometry.hpp"

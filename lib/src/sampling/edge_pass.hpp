@@ -1,10 +1,10 @@
 #pragma once
-// The finishing pass of edge_fill.hpp over a converted image. Internal (engine.cpp).
+// The finishing pass of EdgeFill (options.hpp) over a converted image. Internal (engine.cpp).
 #include <Eigen/Core>
 
-#include "panoproj/edge_fill.hpp"
+#include "panoproj/options.hpp"
 #include "panoproj/image.hpp"
-#include "panoproj/interpolator.hpp"
+#include "sampling/interpolator.hpp"
 #include "panoproj/projection.hpp"
 
 namespace panoproj {

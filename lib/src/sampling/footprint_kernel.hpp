@@ -1,5 +1,5 @@
 #pragma once
-// antialias.hpp's footprint kernel, auto's filter where the output shrinks: each output pixel
+// Antialias's footprint kernel, auto's filter where the output shrinks: each output pixel
 // averages the source pixels under its footprint, each weighted by its overlap with a box of
 // width e along each source axis centred on the sample (box(e) convolved with the pixel's own
 // box: OpenCV's INTER_AREA resize, but per pixel, along the map's local footprint):
@@ -19,9 +19,9 @@
 // alias); 4 taps with this box, cut to the taps past e = 3, 2.7 dB lower. Internal.
 #include <cstdint>
 
-#include "panoproj/interpolator.hpp"
+#include "sampling/interpolator.hpp"
 #include "panoproj/projection.hpp"
-#include "panoproj/tile_map.hpp"
+#include "geometry/tile_map.hpp"
 
 namespace panoproj {
 

@@ -1,4 +1,4 @@
-#include "panoproj/interpolator.hpp"
+#include "sampling/interpolator.hpp"
 
 #include <cmath>
 #include <string>

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "panoproj/tile_map.hpp"
+#include "geometry/tile_map.hpp"
 
 namespace panoproj {
 

@@ -24,7 +24,7 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
   const int deepest = pyramid.levels() - 1;
   // Per pixel: over each axis the smaller step to a neighbour (a seam or face edge lies on one
   // side only); the footprint's side is the geometric mean of the two (the square root of its
-  // area), and r, half of it, the level scale (see antialias.hpp).
+  // area), and r, half of it, the level scale (see Antialias, options.hpp).
   s.rho.resize(static_cast<size_t>(n));
   // Levels and weights: 2^j <= r < 2^(j+1) blends levels j and j + 1 linearly in r (f = r / 2^j
   // - 1, read off r's exponent and mantissa); r <= 1 is level 0 alone; from the deepest level on,

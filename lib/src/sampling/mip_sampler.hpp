@@ -1,12 +1,12 @@
 #pragma once
-// antialias.hpp's mip for one output tile: the footprint rho of each pixel from its tile map,
+// Antialias's mip for one output tile: the footprint rho of each pixel from its tile map,
 // then the map scaled to each mip level in use, sampled there by the engine's own sampler, and
 // the levels blended. Internal.
 #include <cstdint>
 #include <functional>
 #include <vector>
 
-#include "panoproj/tile_map.hpp"
+#include "geometry/tile_map.hpp"
 #include "sampling/pyramid.hpp"
 
 namespace panoproj {

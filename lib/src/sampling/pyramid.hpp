@@ -1,5 +1,5 @@
 #pragma once
-// Mip levels of a source for antialiasing (antialias.hpp's auto). Level k + 1 is level k shrunk
+// Mip levels of a source for antialiasing (Antialias's auto). Level k + 1 is level k shrunk
 // 2 times on each axis, each pixel the mean of a 2x2 block (integers rounded to nearest; colour
 // weighted by alpha where there is one); the projection of level k is the source's rescaled to
 // its size, so a position x at level 0 is x / 2^k there. Levels exist while the frame (and a cubemap's faces, which then start on even
@@ -12,7 +12,7 @@
 
 #include "panoproj/image.hpp"
 #include "panoproj/projection.hpp"
-#include "panoproj/source_edges.hpp"
+#include "geometry/source_edges.hpp"
 
 namespace panoproj {
 

@@ -4,8 +4,8 @@
 #include <cstdint>
 
 #include "panoproj/image.hpp"
-#include "panoproj/interpolator.hpp"
-#include "panoproj/source_edges.hpp"
+#include "sampling/interpolator.hpp"
+#include "geometry/source_edges.hpp"
 
 namespace panoproj {
 

@@ -1,5 +1,5 @@
 // Reference remap (scalar). See resample.hpp.
-#include "panoproj/resample.hpp"
+#include "sampling/resample.hpp"
 
 #include <Imath/half.h>
 
@@ -8,8 +8,8 @@
 #include <cstring>
 #include <vector>
 
-#include "panoproj/parallel.hpp"
-#include "panoproj/source_edges.hpp"
+#include "base/parallel.hpp"
+#include "geometry/source_edges.hpp"
 #include "sampling/footprint_kernel.hpp"
 #include "sampling/reference_sampler.hpp"
 #include "base/sample_io.hpp"

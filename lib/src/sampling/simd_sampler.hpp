@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "panoproj/image.hpp"
-#include "panoproj/interpolator.hpp"
-#include "panoproj/tile_map.hpp"
+#include "sampling/interpolator.hpp"
+#include "geometry/tile_map.hpp"
 #include "sampling/footprint_kernel.hpp"
 #include "simd/geometry.hpp"
 

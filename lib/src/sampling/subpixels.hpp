@@ -1,9 +1,9 @@
 #pragma once
-// antialias.hpp's N x N supersampling: the means of each output pixel's sub-pixel samples. Internal.
+// Antialias's N x N supersampling: the means of each output pixel's sub-pixel samples. Internal.
 #include <cstdint>
 
 #include "panoproj/image.hpp"
-#include "panoproj/tile_map.hpp"
+#include "geometry/tile_map.hpp"
 
 namespace panoproj {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "panoproj/projections/cubemap.hpp"
-#include "panoproj/tile_map.hpp"
+#include "geometry/tile_map.hpp"
 #include "simd/lanes.hpp"
 
 namespace panoproj::simd {

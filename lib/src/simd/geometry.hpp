@@ -17,7 +17,7 @@
 #include <type_traits>
 
 #include "panoproj/projection.hpp"
-#include "panoproj/tile_map.hpp"
+#include "geometry/tile_map.hpp"
 #include "simd/aitoff.hpp"
 #include "simd/bonne.hpp"
 #include "simd/cubemap.hpp"

@@ -1,14 +1,10 @@
 #pragma once
-// Image frame helpers shared by the projections: size, bounds test with a tolerance.
+// Image frame helpers shared by the projections: the bounds test with a tolerance.
 #include <cstdint>
 
-namespace panoproj {
+#include "panoproj/image.hpp"  // Size
 
-struct Size {
-  int64_t width = 0;
-  int64_t height = 0;
-  bool operator==(const Size&) const = default;
-};
+namespace panoproj {
 
 // Relative slack for "on the rim/outline" tests, so that a pixel produced by to_pixel at the
 // closed frame's edge (x == W) or a ray produced by to_ray at the rim is accepted back.

@@ -1,15 +1,13 @@
 #pragma once
-// Work over threads (threads = 0: all cores). An exception thrown by the work stops further
+// Work over threads (threads = 0: all cores). Internal. An exception thrown by the work stops further
 // tasks and is rethrown by the call once every thread has joined (the first one, if several).
 #include <cstdint>
 #include <functional>
 
+#include "panoproj/limits.hpp"  // threads: check_threads, resolve_threads
+
 namespace panoproj {
 
-// Throws Error unless 0 (all cores) <= threads <= kMaxThreads.
-inline constexpr int kMaxThreads = 1024;
-void check_threads(int64_t threads);
-int resolve_threads(int threads);
 // Splits rows [0, rows) into contiguous bands, one per worker.
 void parallel_rows(int64_t rows, int threads, const std::function<void(int64_t, int64_t)>& band);
 // Workers parallel_tasks uses for n tasks: min(threads, n), at least 1.

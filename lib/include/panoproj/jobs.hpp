@@ -25,7 +25,7 @@ inline constexpr int64_t kMapCacheBudget = int64_t{512} << 20;
 struct ConvertJob {
   std::vector<std::string> inputs;  // one image or face pattern, or several images (a batch)
   std::string output;               // a path, a face pattern, or a batch pattern
-  std::optional<std::string> from;  // spec text; see convert_job.hpp rules when absent
+  std::optional<std::string> from;  // spec text; see the rules above when absent
   std::string to;
   ConvertOptions options;
   WriteOptions write;

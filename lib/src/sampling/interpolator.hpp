@@ -11,12 +11,12 @@
 //             undershoot at sharp edges (dark rings around an HDR sun, negative values); the
 //             clamp removes that and leaves samples inside the local range (most of a smooth
 //             image) untouched.
+// (Interp and its names: panoproj/options.hpp.) Internal.
 #include <cstdint>
-#include <string_view>
+
+#include "panoproj/options.hpp"
 
 namespace panoproj {
-
-enum class Interp { Nearest, Bilinear, Bicubic, Lanczos3, BicubicDering, Lanczos3Dering };
 
 // The kernel of k (Bicubic for BicubicDering), and whether k clamps to the central 2x2 taps.
 inline Interp kernel_of(Interp k) {
@@ -25,8 +25,6 @@ inline Interp kernel_of(Interp k) {
 inline bool derings(Interp k) { return k != kernel_of(k); }
 
 int support(Interp k);
-const char* name_of(Interp k);
-Interp parse_interp(std::string_view name);  // throws panoproj::Error
 
 // First tap index for a sample at s.
 int64_t first_tap(Interp k, double s);

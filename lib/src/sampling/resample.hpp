@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 
 #include "panoproj/image.hpp"
-#include "panoproj/interpolator.hpp"
+#include "sampling/interpolator.hpp"
 #include "panoproj/projection.hpp"
 
 namespace panoproj {

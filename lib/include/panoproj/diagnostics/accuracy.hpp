@@ -6,12 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "panoproj/antialias.hpp"
-#include "panoproj/engine.hpp"
+#include "panoproj/options.hpp"
+#include "panoproj/convert.hpp"
 #include "panoproj/image.hpp"
-#include "panoproj/interpolator.hpp"
 #include "panoproj/projection.hpp"
-#include "panoproj/scene.hpp"
+#include "panoproj/diagnostics/scene.hpp"
 
 namespace panoproj {
 
