@@ -12,8 +12,10 @@ namespace panoproj::simd {
 // as 1e300; a plain conversion of those is undefined).
 template <class T>
 T lane(double v) {
-  constexpr T inf = std::numeric_limits<T>::infinity();
-  if (std::is_same_v<T, float> && std::fabs(v) > std::numeric_limits<float>::max()) return v > 0 ? inf : -inf;
+  if constexpr (std::is_same_v<T, float>) {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    if (std::fabs(v) > std::numeric_limits<float>::max()) return v > 0 ? inf : -inf;
+  }
   return static_cast<T>(v);
 }
 
