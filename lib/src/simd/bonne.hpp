@@ -42,12 +42,17 @@ struct BonneSource {
   T coarse_rho;
 };
 
-// Returns whether float lanes serve (the plane error as Aitoff's).
+// Returns whether float lanes serve: the plane error as Aitoff's plus, in the rho form, one
+// rounding at rho's magnitude in X = rho sin E and Y = cot phi1 - rho cos E (rho <= cot phi1 +
+// phi1 + pi/2: 11.5 just above the small form's switch, 3.4 at phi1 = 45; the table's sweep in
+// tests/simd_geometry_test.cpp found 1.5e-3 px at phi1 = 5.8, 4096 px, without it).
 template <class T>
 bool describe(const Bonne& m, BonneSource<T>& l) {
   describe(m, l.shape);
   l.coarse_rho = lane<T>(0.1);
-  return kFloatTolerance - rounding(m.frame()) - pixels_per_unit(m.frame()) * 4 * kFloatRayError > 0;
+  const double rho_max = m.small_form() ? 0.0 : m.cot_phi1() + m.abs_phi1() + kHalfPi;
+  return kFloatTolerance - rounding(m.frame()) -
+             pixels_per_unit(m.frame()) * (4 * kFloatRayError + rho_max * kHalfUlp) > 0;
 }
 
 }  // namespace panoproj::simd

@@ -124,7 +124,10 @@ HWY_INLINE void SourcePixel(D d, const simd::FisheyeSource<T>& s, V x, V y, V z,
   const V sv = hn::Sqrt(s2), n = hn::Sqrt(hn::MulAdd(z, z, s2));
   const V psi = Atan2(d, sv, z);
   ok = hn::And(hn::Not(hn::Gt(psi, hn::Set(d, s.psi_max))), hn::Not(hn::Gt(psi, hn::Set(d, s.psi_limit))));
-  const V npz = hn::Add(n, z);
+  // n + z; behind the camera (z < 0) double lanes, which have no coarse fallback, take
+  // s^2 / (n - z) (the same, without cancellation).
+  V npz = hn::Add(n, z);
+  if constexpr (sizeof(T) == 8) npz = hn::IfThenElse(hn::Lt(z, zero), hn::Div(s2, hn::Sub(n, z)), npz);
   V k;
   switch (s.law) {
     case FisheyeModel::Equisolid: k = hn::Div(hn::Set(d, T(1)), hn::Sqrt(hn::Mul(hn::Mul(n, npz), hn::Set(d, T(0.5))))); break;

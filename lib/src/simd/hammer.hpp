@@ -27,13 +27,16 @@ struct HammerSource {
   T w, inv_w;
 };
 
-// Returns whether float lanes serve: the plane position's error is the ray's (unit scale at the
-// centre, less elsewhere) times the pixels per plane unit, plus rounding.
+// Returns whether float lanes serve: the plane position's error is the ray's times the largest
+// scale times the pixels per plane unit, plus rounding. The largest scale is the Lambert
+// azimuthal's 1 / cos(c / 2) at the outline's equator, c = w pi: sqrt(2) for Hammer (w = 1/2),
+// 6.4 for w = 0.9 (the factor 2 below covers it up to w = 1/2).
 template <class T>
 bool describe(const Hammer& m, HammerSource<T>& l) {
   l.w = lane<T>(m.w());
   l.inv_w = lane<T>(1.0 / m.w());
-  return rounding(m.frame()) + pixels_per_unit(m.frame()) * 2 * kFloatRayError <= kFloatTolerance;
+  const double scale = std::max(1.0, 1.0 / (std::sqrt(2.0) * std::cos(m.w() * kHalfPi)));
+  return rounding(m.frame()) + pixels_per_unit(m.frame()) * 2 * scale * kFloatRayError <= kFloatTolerance;
 }
 
 }  // namespace panoproj::simd
