@@ -1,8 +1,9 @@
-// Round trips for every projection over a spread of parameters, at sample sizes:
-//  - pixels: to_pixel(to_ray(p)) == p on dense grids that include borders and centres, within a
-//    bound per case; a pixel that comes back elsewhere is accepted only on a declared identity set
+// Round trips for every row of every projection's case table (projections/module.hpp) at each
+// of its sizes from 32 px up:
+//  - pixels: to_pixel(to_ray(p)) == p on dense grids that include borders and centres, within the
+//    row's bound; a pixel that comes back elsewhere is accepted only on a declared identity set
 //    (seam, pole rows, cube face edges, the 360-degree fisheye rim, the cartographic outline and
-//    poles) and only when the ray it comes back to is the same (angle);
+//    poles, a dual fisheye's overlap) and only when the ray it comes back to is the same (angle);
 //  - rays: random directions d with a pixel come back as the same ray (angle).
 #include <gtest/gtest.h>
 
@@ -11,17 +12,28 @@
 #include <random>
 
 #include "panoproj/projection.hpp"
+#include "projections/module.hpp"
 #include "test_support.hpp"
 
 namespace panoproj {
 namespace {
 
 struct Case {
-  const char* spec;
+  std::string spec;
   Size size;
   double pixel_bound;  // px
 };
 void PrintTo(const Case& c, std::ostream* os) { *os << c.spec << " at " << c.size.width << "x" << c.size.height; }
+
+// The tables' rows at each size with at least 32 px each way (smaller frames have too few grid
+// points for the identity count; the stability report covers them).
+std::vector<Case> cases() {
+  std::vector<Case> v;
+  for (const ProjectionCase& row : projection_cases())
+    for (Size s : row.sizes)
+      if (std::min(s.width, s.height) >= 32) v.push_back({row.spec, s, row.bound_px});
+  return v;
+}
 
 // Where one ray has several pixels (or none is unique), for the case's projection.
 bool on_identity_set(const Projection& p, double lon0, double x, double y, const Ray& d) {
@@ -39,6 +51,10 @@ bool on_identity_set(const Projection& p, double lon0, double x, double y, const
   if (const auto* f = std::get_if<Fisheye>(&p)) {
     return f->psi_max() >= kPi * (1 - 1e-12) && std::atan2(std::hypot(d.x(), d.y()), d.z()) > kPi - 1e-6;
   }
+  if (const auto* dual = std::get_if<DualFisheye>(&p)) {
+    // The overlap: a ray seen by both lenses comes back through the one it lies deeper inside.
+    return dual->margin(1 - dual->lens_at(x, y), d) >= 0;
+  }
   if (const auto* k = std::get_if<Lens>(&p)) {
     return k->theta_max() >= kPi * (1 - 1e-12) && std::atan2(std::hypot(d.x(), d.y()), d.z()) > kPi - 1e-6;
   }
@@ -52,6 +68,7 @@ class RoundTrip : public ::testing::TestWithParam<Case> {};
 
 TEST_P(RoundTrip, PixelsAndRays) {
   const Case& c = GetParam();
+  const char* name = c.spec.c_str();
   const ProjectionSpec spec = parse_spec(c.spec);
   const Projection p = make_projection(spec, c.size);
   // (lon0: the world maps' central meridian; equirect and cylindrical decide before using it.)
@@ -70,6 +87,7 @@ TEST_P(RoundTrip, PixelsAndRays) {
   axis(H, ys);
   double max_err = 0;
   int64_t tested = 0, identities = 0;
+  const bool dual = std::holds_alternative<DualFisheye>(p);  // its overlap is no small set
   for (double y : ys)
     for (double x : xs) {
       if (x > W || y > H) continue;
@@ -93,7 +111,9 @@ TEST_P(RoundTrip, PixelsAndRays) {
       ++identities;
     }
   EXPECT_GT(tested, 1000) << c.spec;
-  EXPECT_LT(identities, tested / 50 + 8) << c.spec << ": too many identity points";
+  if (!dual) {
+    EXPECT_LT(identities, tested / 50 + 8) << c.spec << ": too many identity points";
+  }
 
   // Ray round trips from random directions.
   std::mt19937 rng(11);
@@ -114,82 +134,13 @@ TEST_P(RoundTrip, PixelsAndRays) {
   EXPECT_LT(max_angle, 1e-9) << c.spec;
   std::printf("[roundtrip] %-48s %6lldx%-6lld max pixel error %.2e px, max ray error %.2e rad "
               "(%lld grid points, %lld identities, %d rays)\n",
-              c.spec, static_cast<long long>(c.size.width), static_cast<long long>(c.size.height),
+              name, static_cast<long long>(c.size.width), static_cast<long long>(c.size.height),
               max_err, max_angle, static_cast<long long>(tested),
               static_cast<long long>(identities), with_pixel);
 }
 
-// Bounds: 1e-3 px is what the issue asks; double geometry does far better, and each case states
-// the bound it holds (cases near singular parameters get a looser one).
-const Case kCases[] = {
-    {"pinhole:hfov=90", {1920, 1080}, 1e-6},
-    {"pinhole:hfov=1", {1920, 1080}, 1e-6},
-    {"pinhole:hfov=150,vfov=100", {1920, 1080}, 1e-6},
-    {"pinhole:hfov=179", {1920, 1080}, 1e-6},
-    {"pinhole:focal=1000,cx=900.25,cy=500", {1920, 1080}, 1e-6},
-    {"brown-conrady", {1920, 1080}, 1e-6},
-    {"brown-conrady:fx=1000,fy=1002,cx=959.5,cy=539.5,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0005,k3=-0.01", {1920, 1080}, 1e-6},
-    {"brown-conrady:fx=800,k1=0.15,k2=0.02,p1=-0.004,p2=0.003", {1920, 1080}, 1e-6},
-    {"brown-conrady:fov=100,fx=600,k1=-0.3,k2=0.1", {1920, 1080}, 1e-6},
-    {"fisheye:fov=180", {2048, 2048}, 1e-6},
-    {"fisheye:fov=0.001", {2048, 2048}, 1e-6},
-    {"fisheye:fov=210", {512, 512}, 1e-6},
-    {"fisheye:fov=360", {2048, 2048}, 1e-6},
-    {"fisheye:fov=359.9", {2048, 2048}, 1e-6},
-    {"fisheye:fov=180,model=equisolid", {2048, 2048}, 1e-6},
-    {"fisheye:fov=360,model=equisolid", {2048, 2048}, 1e-6},
-    {"fisheye:fov=0.001,model=equisolid", {2048, 2048}, 1e-6},
-    {"fisheye:fov=180,model=orthographic", {2048, 2048}, 1e-6},
-    {"fisheye:fov=60,model=orthographic", {2048, 2048}, 1e-6},
-    {"fisheye:fov=180,model=stereographic", {2048, 2048}, 1e-6},
-    {"fisheye:fov=359.9,model=stereographic", {2048, 2048}, 1e-6},
-    {"fisheye:fov=180,clip=none", {3000, 2000}, 1e-6},
-    {"fisheye:fov=120,model=equisolid,clip=none", {3000, 2000}, 1e-6},
-    {"fisheye:fov=200,aspect=stretch", {4096, 2048}, 1e-6},
-    {"fisheye:fov=190,radius=900,cx=1000,cy=1020.5", {2048, 2048}, 1e-6},
-    {"kannala-brandt", {2048, 2048}, 1e-6},
-    {"kannala-brandt:fov=0.01,k1=0.3", {2048, 2048}, 1e-6},
-    {"kannala-brandt:fov=220,k1=0.02,k2=-0.005,k3=0.001,k4=-0.0001", {2048, 2048}, 1e-6},
-    {"kannala-brandt:fov=360,k1=-0.01,k2=0.0005", {2048, 2048}, 1e-6},
-    {"kannala-brandt:fov=195,fx=620.5,fy=621.3,cx=959.2,cy=541.7,k1=0.0361,k2=-0.0112,k3=0.0028,k4=-0.0004",
-     {1920, 1080}, 1e-6},
-    {"double-sphere:xi=-0.18,alpha=0.59", {1024, 1024}, 1e-6},
-    {"double-sphere:xi=-0.18,alpha=0.59,fov=190,fx=313.2,fy=313.1,cx=638.9,cy=514.6", {1280, 1024}, 1e-6},
-    {"double-sphere:xi=0.3,alpha=0.4", {1024, 1024}, 1e-6},
-    {"unified", {1024, 1024}, 1e-6},
-    {"unified:xi=0.8", {1024, 1024}, 1e-6},
-    {"unified:xi=2.5", {1024, 1024}, 1e-6},
-    {"extended-unified:alpha=0.63,beta=1.04", {1024, 1024}, 1e-6},
-    {"extended-unified:alpha=0.3,beta=2,fov=200", {1024, 1024}, 1e-6},
-    {"ptlens:hfov=70,a=0.01,b=-0.05,c=0.02", {1920, 1080}, 1e-6},
-    {"ptlens:hfov=100,b=-0.1", {1920, 1280}, 1e-6},
-    {"equirect", {4096, 2048}, 1e-6},
-    {"equirect", {40000, 20000}, 1e-5},
-    {"equirect:hfov=120,vfov=60,lon0=170,lat0=-20", {2048, 1024}, 1e-6},
-    {"equirect:vfov=101.25,lat0=-39.375", {2048, 512}, 1e-6},
-    {"cylindrical", {4096, 1400}, 1e-6},
-    {"cylindrical:hfov=120,vfov=179", {2048, 4096}, 1e-6},
-    {"cylindrical:vfov=60,lat0=20,lon0=-90", {4096, 1024}, 1e-6},
-    {"cubemap", {6 * 512, 512}, 1e-6},
-    {"cubemap:layout=1x6", {512, 6 * 512}, 1e-6},
-    {"cubemap:layout=3x2", {3 * 512, 2 * 512}, 1e-6},
-    {"cubemap:layout=cross", {4 * 512, 3 * 512}, 1e-6},
-    {"aitoff", {4096, 2048}, 1e-6},
-    {"aitoff:lon0=45", {1024, 512}, 1e-6},
-    {"hammer", {4096, 2048}, 1e-6},
-    {"eckert-greifendorff", {4096, 1892}, 1e-6},
-    {"hammer:w=0.9", {2048, 1024}, 1e-6},
-    {"bonne", {2784, 2643}, 1e-6},
-    {"bonne:phi1=0", {4096, 2048}, 1e-6},
-    {"bonne:phi1=1e-9", {4096, 2048}, 1e-6},
-    {"bonne:phi1=5.72", {4096, 2048}, 1e-6},
-    {"bonne:phi1=5.73", {4096, 2048}, 1e-6},
-    {"bonne:phi1=90", {2048, 2048}, 1e-6},
-    {"bonne:phi1=-30,lon0=10", {2048, 2048}, 1e-6},
-};
-
-INSTANTIATE_TEST_SUITE_P(AllProjections, RoundTrip, ::testing::ValuesIn(kCases), [](const auto& info) {
-  return test::case_name(info.index, std::string(info.param.spec) + " " + std::to_string(info.param.size.width) + "x" +
+INSTANTIATE_TEST_SUITE_P(AllProjections, RoundTrip, ::testing::ValuesIn(cases()), [](const auto& info) {
+  return test::case_name(info.index, info.param.spec + " " + std::to_string(info.param.size.width) + "x" +
                                          std::to_string(info.param.size.height));
 });
 

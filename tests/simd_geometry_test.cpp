@@ -11,8 +11,10 @@
 #include <hwy/targets.h>
 
 #include <limits>
+#include <numeric>
 
 #include "panoproj/rotation.hpp"
+#include "projections/module.hpp"
 #include "test_support.hpp"
 
 namespace panoproj {
@@ -26,6 +28,48 @@ struct Pair {
   double yaw, pitch, roll;
   bool mostly_grid = false;  // near 1:1 scale: the grid interpolates most cells
 };
+
+// One pair's sweep over the target's tiles, with or without the grid.
+struct PairRun {
+  test::MapComparison cmp;
+  int64_t taken = 0, tiles = 0;         // tiles: those with a valid pixel
+  int64_t interpolated = 0, cells = 0;  // the grid's cells in tiles with a pixel
+  int64_t gridded = 0;                  // tiles the grid may take
+  bool floats = false;
+};
+
+PairRun run_pair(const Projection& sp, const Projection& dp, const Eigen::Matrix3d& r, bool grid) {
+  PairRun run;
+  const Size ds = size_of(dp);
+  TileMap tm;
+  for (int64_t ty = 0; ty < ds.height; ty += kTile)
+    for (int64_t tx = 0; tx < ds.width; tx += kTile) {
+      const TileRect rect{tx, ty, std::min(kTile, ds.width - tx), std::min(kTile, ds.height - ty)};
+      bool any = false;
+      for (int64_t j = 0; j < rect.h && !any; j += 4)
+        for (int64_t i = 0; i < rect.w && !any; i += 4) any = contains(dp, tx + i + 0.5, ty + j + 0.5);
+      run.tiles += any;
+      SimdGeometry g;
+      if (!simd_geometry_for(sp, dp, r, rect, g)) continue;
+      ++run.taken;
+      run.floats = g.use_float;
+      simd_map_tile(g, rect, tm, grid);
+      run.gridded += g.grid && any;
+      if (grid && g.grid && any) {
+        run.interpolated += tm.interpolated_cells;
+        run.cells += tm.interpolated_cells + tm.exact_cells;
+      }
+      test::compare_with_exact(sp, dp, r, rect, tm, 1e-9, run.cmp);
+    }
+  return run;
+}
+
+// Positions within 1e-9 px in double lanes, kFloatTolerance per axis in float lanes (the
+// distance within sqrt(2) of it); validity the same but for a few rim pixels.
+void expect_close(const PairRun& run, const std::string& name) {
+  EXPECT_LE(run.cmp.worst, run.floats ? std::sqrt(2.0) * SimdGeometry::kFloatTolerance : 1e-9) << name;
+  EXPECT_LE(run.cmp.differ, run.cmp.valid / 5000 + 4) << name;
+}
 
 TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
   const Pair pairs[] = {
@@ -106,55 +150,99 @@ TEST(SimdGeometry, MatchesTheExactMapOnEveryTarget) {
   for (int64_t target : targets) {
     hwy::SetSupportedTargetsForTest(target);
     for (const Pair& c : pairs) {
+      const Projection sp = make_projection(parse_spec(c.src), c.ss), dp = make_projection(parse_spec(c.dst), c.ds);
+      const Eigen::Matrix3d r = rotation_from_ypr(c.yaw, c.pitch, c.roll);
       int64_t gridded = 0;  // tiles the grid may take (the first pass counts them)
       for (bool grid : {false, true}) {
         if (grid && gridded == 0) continue;  // the same as without
         // The grid's code differs between targets by lane count only: the widest (one vector per
         // cell row) and the narrowest (several) cover it at less of the CI's time.
         if (grid && target != targets.front() && target != targets.back()) continue;
-        const Projection sp = make_projection(parse_spec(c.src), c.ss), dp = make_projection(parse_spec(c.dst), c.ds);
-        const Eigen::Matrix3d r = rotation_from_ypr(c.yaw, c.pitch, c.roll);
-        test::MapComparison cmp;
-        int64_t taken = 0, tiles = 0;  // tiles: those with a valid pixel
-        int64_t interpolated = 0, cells = 0;  // the grid's cells in tiles with a pixel
-        bool floats = false;
-        TileMap tm;
-        for (int64_t ty = 0; ty < c.ds.height; ty += kTile)
-          for (int64_t tx = 0; tx < c.ds.width; tx += kTile) {
-            const TileRect rect{tx, ty, std::min(kTile, c.ds.width - tx), std::min(kTile, c.ds.height - ty)};
-            bool any = false;
-            for (int64_t j = 0; j < rect.h && !any; j += 4)
-              for (int64_t i = 0; i < rect.w && !any; i += 4) any = contains(dp, tx + i + 0.5, ty + j + 0.5);
-            tiles += any;
-            SimdGeometry g;
-            if (!simd_geometry_for(sp, dp, r, rect, g)) continue;
-            ++taken;
-            floats = g.use_float;
-            simd_map_tile(g, rect, tm, grid);
-            gridded += !grid && g.grid && any;
-            if (g.grid && any) {
-              interpolated += tm.interpolated_cells;
-              cells += tm.interpolated_cells + tm.exact_cells;
-            }
-            test::compare_with_exact(sp, dp, r, rect, tm, 1e-9, cmp);
-          }
-        const double worst = cmp.worst;
-        const int64_t differ = cmp.differ, valid = cmp.valid;
+        const PairRun run = run_pair(sp, dp, r, grid);
+        if (!grid) gridded = run.gridded;
         const std::string name = std::string(c.src) + " -> " + c.dst + (grid ? " (grid)" : "") + " " + hwy::TargetName(target);
         if (target == targets.front())
           std::printf("[simd_geometry] %-34s -> %-36s %s%s max error %.2e px, %lld of %lld tiles, %lld of %lld "
-                      "pixels differ in validity\n", c.src, c.dst, floats ? "float " : "double", grid ? " grid" : "",
-                      worst, static_cast<long long>(taken), static_cast<long long>(tiles), static_cast<long long>(differ),
-                      static_cast<long long>(valid));
-        EXPECT_GT(taken * 10, tiles * 9) << name;
-        // Per axis kFloatTolerance: the distance within sqrt(2) of it.
-        EXPECT_LE(worst, floats ? std::sqrt(2.0) * SimdGeometry::kFloatTolerance : 1e-9) << name;
-        EXPECT_LE(differ, valid / 5000 + 4) << name;
+                      "pixels differ in validity\n", c.src, c.dst, run.floats ? "float " : "double", grid ? " grid" : "",
+                      run.cmp.worst, static_cast<long long>(run.taken), static_cast<long long>(run.tiles),
+                      static_cast<long long>(run.cmp.differ), static_cast<long long>(run.cmp.valid));
+        EXPECT_GT(run.taken * 10, run.tiles * 9) << name;
+        expect_close(run, name);
         // Most cells interpolated (the rest: rims, poles, seams, face edges).
         if (grid && c.mostly_grid) {
-          EXPECT_GT(interpolated * 2, cells) << name << ": " << interpolated << " of " << cells << " cells";
+          EXPECT_GT(run.interpolated * 2, run.cells) << name << ": " << run.interpolated << " of " << run.cells << " cells";
         }
       }
+    }
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+// The forms with vector lanes (lib/src/simd/), as a source and as a target.
+bool has_vector_source(const Projection& p) {
+  return std::holds_alternative<Pinhole>(p) || std::holds_alternative<Fisheye>(p) || std::holds_alternative<Equirect>(p) ||
+         std::holds_alternative<Cylindrical>(p) || std::holds_alternative<Cubemap>(p) || std::holds_alternative<Aitoff>(p) ||
+         std::holds_alternative<Hammer>(p) || std::holds_alternative<Bonne>(p);
+}
+bool has_vector_target(const Projection& p) {
+  return std::holds_alternative<Pinhole>(p) || std::holds_alternative<Fisheye>(p) ||
+         std::holds_alternative<DualFisheye>(p) || std::holds_alternative<Equirect>(p) ||
+         std::holds_alternative<Cylindrical>(p) || std::holds_alternative<Cubemap>(p) || std::holds_alternative<Hammer>(p) ||
+         std::holds_alternative<Bonne>(p);
+}
+
+// A table row's pair: taken where the form has vector lanes (most tiles; every tile with pixels
+// when the frame has few), and then close to the exact map; else never taken.
+void check_row_run(const PairRun& run, bool vector_form, const std::string& name) {
+  if (!vector_form) {
+    EXPECT_EQ(run.taken, 0) << name << ": a form with vector lanes? (has_vector_source/target)";
+    return;
+  }
+  std::printf("[simd_geometry] %-80s %s max error %.2e px, %lld of %lld tiles, %lld of %lld pixels differ\n", name.c_str(),
+              run.floats ? "float " : "double", run.cmp.worst, static_cast<long long>(run.taken),
+              static_cast<long long>(run.tiles), static_cast<long long>(run.cmp.differ),
+              static_cast<long long>(run.cmp.valid));
+  EXPECT_GT(run.taken * 10, run.tiles * 9) << name;
+  expect_close(run, name);
+}
+
+// A frame of p's aspect with at most 256 px on its longer side (or its smallest whole ratio);
+// cube faces of one tile (a tile across two faces has no vector form).
+Size small_frame(const Projection& p) {
+  const Size s = size_of(p);
+  if (const auto* c = std::get_if<Cubemap>(&p)) return {s.width / c->face_size() * kTile, s.height / c->face_size() * kTile};
+  const int64_t g = std::gcd(s.width, s.height), w = s.width / g, h = s.height / g;
+  const int64_t k = std::max<int64_t>(1, 256 / std::max(w, h));
+  return {w * k, h * k};
+}
+
+// Every row of every projection's case table (projections/module.hpp): at each of its sizes as
+// the source of a turned 256 x 128 equirect, and on a small frame of its largest size's aspect
+// as the target of a turned 2048 x 1024 equirect. Where the form has vector lanes they are
+// taken and agree with the exact map as the pairs above; elsewhere no tile is taken.
+TEST(SimdGeometry, EveryCaseTableRowMatchesTheExactMapOnEveryTarget) {
+  const Eigen::Matrix3d r = rotation_from_ypr(20, 30, 10);
+  const Projection equirect = make_projection(parse_spec("equirect"), {256, 128});
+  const Projection sphere = make_projection(parse_spec("equirect"), {2048, 1024});
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    for (const ProjectionCase& row : projection_cases()) {
+      Size largest = row.sizes.front();
+      for (Size s : row.sizes) {
+        if (s.width * s.height > largest.width * largest.height) largest = s;
+        const Projection sp = make_projection(parse_spec(row.spec), s);
+        const PairRun run = run_pair(sp, equirect, r, false);
+        const std::string name = row.spec + " " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                                 " -> equirect " + hwy::TargetName(target);
+        check_row_run(run, has_vector_source(sp), name);
+      }
+      const Projection big = make_projection(parse_spec(row.spec), largest);
+      const Projection dp = rescaled(big, small_frame(big));
+      const PairRun run = run_pair(sphere, dp, r, false);
+      const Size ds = size_of(dp);
+      check_row_run(run, has_vector_target(dp),
+                    "equirect -> " + row.spec + " " + std::to_string(ds.width) + "x" + std::to_string(ds.height) + " " +
+                        hwy::TargetName(target));
     }
   }
   hwy::SetSupportedTargetsForTest(0);

@@ -9,6 +9,7 @@
 
 #include "panoproj/projection.hpp"
 #include "panoproj/spec.hpp"
+#include "projections/module.hpp"
 
 namespace panoproj {
 namespace {
@@ -31,62 +32,8 @@ std::vector<double> positions(double n) {
 
 std::vector<StabilityCase> stability_cases() {
   std::vector<StabilityCase> c;
-  const Size tiny{1, 1}, photo{4096, 2048}, huge{40000, 20000};
-  auto add = [&](const std::string& spec, std::initializer_list<Size> sizes, double bound) {
-    for (Size s : sizes) c.push_back({spec, s, bound});
-  };
-  for (const char* f : {"0.01", "1", "90", "179", "179.99"}) add(std::string("pinhole:hfov=") + f, {tiny, {1920, 1080}, huge}, 1e-6);
-  for (const char* m : {"equidistant", "equisolid", "orthographic", "stereographic"})
-    for (const char* f : {"0.01", "1", "90", "180", "270", "359.99"}) {
-      const double fov = std::stod(f);
-      if ((std::string(m) == "orthographic" && fov > 180) || (std::string(m) == "stereographic" && fov > 359)) continue;
-      // Orthographic r = sin(psi): its inverse's condition 1 / cos(psi) grows towards 90 degrees
-      // (1.5e-6 px at the rim of a 40000-px 180-degree image).
-      add(std::string("fisheye:fov=") + f + ",model=" + m, {tiny, {2048, 2048}, {40000, 40000}},
-          std::string(m) == "orthographic" ? 1e-5 : 1e-6);
-    }
-  add("fisheye:fov=200,clip=none", {{2048, 2048}}, 1e-6);
-  // Kannala-Brandt: the equidistant law, a tiny field, a 360-degree circle, and a field ending
-  // 0.01 degree before the law folds back (theta (1 - 0.1 theta^2): the Newton inverse's slope
-  // tends to 0 at the rim).
-  for (const char* f : {"0.01", "180", "360"}) add(std::string("kannala-brandt:fov=") + f + ",k1=-0.01,k2=0.0005", {tiny, {2048, 2048}, {40000, 40000}}, 1e-6);
-  add("kannala-brandt:fov=209.2,k1=-0.1", {{2048, 2048}, {40000, 40000}}, 1e-6);
-  // Brown-Conrady: a pinhole to 160 degrees, barrel distortion up to its fold, and tangential
-  // terms (focal lengths scaled with the frame).
-  add("brown-conrady", {tiny, {1920, 1080}, {40000, 22500}}, 1e-6);
-  add("brown-conrady:k1=-0.3", {{1920, 1080}, {40000, 22500}}, 1e-6);
-  add("brown-conrady:fx=1000,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0005,k3=-0.01", {{1920, 1080}}, 1e-6);
-  add("brown-conrady:fx=20833,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0005,k3=-0.01", {{40000, 22500}}, 1e-6);
-  // PTLens: a plain rectilinear lens to 160 degrees, and one whose polynomial folds (the field
-  // ends there).
-  add("ptlens", {tiny, {1920, 1080}, {40000, 22500}}, 1e-6);
-  add("ptlens:hfov=100,a=-0.2,b=0.05,c=-0.01", {{1920, 1080}, {40000, 22500}}, 1e-6);
-  // The closed-form lens laws over their whole domain, and unbounded ones at their default 180
-  // degrees. Where R stays bounded (unified xi > 1, extended unified alpha > 1/2) its slope
-  // reaches 0 at the domain's edge, so theta(R) has the conditioning of sqrt there, as the
-  // orthographic fisheye's: 1.1e-6 px at the rim of a 40000-px image.
-  for (const char* s : {"double-sphere:xi=-0.18,alpha=0.59", "double-sphere:xi=0.3,alpha=0.4", "unified:xi=2.5", "unified:xi=0.8",
-                        "extended-unified:alpha=0.63,beta=1.04", "extended-unified:alpha=0.3,beta=2"})
-    add(s, {tiny, {2048, 2048}, {40000, 40000}}, 1e-5);
-  // Dual fisheye: each ray back through the lens it lies deeper inside (in the overlap, the other
-  // half of the frame), lenses to 360 degrees and to 0.01, a turned top/bottom pair.
-  add("dual-fisheye:fov=200", {{2, 1}, photo, huge}, 1e-6);
-  add("dual-fisheye:fov=359.99,model=equisolid", {photo}, 1e-6);
-  add("dual-fisheye:fov=0.01", {photo}, 1e-6);
-  add("dual-fisheye:fov=190,fov2=220,layout=top-bottom,yaw2=175,pitch2=5,roll2=90", {{2048, 4096}}, 1e-6);
-  add("equirect", {tiny, {2, 1}, photo, huge}, 1e-6);
-  add("equirect:hfov=0.01,vfov=0.01", {tiny, photo}, 1e-6);
-  add("equirect:hfov=120,vfov=60,lat0=59.99", {photo}, 1e-6);
-  add("cylindrical", {tiny, photo, huge}, 1e-6);
-  add("cylindrical:vfov=179.99", {photo}, 1e-6);
-  add("cylindrical:vfov=0.01", {photo}, 1e-6);
-  for (int f : {1, 2, 1024, 40000}) add("cubemap", {{6 * f, f}}, 1e-6);
-  add("cubemap:layout=cross", {{4 * 1024, 3 * 1024}}, 1e-6);
-  add("aitoff", {tiny, photo, huge}, 1e-6);
-  add("hammer", {tiny, photo, huge}, 1e-6);
-  add("eckert-greifendorff", {photo}, 1e-6);
-  for (const char* p : {"0", "1e-9", "5.7", "5.73", "5.8", "45", "-45", "89.99", "90", "-90"})
-    add(std::string("bonne:phi1=") + p, {photo, huge}, 1e-6);
+  for (const ProjectionCase& row : projection_cases())
+    for (Size s : row.sizes) c.push_back({row.spec, s, row.bound_px});
   return c;
 }
 

@@ -17,8 +17,13 @@ Size size_for(const ProjectionSpec& s, double density) {
 
 Projection rescale(const Projection& p, Size size, double, double) { return Aitoff(size, std::get<Aitoff>(p).lon0()); }
 
+// The Newton inverse from 1x1 to 40000 px; a turned central meridian.
+std::vector<ProjectionCase> cases() {
+  return {{"aitoff", {kTinyFrame, {512, 256}, kPhotoFrame, kHugeFrame}}, {"aitoff:lon0=45", {{1024, 512}}}};
+}
+
 }  // namespace
 
-const ProjectionModule kAitoffModule{catalog, nullptr, make, size_for, rescale, always};
+const ProjectionModule kAitoffModule{catalog, nullptr, make, size_for, rescale, cases, always};
 
 }  // namespace panoproj

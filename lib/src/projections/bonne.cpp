@@ -64,8 +64,19 @@ Projection rescale(const Projection& p, Size size, double, double) {
   return Bonne(size, q.mirror() * q.abs_phi1(), q.lon0());
 }
 
+// phi1 at 0 (sinusoidal), 1e-9, around the series switch (kSmallPhi1, 5.72958 degrees), both
+// hemispheres, near and at the pole (Werner); the default; a turned central meridian.
+std::vector<ProjectionCase> cases() {
+  std::vector<ProjectionCase> c;
+  for (const char* p : {"0", "1e-9", "5.7", "5.72", "5.73", "5.8", "45", "-45", "89.99", "90", "-90"})
+    c.push_back({std::string("bonne:phi1=") + p, {{512, 256}, {2048, 2048}, kPhotoFrame, kHugeFrame}});
+  c.push_back({"bonne", {{2784, 2643}}});
+  c.push_back({"bonne:phi1=-30,lon0=10", {{2048, 2048}}});
+  return c;
+}
+
 }  // namespace
 
-const ProjectionModule kBonneModule{catalog, nullptr, make, size_for, rescale, always};
+const ProjectionModule kBonneModule{catalog, nullptr, make, size_for, rescale, cases, always};
 
 }  // namespace panoproj

@@ -69,9 +69,22 @@ Projection rescale(const Projection& p, Size size, double sx, double sy) {
   return BrownConrady(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy, q.coefficients(), q.theta_max());
 }
 
+// A pinhole to 160 degrees, barrel distortion up to its fold, tangential terms (the focal
+// lengths scaled with the frame), unequal focal lengths.
+std::vector<ProjectionCase> cases() {
+  return {{"brown-conrady", {kTinyFrame, {1920, 1080}, {40000, 22500}}},
+          {"brown-conrady:k1=-0.3", {{1920, 1080}, {40000, 22500}}},
+          {"brown-conrady:fx=1000,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0005,k3=-0.01", {{1920, 1080}}},
+          {"brown-conrady:fx=20833,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0005,k3=-0.01", {{40000, 22500}}},
+          {"brown-conrady:fx=1000,fy=1002,cx=959.5,cy=539.5,k1=-0.28,k2=0.09,p1=0.001,p2=-0.0005,k3=-0.01",
+           {{1920, 1080}}},
+          {"brown-conrady:fx=800,k1=0.15,k2=0.02,p1=-0.004,p2=0.003", {{1920, 1080}}},
+          {"brown-conrady:fov=100,fx=600,k1=-0.3,k2=0.1", {{1920, 1080}}}};
+}
+
 }  // namespace
 
 const ProjectionModule kBrownConradyModule{catalog, [](const ProjectionSpec& s) { unit_camera(s); }, make, size_for,
-                                           rescale};
+                                           rescale, cases};
 
 }  // namespace panoproj

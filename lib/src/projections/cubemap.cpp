@@ -101,8 +101,16 @@ Projection rescale(const Projection& p, Size size, double, double) {
   return Cubemap(size.width / g[0], q.layout());
 }
 
+// Faces of 1 to 40000 px, every layout.
+std::vector<ProjectionCase> cases() {
+  return {{"cubemap", {{6, 1}, {12, 2}, {6 * 256, 256}, {6 * 512, 512}, {6 * 1024, 1024}, {6 * 40000, 40000}}},
+          {"cubemap:layout=1x6", {{512, 6 * 512}}},
+          {"cubemap:layout=3x2", {{3 * 512, 2 * 512}}},
+          {"cubemap:layout=cross", {{4 * 512, 3 * 512}, {4 * 1024, 3 * 1024}}}};
+}
+
 }  // namespace
 
-const ProjectionModule kCubemapModule{catalog, nullptr, make, size_for, rescale, always};
+const ProjectionModule kCubemapModule{catalog, nullptr, make, size_for, rescale, cases, always};
 
 }  // namespace panoproj

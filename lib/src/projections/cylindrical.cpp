@@ -28,9 +28,19 @@ Projection rescale(const Projection& p, Size size, double, double) {
   return Cylindrical(size, q.axis().hfov, top - bottom, q.axis().lon0, 0.5 * (top + bottom));
 }
 
+// Vertical fields from 0.01 to 179.99 degrees, partial and off-centre ones.
+std::vector<ProjectionCase> cases() {
+  return {{"cylindrical", {kTinyFrame, {4096, 1400}, kPhotoFrame, kHugeFrame}},
+          {"cylindrical:vfov=179.99", {kPhotoFrame}},
+          {"cylindrical:vfov=0.01", {kPhotoFrame}},
+          {"cylindrical:hfov=120,vfov=179", {{2048, 4096}}},
+          {"cylindrical:vfov=179", {{512, 256}}},
+          {"cylindrical:vfov=60,lat0=20,lon0=-90", {{4096, 1024}}}};
+}
+
 }  // namespace
 
 const ProjectionModule kCylindricalModule{catalog, [](const ProjectionSpec& s) { check_latitude_span(s, true); }, make,
-                                          size_for, rescale};
+                                          size_for, rescale, cases};
 
 }  // namespace panoproj

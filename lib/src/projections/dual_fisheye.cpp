@@ -123,8 +123,17 @@ Projection rescale(const Projection& p, Size size, double sx, double sy) {
   return q.only() >= 0 ? d.only(q.only()) : d;
 }
 
+// Each ray back through the lens it lies deeper inside (in the overlap, the other half of the
+// frame): lenses to 360 degrees and to 0.01, a turned top/bottom pair of unequal lenses.
+std::vector<ProjectionCase> cases() {
+  return {{"dual-fisheye:fov=200", {{2, 1}, kPhotoFrame, kHugeFrame}},
+          {"dual-fisheye:fov=359.99,model=equisolid", {kPhotoFrame}},
+          {"dual-fisheye:fov=0.01", {kPhotoFrame}},
+          {"dual-fisheye:fov=190,fov2=220,layout=top-bottom,yaw2=175,pitch2=5,roll2=90", {{2048, 4096}}}};
+}
+
 }  // namespace
 
-const ProjectionModule kDualFisheyeModule{catalog, [](const ProjectionSpec& s) { lenses_of(s); }, make, size_for, rescale};
+const ProjectionModule kDualFisheyeModule{catalog, [](const ProjectionSpec& s) { lenses_of(s); }, make, size_for, rescale, cases};
 
 }  // namespace panoproj

@@ -30,9 +30,20 @@ bool whole_sphere(const Projection& p) {
   return e.reaches_north_pole() && e.reaches_south_pole();
 }
 
+// 1x1 to 40000 px, fields of 0.01 degree, a field touching the pole, partial fields across the
+// seam and below the equator.
+std::vector<ProjectionCase> cases() {
+  return {{"equirect", {kTinyFrame, {2, 1}, {512, 256}, kPhotoFrame, kHugeFrame}},
+          {"equirect:hfov=10,vfov=10", {{512, 256}}},
+          {"equirect:hfov=0.01,vfov=0.01", {kTinyFrame, kPhotoFrame}},
+          {"equirect:hfov=120,vfov=60,lat0=59.99", {kPhotoFrame}},
+          {"equirect:hfov=120,vfov=60,lon0=170,lat0=-20", {{2048, 1024}}},
+          {"equirect:vfov=101.25,lat0=-39.375", {{2048, 512}}}};
+}
+
 }  // namespace
 
 const ProjectionModule kEquirectModule{
-    catalog, [](const ProjectionSpec& s) { check_latitude_span(s, false); }, make, size_for, rescale, whole_sphere};
+    catalog, [](const ProjectionSpec& s) { check_latitude_span(s, false); }, make, size_for, rescale, cases, whole_sphere};
 
 }  // namespace panoproj

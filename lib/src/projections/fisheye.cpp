@@ -75,8 +75,37 @@ Projection rescale(const Projection& p, Size size, double sx, double sy) {
   return fisheye_scaled(std::get<Fisheye>(p), size, sx, sy);
 }
 
+// Every law from 0.001 degrees to its domain's end (360, or 180 for orthographic), unclipped
+// circles, a stretched frame, an explicit circle.
+std::vector<ProjectionCase> cases() {
+  std::vector<ProjectionCase> c;
+  for (const char* m : {"equidistant", "equisolid", "orthographic", "stereographic"})
+    for (const char* f : {"0.01", "1", "90", "180", "270", "359.99"}) {
+      const double fov = std::stod(f);
+      const bool ortho = std::string(m) == "orthographic";
+      if ((ortho && fov > 180) || (std::string(m) == "stereographic" && fov > 359)) continue;
+      const std::string spec = std::string("fisheye:fov=") + f + ",model=" + m;
+      // Orthographic r = sin(psi): its inverse's condition 1 / cos(psi) grows towards 90 degrees
+      // (1.5e-6 px at the rim of a 40000-px 180-degree image).
+      c.push_back({spec, {kTinyFrame, {2048, 2048}}});
+      c.push_back({spec, {{40000, 40000}}, ortho ? 1e-5 : 1e-6});
+    }
+  for (const char* s : {"fisheye:fov=0.001", "fisheye:fov=359.9", "fisheye:fov=360,clip=none"})
+    c.push_back({s, {{512, 256}}});
+  for (const char* s : {"fisheye:fov=0.001", "fisheye:fov=360", "fisheye:fov=359.9", "fisheye:fov=360,model=equisolid",
+                        "fisheye:fov=0.001,model=equisolid", "fisheye:fov=60,model=orthographic",
+                        "fisheye:fov=359.9,model=stereographic", "fisheye:fov=200,clip=none",
+                        "fisheye:fov=190,radius=900,cx=1000,cy=1020.5"})
+    c.push_back({s, {{2048, 2048}}});
+  c.push_back({"fisheye:fov=210", {{512, 512}}});
+  c.push_back({"fisheye:fov=180,clip=none", {{3000, 2000}}});
+  c.push_back({"fisheye:fov=120,model=equisolid,clip=none", {{3000, 2000}}});
+  c.push_back({"fisheye:fov=200,aspect=stretch", {{4096, 2048}}});
+  return c;
+}
+
 }  // namespace
 
-const ProjectionModule kFisheyeModule{catalog, check, make, size_for, rescale};
+const ProjectionModule kFisheyeModule{catalog, check, make, size_for, rescale, cases};
 
 }  // namespace panoproj

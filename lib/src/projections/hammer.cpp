@@ -26,8 +26,15 @@ Projection rescale(const Projection& p, Size size, double, double) {
   return Hammer(size, q.w(), q.lon0());
 }
 
+// Hammer from 1x1 to 40000 px, Eckert-Greifendorff (W = 0.25), a W near 1.
+std::vector<ProjectionCase> cases() {
+  return {{"hammer", {kTinyFrame, {512, 256}, kPhotoFrame, kHugeFrame}},
+          {"eckert-greifendorff", {{512, 256}, kPhotoFrame, {4096, 1892}}},
+          {"hammer:w=0.9", {{2048, 1024}}}};
+}
+
 }  // namespace
 
-const ProjectionModule kHammerModule{catalog, nullptr, make, size_for, rescale, always};
+const ProjectionModule kHammerModule{catalog, nullptr, make, size_for, rescale, cases, always};
 
 }  // namespace panoproj

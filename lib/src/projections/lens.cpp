@@ -139,8 +139,41 @@ Projection rescale(const Projection& p, Size size, double sx, double sy) {
   return Lens(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy, q.law(), q.theta_max());
 }
 
+// Kannala-Brandt: the equidistant law, tiny and 360-degree fields, a field ending 0.01 degree
+// before the law folds back (theta (1 - 0.1 theta^2): the Newton inverse's slope tends to 0 at
+// the rim), calibrations from real lenses. The closed-form laws over their whole domain, and
+// unbounded ones at their default 180 degrees: where R stays bounded (unified xi > 1, extended
+// unified alpha > 1/2) its slope reaches 0 at the domain's edge, so theta(R) has the conditioning
+// of sqrt there, as the orthographic fisheye's: 1.1e-6 px at the rim of a 40000-px image.
+// PTLens: a plain rectilinear lens to 160 degrees, one whose polynomial folds (the field ends
+// there).
+std::vector<ProjectionCase> cases() {
+  std::vector<ProjectionCase> c;
+  for (const char* f : {"0.01", "180", "360"})
+    c.push_back({std::string("kannala-brandt:fov=") + f + ",k1=-0.01,k2=0.0005", {kTinyFrame, {2048, 2048}, {40000, 40000}}});
+  c.push_back({"kannala-brandt:fov=209.2,k1=-0.1", {{2048, 2048}, {40000, 40000}}});
+  c.push_back({"kannala-brandt", {{2048, 2048}}});
+  c.push_back({"kannala-brandt:fov=0.01,k1=0.3", {{2048, 2048}}});
+  c.push_back({"kannala-brandt:fov=220,k1=0.02,k2=-0.005,k3=0.001,k4=-0.0001", {{2048, 2048}}});
+  c.push_back({"kannala-brandt:fov=195,fx=620.5,fy=621.3,cx=959.2,cy=541.7,k1=0.0361,k2=-0.0112,k3=0.0028,k4=-0.0004",
+               {{1920, 1080}}});
+  for (const char* s : {"double-sphere:xi=-0.18,alpha=0.59", "double-sphere:xi=0.3,alpha=0.4", "unified:xi=2.5",
+                        "unified:xi=0.8", "extended-unified:alpha=0.63,beta=1.04", "extended-unified:alpha=0.3,beta=2"}) {
+    c.push_back({s, {kTinyFrame, {1024, 1024}, {2048, 2048}}});
+    c.push_back({s, {{40000, 40000}}, 1e-5});
+  }
+  c.push_back({"double-sphere:xi=-0.18,alpha=0.59,fov=190,fx=313.2,fy=313.1,cx=638.9,cy=514.6", {{1280, 1024}}});
+  c.push_back({"unified", {{1024, 1024}}});
+  c.push_back({"extended-unified:alpha=0.3,beta=2,fov=200", {{1024, 1024}}});
+  c.push_back({"ptlens", {kTinyFrame, {1920, 1080}, {40000, 22500}}});
+  c.push_back({"ptlens:hfov=100,a=-0.2,b=0.05,c=-0.01", {{1920, 1080}, {40000, 22500}}});
+  c.push_back({"ptlens:hfov=70,a=0.01,b=-0.05,c=0.02", {{1920, 1080}}});
+  c.push_back({"ptlens:hfov=100,b=-0.1", {{1920, 1280}}});
+  return c;
+}
+
 }  // namespace
 
-const ProjectionModule kLensModule{catalog, [](const ProjectionSpec& s) { unit_lens(s); }, make, size_for, rescale};
+const ProjectionModule kLensModule{catalog, [](const ProjectionSpec& s) { unit_lens(s); }, make, size_for, rescale, cases};
 
 }  // namespace panoproj

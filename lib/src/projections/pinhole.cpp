@@ -50,8 +50,18 @@ Projection rescale(const Projection& p, Size size, double sx, double sy) {
   return Pinhole(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy);
 }
 
+// Fields of view from 0.01 to 179.99 degrees; an off-centre principal point; a wide 3:2 frame.
+std::vector<ProjectionCase> cases() {
+  std::vector<ProjectionCase> c;
+  for (const char* f : {"0.01", "1", "90", "179", "179.99"})
+    c.push_back({std::string("pinhole:hfov=") + f, {kTinyFrame, {512, 256}, {1920, 1080}, kHugeFrame}});
+  c.push_back({"pinhole:hfov=150,vfov=100", {{1920, 1080}}});
+  c.push_back({"pinhole:focal=1000,cx=900.25,cy=500", {{1920, 1080}}});
+  return c;
+}
+
 }  // namespace
 
-const ProjectionModule kPinholeModule{catalog, check, make, size_for, rescale};
+const ProjectionModule kPinholeModule{catalog, check, make, size_for, rescale, cases};
 
 }  // namespace panoproj

@@ -18,6 +18,15 @@ const ProjectionModule& module_of(Kind kind) {
   return *modules[static_cast<size_t>(kind)];
 }
 
+std::vector<ProjectionCase> projection_cases() {
+  std::vector<ProjectionCase> all;
+  for (size_t k = 0; k < std::variant_size_v<Projection>; ++k) {
+    const std::vector<ProjectionCase> rows = module_of(static_cast<Kind>(k)).cases();
+    all.insert(all.end(), rows.begin(), rows.end());
+  }
+  return all;
+}
+
 namespace {
 const ProjectionModule& module_of(const Projection& p) { return module_of(static_cast<Kind>(p.index())); }
 }  // namespace

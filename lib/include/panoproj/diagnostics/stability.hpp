@@ -1,8 +1,8 @@
 #pragma once
 // The stability report (`panoproj stability`; every case is an assertion in
-// tests/stability_test.cpp): each projection with its parameters at their extremes (fields of
-// view from 0.01 degree to 360, Bonne's phi1 at 0, at its series switch and at the pole, ...)
-// and at sizes from 1x1 to over 32767 px, round-tripped pixel -> ray -> pixel -> ray over a grid
+// tests/stability_test.cpp): each projection's case table (its module's, in catalogue order:
+// parameters at their extremes, fields of view from 0.001 degree to 360, Bonne's phi1 at 0, at
+// its series switch and at the pole, ..., at sizes from 1x1 to over 32767 px), round-tripped pixel -> ray -> pixel -> ray over a grid
 // of the closed frame plus its singular points (centre, edges, corners, seam, poles, rims, a
 // hair inside and outside them), and fed degenerate rays (zero, NaN, infinite, 1e-300 and
 // 1e300 components, the poles, straight back). Reported per case:
