@@ -10,10 +10,10 @@ namespace panoproj {
 namespace {
 
 Size planned(const char* from, Size size, const char* to) {
-  return size_of(make_plan(size, parse_spec(from), parse_spec(to), {}).target);
+  return size_of(make_geometry(size, parse_spec(from), parse_spec(to), {}).target);
 }
 
-TEST(Plan, DefaultSizesKeepSquarePixelsAtTheSourceDensity) {
+TEST(ConversionGeometry, DefaultSizesKeepSquarePixelsAtTheSourceDensity) {
   const Size e{4096, 2048};  // 4096 / 2 pi = 651.9 px/rad
   EXPECT_EQ(planned("equirect", e, "equirect"), e);
   EXPECT_EQ(planned("equirect", e, "equirect:hfov=90,vfov=45"), (Size{1024, 512}));
@@ -35,33 +35,33 @@ TEST(Plan, DefaultSizesKeepSquarePixelsAtTheSourceDensity) {
   EXPECT_EQ(planned("cubemap", {6 * 1584, 1584}, "equirect"), (Size{4976, 2488}));
 }
 
-std::string plan_error(const char* from, Size size, const char* to, ConvertOptions o = {}) {
+std::string geometry_error(const char* from, Size size, const char* to, ConvertOptions o = {}) {
   try {
-    make_plan(size, parse_spec(from), parse_spec(to), o);
+    make_geometry(size, parse_spec(from), parse_spec(to), o);
   } catch (const Error& e) {
     return e.what();
   }
   return "";
 }
 
-TEST(Plan, RefusesBadParameters) {
+TEST(ConversionGeometry, RefusesBadParameters) {
   ConvertOptions o;
   o.yaw = std::nan("");
-  EXPECT_EQ(plan_error("equirect", {64, 32}, "equirect", o), "yaw: nan (expected a finite angle in degrees)");
+  EXPECT_EQ(geometry_error("equirect", {64, 32}, "equirect", o), "yaw: nan (expected a finite angle in degrees)");
   o = {};
   o.size = Size{0, 10};
-  EXPECT_EQ(plan_error("equirect", {64, 32}, "equirect", o), "size: 0x10 (expected 1 to 2147483647 pixels a side)");
-  EXPECT_EQ(plan_error("cubemap", {600, 120}, "equirect"),
+  EXPECT_EQ(geometry_error("equirect", {64, 32}, "equirect", o), "size: 0x10 (expected 1 to 2147483647 pixels a side)");
+  EXPECT_EQ(geometry_error("cubemap", {600, 120}, "equirect"),
             "cubemap: layout=6x1 needs a 6F x 1F image with square faces; got 600x120 (check the "
             "size or the layout)");
-  EXPECT_EQ(plan_error("fisheye:fov=200,model=orthographic", {64, 64}, "equirect"),
+  EXPECT_EQ(geometry_error("fisheye:fov=200,model=orthographic", {64, 64}, "equirect"),
             "fisheye: fov=200 is too wide for model=orthographic (expected <= 180)");
-  EXPECT_EQ(plan_error("equirect:lat0=60,vfov=90", {64, 32}, "equirect"),
+  EXPECT_EQ(geometry_error("equirect:lat0=60,vfov=90", {64, 32}, "equirect"),
             "equirect: lat0=60 with vfov=90 spans latitudes 15..105 (expected within [-90, 90])");
-  EXPECT_EQ(plan_error("pinhole:hfov=60,focal=100", {64, 64}, "equirect"),
+  EXPECT_EQ(geometry_error("pinhole:hfov=60,focal=100", {64, 64}, "equirect"),
             "pinhole: give hfov or focal, not both");
   // A tiny-fov source would ask for a gigantic default output.
-  EXPECT_NE(plan_error("fisheye:fov=0.001", {2048, 2048}, "equirect").find("give --size WxH"),
+  EXPECT_NE(geometry_error("fisheye:fov=0.001", {2048, 2048}, "equirect").find("give --size WxH"),
             std::string::npos);
 }
 

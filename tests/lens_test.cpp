@@ -1,4 +1,4 @@
-// Calibrated lenses (projections/lens.hpp, brown_conrady.hpp): the Double Sphere, unified and extended unified laws
+// Calibrated lenses (projections/calibrated_lens.hpp, brown_conrady.hpp): the Double Sphere, unified and extended unified laws
 // against their papers' projection and unprojection formulas written on 3-D points; the
 // Kannala-Brandt Newton inverse up to the image circle, its agreement with the equidistant
 // fisheye when k = 0, and the errors for fields a law cannot hold; Brown-Conrady's folds and its
@@ -82,7 +82,7 @@ std::vector<PaperModel> paper_models() {
   return {ds, eucm, ucm};
 }
 
-TEST(Lens, ClosedFormLawsAreTheirPapersFormulas) {
+TEST(CalibratedLens, ClosedFormLawsAreTheirPapersFormulas) {
   const double fx = 300.5, fy = 297.25, cx = 640.5, cy = 512.25;
   std::mt19937 rng(5);
   std::normal_distribution<double> n01;
@@ -90,7 +90,7 @@ TEST(Lens, ClosedFormLawsAreTheirPapersFormulas) {
     const std::string spec = std::string(m.spec) + ",fx=" + std::to_string(fx) + ",fy=" + std::to_string(fy) +
                              ",cx=" + std::to_string(cx - 0.5) + ",cy=" + std::to_string(cy - 0.5);
     const Projection p = make(spec, {1280, 1024});
-    const auto& lens = std::get<Lens>(p);
+    const auto& lens = std::get<CalibratedLens>(p);
     double worst_px = 0, worst_ray = 0;
     int n = 0;
     for (int i = 0; i < 20000; ++i) {
@@ -120,7 +120,7 @@ TEST(KannalaBrandt, NewtonInverseHoldsUpToTheRim) {
   // Angles from the centre to the image circle, and just inside it (where a Newton step from
   // theta = r overshoots the most): undistort(distort(t)) = t.
   const Projection p = make("kannala-brandt:fov=250,k1=0.05,k2=-0.01,k3=0.0012,k4=-0.00005", {1000, 1000});
-  const auto& kb = std::get<Lens>(p);
+  const auto& kb = std::get<CalibratedLens>(p);
   double worst = 0;
   for (int i = 0; i <= 1000; ++i) {
     const double t = kb.theta_max() * i / 1000.0;
@@ -171,7 +171,7 @@ TEST(KannalaBrandt, ALawFoldingBackInsideTheFieldIsAnError) {
   EXPECT_NO_THROW(make("unified:xi=0,fov=120", {512, 512}));
   // The field it suggests is accepted, and its rim still round-trips.
   const Projection p = make("kannala-brandt:fov=209.2,k1=-0.1", {512, 512});
-  const auto& kb = std::get<Lens>(p);
+  const auto& kb = std::get<CalibratedLens>(p);
   EXPECT_NEAR(kb.angle(kb.radius(kb.theta_max() * 0.999)), kb.theta_max() * 0.999, 1e-9);
   // Default size: the image circle at the requested density (theta_d(pi/2) pixels per unit).
   const Size s = default_size(parse_spec("kannala-brandt:k1=0.01"), 100.0);

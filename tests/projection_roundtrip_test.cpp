@@ -55,7 +55,7 @@ bool on_identity_set(const Projection& p, double lon0, double x, double y, const
     // The overlap: a ray seen by both lenses comes back through the one it lies deeper inside.
     return dual->margin(1 - dual->lens_at(x, y), d) >= 0;
   }
-  if (const auto* k = std::get_if<Lens>(&p)) {
+  if (const auto* k = std::get_if<CalibratedLens>(&p)) {
     return k->theta_max() >= kPi * (1 - 1e-12) && std::atan2(std::hypot(d.x(), d.y()), d.z()) > kPi - 1e-6;
   }
   // Cartographic: the outline meridian (180 degrees from lon0, drawn on both sides) and the

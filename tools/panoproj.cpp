@@ -266,7 +266,7 @@ int main(int argc, char** argv) {
         throw Error("truth-supersample: " + std::to_string(sweep.truth_supersample) + " (expected 1 to 64)");
       for (const std::string* path : {&acc_csv, &acc_json, &acc_plot})
         if (!path->empty()) check_output_path(*path, acc_overwrite);
-      const Plan plan = make_plan(parse_size(acc_from_size), parse_spec(acc_from), parse_spec(acc_to), o);
+      const ConversionGeometry geometry = make_geometry(parse_size(acc_from_size), parse_spec(acc_from), parse_spec(acc_to), o);
       sweep.scene = parse_scene(acc_scene);
       const auto type = parse_depth(acc_type);
       if (!type) throw Error("type: keep (expected uint8, uint16, half or float)");
@@ -274,7 +274,7 @@ int main(int argc, char** argv) {
       const auto options = sweep_options(parse_list(acc_interp, [](std::string_view t) { return parse_interp(t); }),
                                          parse_list(acc_antialias, parse_antialias),
                                          parse_list(acc_engine, [](std::string_view t) { return parse_engine(t); }));
-      const Size fs = size_of(plan.source), ts = size_of(plan.target);
+      const Size fs = size_of(geometry.source), ts = size_of(geometry.target);
       const std::string about = std::string("scene ") + acc_scene + ", " + acc_from + " " + std::to_string(fs.width) + "x" +
                                 std::to_string(fs.height) + " -> " + acc_to + " " + std::to_string(ts.width) + "x" +
                                 std::to_string(ts.height) + ", " + acc_type + ", " +
@@ -282,7 +282,7 @@ int main(int argc, char** argv) {
                                 std::to_string(sweep.runs) + " runs, SIMD " + simd_target();
       // The scene, the truth and an output per option in flight (4 channels at most).
       require_memory("the accuracy sweep", add_bytes(image_bytes(fs, 4, bytes_of(sweep.type)), image_bytes(ts, 12, bytes_of(sweep.type))), o.memory_limit);
-      const auto results = run_sweep(plan.source, plan.target, plan.rotation, sweep, options);
+      const auto results = run_sweep(geometry.source, geometry.target, geometry.rotation, sweep, options);
       std::printf("%s\n\n%s", about.c_str(), sweep_table(results).c_str());
       if (!acc_csv.empty()) write_text(sweep_csv(results), acc_csv, acc_overwrite);
       if (!acc_json.empty()) write_text(sweep_json(results, about), acc_json, acc_overwrite);

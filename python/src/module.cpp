@@ -170,9 +170,9 @@ class PyPlan {
   PyPlan(const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size, const py::dict& options)
       : src_(src),
         options_(options_from(options, kUseConvert)),
-        plan_(make_plan(size_pair(source_size), parse_spec(src), parse_spec(dst), options_)),
-        converter_(converter_for(plan_, options_, true)) {}
-  const Plan& plan() const { return plan_; }
+        geometry_(make_geometry(size_pair(source_size), parse_spec(src), parse_spec(dst), options_)),
+        converter_(converter_for(geometry_, options_, true)) {}
+  const ConversionGeometry& geometry() const { return geometry_; }
 
   py::array run(const py::object& src, std::optional<py::array> out) const {
     py::object keep;
@@ -181,10 +181,10 @@ class PyPlan {
     Image with_alpha;
     const Image& in = source_for(raw, options_, with_alpha);
     const bool flat = py::isinstance<py::array>(src) && src.cast<py::array>().ndim() == 2 && in.channels() == 1;
-    require_job_memory(plan_, raw.channels(), raw.type(), options_, 0);
+    require_job_memory(geometry_, raw.channels(), raw.type(), options_, 0);
     if (out) {
       // Written in place: must be C-contiguous, writable, of the output's shape and dtype.
-      const Size s = size_of(plan_.target);
+      const Size s = size_of(geometry_.target);
       if (!(out->flags() & py::array::c_style) || !out->writeable() || out->dtype().not_equal(dtype_of(in.type())) ||
           out->shape(0) != s.height || out->shape(1) != s.width ||
           (out->ndim() == 3 ? out->shape(2) : 1) != in.channels())
@@ -216,7 +216,7 @@ class PyPlan {
  private:
   std::string src_;
   ConvertOptions options_;
-  Plan plan_;
+  ConversionGeometry geometry_;
   Converter converter_;
 };
 
@@ -349,9 +349,9 @@ PYBIND11_MODULE(_core, m) {
          const std::string& convention, const py::dict& options) {
         ConvertOptions o = options_from(options, kUseMaps);
         o.interp = Interp::Bilinear;
-        const Plan plan = make_plan(size_pair(source_size), parse_spec(src), parse_spec(dst), o);
+        const ConversionGeometry geometry = make_geometry(size_pair(source_size), parse_spec(src), parse_spec(dst), o);
         // The 2-float map and the two arrays split from it.
-        require_memory("map " + size_text(size_of(plan.target)), image_bytes(size_of(plan.target), 4, sizeof(float)),
+        require_memory("map " + size_text(size_of(geometry.target)), image_bytes(size_of(geometry.target), 4, sizeof(float)),
                        o.memory_limit);
         MapConvention c;
         if (convention == "opencv") c = MapConvention::OpenCV;
@@ -360,7 +360,7 @@ PYBIND11_MODULE(_core, m) {
         Image map;
         {
           py::gil_scoped_release unlocked;
-          map = build_map(plan.source, plan.target, plan.rotation, c, o.threads);
+          map = build_map(geometry.source, geometry.target, geometry.rotation, c, o.threads);
         }
         return split_map(std::move(map));
       },
@@ -371,7 +371,7 @@ PYBIND11_MODULE(_core, m) {
            py::arg("src"), py::arg("dst"), py::arg("source_size"), py::arg("options"))
       .def("run", &PyPlan::run, py::arg("image"), py::arg("out") = std::nullopt)
       .def_property_readonly("size", [](const PyPlan& p) {
-        const Size s = size_of(p.plan().target);
+        const Size s = size_of(p.geometry().target);
         return std::pair{s.width, s.height};
       });
 

@@ -1,7 +1,7 @@
 #pragma once
 // Conversions in memory: the Converter (one geometry applied to any number of images), and one
-// conversion from specs and options (plan: projections bound to sizes, rotation; then the
-// Converter).
+// conversion from specs and options (its ConversionGeometry: projections bound to sizes, and
+// the rotation; then the Converter). (Python's panoproj.Plan is a Converter with its options.)
 //
 // The Converter: output tiles of kTile x kTile pixels over a thread pool. Per tile:
 //   - common pairs (lib/src/simd/geometry.hpp): each vector of output pixels computes its source
@@ -10,7 +10,7 @@
 //     nodes, within 1/256 px),
 //     then the same SIMD sampling from the map.
 // The SIMD kernels (simd_sampler.hpp) take every sample whose taps stay inside one cube face or
-// the frame; the rest (seams, poles, face edges) get the reference sampler's edge rules (wrap,
+// the frame; the rest (seams, poles, face edges) get the reference sampler's tap rules (wrap,
 // pole crossing, cube neighbours, clamp). The scalar engine samples everything with the reference.
 // Tiles are fixed by the image size, not the thread count, so any number of threads gives the
 // same bytes.
@@ -32,7 +32,7 @@ inline constexpr int64_t kCachedMapBytesPerPixel = 2 * sizeof(double) + 1;
 struct EngineStats {
   int64_t tiles = 0;
   int64_t fused_tiles = 0;   // geometry in registers, no map (simd engine, the common pairs)
-  int64_t simd_misses = 0;  // samples the SIMD kernels left to the reference's edge rules
+  int64_t simd_misses = 0;  // samples the SIMD kernels left to the reference's tap rules
   int64_t interpolated_cells = 0, exact_cells = 0;  // tile_map.hpp cells of the other tiles
 };
 
@@ -60,7 +60,7 @@ class Converter {
            const std::function<void(double)>& progress = {}) const;
 
   // The source pixels [x0, x1) x [y0, y1) that run() reads (with the kernel's taps and the
-  // edge rules: a seam or pole crossing widens it to the full width; cubemap sources and targets
+  // tap rules: a seam or pole crossing widens it to the full width; cubemap sources and targets
   // showing the whole sphere (cubemap, full equirect, the world maps) read all). Read
   // only this part of a large source. With cache_map it builds and keeps the tile maps (run()
   // then reuses them); without, it maps tile by tile and keeps nothing.
@@ -92,7 +92,8 @@ inline constexpr int64_t kMaxSide = 2147483647;
 // for one and it has none (in storage), else source itself (not copied).
 const Image& source_for(const Image& source, const ConvertOptions& options, Image& storage);
 
-struct Plan {
+// A conversion's geometry: both projections bound to their frames, and the rotation.
+struct ConversionGeometry {
   Projection source, target;
   Eigen::Matrix3d rotation;
 };
@@ -102,16 +103,17 @@ Antialias antialias_of(const ConvertOptions& options);
 
 // Throws panoproj::Error on bad parameters (non-finite angles, sizes, specs), and (ErrorKind::
 // Memory) for an output that would not fit options.memory_limit even at one byte a pixel.
-Plan make_plan(Size source_size, const ProjectionSpec& from, const ProjectionSpec& to,
-               const ConvertOptions& options);
-// Throws ErrorKind::Memory unless the plan's output of `channels` x `type` (one more channel with
+ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, const ProjectionSpec& to,
+                                 const ConvertOptions& options);
+// Throws ErrorKind::Memory unless the geometry's output of `channels` x `type` (one more channel with
 // add_alpha) and `more` bytes fit options.memory_limit.
-void require_job_memory(const Plan& plan, int channels, PixelType type, const ConvertOptions& options,
-                        uint64_t more);
+void require_job_memory(const ConversionGeometry& geometry, int channels, PixelType type,
+                        const ConvertOptions& options, uint64_t more);
 Image convert(const Image& source, const ProjectionSpec& from, const ProjectionSpec& to,
               const ConvertOptions& options);
-// The plan's Converter with the options' kernel, engine, threads, antialiasing and edges
-// (cache_map: keep the tile maps for many runs).
-Converter converter_for(const Plan& plan, const ConvertOptions& options, bool cache_map = false);
+// The geometry's Converter with the options' kernel, engine, threads, antialiasing and edge
+// fill (cache_map: keep the tile maps for many runs).
+Converter converter_for(const ConversionGeometry& geometry, const ConvertOptions& options,
+                        bool cache_map = false);
 
 }  // namespace panoproj

@@ -10,7 +10,7 @@
 
 namespace panoproj {
 
-Plan make_plan(Size source_size, const ProjectionSpec& from, const ProjectionSpec& to,
+ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, const ProjectionSpec& to,
                const ConvertOptions& o) {
   for (const auto& [name, v] : {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"roll", o.roll}}) {
     if (!std::isfinite(v) || std::fabs(v) > 1e6) {
@@ -50,9 +50,9 @@ const Image& source_for(const Image& source, const ConvertOptions& options, Imag
   return storage;
 }
 
-void require_job_memory(const Plan& plan, int channels, PixelType type, const ConvertOptions& options,
+void require_job_memory(const ConversionGeometry& geometry, int channels, PixelType type, const ConvertOptions& options,
                         uint64_t more) {
-  const Size out = size_of(plan.target);
+  const Size out = size_of(geometry.target);
   const int out_channels = channels + (options.add_alpha && channels < 4 && channels != 2 ? 1 : 0);
   require_memory("output " + size_text(out) + " (" + std::to_string(out_channels) + " channels of " + name_of(type) + ")",
                  add_bytes(image_bytes(out, out_channels, bytes_of(type)), more), options.memory_limit);
@@ -60,14 +60,14 @@ void require_job_memory(const Plan& plan, int channels, PixelType type, const Co
 
 Image convert(const Image& source, const ProjectionSpec& from, const ProjectionSpec& to,
               const ConvertOptions& options) {
-  const Plan plan = make_plan(source.size(), from, to, options);
-  require_job_memory(plan, source.channels(), source.type(), options, 0);
+  const ConversionGeometry geometry = make_geometry(source.size(), from, to, options);
+  require_job_memory(geometry, source.channels(), source.type(), options, 0);
   Image storage;
-  return converter_for(plan, options).run(source_for(source, options, storage));
+  return converter_for(geometry, options).run(source_for(source, options, storage));
 }
 
-Converter converter_for(const Plan& plan, const ConvertOptions& options, bool cache_map) {
-  return Converter(plan.source, plan.target, plan.rotation, options.interp, options.engine, options.threads, cache_map,
+Converter converter_for(const ConversionGeometry& geometry, const ConvertOptions& options, bool cache_map) {
+  return Converter(geometry.source, geometry.target, geometry.rotation, options.interp, options.engine, options.threads, cache_map,
                    antialias_of(options), options.edges);
 }
 

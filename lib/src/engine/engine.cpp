@@ -204,7 +204,7 @@ Converter::Region Converter::Impl::source_footprint() const {
     if (antialias_.mode == Antialias::Mode::Mip) m = static_cast<int64_t>(std::exp2(std::ceil(std::log2(rho)))) * (n / 2 + 2);
     r = {r.x0 - m, r.y0 - m, r.x1 + m, r.y1 + m};
   }
-  // Where taps leave the frame, the edge rules read elsewhere: wrap (full width), pole crossing
+  // Where taps leave the frame, the tap rules read elsewhere: wrap (full width), pole crossing
   // (full width, rows from the pole), clamp (the edge row or column, inside the clamp).
   if (r.x0 < 0 || r.x1 > frame.width) r.x0 = 0, r.x1 = frame.width;
   if (r.y0 < 0) r.y0 = 0, r.x0 = 0, r.x1 = frame.width;
@@ -240,7 +240,7 @@ void Converter::Impl::run(const Image& src, Image& out, EngineStats* stats,
   if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });
   const TileSampling sampling(src, source_, lenses_, rotation_, interp_, engine_ == Engine::Simd);
   // Where x wraps, footprints measure steps across the seam the short way.
-  const double wrap = sampling.edges().wraps_x() ? static_cast<double>(size_of(source_).width) : 0.0;
+  const double wrap = sampling.taps().wraps_x() ? static_cast<double>(size_of(source_).width) : 0.0;
   const auto strategy = tile_strategy(antialias_, {sampling, source_, target_, sub_targets_, rotation_, wrap});
   std::vector<TileScratch> workers(static_cast<size_t>(workers_for(n_tiles, threads_)));
   std::atomic<int64_t> done{0};

@@ -16,14 +16,14 @@ SimdSource simd_source(const Image& src, const Projection& sp) {
 
 TileSampling::TileSampling(const Image& src, const Projection& source, const std::vector<Projection>& lenses,
                            const Eigen::Matrix3d& rotation, Interp interp, bool simd)
-    : src_(src), source_(source), lenses_(lenses), rotation_(rotation), interp_(interp), simd_(simd), edges_(source),
+    : src_(src), source_(source), lenses_(lenses), rotation_(rotation), interp_(interp), simd_(simd), taps_(source),
       simd_src_(simd_source(src, source)) {}
 
 bool TileSampling::fused(const Projection& sp, const Projection& t, const TileRect& rect, SimdGeometry& g) const {
   return simd_ && simd_geometry_for(sp, t, rotation_, rect, g);
 }
 
-void TileSampling::resolve_misses(const Image& im, const SourceEdges& e, const TileRect& r, unsigned char* out,
+void TileSampling::resolve_misses(const Image& im, const SourceTaps& taps, const TileRect& r, unsigned char* out,
                                   int64_t stride, TileScratch& wk, const FootprintField* fp) const {
   const uint8_t one = 1;
   const auto pb = static_cast<int64_t>(im.pixel_bytes());
@@ -32,35 +32,35 @@ void TileSampling::resolve_misses(const Image& im, const SourceEdges& e, const T
     const int64_t i = m.index[q] % r.w, j = m.index[q] / r.w;
     unsigned char* o = out + j * stride + i * pb;
     if (!fp) {
-      sample_reference(im, e, interp_, &m.xs[q], &m.ys[q], &one, 1, o);
+      sample_reference(im, taps, interp_, &m.xs[q], &m.ys[q], &one, 1, o);
       continue;
     }
     float ex, ey;
     fp->at(i, j, ex, ey);
-    sample_footprint_reference(im, e, &m.xs[q], &m.ys[q], &ex, &ey, &one, 1, o);
+    sample_footprint_reference(im, taps, &m.xs[q], &m.ys[q], &ex, &ey, &one, 1, o);
   }
   wk.stats.simd_misses += static_cast<int64_t>(m.index.size());
 }
 
-void TileSampling::map(const Image& im, const SourceEdges& e, const SimdSource& ss, const TileMap& m,
+void TileSampling::map(const Image& im, const SourceTaps& taps, const SimdSource& ss, const TileMap& m,
                        unsigned char* out, int64_t stride, TileScratch& wk, const FootprintField* fp) const {
   if (!simd_) {
     wk.ex.resize(static_cast<size_t>(m.rect.w)), wk.ey.resize(static_cast<size_t>(m.rect.w));
     for (int64_t j = 0; j < m.rect.h; ++j) {
       const size_t k = static_cast<size_t>(j * m.rect.w);
       if (!fp) {
-        sample_reference(im, e, interp_, m.xs.data() + k, m.ys.data() + k, m.ok.data() + k, m.rect.w, out + j * stride);
+        sample_reference(im, taps, interp_, m.xs.data() + k, m.ys.data() + k, m.ok.data() + k, m.rect.w, out + j * stride);
         continue;
       }
       for (int64_t i = 0; i < m.rect.w; ++i) fp->at(i, j, wk.ex[static_cast<size_t>(i)], wk.ey[static_cast<size_t>(i)]);
-      sample_footprint_reference(im, e, m.xs.data() + k, m.ys.data() + k, wk.ex.data(), wk.ey.data(), m.ok.data() + k,
+      sample_footprint_reference(im, taps, m.xs.data() + k, m.ys.data() + k, wk.ex.data(), wk.ey.data(), m.ok.data() + k,
                                  m.rect.w, out + j * stride);
     }
     return;
   }
   wk.misses.clear();
   simd_sample(ss, interp_, m, out, stride, wk.misses, fp);
-  resolve_misses(im, e, m.rect, out, stride, wk, fp);
+  resolve_misses(im, taps, m.rect, out, stride, wk, fp);
 }
 
 void TileSampling::from(const Projection& sp, const Projection& t, const TileRect& rect, const TileMap* tm,
@@ -70,10 +70,10 @@ void TileSampling::from(const Projection& sp, const Projection& t, const TileRec
   if (!tm && !in_registers) map_tile(sp, t, rotation_, rect, wk.map), tm = &wk.map;
   if (tm) wk.stats.interpolated_cells += tm->interpolated_cells, wk.stats.exact_cells += tm->exact_cells;
   wk.stats.fused_tiles += in_registers;
-  if (!in_registers) return map(src_, edges_, simd_src_, *tm, out, stride, wk, fp);
+  if (!in_registers) return map(src_, taps_, simd_src_, *tm, out, stride, wk, fp);
   wk.misses.clear();
   simd_convert(g, rect, simd_src_, interp_, out, stride, wk.misses, fp);
-  resolve_misses(src_, edges_, rect, out, stride, wk, fp);
+  resolve_misses(src_, taps_, rect, out, stride, wk, fp);
 }
 
 void TileSampling::rect(const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out,

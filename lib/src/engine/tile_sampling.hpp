@@ -2,16 +2,16 @@
 // How the Converter samples one rect of a target from the source (the tiles' strategies,
 // tile_strategies.hpp, call it): the geometry fused in registers where the SIMD pair takes it,
 // else from the rect's map (the kept one, or made now); the SIMD kernels with the reference's
-// edge rules for the samples they leave (seams, poles, face edges, the window), or the reference
-// for all (the scalar engine); a dual fisheye's rects from the lens that sees them all, or from
-// both, blended (dual_blend.hpp). Internal.
+// tap rules (SourceTaps) for the samples they leave (seams, poles, face edges, the window), or
+// the reference for all (the scalar engine); a dual fisheye's rects from the lens that sees
+// them all, or from both, blended (dual_blend.hpp). Internal.
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
 
 #include "panoproj/convert.hpp"
 #include "panoproj/image.hpp"
-#include "geometry/source_edges.hpp"
+#include "geometry/source_taps.hpp"
 #include "geometry/tile_map.hpp"
 #include "sampling/footprint_kernel.hpp"
 #include "sampling/mip_sampler.hpp"
@@ -47,22 +47,22 @@ class TileSampling {
   // footprint kernel and its widths over the rect, else the interpolator.
   void rect(const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out, int64_t stride,
             TileScratch& wk, const FootprintField* fp = nullptr) const;
-  // Positions m of image im (edges e, SIMD view ss: the source or one of its mip levels).
-  void map(const Image& im, const SourceEdges& e, const SimdSource& ss, const TileMap& m, unsigned char* out,
+  // Positions m of image im (its taps, SIMD view ss: the source or one of its mip levels).
+  void map(const Image& im, const SourceTaps& taps, const SimdSource& ss, const TileMap& m, unsigned char* out,
            int64_t stride, TileScratch& wk, const FootprintField* fp) const;
   // Whether rect of target t from source sp runs fused (g filled).
   bool fused(const Projection& sp, const Projection& t, const TileRect& rect, SimdGeometry& g) const;
 
   const Image& image() const { return src_; }
-  const SourceEdges& edges() const { return edges_; }
+  const SourceTaps& taps() const { return taps_; }
   Interp interp() const { return interp_; }
 
  private:
   // From source projection sp (the source, or one lens).
   void from(const Projection& sp, const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out,
             int64_t stride, TileScratch& wk, const FootprintField* fp) const;
-  // The samples the SIMD kernels left in wk.misses (rect's pixel indices), by the edge rules.
-  void resolve_misses(const Image& im, const SourceEdges& e, const TileRect& rect, unsigned char* out, int64_t stride,
+  // The samples the SIMD kernels left in wk.misses (rect's pixel indices), by the tap rules.
+  void resolve_misses(const Image& im, const SourceTaps& taps, const TileRect& rect, unsigned char* out, int64_t stride,
                       TileScratch& wk, const FootprintField* fp) const;
 
   const Image& src_;
@@ -71,7 +71,7 @@ class TileSampling {
   const Eigen::Matrix3d& rotation_;
   Interp interp_;
   bool simd_;
-  SourceEdges edges_;
+  SourceTaps taps_;
   SimdSource simd_src_;
 };
 

@@ -95,7 +95,7 @@ class Mip final : public TileStrategy {
     sample_mip_tile(
         pyramid_, *tm, job_.wrap,
         [&](int k, const TileMap& m, unsigned char* o, int64_t st) {
-          // The level's rows the taps reach (the edge rules stay within them, but a cube's, which
+          // The level's rows the taps reach (the tap rules stay within them, but a cube's, which
           // read neighbouring faces anywhere: all rows).
           double y0 = HUGE_VAL, y1 = -HUGE_VAL;
           for (size_t i = 0; i < m.ok.size(); ++i)
@@ -105,7 +105,7 @@ class Mip final : public TileStrategy {
                               static_cast<int64_t>(std::min(1e15, std::ceil(y1))) + reach + 1);
           const Pyramid::Level& l = pyramid_.level(k);
           const Image& im = pyramid_.image(k);
-          job_.sampling.map(im, l.edges, simd_source(im, l.projection), m, o, st, wk, nullptr);
+          job_.sampling.map(im, l.taps, simd_source(im, l.projection), m, o, st, wk, nullptr);
         },
         corner, stride, wk.mip);
   }

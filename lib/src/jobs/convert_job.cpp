@@ -149,7 +149,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
                   " is not square (cube faces are square; or use face=N)");
     options.size = Size{6 * options.size->width, options.size->height};
   }
-  // Plan from the first input's header; then read of each input only what the view needs.
+  // The geometry from the first input's header; then of each input read only what the view needs.
   const ImageInfo info = in_faces ? ImageInfo{} : read_image_info(job.inputs[0]);
   const Size frame = in_faces ? Size{} : (batch ? batch_size : info.size);
   std::optional<Image> faces;
@@ -158,18 +158,18 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const int channels = in_faces ? faces->channels() : info.channels;
   const PixelType type = in_faces ? faces->type() : info.type;
   if (!from) from = infer_source_spec(std::nullopt, job.inputs[0], source_size);
-  Plan plan = make_plan(source_size, *from, to, options);
+  ConversionGeometry geometry = make_geometry(source_size, *from, to, options);
   // A Photo Sphere taken tilted is levelled by its pose (unless --from overrides the metadata).
   std::string from_text = from->str();
   if (const auto ps = job.from || in_faces ? std::nullopt : read_photo_sphere(job.inputs[0]);
       ps && (ps->pose_pitch != 0 || ps->pose_roll != 0)) {
-    plan.rotation = photo_sphere_pose(*ps).transpose() * plan.rotation;
+    geometry.rotation = photo_sphere_pose(*ps).transpose() * geometry.rotation;
     std::ostringstream o;
     o << from_text << ", levelled by its Photo Sphere pose: pitch " << ps->pose_pitch << ", roll " << ps->pose_roll;
     from_text = o.str();
   }
   // Sizes the output formats cannot hold, and jobs over the memory budget, stop before any work.
-  const Size out_size = size_of(plan.target);
+  const Size out_size = size_of(geometry.target);
   for (const auto& o : all_outputs) check_writable_size(o, out_faces ? Size{out_size.height, out_size.height} : out_size);
   // The map is kept (built once for the footprint, the first image and the rest of a batch)
   // while it fits kMapCacheBudget; beyond, memory stays source + output + tile buffers and the
@@ -178,9 +178,9 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const bool cache = map_bytes <= static_cast<uint64_t>(kMapCacheBudget);
   const PixelType out_type = job.write.type.value_or(type);
   const uint64_t written = out_type == type ? 0 : image_bytes(out_size, channels + 1, bytes_of(out_type));
-  require_job_memory(plan, channels, type, options, add_bytes(cache ? map_bytes : 0, written));
+  require_job_memory(geometry, channels, type, options, add_bytes(cache ? map_bytes : 0, written));
   const auto t_map = std::chrono::steady_clock::now();
-  const Converter converter = converter_for(plan, options, cache);
+  const Converter converter = converter_for(geometry, options, cache);
   const Converter::Region need = converter.source_footprint();
   // The output and maps, counted with the source's needed part when it is read (from its header,
   // before any pixel is decoded; a forged header is refused by the file's size first).
@@ -205,7 +205,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     WriteOptions write = job.write;
     if (job.keep_metadata && !in_faces) write.metadata = carried_metadata(job.inputs[n]);
     // Equirect outputs say where they sit in the sphere (Photo Sphere XMP, read by viewers).
-    if (const auto* e = std::get_if<Equirect>(&plan.target); e && job.keep_metadata)
+    if (const auto* e = std::get_if<Equirect>(&geometry.target); e && job.keep_metadata)
       write.xmp = photo_sphere_xmp(photo_sphere_of(*e));
     if (out_faces) write_cube_faces(out, outputs[n], write);
     else write_image(out, outputs[n], write);
@@ -225,12 +225,12 @@ Size run_maps(const MapsJob& job) {
   if (ext != ".exr" && ext != ".tif" && ext != ".tiff")
     throw Error("output " + job.output + " cannot hold float maps (use .exr or .tif)");
   check_output_path(job.output, job.write.overwrite);
-  const Plan plan = make_plan(job.source_size, parse_spec(job.from), parse_spec(job.to), job.options);
+  const ConversionGeometry geometry = make_geometry(job.source_size, parse_spec(job.from), parse_spec(job.to), job.options);
   // The map (2 floats a pixel) and its encoded copy.
-  const Size out = size_of(plan.target);
+  const Size out = size_of(geometry.target);
   check_writable_size(job.output, out);
   require_memory("map " + size_text(out), image_bytes(out, 4, sizeof(float)), job.options.memory_limit);
-  const Image map = build_map(plan.source, plan.target, plan.rotation, job.convention, job.options.threads);
+  const Image map = build_map(geometry.source, geometry.target, geometry.rotation, job.convention, job.options.threads);
   WriteOptions w = job.write;
   w.channel_names = {"x", "y"};
   write_image(map, job.output, w);

@@ -10,7 +10,7 @@
 #include "sampling/edge_pass.hpp"
 #include "panoproj/error.hpp"
 #include "base/parallel.hpp"
-#include "geometry/source_edges.hpp"
+#include "geometry/source_taps.hpp"
 #include "geometry/tile_map.hpp"
 #include "sampling/reference_sampler.hpp"
 #include "base/sample_io.hpp"
@@ -60,7 +60,7 @@ void finish_typed(const Image& src, const Projection& source, const Projection& 
   const double unit = unit_of(out.type());
   const auto pb = static_cast<int64_t>(out.pixel_bytes());
   const std::array<double, 4> back = fill.colour.value_or(std::array<double, 4>{0, 0, 0, 0});
-  const SourceEdges edges(source);
+  const SourceTaps taps(source);
   const bool whole = shows_whole_sphere(source);
   const int64_t tiles_x = (size.width + kTile - 1) / kTile, tiles_y = (size.height + kTile - 1) / kTile;
   // The pixel at p: A (coverage x alpha, [0, 1]) of colour c (unit range, unpremultiplied) over
@@ -167,7 +167,7 @@ void finish_typed(const Image& src, const Projection& source, const Projection& 
         for (int q = 0; q < 16; ++q)
           ok[q] = source_pixel(source, target, rotation, static_cast<double>(x) + (q % 4 + 0.5) / 4,
                                static_cast<double>(y) + (q / 4 + 0.5) / 4, xs[q], ys[q]);
-        sample_reference(src, edges, interp, xs, ys, ok, 16, subs.data());
+        sample_reference(src, taps, interp, xs, ys, ok, 16, subs.data());
         double sum[4] = {0, 0, 0, 0}, sum_a = 0;
         int n = 0;
         for (int q = 0; q < 16; ++q) {

@@ -100,8 +100,8 @@ Pyramid::Pyramid(const Image& src, const Projection& p) : src_(src) {
   const Image* from = &src;
   for (int k = 0; k < n; ++k, s = {s.width / 2, s.height / 2}) {
     Projection q = k == 0 ? p : rescaled(p, s);
-    auto l = std::make_unique<Level>(Level{q, SourceEdges(q), Image(), nullptr});
-    l->edges = SourceEdges(l->projection);  // it keeps a pointer into the projection: its final place
+    auto l = std::make_unique<Level>(Level{q, SourceTaps(q), Image(), nullptr});
+    l->taps = SourceTaps(l->projection);  // it keeps a pointer into the projection: its final place
     if (k > 0) {
       const int64_t x0 = from->origin_x() / 2, y0 = from->origin_y() / 2;
       const int64_t x1 = (from->origin_x() + from->width() + 1) / 2, y1 = (from->origin_y() + from->height() + 1) / 2;

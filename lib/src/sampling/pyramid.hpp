@@ -12,7 +12,7 @@
 
 #include "panoproj/image.hpp"
 #include "panoproj/projection.hpp"
-#include "geometry/source_edges.hpp"
+#include "geometry/source_taps.hpp"
 
 namespace panoproj {
 
@@ -29,7 +29,7 @@ class Pyramid {
 
   struct Level {
     Projection projection;
-    SourceEdges edges;  // refers to projection: levels never move
+    SourceTaps taps;  // refers to projection: levels never move
     Image image;        // empty at level 0 (the source itself)
     std::unique_ptr<std::once_flag[]> bands;  // one per kBand rows of image
   };

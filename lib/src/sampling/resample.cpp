@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "base/parallel.hpp"
-#include "geometry/source_edges.hpp"
+#include "geometry/source_taps.hpp"
 #include "sampling/footprint_kernel.hpp"
 #include "sampling/reference_sampler.hpp"
 #include "base/sample_io.hpp"
@@ -20,7 +20,7 @@ namespace {
 // One output row: samples at (xs[i], ys[i]) where ok[i]; with box widths ex, ey, the footprint
 // kernel (footprint_kernel.hpp) instead of interp's.
 template <class T>
-void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const double* xs,
+void sample_row(const Image& src, const SourceTaps& taps, Interp interp, const double* xs,
                 const double* ys, const float* ex, const float* ey, const uint8_t* ok, int64_t n, unsigned char* out) {
   const int nc = src.channels(), alpha = src.alpha_channel();
   const size_t pb = src.pixel_bytes();
@@ -40,12 +40,12 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
       std::memset(out, 0, pb);
       continue;
     }
-    const int face = edges.face_at(xs[i], ys[i]);
+    const int face = taps.face_at(xs[i], ys[i]);
     const int64_t bx = first_tap(interp, xs[i]), by = first_tap(interp, ys[i]);
-    SourceEdges::Part parts[4];
+    SourceTaps::Part parts[4];
     if (interp == Interp::Nearest) {
       // The pixel containing the sample, copied untouched (its largest part off a cube face).
-      const int n_parts = edges.resolve(bx, by, face, parts);
+      const int n_parts = taps.resolve(bx, by, face, parts);
       const auto* best = std::max_element(parts, parts + n_parts,
                                           [](const auto& a, const auto& b) { return a.w < b.w; });
       std::memcpy(out, at(best->x, best->y), pb);
@@ -65,7 +65,7 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
       for (int c = 0; c < k; ++c) {
         // The tap's (premultiplied) value: its pixel, or the parts of a neighbouring cube face.
         double tap[4] = {0, 0, 0, 0};
-        const int n_parts = edges.resolve(bx + c, by + r, face, parts);
+        const int n_parts = taps.resolve(bx + c, by + r, face, parts);
         for (int q = 0; q < n_parts; ++q) {
           const unsigned char* p = at(parts[q].x, parts[q].y);
           // Premultiplied alpha: colour taps are weighted by their alpha.
@@ -98,21 +98,21 @@ void sample_row(const Image& src, const SourceEdges& edges, Interp interp, const
 
 }  // namespace
 
-void sample_reference(const Image& src, const SourceEdges& edges, Interp interp, const double* xs,
+void sample_reference(const Image& src, const SourceTaps& taps, Interp interp, const double* xs,
                       const double* ys, const uint8_t* ok, int64_t n, unsigned char* out) {
-  with_sample_type(src.type(), [&](auto t) { sample_row<decltype(t)>(src, edges, interp, xs, ys, nullptr, nullptr, ok, n, out); });
+  with_sample_type(src.type(), [&](auto t) { sample_row<decltype(t)>(src, taps, interp, xs, ys, nullptr, nullptr, ok, n, out); });
 }
 
-void sample_footprint_reference(const Image& src, const SourceEdges& edges, const double* xs, const double* ys,
+void sample_footprint_reference(const Image& src, const SourceTaps& taps, const double* xs, const double* ys,
                                 const float* ex, const float* ey, const uint8_t* ok, int64_t n, unsigned char* out) {
-  with_sample_type(src.type(), [&](auto t) { sample_row<decltype(t)>(src, edges, Interp::Bilinear, xs, ys, ex, ey, ok, n, out); });
+  with_sample_type(src.type(), [&](auto t) { sample_row<decltype(t)>(src, taps, Interp::Bilinear, xs, ys, ex, ey, ok, n, out); });
 }
 
 Image remap(const Image& src, const Projection& src_proj, const Projection& dst_proj,
             const Eigen::Matrix3d& rotation, const RemapOptions& options) {
   const Size out_size = size_of(dst_proj);
   Image out(out_size, src.channels(), src.type(), src.alpha_channel());
-  const SourceEdges edges(src_proj);
+  const SourceTaps taps(src_proj);
   const int64_t w = out_size.width;
   parallel_rows(out_size.height, options.threads, [&](int64_t y0, int64_t y1) {
     std::vector<Ray> rays(static_cast<size_t>(w));
@@ -122,7 +122,7 @@ Image remap(const Image& src, const Projection& src_proj, const Projection& dst_
       to_ray_row(dst_proj, static_cast<double>(y) + 0.5, 0, w, rays.data(), ok.data());
       for (int64_t i = 0; i < w; ++i) rays[i] = rotation * rays[i];
       to_pixel_row(src_proj, rays.data(), w, xs.data(), ys.data(), ok.data());
-      sample_reference(src, edges, options.interp, xs.data(), ys.data(), ok.data(), w, out.row(y));
+      sample_reference(src, taps, options.interp, xs.data(), ys.data(), ok.data(), w, out.row(y));
     }
   });
   return out;

@@ -5,7 +5,7 @@
 // point).
 // A sample whose taps all lie inside its cell (one cube face, else the frame) and inside the
 // window of the source held in memory is computed here; any other valid sample (a seam, a pole,
-// a face edge, a window edge) is listed in SimdMisses for the reference sampler's edge rules.
+// a face edge, a window edge) is listed in SimdMisses for the reference sampler's tap rules.
 // Two entry points: positions from a map, or fused with the vector geometry (no map at all).
 #include <cstdint>
 #include <vector>

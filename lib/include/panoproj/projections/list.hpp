@@ -6,13 +6,13 @@
 #include "panoproj/projections/aitoff.hpp"
 #include "panoproj/projections/bonne.hpp"
 #include "panoproj/projections/brown_conrady.hpp"
+#include "panoproj/projections/calibrated_lens.hpp"
 #include "panoproj/projections/cubemap.hpp"
 #include "panoproj/projections/cylindrical.hpp"
 #include "panoproj/projections/dual_fisheye.hpp"
 #include "panoproj/projections/equirect.hpp"
 #include "panoproj/projections/fisheye.hpp"
 #include "panoproj/projections/hammer.hpp"
-#include "panoproj/projections/lens.hpp"
 #include "panoproj/projections/pinhole.hpp"
 
 #define PANOPROJ_PROJECTIONS(X) \
@@ -20,7 +20,7 @@
   X(BrownConrady)               \
   X(Fisheye)                    \
   X(DualFisheye)                \
-  X(Lens)                       \
+  X(CalibratedLens)             \
   X(Equirect)                   \
   X(Cylindrical)                \
   X(Cubemap)                    \

@@ -1,11 +1,11 @@
-#include "geometry/source_edges.hpp"
+#include "geometry/source_taps.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace panoproj {
 
-SourceEdges::SourceEdges(const Projection& source) {
+SourceTaps::SourceTaps(const Projection& source) {
   const Size s = size_of(source);
   w_ = s.width;
   h_ = s.height;
@@ -26,7 +26,7 @@ SourceEdges::SourceEdges(const Projection& source) {
   }
 }
 
-int SourceEdges::resolve(int64_t ix, int64_t iy, int face, Part* parts) const {
+int SourceTaps::resolve(int64_t ix, int64_t iy, int face, Part* parts) const {
   switch (mode_) {
     case Mode::Equirect:
       // Crossing a pole: row -1 - j (or 2H - 1 - j), half a turn of longitude away.

@@ -14,9 +14,9 @@
 
 namespace panoproj {
 
-class Lens {
+class CalibratedLens {
  public:
-  Lens(Size size, double fx, double fy, double cx, double cy, const LensLaw& law, double theta_max)
+  CalibratedLens(Size size, double fx, double fy, double cx, double cy, const LensLaw& law, double theta_max)
       : size_(size), fx_(fx), fy_(fy), cx_(cx), cy_(cy), law_(law), theta_max_(theta_max),
         rd_max_(radius(theta_max)), limit_(std::visit([](const auto& l) { return l.limit(); }, law)) {}
 

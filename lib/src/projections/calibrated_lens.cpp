@@ -1,5 +1,5 @@
 // The calibrated-lens module (module.hpp): Kannala-Brandt, Double Sphere, unified, extended
-// unified and PTLens laws on one Lens type.
+// unified and PTLens laws on one CalibratedLens type.
 #include <algorithm>
 #include <sstream>
 
@@ -46,7 +46,7 @@ std::vector<ProjectionDef> catalog() {
 // A lens spec's law and field (theta_max): the field must lie in the law's domain, where R
 // increases (the polynomial laws: checked) and stays finite. PTLens's law depends on the frame
 // (its radii are in units of half the shorter side): `frame`, or a square one for checks.
-Lens unit_lens(const ProjectionSpec& s, Size frame = {1, 1}) {
+CalibratedLens unit_lens(const ProjectionSpec& s, Size frame = {1, 1}) {
   LensLaw law;
   const std::string& n = s.name();
   double fx = 1.0;
@@ -102,7 +102,7 @@ Lens unit_lens(const ProjectionSpec& s, Size frame = {1, 1}) {
   }
   if (fold >= 0 && (kb || s.number("fov"))) fail_fold(s, kb ? "k1..k4" : "a, b, c", fold, theta_max);
   if (fold >= 0) theta_max = fold;
-  const Lens lens({1, 1}, fx, fx, 0, 0, law, theta_max);
+  const CalibratedLens lens({1, 1}, fx, fx, 0, 0, law, theta_max);
   if (!(std::isfinite(lens.rd_max()) && lens.rd_max() > 0)) {
     o << "the law reaches R = " << lens.rd_max() << " at fov/2 = " << rad2deg(theta_max)
       << " deg (expected a finite value: give a smaller fov" << (n == "kannala-brandt" ? " or smaller coefficients" : "") << ")";
@@ -113,12 +113,12 @@ Lens unit_lens(const ProjectionSpec& s, Size frame = {1, 1}) {
 
 Projection make(const ProjectionSpec& s, Size size) {
   const double w = static_cast<double>(size.width), h = static_cast<double>(size.height);
-  const Lens unit = unit_lens(s, size);
+  const CalibratedLens unit = unit_lens(s, size);
   const double cx = center_of(s, "cx", w), cy = center_of(s, "cy", h);
-  if (s.name() == "ptlens") return Lens(size, unit.fx(), unit.fx(), cx, cy, unit.law(), unit.theta_max());
+  if (s.name() == "ptlens") return CalibratedLens(size, unit.fx(), unit.fx(), cx, cy, unit.law(), unit.theta_max());
   // Default focal length: the image circle fills the shorter side.
   const auto [fx, fy] = focal_lengths(s, 0.5 * std::min(w, h) / unit.rd_max());
-  return Lens(size, fx, fy, cx, cy, unit.law(), unit.theta_max());
+  return CalibratedLens(size, fx, fy, cx, cy, unit.law(), unit.theta_max());
 }
 
 Size size_for(const ProjectionSpec& s, double density) {
@@ -129,14 +129,14 @@ Size size_for(const ProjectionSpec& s, double density) {
   }
   // The image circle's diameter at the given focal lengths, else at `density` pixels per radian
   // at the centre (f R'(0) = density).
-  const Lens unit = unit_lens(s);
+  const CalibratedLens unit = unit_lens(s);
   const auto [fx, fy] = focal_lengths(s, density / unit.center_density());
   return framed_size(s, 2.0 * fx * unit.rd_max(), 2.0 * fy * unit.rd_max());
 }
 
 Projection rescale(const Projection& p, Size size, double sx, double sy) {
-  const auto& q = std::get<Lens>(p);
-  return Lens(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy, q.law(), q.theta_max());
+  const auto& q = std::get<CalibratedLens>(p);
+  return CalibratedLens(size, q.fx() * sx, q.fy() * sy, q.cx() * sx, q.cy() * sy, q.law(), q.theta_max());
 }
 
 // Kannala-Brandt: the equidistant law, tiny and 360-degree fields, a field ending 0.01 degree
@@ -174,6 +174,6 @@ std::vector<ProjectionCase> cases() {
 
 }  // namespace
 
-const ProjectionModule kLensModule{catalog, [](const ProjectionSpec& s) { unit_lens(s); }, make, size_for, rescale, cases};
+const ProjectionModule kCalibratedLensModule{catalog, [](const ProjectionSpec& s) { unit_lens(s); }, make, size_for, rescale, cases};
 
 }  // namespace panoproj

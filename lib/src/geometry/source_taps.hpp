@@ -15,9 +15,9 @@
 
 namespace panoproj {
 
-class SourceEdges {
+class SourceTaps {
  public:
-  explicit SourceEdges(const Projection& source);
+  explicit SourceTaps(const Projection& source);
 
   // Whether x wraps around a full circle of longitude (equirect and cylindrical sources).
   bool wraps_x() const { return wrap_x_; }
