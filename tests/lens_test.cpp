@@ -142,7 +142,7 @@ TEST(KannalaBrandt, WithoutCoefficientsIsTheEquidistantFisheye) {
     double worst = 0;
     for (double y = 0.5; y < 801; y += 9.75)
       for (double x = 0.5; x < 801; x += 9.75) {
-        Ray da, db;
+        Ray da = Ray::Zero(), db = Ray::Zero();  // (set only where to_ray succeeds)
         const bool ok = to_ray(a, x, y, da);
         ASSERT_EQ(ok, to_ray(b, x, y, db)) << fov << " at " << x << "," << y;
         if (ok) worst = std::max(worst, test::angle(da, db));

@@ -65,7 +65,7 @@ struct Converter::Impl {
   Engine engine_;
   int threads_;
   bool cache_map_;
-  std::vector<Projection> lenses_;      // a dual-fisheye source's lenses alone (blended per tile), else empty
+  std::vector<LensSource> lenses_;      // a dual-fisheye source's lenses alone (blended per tile), else empty
   mutable std::vector<TileMap> cache_;  // one per tile (empty for fused tiles), built on first use
   mutable std::once_flag cache_once_;   // so that threads sharing a Converter build it once
 
@@ -98,14 +98,14 @@ Converter::Impl::Impl(Projection source, Projection target, const Eigen::Matrix3
       rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), cache_map_(cache_map) {
   if (antialias_.mode != Antialias::Mode::Off && engine_ == Engine::Reference)
     throw Error("antialias " + name_of(antialias_) + " needs the simd or scalar engine (or --antialias off)");
-  if (const auto* d = std::get_if<DualFisheye>(&source_); d && d->only() < 0) {
+  if (const auto* d = std::get_if<DualFisheye>(&source_)) {
     // Each lens alone, blended (or cut) per tile; their maps are not kept (cache_map keeps those
     // of source_, which the lenses do not use).
     if (d->feather() > 0 && engine_ == Engine::Reference)
       throw Error("dual-fisheye: the feathered blend needs the simd or scalar engine (or feather=0)");
     if (d->feather() > 0 && antialias_.mode == Antialias::Mode::Mip)
       throw Error("dual-fisheye: antialias mip does not blend the lenses (use --antialias auto or supersample, or feather=0)");
-    lenses_ = {d->only(0), d->only(1)};
+    lenses_ = lens_sources(*d, rotation_);
     cache_map_ = false;
   }
   const int most = antialias_.mode == Antialias::Mode::Supersample ? antialias_.n

@@ -14,13 +14,18 @@ SimdSource simd_source(const Image& src, const Projection& sp) {
           src.origin_x(), src.origin_y(), src.origin_x() + src.width(), src.origin_y() + src.height(), cw, ch};
 }
 
-TileSampling::TileSampling(const Image& src, const Projection& source, const std::vector<Projection>& lenses,
+std::vector<LensSource> lens_sources(const DualFisheye& d, const Eigen::Matrix3d& rotation) {
+  return {{d.lens(0), d.rotation(0).transpose() * rotation}, {d.lens(1), d.rotation(1).transpose() * rotation}};
+}
+
+TileSampling::TileSampling(const Image& src, const Projection& source, const std::vector<LensSource>& lenses,
                            const Eigen::Matrix3d& rotation, Interp interp, bool simd)
     : src_(src), source_(source), lenses_(lenses), rotation_(rotation), interp_(interp), simd_(simd), taps_(source),
       simd_src_(simd_source(src, source)) {}
 
-bool TileSampling::fused(const Projection& sp, const Projection& t, const TileRect& rect, SimdGeometry& g) const {
-  return simd_ && simd_geometry_for(sp, t, rotation_, rect, g);
+bool TileSampling::fused(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
+                         SimdGeometry& g) const {
+  return simd_ && simd_geometry_for(sp, t, r, rect, g);
 }
 
 void TileSampling::resolve_misses(const Image& im, const SourceTaps& taps, const TileRect& r, unsigned char* out,
@@ -63,11 +68,12 @@ void TileSampling::map(const Image& im, const SourceTaps& taps, const SimdSource
   resolve_misses(im, taps, m.rect, out, stride, wk, fp);
 }
 
-void TileSampling::from(const Projection& sp, const Projection& t, const TileRect& rect, const TileMap* tm,
-                        unsigned char* out, int64_t stride, TileScratch& wk, const FootprintField* fp) const {
+void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
+                        const TileMap* tm, unsigned char* out, int64_t stride, TileScratch& wk,
+                        const FootprintField* fp) const {
   SimdGeometry g;
-  const bool in_registers = !tm && fused(sp, t, rect, g);
-  if (!tm && !in_registers) map_tile(sp, t, rotation_, rect, wk.map), tm = &wk.map;
+  const bool in_registers = !tm && fused(sp, r, t, rect, g);
+  if (!tm && !in_registers) map_tile(sp, t, r, rect, wk.map), tm = &wk.map;
   if (tm) wk.stats.interpolated_cells += tm->interpolated_cells, wk.stats.exact_cells += tm->exact_cells;
   wk.stats.fused_tiles += in_registers;
   if (!in_registers) return map(src_, taps_, simd_src_, *tm, out, stride, wk, fp);
@@ -78,13 +84,16 @@ void TileSampling::from(const Projection& sp, const Projection& t, const TileRec
 
 void TileSampling::rect(const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out,
                         int64_t stride, TileScratch& wk, const FootprintField* fp) const {
-  if (lenses_.empty()) return from(source_, t, rect, tm, out, stride, wk, fp);
+  if (lenses_.empty()) return from(source_, rotation_, t, rect, tm, out, stride, wk, fp);
   const int side = dual_weights(std::get<DualFisheye>(source_), t, rotation_, rect, wk.weights);
-  if (side >= 0) return from(lenses_[static_cast<size_t>(side)], t, rect, nullptr, out, stride, wk, fp);
+  if (side >= 0) {
+    const LensSource& l = lenses_[static_cast<size_t>(side)];
+    return from(l.lens, l.rotation, t, rect, nullptr, out, stride, wk, fp);
+  }
   const auto pb = static_cast<int64_t>(src_.pixel_bytes());
   wk.other.resize(static_cast<size_t>(rect.w * rect.h * pb));
-  from(lenses_[0], t, rect, nullptr, out, stride, wk, fp);
-  from(lenses_[1], t, rect, nullptr, wk.other.data(), rect.w * pb, wk, fp);
+  from(lenses_[0].lens, lenses_[0].rotation, t, rect, nullptr, out, stride, wk, fp);
+  from(lenses_[1].lens, lenses_[1].rotation, t, rect, nullptr, wk.other.data(), rect.w * pb, wk, fp);
   blend_lenses(wk.weights.data(), rect, src_.type(), src_.channels(), src_.alpha_channel(), out, stride,
                wk.other.data(), rect.w * pb);
 }

@@ -36,11 +36,20 @@ struct TileScratch {
 // face: cube layouts put faces on a grid of face-sized cells; else the whole frame).
 SimdSource simd_source(const Image& src, const Projection& sp);
 
+// One lens of a dual-fisheye source alone: its fisheye on the whole frame (its circle inside its
+// half), and the rotation to it, R_k^T times the conversion's (lens ray = R_k^T camera ray). Its
+// taps stay in its half by the source's cells.
+struct LensSource {
+  Projection lens;
+  Eigen::Matrix3d rotation;
+};
+std::vector<LensSource> lens_sources(const DualFisheye& d, const Eigen::Matrix3d& rotation);
+
 class TileSampling {
  public:
   // lenses: a dual-fisheye source's lenses alone (blended per rect), else empty. simd: the simd
   // engine (fused geometry, SIMD kernels), else the scalar one.
-  TileSampling(const Image& src, const Projection& source, const std::vector<Projection>& lenses,
+  TileSampling(const Image& src, const Projection& source, const std::vector<LensSource>& lenses,
                const Eigen::Matrix3d& rotation, Interp interp, bool simd);
 
   // rect of target t into out (rows of stride bytes); tm: its kept map, or null. fp: the
@@ -50,24 +59,28 @@ class TileSampling {
   // Positions m of image im (its taps, SIMD view ss: the source or one of its mip levels).
   void map(const Image& im, const SourceTaps& taps, const SimdSource& ss, const TileMap& m, unsigned char* out,
            int64_t stride, TileScratch& wk, const FootprintField* fp) const;
-  // Whether rect of target t from source sp runs fused (g filled).
-  bool fused(const Projection& sp, const Projection& t, const TileRect& rect, SimdGeometry& g) const;
+  // Whether rect of target t from the source runs fused (g filled).
+  bool fused(const Projection& t, const TileRect& rect, SimdGeometry& g) const {
+    return fused(source_, rotation_, t, rect, g);
+  }
 
   const Image& image() const { return src_; }
   const SourceTaps& taps() const { return taps_; }
   Interp interp() const { return interp_; }
 
  private:
-  // From source projection sp (the source, or one lens).
-  void from(const Projection& sp, const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out,
-            int64_t stride, TileScratch& wk, const FootprintField* fp) const;
+  // From source projection sp through rotation r (the source, or one lens).
+  void from(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
+            const TileMap* tm, unsigned char* out, int64_t stride, TileScratch& wk, const FootprintField* fp) const;
+  bool fused(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
+             SimdGeometry& g) const;
   // The samples the SIMD kernels left in wk.misses (rect's pixel indices), by the tap rules.
   void resolve_misses(const Image& im, const SourceTaps& taps, const TileRect& rect, unsigned char* out, int64_t stride,
                       TileScratch& wk, const FootprintField* fp) const;
 
   const Image& src_;
   const Projection& source_;
-  const std::vector<Projection>& lenses_;
+  const std::vector<LensSource>& lenses_;
   const Eigen::Matrix3d& rotation_;
   Interp interp_;
   bool simd_;

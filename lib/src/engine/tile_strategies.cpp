@@ -84,7 +84,7 @@ class Mip final : public TileStrategy {
     const TileMap* tm = kept;
     SimdGeometry g;
     if (!tm) {
-      if (job_.sampling.fused(job_.source, job_.target, rect, g))
+      if (job_.sampling.fused(job_.target, rect, g))
         simd_map_tile(g, rect, wk.map, grid_suits(job_.sampling.image().type()));  // the fused path's positions
       else
         map_tile(job_.source, job_.target, job_.rotation, rect, wk.map);

@@ -119,8 +119,7 @@ Projection rescale(const Projection& p, Size size, double sx, double sy) {
   const auto& q = std::get<DualFisheye>(p);
   std::array<Fisheye, 2> lenses{q.lens(0), q.lens(1)};
   for (auto& l : lenses) l = fisheye_scaled(l, size, sx, sy);
-  const DualFisheye d(size, q.top_bottom(), lenses, {q.rotation(0), q.rotation(1)}, q.feather());
-  return q.only() >= 0 ? d.only(q.only()) : d;
+  return DualFisheye(size, q.top_bottom(), lenses, {q.rotation(0), q.rotation(1)}, q.feather());
 }
 
 // Each ray back through the lens it lies deeper inside (in the overlap, the other half of the

@@ -193,12 +193,8 @@ bool separable(const SimdGeometry& g) {
 
 bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
                        const TileRect& rect, SimdGeometry& g) {
-  // A dual fisheye's lens alone is a fisheye turned by R_k (lens ray = R_k^T camera ray); a tile
-  // inside one half of a dual-fisheye target, that half's lens (camera ray = R_k lens ray).
-  if (const auto* d = std::get_if<DualFisheye>(&src)) {
-    const int k = d->only();
-    return k >= 0 && simd_geometry_for(Projection(d->lens(k)), dst, d->rotation(k).transpose() * rotation, rect, g);
-  }
+  // A tile inside one half of a dual-fisheye target: that half's lens (camera ray = R_k lens
+  // ray). (A dual-fisheye source is sampled one lens at a time, each a fisheye: LensSource.)
   if (const auto* d = std::get_if<DualFisheye>(&dst)) {
     const int k = d->lens_at(static_cast<double>(rect.x0) + 0.5, static_cast<double>(rect.y0) + 0.5);
     if (d->lens_at(static_cast<double>(rect.x0 + rect.w) - 0.5, static_cast<double>(rect.y0 + rect.h) - 0.5) != k) return false;

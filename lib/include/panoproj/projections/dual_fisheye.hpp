@@ -36,13 +36,6 @@ class DualFisheye {
     for (int k = 0; k < 2; ++k) axis_[k] = rot_[k].col(2);
   }
 
-  // The same lenses, as a source seen through lens k only (the converter's blend samples each).
-  DualFisheye only(int k) const {
-    DualFisheye d = *this;
-    d.only_ = k;
-    return d;
-  }
-
   // The half holding pixel position (x, y): lens 0 left (top), lens 1 right (bottom).
   int lens_at(double x, double y) const {
     return (top_bottom_ ? y : x) < static_cast<double>(half()) ? 0 : 1;
@@ -73,7 +66,6 @@ class DualFisheye {
   }
 
   bool to_pixel(const Ray& d, double& x, double& y) const {
-    if (only_ >= 0) return lens_pixel(only_, d, x, y);
     const int k = margin(0, d) >= margin(1, d) ? 0 : 1;
     return lens_pixel(k, d, x, y) || lens_pixel(1 - k, d, x, y);
   }
@@ -93,7 +85,6 @@ class DualFisheye {
   const Fisheye& lens(int k) const { return lenses_[k]; }
   const Eigen::Matrix3d& rotation(int k) const { return rot_[k]; }
   double feather() const { return feather_; }
-  int only() const { return only_; }  // -1: both lenses
   // The cells that interpolation taps stay in (a lens's half).
   int64_t cell_width() const { return top_bottom_ ? size_.width : half(); }
   int64_t cell_height() const { return top_bottom_ ? half() : size_.height; }
@@ -113,7 +104,6 @@ class DualFisheye {
   std::array<Eigen::Matrix3d, 2> rot_;
   std::array<Ray, 2> axis_;
   double feather_;
-  int only_ = -1;
 };
 
 }  // namespace panoproj
