@@ -266,7 +266,8 @@ int main(int argc, char** argv) {
         throw Error("truth-supersample: " + std::to_string(sweep.truth_supersample) + " (expected 1 to 64)");
       for (const std::string* path : {&acc_csv, &acc_json, &acc_plot})
         if (!path->empty()) check_output_path(*path, acc_overwrite);
-      const ConversionGeometry geometry = make_geometry(parse_size(acc_from_size), parse_spec(acc_from), parse_spec(acc_to), o);
+      const ConversionGeometry geometry =
+          make_geometry(parse_size(acc_from_size), parse_spec(acc_from), parse_spec(acc_to), o);
       sweep.scene = parse_scene(acc_scene);
       const auto type = parse_depth(acc_type);
       if (!type) throw Error("type: keep (expected uint8, uint16, half or float)");

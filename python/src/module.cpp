@@ -349,7 +349,8 @@ PYBIND11_MODULE(_core, m) {
          const std::string& convention, const py::dict& options) {
         ConvertOptions o = options_from(options, kUseMaps);
         o.interp = Interp::Bilinear;
-        const ConversionGeometry geometry = make_geometry(size_pair(source_size), parse_spec(src), parse_spec(dst), o);
+        const ConversionGeometry geometry =
+            make_geometry(size_pair(source_size), parse_spec(src), parse_spec(dst), o);
         // The 2-float map and the two arrays split from it.
         require_memory("map " + size_text(size_of(geometry.target)), image_bytes(size_of(geometry.target), 4, sizeof(float)),
                        o.memory_limit);

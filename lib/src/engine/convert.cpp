@@ -11,7 +11,7 @@
 namespace panoproj {
 
 ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, const ProjectionSpec& to,
-               const ConvertOptions& o) {
+                                 const ConvertOptions& o) {
   for (const auto& [name, v] : {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"roll", o.roll}}) {
     if (!std::isfinite(v) || std::fabs(v) > 1e6) {
       std::ostringstream s;
@@ -50,8 +50,8 @@ const Image& source_for(const Image& source, const ConvertOptions& options, Imag
   return storage;
 }
 
-void require_job_memory(const ConversionGeometry& geometry, int channels, PixelType type, const ConvertOptions& options,
-                        uint64_t more) {
+void require_job_memory(const ConversionGeometry& geometry, int channels, PixelType type,
+                        const ConvertOptions& options, uint64_t more) {
   const Size out = size_of(geometry.target);
   const int out_channels = channels + (options.add_alpha && channels < 4 && channels != 2 ? 1 : 0);
   require_memory("output " + size_text(out) + " (" + std::to_string(out_channels) + " channels of " + name_of(type) + ")",
@@ -67,8 +67,8 @@ Image convert(const Image& source, const ProjectionSpec& from, const ProjectionS
 }
 
 Converter converter_for(const ConversionGeometry& geometry, const ConvertOptions& options, bool cache_map) {
-  return Converter(geometry.source, geometry.target, geometry.rotation, options.interp, options.engine, options.threads, cache_map,
-                   antialias_of(options), options.edges);
+  return Converter(geometry.source, geometry.target, geometry.rotation, options.interp, options.engine,
+                   options.threads, cache_map, antialias_of(options), options.edges);
 }
 
 }  // namespace panoproj

@@ -225,7 +225,8 @@ Size run_maps(const MapsJob& job) {
   if (ext != ".exr" && ext != ".tif" && ext != ".tiff")
     throw Error("output " + job.output + " cannot hold float maps (use .exr or .tif)");
   check_output_path(job.output, job.write.overwrite);
-  const ConversionGeometry geometry = make_geometry(job.source_size, parse_spec(job.from), parse_spec(job.to), job.options);
+  const ConversionGeometry geometry =
+      make_geometry(job.source_size, parse_spec(job.from), parse_spec(job.to), job.options);
   // The map (2 floats a pixel) and its encoded copy.
   const Size out = size_of(geometry.target);
   check_writable_size(job.output, out);

@@ -2,10 +2,10 @@
 // The stability report (`panoproj stability`; every case is an assertion in
 // tests/stability_test.cpp): each projection's case table (its module's, in catalogue order:
 // parameters at their extremes, fields of view from 0.001 degree to 360, Bonne's phi1 at 0, at
-// its series switch and at the pole, ..., at sizes from 1x1 to over 32767 px), round-tripped pixel -> ray -> pixel -> ray over a grid
-// of the closed frame plus its singular points (centre, edges, corners, seam, poles, rims, a
-// hair inside and outside them), and fed degenerate rays (zero, NaN, infinite, 1e-300 and
-// 1e300 components, the poles, straight back). Reported per case:
+// its series switch and at the pole, ..., at sizes from 1x1 to over 32767 px), round-tripped
+// pixel -> ray -> pixel -> ray over a grid of the closed frame plus its singular points
+// (centre, edges, corners, seam, poles, rims, a hair inside and outside them), and fed
+// degenerate rays (zero, NaN, infinite, 1e-300 and 1e300 components, the poles, straight back). Reported per case:
 //   - the largest round-trip error as the angle between a pixel's ray and its round trip's,
 //     and in pixels: that angle over the angle of one pixel there (so the identities, the seam
 //     x = 0 = W, a pole row, a shared cube edge, count as no error);
