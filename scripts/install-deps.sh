@@ -5,7 +5,8 @@ set -euo pipefail
 
 pkgs=(
   g++ cmake ninja-build pkg-config   # toolchain
-  libopenimageio-dev                 # all image I/O (lib/io)
+  libopenimageio-dev                 # TIFF, EXR, HDR and metadata by name (the plugin lib/src/io/oiio)
+  libjpeg62-turbo-dev libpng-dev     # JPEG and PNG, built in (lib/src/io)
   libeigen3-dev                      # rotations
   libcli11-dev                       # the panoproj command
   libhwy-dev                         # SIMD kernels (Google Highway)

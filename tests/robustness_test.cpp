@@ -288,7 +288,7 @@ std::vector<InputCase> hostile_cases() {
       {"tiff_100000x40000_in_1kB", tiff, "too few to hold them"},
       {"hdr_100000_squared", hdr, "too few to hold them"},
       {"empty", "", "the file is empty"},
-      {"garbage", std::string(3000, 'x'), "not a JPEG, PNG, TIFF, OpenEXR or Radiance HDR image"},
+      {"garbage", std::string(3000, 'x'), "not a JPEG, PNG, PPM/PGM, TIFF, OpenEXR or Radiance HDR image"},
       {"png_signature_only", std::string("\x89PNG\r\n\x1a\n", 8), "cannot read"},
       {"jpeg_soi_only", std::string("\xFF\xD8\xFF", 3), "cannot read"},
       {"tiff_header_only", std::string("II*\0\x08\0\0\0", 8), "cannot read"},

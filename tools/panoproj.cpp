@@ -177,6 +177,10 @@ int main(int argc, char** argv) {
   const TableOptions convert_options(convert, kUseConvert);
   convert->add_option("--depth", depth_text, "output samples: keep|uint8|uint16|half|float");
   convert->add_flag("--overwrite", job.write.overwrite, "replace an existing output");
+  std::string subsampling_text = "420";
+  convert->add_option("--quality", job.write.quality, "JPEG output quality, 1 to 100 (default 95)");
+  convert->add_option("--subsampling", subsampling_text,
+                      "JPEG output chroma: 420 (default: half width and height), 422 (half width) or 444 (full)");
   bool no_metadata = false;
   convert->add_flag("--no-metadata", no_metadata,
                     "write no metadata (default: the input's EXIF, ICC profile ..., less orientation, size and thumbnail)");
@@ -308,6 +312,8 @@ int main(int argc, char** argv) {
     if (!from_text.empty()) job.from = from_text;
     convert_options.apply(job.options);
     job.write.type = parse_depth(depth_text);
+    job.write.subsampling = parse_subsampling(subsampling_text);
+    check_write_options(job.write);
     job.keep_metadata = !no_metadata;
     job.output = files.back();
     job.inputs.assign(files.begin(), files.end() - 1);

@@ -343,7 +343,7 @@ HOSTILE = [
     ("huge_png", "too few to hold them", False), ("huge_exr", "cannot read", False),
     ("huge_hdr", "too few to hold them", False), ("cut_jpg", "cannot read", False), ("cut_png", "cannot read", False),
     ("cut_tif", "cannot read", False), ("cut_exr", "cannot read", False), ("cut_hdr", "cannot read", False),
-    ("garbage", "not a JPEG, PNG, TIFF, OpenEXR or Radiance HDR image", False), ("empty", "the file is empty", False),
+    ("garbage", "not a JPEG, PNG, PPM/PGM, TIFF, OpenEXR or Radiance HDR image", False), ("empty", "the file is empty", False),
     ("fifo", "a FIFO", True), ("dir", "a directory", False), ("zero", "a device", True), ("devzero", "a device", True),
 ]
 

@@ -1,6 +1,7 @@
 #pragma once
-// Image files through OpenImageIO: JPEG, PNG, TIFF 8/16-bit, OpenEXR half/float, Radiance HDR
-// (only these five, recognised by their magic bytes).
+// Image files: JPEG (libjpeg-turbo), PNG (libpng) and binary PPM/PGM built in; TIFF 8/16-bit,
+// OpenEXR half/float and Radiance HDR through OpenImageIO, loaded on first use (only these six,
+// recognised by their magic bytes; written by the path's extension).
 // Reading: only regular files, recognised by their magic bytes, whose header is plausible for the
 // file's size and whose pixels fit the memory budget (limits.hpp; memory_limit 0: the machine's
 // available memory), are decoded; anything else is a one-line Error.
@@ -27,42 +28,68 @@ struct Attribute {
 };
 using Metadata = std::vector<Attribute>;
 
+// A JPEG's or PNG's metadata blocks as stored: EXIF (the TIFF structure of a JPEG's APP1 after
+// "Exif\0\0", a PNG's eXIf), the ICC profile (APP2 chunks, iCCP), the XMP packet (APP1, iTXt).
+struct EmbeddedMetadata {
+  std::string exif, icc, xmp;
+  bool empty() const { return exif.empty() && icc.empty() && xmp.empty(); }
+};
+
+enum class ChromaSubsampling { S420, S422, S444 };
+ChromaSubsampling parse_subsampling(std::string_view text);  // "420", "422", "444"
+
 struct WriteOptions {
   bool overwrite = false;
+  int quality = 95;  // JPEG, 1 to 100
+  ChromaSubsampling subsampling = ChromaSubsampling::S420;  // JPEG: chroma at half width and height
   std::optional<PixelType> type;  // convert samples before writing; default: keep
   std::vector<std::string> channel_names;  // default: the format's (R, G, B, A)
   Metadata metadata;  // written where the format has a place for them, else dropped by it
-  std::string xmp;  // an XMP packet added to a JPEG or PNG output (photo_sphere.hpp); other formats: none
+  // Blocks carried as stored (a JPEG or PNG input's, read_embedded_metadata); EXIF is written with
+  // Orientation 1 and the output's size, without thumbnail. Other formats get them as attributes.
+  EmbeddedMetadata embedded;
+  // An XMP packet for a JPEG or PNG output (photo_sphere.hpp), replacing embedded.xmp; other
+  // formats: none.
+  std::string xmp;
 };
 
 struct ImageInfo {
   Size size;
   int channels = 0;
   PixelType type = PixelType::U8;
+  std::string format;     // jpeg, png, pnm, tiff, openexr, hdr
+  bool scalable = false;  // decodes at 1/2, 1/4 and 1/8 (a JPEG's DCT scaling)
 };
 
 Image read_image(const std::string& path, int64_t memory_limit = 0);
 // The file's attributes (OpenImageIO's own "oiio:*" bookkeeping left out); throws like read_image.
+// Loads OpenImageIO.
 Metadata read_metadata(const std::string& path);
+// A JPEG's or PNG's metadata blocks (others: none), without OpenImageIO.
+EmbeddedMetadata read_embedded_metadata(const std::string& path);
 // The image's size from its header only (no pixels decoded); throws like read_image.
 Size read_image_size(const std::string& path);
 ImageInfo read_image_info(const std::string& path);
-// Reads at least the pixels [x0, x1) x [y0, y1) as a window of the file's frame (image.hpp):
-// tiled files (TIFF, EXR) decode only the tiles the region touches; scanline files keep whole
-// rows y0..y1 (JPEG decodes the rows above on the way without keeping them; TIFF and EXR strips
-// read directly), so a damaged part outside the region is never needed. OpenImageIO's PNG reader
-// decodes a whole PNG internally first: PNG sources save no memory. A region covering the frame
-// is read_image. Before any pixel is decoded, the decoded part and `other_bytes` (a job's output
-// and maps) are checked against the memory limit.
+// Reads at least the pixels [x0, x1) x [y0, y1) as a window of the file's frame (image.hpp), so
+// that a damaged part outside the region is never needed: JPEG keeps exactly the region (it
+// decodes one iMCU around it and skips the rows above without their inverse DCT; a progressive
+// JPEG reads all its scans first), PNG and PPM keep the region's columns of rows y0..y1 (PNG
+// decodes the rows above on the way; an interlaced PNG decodes whole), tiled TIFF and EXR the
+// tiles it touches, other TIFF and EXR whole rows y0..y1. At scale 2, 4 or 8 (ImageInfo::scalable)
+// the coordinates and the window are those of the frame decoded at 1/scale (size
+// ceil(size / scale)). Before any pixel is decoded, the decoded part and `other_bytes` (a job's
+// output and maps) are checked against the memory limit.
 Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1,
-                        int64_t memory_limit = 0, uint64_t other_bytes = 0);
+                        int64_t memory_limit = 0, uint64_t other_bytes = 0, int scale = 1);
 void write_image(const Image& image, const std::string& path, const WriteOptions& options);
 // Throws unless `path` may be written: its folder exists, and it is not a directory nor (without
 // overwrite) an existing entry of any kind, a dangling link included.
 void check_output_path(const std::string& path, bool overwrite);
 // Throws unless the format of `path` (by extension) can hold an image of `size` (JPEG: 65500 a
-// side; others 2^31 - 1); write_image checks it too, this lets a job fail before its work.
+// side; others 2^31 - 1) and the options are valid (quality 1 to 100); write_image checks it too,
+// this lets a job fail before its work.
 void check_writable_size(const std::string& path, Size size);
+void check_write_options(const WriteOptions& options);
 // A text file (CSV, JSON ...) or any bytes, written like images.
 void write_text(const std::string& text, const std::string& path, bool overwrite);
 void write_bytes(std::string_view bytes, const std::string& path, bool overwrite);

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 
@@ -110,8 +111,10 @@ InputFile probe_input(const std::string& path) {
     f.format = "openexr";
   } else if (starts(b, "#?", 2)) {
     f.format = "hdr";
+  } else if (b.size() >= 3 && b[0] == 'P' && (b[1] == '5' || b[1] == '6') && std::isspace(static_cast<unsigned char>(b[2]))) {
+    f.format = "pnm";
   } else {
-    throw Error("cannot read " + path + ": not a JPEG, PNG, TIFF, OpenEXR or Radiance HDR image (by its first bytes)",
+    throw Error("cannot read " + path + ": not a JPEG, PNG, PPM/PGM, TIFF, OpenEXR or Radiance HDR image (by its first bytes)",
                 ErrorKind::File);
   }
   return f;

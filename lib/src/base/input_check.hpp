@@ -1,6 +1,6 @@
 #pragma once
 // The checks an input file passes before any image library sees it: a regular file (a FIFO would
-// block, a device never end), one of the five formats by its magic bytes (no reader probes
+// block, a device never end), one of the six formats by its magic bytes (no reader probes
 // garbage), and, once its header is read, dimensions that the file's size can hold (a hostile
 // header must not make a decoder allocate gigabytes before it finds the data missing).
 #include <cstdint>
@@ -11,14 +11,14 @@
 namespace panoproj {
 
 struct InputFile {
-  std::string format;  // OpenImageIO's name: jpeg, png, tiff, openexr, hdr
+  std::string format;  // OpenImageIO's name: jpeg, png, pnm (binary PPM/PGM), tiff, openexr, hdr
   uint64_t bytes = 0;  // the file's size
   bool arithmetic = false;  // a JPEG with arithmetic coding (SOF9 .. SOF15)
   int bits_per_pixel = 0;   // as stored, where the header says (PNG); 0: channels x sample bits
 };
 
 // Throws Error naming the path: missing (ErrorKind::Missing), not a regular file, empty, or not
-// a JPEG, PNG, TIFF, OpenEXR or Radiance HDR file.
+// a JPEG, PNG, PPM/PGM, TIFF, OpenEXR or Radiance HDR file.
 InputFile probe_input(const std::string& path);
 
 // The first `most` bytes of a regular file (fewer if it is shorter); throws like probe_input,

@@ -63,7 +63,8 @@ std::string batch_output(const std::string& pattern, const std::string& input, s
 // The input's metadata an output keeps: all but what described the old pixels (orientation: the
 // conversion worked on the stored pixels; dimensions, thumbnail, pixel aspect, an EXR's screen
 // window) and how the old file was stored (compression, layout, format-specific settings: an
-// EXR's lossy DWAB must not pass to its output).
+// EXR's lossy DWAB must not pass to its output). By OpenImageIO's names, for TIFF, EXR and HDR
+// inputs.
 Metadata carried_metadata(const std::string& input) {
   static const char* const kDropped[] = {"Orientation", "Exif:PixelXDimension", "Exif:PixelYDimension",
                                          "PixelAspectRatio", "screenWindowCenter", "screenWindowWidth",
@@ -78,6 +79,13 @@ Metadata carried_metadata(const std::string& input) {
     if (!drop) kept.push_back(std::move(a));
   }
   return kept;
+}
+
+// JPEG and PNG inputs pass their blocks as stored (the writer resets EXIF's orientation, rewrites
+// its dimensions and drops its thumbnail; a Photo Sphere packet is not carried); PPM has none.
+void carry_metadata(const std::string& input, const std::string& format, WriteOptions& write) {
+  if (format == "jpeg" || format == "png") write.embedded = read_embedded_metadata(input);
+  else if (format != "pnm") write.metadata = carried_metadata(input);
 }
 
 }  // namespace
@@ -203,7 +211,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +
                            (n == 0 ? map_seconds : 0.0);  // the map is built once, for the first
     WriteOptions write = job.write;
-    if (job.keep_metadata && !in_faces) write.metadata = carried_metadata(job.inputs[n]);
+    if (job.keep_metadata && !in_faces) carry_metadata(job.inputs[n], batch ? read_image_info(job.inputs[n]).format : info.format, write);
     // Equirect outputs say where they sit in the sphere (Photo Sphere XMP, read by viewers).
     if (const auto* e = std::get_if<Equirect>(&geometry.target); e && job.keep_metadata)
       write.xmp = photo_sphere_xmp(photo_sphere_of(*e));

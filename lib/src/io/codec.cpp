@@ -1,0 +1,26 @@
+// What every decoder shares (the built-in ones and the OpenImageIO plugin's, which compiles this
+// file too).
+#include "io/codec.hpp"
+
+#include <new>
+
+#include "panoproj/error.hpp"
+#include "panoproj/limits.hpp"
+
+namespace panoproj {
+
+Image allocate_window(const std::string& path, Size size, const ImageHeader& h) {
+  try {
+    return Image(size, h.channels, h.type, h.alpha_channel);
+  } catch (const std::bad_alloc&) {
+    throw Error("cannot read " + path + ": " + size_text(size) + " pixels (" +
+                    bytes_text(image_bytes(size, h.channels, bytes_of(h.type))) + ") cannot be allocated",
+                ErrorKind::Memory);
+  }
+}
+
+void throw_damaged(const std::string& path, const std::string& why) {
+  throw Error("cannot read " + path + ": " + one_line(why) + " (the file is damaged or truncated)", ErrorKind::File);
+}
+
+}  // namespace panoproj

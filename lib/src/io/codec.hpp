@@ -1,0 +1,69 @@
+#pragma once
+// One image file format's reader and writer, behind io.hpp. JPEG (libjpeg-turbo), PNG (libpng)
+// and PPM/PGM are built in; TIFF, OpenEXR and Radiance HDR go through OpenImageIO, loaded as a
+// plugin on first use (oiio_plugin.hpp), so that nothing else loads it.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "panoproj/image.hpp"
+#include "panoproj/io.hpp"
+#include "base/input_check.hpp"
+
+namespace panoproj {
+
+// Pixels [x0, x1) x [y0, y1) of a frame.
+struct PixelRect {
+  int64_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  Size size() const { return {x1 - x0, y1 - y0}; }
+  bool operator==(const PixelRect&) const = default;
+};
+
+// What a file's header says.
+struct ImageHeader {
+  Size size;
+  int channels = 0;
+  PixelType type = PixelType::U8;
+  int alpha_channel = -1;
+  int sample_bits = 8;        // as stored
+  std::string compression;    // OpenImageIO's name ("none", "zip", "jpeg" ...), for check_plausible
+};
+
+// An input file opened for reading: its header is read, no pixel yet. read() is called once.
+class Decoder {
+ public:
+  virtual ~Decoder() = default;
+  const ImageHeader& header() const { return header_; }
+  // The frame's size when decoded at 1/scale (scale 1, 2, 4 or 8; scale_ok says which).
+  virtual Size scaled_size(int scale) const { return scale == 1 ? header_.size : Size{}; }
+  bool scale_ok(int scale) const { return scaled_size(scale).width > 0; }
+  // The part of the (scaled) frame that read() decodes and keeps for `need`, which it covers:
+  // whole tiles, whole rows, the frame.
+  virtual PixelRect window(PixelRect need, int scale) const = 0;
+  // Decodes window(need, scale) as a window of the scaled frame (Image::set_window).
+  virtual Image read(PixelRect window, int scale) = 0;
+  // The metadata blocks as stored, where the format has them (JPEG, PNG); empty elsewhere.
+  virtual EmbeddedMetadata embedded() const { return {}; }
+
+ protected:
+  ImageHeader header_;
+};
+
+std::unique_ptr<Decoder> open_jpeg(const std::string& path, const InputFile& file);
+std::unique_ptr<Decoder> open_png(const std::string& path, const InputFile& file);
+std::unique_ptr<Decoder> open_pnm(const std::string& path, const InputFile& file);
+
+// Encoded file bytes. `image` has the samples the format takes (see encode() in io.cpp).
+std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& path, const WriteOptions& options,
+                                       const EmbeddedMetadata& meta);
+std::vector<unsigned char> encode_png(const Image& image, const std::string& path, const WriteOptions& options,
+                                      const EmbeddedMetadata& meta);
+std::vector<unsigned char> encode_pnm(const Image& image, const std::string& path);
+
+// The buffer for a decoded window (a one-line Error when it cannot be allocated).
+Image allocate_window(const std::string& path, Size size, const ImageHeader& h);
+// "cannot read PATH: WHY (the file is damaged or truncated)"
+[[noreturn]] void throw_damaged(const std::string& path, const std::string& why);
+
+}  // namespace panoproj

@@ -1,0 +1,274 @@
+// JPEG through libjpeg-turbo: region decodes (jpeg_crop_scanline, jpeg_skip_scanlines), DCT-scaled
+// decodes (1/2, 1/4, 1/8), and an encoder into memory. libjpeg reports errors through an error
+// manager that longjmps back to `guarded` (it must never exit the process); corrupt data it would
+// paper over with grey (a warning) is an error too.
+#include <cerrno>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+// clang-format off
+#include <jpeglib.h>
+#include <jerror.h>
+// clang-format on
+
+#include <algorithm>
+
+#include "panoproj/error.hpp"
+#include "io/codec.hpp"
+
+namespace panoproj {
+namespace {
+
+struct JpegFailure {
+  jpeg_error_mgr mgr;
+  std::jmp_buf jump;
+  char message[JMSG_LENGTH_MAX] = {};
+};
+
+[[noreturn]] void on_error(j_common_ptr c) {
+  auto* f = reinterpret_cast<JpegFailure*>(c->err);
+  c->err->format_message(c, f->message);
+  std::longjmp(f->jump, 1);
+}
+
+// Warnings that mean the data is corrupt or missing end the decode (libjpeg would fill in grey and
+// go on); others (extraneous bytes before a marker, an odd progression) leave the image intact.
+void on_decode_message(j_common_ptr c, int level) {
+  if (level >= 0) return;  // traces
+  switch (c->err->msg_code) {
+    case JWRN_JPEG_EOF: case JWRN_HIT_MARKER: case JWRN_HUFF_BAD_CODE: case JWRN_MUST_RESYNC:
+    case JWRN_NOT_SEQUENTIAL: case JWRN_ARITH_BAD_CODE:
+      on_error(c);
+    default: break;
+  }
+}
+
+void on_encode_message(j_common_ptr, int) {}
+
+// Runs fn (libjpeg calls and trivial locals only: a longjmp skips its frames); false on an error.
+template <class F>
+bool guarded(JpegFailure& f, F&& fn) {
+  if (setjmp(f.jump)) return false;
+  fn();
+  return true;
+}
+
+constexpr char kExifHeader[] = "Exif\0";  // + the terminating NUL: 6 bytes
+constexpr char kXmpHeader[] = "http://ns.adobe.com/xap/1.0/";  // + NUL: 29 bytes
+
+bool starts_with(const jpeg_marker_struct* m, const char* header, size_t n) {
+  return m->data_length >= n && std::memcmp(m->data, header, n) == 0;
+}
+
+class JpegDecoder final : public Decoder {
+ public:
+  JpegDecoder(const std::string& path) : path_(path) {
+    file_ = std::fopen(path.c_str(), "rbe");
+    if (!file_) throw Error("cannot read " + path + ": " + std::strerror(errno), ErrorKind::File);
+    c_.err = jpeg_std_error(&fail_.mgr);
+    fail_.mgr.error_exit = on_error;
+    fail_.mgr.emit_message = on_decode_message;
+    if (!guarded(fail_, [&] { jpeg_create_decompress(&c_); })) throw_damaged(path, fail_.message);
+    created_ = true;
+    const bool ok = guarded(fail_, [&] {
+      jpeg_stdio_src(&c_, file_);
+      jpeg_save_markers(&c_, JPEG_APP0 + 1, 0xFFFF);
+      jpeg_save_markers(&c_, JPEG_APP0 + 2, 0xFFFF);
+      jpeg_read_header(&c_, TRUE);
+    });
+    if (!ok) throw_damaged(path, fail_.message);
+    header_.size = {static_cast<int64_t>(c_.image_width), static_cast<int64_t>(c_.image_height)};
+    header_.channels = c_.num_components == 1 ? 1 : 3;
+    header_.compression = "jpeg";
+    for (const jpeg_marker_struct* m = c_.marker_list; m; m = m->next) {
+      const auto* d = reinterpret_cast<const char*>(m->data);
+      if (m->marker == JPEG_APP0 + 1 && starts_with(m, kExifHeader, sizeof kExifHeader) && embedded_.exif.empty())
+        embedded_.exif.assign(d + sizeof kExifHeader, m->data_length - sizeof kExifHeader);
+      else if (m->marker == JPEG_APP0 + 1 && starts_with(m, kXmpHeader, sizeof kXmpHeader) && embedded_.xmp.empty())
+        embedded_.xmp.assign(d + sizeof kXmpHeader, m->data_length - sizeof kXmpHeader);
+    }
+    JOCTET* icc = nullptr;
+    unsigned int icc_bytes = 0;
+    if (guarded(fail_, [&] { jpeg_read_icc_profile(&c_, &icc, &icc_bytes); }) && icc)
+      embedded_.icc.assign(reinterpret_cast<const char*>(icc), icc_bytes);
+    std::free(icc);
+  }
+  ~JpegDecoder() override {
+    if (created_) jpeg_destroy_decompress(&c_);
+    if (file_) std::fclose(file_);
+  }
+  JpegDecoder(const JpegDecoder&) = delete;
+  JpegDecoder& operator=(const JpegDecoder&) = delete;
+
+  // CMYK and YCCK (Adobe) JPEGs go to OpenImageIO, which converts them to RGB.
+  bool supported() const { return c_.num_components == 1 || c_.num_components == 3; }
+
+  // libjpeg's output size at scale_num / scale_denom: ceil(size / scale).
+  Size scaled_size(int scale) const override {
+    if (scale != 1 && scale != 2 && scale != 4 && scale != 8) return {};
+    return {(header_.size.width + scale - 1) / scale, (header_.size.height + scale - 1) / scale};
+  }
+
+  PixelRect window(PixelRect need, int) const override { return need; }
+
+  Image read(PixelRect r, int scale) override {
+    Image img = allocate_window(path_, r.size(), header_);
+    std::vector<unsigned char> row;
+    const bool ok = guarded(fail_, [&] { decode(r, scale, img, row); });
+    if (!ok) throw_damaged(path_, fail_.message);
+    img.set_window(r.x0, r.y0, scaled_size(scale));
+    return img;
+  }
+
+  EmbeddedMetadata embedded() const override { return embedded_; }
+
+ private:
+  // Decodes rows r.y0 .. r.y1 - 1 (columns r.x0 .. r.x1 - 1) into img, starting one iMCU above and
+  // to the left and ending one to the right, so that the chroma upsampling at the region's edges
+  // sees the neighbours it sees in a whole decode; what lies outside r is decoded and dropped.
+  void decode(PixelRect r, int scale, Image& img, std::vector<unsigned char>& row) {
+    c_.scale_num = 1;
+    c_.scale_denom = static_cast<unsigned int>(scale);
+    c_.out_color_space = c_.num_components == 1 ? JCS_GRAYSCALE : JCS_RGB;
+    jpeg_start_decompress(&c_);
+    const auto width = static_cast<int64_t>(c_.output_width);
+    const int64_t imcu_w = int64_t{c_.max_h_samp_factor} * c_.min_DCT_scaled_size;
+    const int64_t imcu_h = int64_t{c_.max_v_samp_factor} * c_.min_DCT_scaled_size;
+    auto x0 = static_cast<JDIMENSION>(std::max<int64_t>(0, r.x0 - imcu_w));
+    auto cols = static_cast<JDIMENSION>(std::min(width, r.x1 + imcu_w) - x0);
+    if (x0 > 0 || cols < width) jpeg_crop_scanline(&c_, &x0, &cols);  // x0 down to an iMCU boundary
+    const auto y_start = static_cast<JDIMENSION>(std::max<int64_t>(0, r.y0 - imcu_h));
+    if (y_start > 0) jpeg_skip_scanlines(&c_, y_start);
+    const size_t px = static_cast<size_t>(c_.output_components);
+    const bool direct = x0 == r.x0 && cols == r.x1 - r.x0;  // rows land in img as they are
+    row.resize(size_t{cols} * px);
+    while (c_.output_scanline < r.y1) {
+      const int64_t y = c_.output_scanline;
+      JSAMPROW dst = direct && y >= r.y0 ? img.row(y - r.y0) : row.data();
+      jpeg_read_scanlines(&c_, &dst, 1);
+      if (!direct && y >= r.y0) std::memcpy(img.row(y - r.y0), row.data() + (r.x0 - x0) * px, img.row_bytes());
+    }
+    jpeg_abort_decompress(&c_);  // the rows below are never decoded
+  }
+
+  std::string path_;
+  FILE* file_ = nullptr;
+  jpeg_decompress_struct c_{};
+  JpegFailure fail_;
+  bool created_ = false;
+  EmbeddedMetadata embedded_;
+};
+
+// Appends the encoded bytes to a vector (doubling it as it fills).
+struct VectorDestination {
+  jpeg_destination_mgr mgr;
+  std::vector<unsigned char>* out;
+};
+
+void grow(j_compress_ptr c, size_t to) {
+  auto* d = reinterpret_cast<VectorDestination*>(c->dest);
+  const size_t used = d->out->size() - d->mgr.free_in_buffer;
+  try {
+    d->out->resize(to);
+  } catch (const std::bad_alloc&) {
+    ERREXIT(c, JERR_OUT_OF_MEMORY);
+  }
+  d->mgr.next_output_byte = d->out->data() + used;
+  d->mgr.free_in_buffer = d->out->size() - used;
+}
+
+void init_destination(j_compress_ptr c) {
+  auto* d = reinterpret_cast<VectorDestination*>(c->dest);
+  d->out->clear();
+  d->mgr.free_in_buffer = 0;
+  grow(c, std::max<size_t>(d->out->capacity(), 65536));
+}
+
+boolean empty_output_buffer(j_compress_ptr c) {
+  auto* d = reinterpret_cast<VectorDestination*>(c->dest);
+  d->mgr.free_in_buffer = 0;  // libjpeg calls this with the buffer full
+  grow(c, 2 * d->out->size());
+  return TRUE;
+}
+
+void term_destination(j_compress_ptr c) {
+  auto* d = reinterpret_cast<VectorDestination*>(c->dest);
+  d->out->resize(d->out->size() - d->mgr.free_in_buffer);
+}
+
+}  // namespace
+
+std::unique_ptr<Decoder> open_jpeg(const std::string& path, const InputFile&) {
+  auto d = std::make_unique<JpegDecoder>(path);
+  if (!d->supported()) return nullptr;
+  return d;
+}
+
+std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& path, const WriteOptions& options,
+                                       const EmbeddedMetadata& meta) {
+  // Gray or RGB; an alpha channel (the last) is left out.
+  const int in_channels = image.channels(), channels = in_channels <= 2 ? 1 : 3;
+  std::vector<unsigned char> bytes, row;
+  bytes.reserve(static_cast<size_t>(image.width() * image.height() * channels / 6) + 65536);
+  if (in_channels != channels) row.resize(static_cast<size_t>(image.width() * channels));
+  jpeg_compress_struct c{};
+  JpegFailure fail;
+  c.err = jpeg_std_error(&fail.mgr);
+  fail.mgr.error_exit = on_error;
+  fail.mgr.emit_message = on_encode_message;
+  VectorDestination dest{{}, &bytes};
+  dest.mgr.init_destination = init_destination;
+  dest.mgr.empty_output_buffer = empty_output_buffer;
+  dest.mgr.term_destination = term_destination;
+  bool created = false;
+  const bool ok = guarded(fail, [&] {
+    jpeg_create_compress(&c);
+    created = true;
+    c.dest = &dest.mgr;
+    c.image_width = static_cast<JDIMENSION>(image.width());
+    c.image_height = static_cast<JDIMENSION>(image.height());
+    c.input_components = channels;
+    c.in_color_space = channels == 1 ? JCS_GRAYSCALE : JCS_RGB;
+    jpeg_set_defaults(&c);
+    jpeg_set_quality(&c, options.quality, TRUE);
+    if (channels == 3) {
+      const int h = options.subsampling == ChromaSubsampling::S444 ? 1 : 2;
+      const int v = options.subsampling == ChromaSubsampling::S420 ? 2 : 1;
+      c.comp_info[0].h_samp_factor = h, c.comp_info[0].v_samp_factor = v;
+      for (int k = 1; k < 3; ++k) c.comp_info[k].h_samp_factor = c.comp_info[k].v_samp_factor = 1;
+    }
+    jpeg_start_compress(&c, TRUE);
+    // EXIF (APP1) first after JFIF, then XMP (APP1), then the ICC profile (APP2, in chunks).
+    if (!meta.exif.empty() && meta.exif.size() + sizeof kExifHeader <= 65533) {
+      std::string seg(kExifHeader, sizeof kExifHeader);
+      seg += meta.exif;
+      jpeg_write_marker(&c, JPEG_APP0 + 1, reinterpret_cast<const JOCTET*>(seg.data()),
+                        static_cast<unsigned int>(seg.size()));
+    }
+    if (!meta.xmp.empty() && meta.xmp.size() + sizeof kXmpHeader <= 65533) {
+      std::string seg(kXmpHeader, sizeof kXmpHeader);
+      seg += meta.xmp;
+      jpeg_write_marker(&c, JPEG_APP0 + 1, reinterpret_cast<const JOCTET*>(seg.data()),
+                        static_cast<unsigned int>(seg.size()));
+    }
+    if (!meta.icc.empty())
+      jpeg_write_icc_profile(&c, reinterpret_cast<const JOCTET*>(meta.icc.data()),
+                             static_cast<unsigned int>(meta.icc.size()));
+    for (int64_t y = 0; y < image.height(); ++y) {
+      auto* src = const_cast<unsigned char*>(image.row(y));
+      JSAMPROW p = src;
+      if (!row.empty()) {
+        for (int64_t x = 0; x < image.width(); ++x)
+          for (int k = 0; k < channels; ++k) row[static_cast<size_t>(x * channels + k)] = src[x * in_channels + k];
+        p = row.data();
+      }
+      jpeg_write_scanlines(&c, &p, 1);
+    }
+    jpeg_finish_compress(&c);
+  });
+  if (created) jpeg_destroy_compress(&c);
+  if (!ok) throw Error("cannot write " + path + ": " + one_line(fail.message), ErrorKind::File);
+  return bytes;
+}
+
+}  // namespace panoproj

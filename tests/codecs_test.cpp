@@ -1,0 +1,401 @@
+// The built-in codecs (lib/src/io): JPEG region and scaled decodes against the whole decode, PNG
+// and PPM regions, damaged files, the JPEG writer's options, EXIF carried to outputs, and the
+// lean path (no OpenImageIO for JPEG, PNG and PPM).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <random>
+
+#include "panoproj/error.hpp"
+#include "panoproj/io.hpp"
+#include "io/exif.hpp"
+#include "io/oiio_plugin.hpp"
+#include "test_support.hpp"
+
+namespace panoproj {
+namespace {
+
+using test::get;
+using test::set;
+
+class Codecs : public test::TempDirTest {
+ protected:
+  std::string bytes_of_file(const std::string& p) const {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+  void put_file(const std::string& p, const std::string& b) const { std::ofstream(p, std::ios::binary) << b; }
+};
+
+// A photo-like picture: smooth gradients, sharp edges and texture, so that chroma upsampling and
+// the IDCT have something to differ on.
+Image photo(Size s, int channels) {
+  Image im(s, channels, PixelType::U8);
+  for (int64_t y = 0; y < s.height; ++y)
+    for (int64_t x = 0; x < s.width; ++x)
+      for (int c = 0; c < channels; ++c) {
+        double v = 0.5 + 0.3 * std::sin(0.05 * x + 0.031 * y + 2.0 * c) + ((x / 7 + y / 5 + c) % 3 == 0 ? 0.15 : 0.0);
+        v += 0.05 * std::sin(1.3 * x * (c + 1)) * std::cos(0.9 * y);
+        set(im, x, y, c, std::clamp(v, 0.0, 1.0));
+      }
+  return im;
+}
+
+// Every pixel of `region` (a window of the frame) equals the same pixel of `whole`.
+void expect_region_equal(const Image& region, const Image& whole, int64_t x0, int64_t y0, int64_t x1, int64_t y1,
+                         const std::string& what) {
+  ASSERT_EQ(region.origin_x(), x0) << what;
+  ASSERT_EQ(region.origin_y(), y0) << what;
+  ASSERT_EQ(region.size(), (Size{x1 - x0, y1 - y0})) << what;
+  ASSERT_EQ(region.frame_size(), whole.size()) << what;
+  for (int64_t y = y0; y < y1; ++y)
+    ASSERT_EQ(0, std::memcmp(region.at(x0, y), whole.pixel(x0, y), static_cast<size_t>(x1 - x0) * whole.pixel_bytes()))
+        << what << ": row " << y;
+}
+
+struct Layout {
+  const char* name;
+  int channels;
+  ChromaSubsampling subsampling;
+};
+constexpr Layout kLayouts[] = {{"420", 3, ChromaSubsampling::S420},
+                               {"422", 3, ChromaSubsampling::S422},
+                               {"444", 3, ChromaSubsampling::S444},
+                               {"gray", 1, ChromaSubsampling::S420}};
+
+// Regions on and off the iMCU grid (8 and 16 px), at the frame's edges, one pixel, random ones.
+std::vector<std::array<int64_t, 4>> regions(Size s, uint32_t seed) {
+  std::vector<std::array<int64_t, 4>> r = {
+      {0, 0, s.width, s.height}, {1, 1, 2, 2},     {15, 15, 17, 17},    {16, 16, 32, 32},
+      {8, 9, 40, 41},            {0, 5, 3, s.height}, {s.width - 3, 0, s.width, 20}, {17, s.height - 1, 60, s.height}};
+  std::mt19937 rng(seed);
+  for (int i = 0; i < 40; ++i) {
+    std::uniform_int_distribution<int64_t> x(0, s.width - 1), y(0, s.height - 1);
+    int64_t x0 = x(rng), x1 = x(rng), y0 = y(rng), y1 = y(rng);
+    if (x0 > x1) std::swap(x0, x1);
+    if (y0 > y1) std::swap(y0, y1);
+    r.push_back({x0, y0, x1 + 1, y1 + 1});
+  }
+  for (auto& [x0, y0, x1, y1] : r) {  // within the frame, at least one pixel
+    x0 = std::min(x0, s.width - 1), y0 = std::min(y0, s.height - 1);
+    x1 = std::clamp(x1, x0 + 1, s.width), y1 = std::clamp(y1, y0 + 1, s.height);
+  }
+  return r;
+}
+
+TEST_F(Codecs, JpegRegionsEqualTheWholeDecodeAtEveryScaleAndChromaLayout) {
+  const Size s{203, 157};  // no side a multiple of the iMCU
+  for (const Layout& l : kLayouts) {
+    WriteOptions w;
+    w.subsampling = l.subsampling;
+    write_image(photo(s, l.channels), path(std::string(l.name) + ".jpg"), w);
+    for (int scale : {1, 2, 4, 8}) {
+      const std::string file = path(std::string(l.name) + ".jpg");
+      const Image whole = read_image_region(file, 0, 0, INT64_MAX, INT64_MAX, 0, 0, scale);
+      ASSERT_EQ(whole.size(), (Size{(s.width + scale - 1) / scale, (s.height + scale - 1) / scale}));
+      for (const auto& [x0, y0, x1, y1] : regions(whole.size(), 7u * scale)) {
+        const Image r = read_image_region(file, x0, y0, x1, y1, 0, 0, scale);
+        expect_region_equal(r, whole, x0, y0, x1, y1,
+                            std::string(l.name) + " 1/" + std::to_string(scale) + " " + std::to_string(x0) + "," +
+                                std::to_string(y0) + ".." + std::to_string(x1) + "," + std::to_string(y1));
+      }
+    }
+  }
+}
+
+// A progressive JPEG (the Jordan Pond sample, 4:4:4) crops and skips like a baseline one.
+TEST_F(Codecs, ProgressiveJpegRegionsEqualTheWholeDecode) {
+  const std::string file = std::string(PANOPROJ_SOURCE_DIR) + "/samples/images/jordan_pond_4096x2048.jpg";
+  const Image whole = read_image(file);
+  const auto some = regions(whole.size(), 3);
+  for (const auto& [x0, y0, x1, y1] : std::vector(some.begin(), some.begin() + 16))
+    expect_region_equal(read_image_region(file, x0, y0, x1, y1), whole, x0, y0, x1, y1, "progressive");
+}
+
+// A 1024x512 part of the Jordan Pond sample (real content: smooth chroma, sharp luma), as a
+// standalone image of 3 channels or (its green) 1.
+Image real_photo(int channels) {
+  const Image part = read_image_region(std::string(PANOPROJ_SOURCE_DIR) + "/samples/images/jordan_pond_4096x2048.jpg",
+                                       1024, 512, 2048, 1024);
+  Image out({1024, 512}, channels, PixelType::U8);
+  for (int64_t y = 0; y < 512; ++y)
+    for (int64_t x = 0; x < 1024; ++x)
+      for (int c = 0; c < channels; ++c) out.pixel(x, y)[c] = part.at(1024 + x, 512 + y)[channels == 1 ? 1 : c];
+  return out;
+}
+
+// At 1/s each pixel comes from its s x s block's low DCT coefficients (at 1/8 the DC term alone:
+// the block's mean before rounding and chroma upsampling), so it stays within a few levels of the
+// whole decode averaged over the block. Measured on real content (max / mean over all samples,
+// levels of 255): gray within 1.8 / 0.22, 4:4:4 within 5.3 / 0.31, 4:2:0 within 16 / 0.32 and
+// 4:2:2 within 30 / 0.81 (chroma upsampled from blocks twice as wide, at edges); the bounds below
+// leave some room.
+TEST_F(Codecs, ScaledJpegDecodesAreTheWholeDecodeAveraged) {
+  for (const Layout& l : kLayouts) {
+    WriteOptions w;
+    w.subsampling = l.subsampling;
+    const std::string file = path(std::string(l.name) + ".jpg");
+    write_image(real_photo(l.channels), file, w);
+    const Image whole = read_image(file);
+    for (int scale : {2, 4, 8}) {
+      const Image scaled = read_image_region(file, 0, 0, INT64_MAX, INT64_MAX, 0, 0, scale);
+      const Image box = test::area_downsample(whole, scale);
+      double worst = 0, sum = 0;
+      for (int64_t y = 0; y < scaled.height(); ++y)
+        for (int64_t x = 0; x < scaled.width(); ++x)
+          for (int c = 0; c < l.channels; ++c) {
+            const double d = std::abs(get(scaled, x, y, c) - 255 * get(box, x, y, c));  // in levels
+            worst = std::max(worst, d), sum += d;
+          }
+      const double mean = sum / static_cast<double>(scaled.width() * scaled.height() * l.channels);
+      const bool full_chroma = l.channels == 1 || l.subsampling == ChromaSubsampling::S444;
+      EXPECT_LE(worst, full_chroma ? 6.0 : 32.0) << l.name << " 1/" << scale;
+      EXPECT_LE(mean, full_chroma ? 0.4 : 1.0) << l.name << " 1/" << scale;
+      std::printf("%s 1/%d: max %.2f, mean %.3f levels\n", l.name, scale, worst, mean);
+    }
+  }
+}
+
+TEST_F(Codecs, ScalesOtherThanAJpegsAreRefused) {
+  write_image(photo({32, 16}, 3), path("a.png"), {});
+  write_image(photo({32, 16}, 3), path("a.jpg"), {});
+  EXPECT_THROW(read_image_region(path("a.png"), 0, 0, 32, 16, 0, 0, 2), Error);
+  EXPECT_THROW(read_image_region(path("a.jpg"), 0, 0, 32, 16, 0, 0, 3), Error);
+  EXPECT_TRUE(read_image_info(path("a.jpg")).scalable);
+  EXPECT_FALSE(read_image_info(path("a.png")).scalable);
+}
+
+TEST_F(Codecs, PngAndPpmRegionsEqualTheWholeDecode) {
+  const Size s{97, 61};
+  struct F {
+    const char* name;
+    int channels;
+    PixelType type;
+    int alpha;
+  };
+  for (const F& f : {F{"a.png", 3, PixelType::U8, -1}, F{"b.png", 4, PixelType::U16, 3}, F{"c.png", 2, PixelType::U8, 1},
+                     F{"d.ppm", 3, PixelType::U8, -1}, F{"e.ppm", 3, PixelType::U16, -1}, F{"f.pgm", 1, PixelType::U16, -1}}) {
+    const Image im = test::pattern(s, f.channels, f.type, f.alpha);
+    write_image(im, path(f.name), {});
+    const Image whole = read_image(path(f.name));
+    ASSERT_TRUE(whole == im) << f.name;  // lossless
+    for (const auto& [x0, y0, x1, y1] : regions(s, 11))
+      expect_region_equal(read_image_region(path(f.name), x0, y0, x1, y1), whole, x0, y0, x1, y1, f.name);
+  }
+}
+
+// Rows after the region are never read: a file cut below it still gives the region, and the
+// whole file is an error naming it. (A progressive JPEG reads every scan first: no region of a
+// cut one decodes.)
+TEST_F(Codecs, RegionsAboveACutDecodeAndTheWholeFileIsAnError) {
+  const Image im = photo({512, 512}, 3);
+  for (const char* name : {"a.jpg", "a.png", "a.ppm"}) {
+    write_image(im, path(name), {});
+    const Image whole = read_image(path(name));
+    const std::string b = bytes_of_file(path(name));
+    put_file(path(name), b.substr(0, b.size() * 6 / 10));
+    expect_region_equal(read_image_region(path(name), 3, 0, 200, 30), whole, 3, 0, 200, 30, name);
+    try {
+      read_image(path(name));
+      FAIL() << name;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(path(name)), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("damaged"), std::string::npos) << e.what();
+    }
+  }
+  const std::string pond = bytes_of_file(std::string(PANOPROJ_SOURCE_DIR) + "/samples/images/jordan_pond_4096x2048.jpg");
+  put_file(path("p.jpg"), pond.substr(0, pond.size() * 9 / 10));
+  EXPECT_THROW(read_image_region(path("p.jpg"), 0, 0, 64, 64), Error);
+}
+
+// Corrupt entropy-coded data (an end-of-image marker in the middle of the scan, a restart marker
+// out of order) is an error, not grey rows.
+TEST_F(Codecs, CorruptJpegDataIsAnError) {
+  write_image(photo({256, 256}, 3), path("ok.jpg"), {});
+  const std::string b = bytes_of_file(path("ok.jpg"));
+  const size_t mid = b.size() / 2;
+  put_file(path("eoi.jpg"), b.substr(0, mid) + "\xFF\xD9" + b.substr(mid + 2));
+  put_file(path("rst.jpg"), b.substr(0, mid) + "\xFF\xD3" + b.substr(mid + 2));
+  std::string sof = b;
+  const size_t at = sof.find("\xFF\xC0");
+  ASSERT_NE(at, std::string::npos);
+  sof[at + 5] = sof[at + 6] = 0;  // height 0
+  put_file(path("sof.jpg"), sof);
+  for (const char* name : {"eoi.jpg", "rst.jpg", "sof.jpg"}) {
+    try {
+      read_image(path(name));
+      FAIL() << name;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(path(name)), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+  }
+}
+
+// Hand-made PPM/PGM headers: comments, other maxvals (scaled to the full range), and bad ones.
+TEST_F(Codecs, PpmHeadersAndMaxvals) {
+  put_file(path("a.pgm"), std::string("P5\n# a comment\n3 1\n# another\n100\n") + std::string("\x00\x32\x64", 3));
+  const Image a = read_image(path("a.pgm"));
+  EXPECT_EQ(a.size(), (Size{3, 1}));
+  EXPECT_EQ(a.pixel(0, 0)[0], 0);
+  EXPECT_EQ(a.pixel(1, 0)[0], 128);  // 50/100 of 255, rounded
+  EXPECT_EQ(a.pixel(2, 0)[0], 255);
+  put_file(path("b.pgm"), std::string("P5 2 1 1000 ") + std::string("\x01\xF4\x03\xE8", 4));
+  const Image b = read_image(path("b.pgm"));
+  EXPECT_EQ(b.type(), PixelType::U16);
+  uint16_t v[2];
+  std::memcpy(v, b.data(), 4);
+  EXPECT_EQ(v[0], 32768);  // 500/1000 of 65535, rounded
+  EXPECT_EQ(v[1], 65535);
+  for (const std::string& bad : {std::string("P6\n0 1\n255\n"), std::string("P6\n1 1\n70000\n"),
+                                 std::string("P6\n99999999999 1\n255\n"), std::string("P6\n1 1\n255"),
+                                 std::string("P6\n# only a comment")}) {
+    put_file(path("bad.ppm"), bad + std::string(8, 'x'));
+    EXPECT_THROW(read_image(path("bad.ppm")), Error) << bad;
+  }
+  put_file(path("short.ppm"), "P6\n100 100\n255\n" + std::string(10, 'x'));  // the file cannot hold it
+  EXPECT_THROW(read_image(path("short.ppm")), Error);
+}
+
+// The JPEG writer's options: quality orders the file sizes; the subsampling is the frame
+// header's sampling factors; out-of-range values are refused before anything is written.
+TEST_F(Codecs, JpegQualityAndSubsamplingAreWritten) {
+  const Image im = photo({128, 96}, 3);
+  size_t last = 0;
+  for (int q : {30, 60, 90, 100}) {
+    WriteOptions w;
+    w.quality = q;
+    write_image(im, path("q" + std::to_string(q) + ".jpg"), w);
+    const size_t n = bytes_of_file(path("q" + std::to_string(q) + ".jpg")).size();
+    EXPECT_GT(n, last) << q;
+    last = n;
+  }
+  for (const Layout& l : kLayouts) {
+    if (l.channels != 3) continue;
+    WriteOptions w;
+    w.subsampling = l.subsampling;
+    write_image(im, path(std::string("s") + l.name + ".jpg"), w);
+    const std::string b = bytes_of_file(path(std::string("s") + l.name + ".jpg"));
+    const size_t sof = b.find("\xFF\xC0");
+    ASSERT_NE(sof, std::string::npos);
+    const auto luma = static_cast<unsigned char>(b[sof + 11]);  // H << 4 | V of component 1
+    const unsigned char expected = l.subsampling == ChromaSubsampling::S420 ? 0x22
+                                   : l.subsampling == ChromaSubsampling::S422 ? 0x21 : 0x11;
+    EXPECT_EQ(luma, expected) << l.name;
+  }
+  for (int q : {0, 101, -5}) {
+    WriteOptions w;
+    w.quality = q;
+    EXPECT_THROW(write_image(im, path("bad.jpg"), w), Error) << q;
+  }
+  EXPECT_FALSE(std::filesystem::exists(path("bad.jpg")));
+  EXPECT_THROW(parse_subsampling("411"), Error);
+}
+
+// A TIFF-structured EXIF block, little- or big-endian: IFD0 with Orientation (SHORT) and the
+// EXIF IFD pointer; the EXIF IFD with PixelXDimension (SHORT) and PixelYDimension (LONG); IFD1.
+std::string exif_block(bool little) {
+  std::string b;
+  auto u16 = [&](uint32_t v) { little ? (b += char(v & 255), b += char(v >> 8)) : (b += char(v >> 8), b += char(v & 255)); };
+  auto u32 = [&](uint32_t v) { little ? (u16(v & 0xFFFF), u16(v >> 16)) : (u16(v >> 16), u16(v & 0xFFFF)); };
+  b += little ? "II" : "MM";
+  u16(42), u32(8);
+  // IFD0 at 8 (2 entries, to 38), the EXIF IFD at 38 (2 entries, to 68), IFD1 at 68 (empty).
+  u16(2);
+  u16(0x0112), u16(3), u32(1), u16(6), u16(0);
+  u16(0x8769), u16(4), u32(1), u32(38);
+  u32(68);
+  u16(2);
+  u16(0xA002), u16(3), u32(1), u16(4000), u16(0);
+  u16(0xA003), u16(4), u32(1), u32(3000);
+  u32(0);
+  u16(0), u32(0);
+  return b;
+}
+
+TEST(Exif, OrientationResetDimensionsRewrittenThumbnailUnlinked) {
+  for (bool little : {true, false}) {
+    const std::string in = exif_block(little);
+    const std::string out = exif_for_output(in, {70000, 200});
+    ASSERT_EQ(out.size(), in.size());
+    auto u16 = [&](size_t at) {
+      const auto* p = reinterpret_cast<const unsigned char*>(out.data() + at);
+      return little ? p[0] | p[1] << 8 : p[0] << 8 | p[1];
+    };
+    auto u32 = [&](size_t at) { return little ? u16(at) | u16(at + 2) << 16 : u16(at) << 16 | u16(at + 2); };
+    EXPECT_EQ(u16(8 + 2 + 8), 1) << little;            // Orientation
+    EXPECT_EQ(u32(8 + 2 + 24), 0u) << little;          // no IFD1
+    EXPECT_EQ(u16(38 + 2 + 2), 4) << little;           // 70000 > 65535: PixelXDimension became a LONG
+    EXPECT_EQ(u32(38 + 2 + 8), 70000u) << little;
+    EXPECT_EQ(u32(38 + 2 + 12 + 8), 200u) << little;   // PixelYDimension
+  }
+}
+
+// Every truncation and every single corrupted byte of a block gives a block or "" without
+// reading outside it (ASan and the fuzz target check the reads).
+TEST(Exif, DamagedBlocksAreDroppedOrEditedInPlace) {
+  const std::string in = exif_block(true);
+  for (size_t n = 0; n < in.size(); ++n) {
+    const std::string out = exif_for_output(in.substr(0, n), {10, 10});
+    EXPECT_TRUE(out.empty() || out.size() == n) << n;
+  }
+  for (size_t i = 0; i < in.size(); ++i)
+    for (int v : {0x00, 0xFF, 0x7F}) {
+      std::string b = in;
+      b[i] = static_cast<char>(v);
+      const std::string out = exif_for_output(b, {10, 10});
+      EXPECT_TRUE(out.empty() || out.size() == b.size()) << i;
+    }
+  EXPECT_EQ(exif_for_output("MM\0*garbage", {1, 1}), "");
+}
+
+// A well-formed ICC profile (libpng checks one before writing or reading it).
+std::string icc_profile() {
+  std::ifstream in(std::string(PANOPROJ_SOURCE_DIR) + "/samples/icc/srgb_lcms2.icc", std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// JPEG and PNG inputs carry their EXIF, ICC profile and (non-Photo-Sphere) XMP to JPEG and PNG
+// outputs as stored, EXIF edited for the output.
+TEST_F(Codecs, EmbeddedBlocksAreCarriedAsStored) {
+  WriteOptions w;
+  w.embedded.exif = exif_block(true);
+  w.embedded.icc = icc_profile();
+  ASSERT_GT(w.embedded.icc.size(), 128u);
+  w.embedded.xmp = "<x:xmpmeta xmlns:x=\"adobe:ns:meta/\"><!-- a note --></x:xmpmeta>";
+  for (const char* name : {"a.jpg", "a.png"}) {
+    write_image(photo({40, 20}, 3), path(name), w);
+    const EmbeddedMetadata m = read_embedded_metadata(path(name));
+    EXPECT_EQ(m.exif, exif_for_output(w.embedded.exif, {40, 20})) << name;
+    EXPECT_EQ(m.icc, w.embedded.icc) << name;
+    EXPECT_EQ(m.xmp, w.embedded.xmp) << name;
+  }
+  // A Photo Sphere packet described the input's projection: not carried.
+  w.embedded.xmp = "<x:xmpmeta GPano:ProjectionType=\"equirectangular\"/>";
+  write_image(photo({40, 20}, 3), path("b.jpg"), w);
+  EXPECT_EQ(read_embedded_metadata(path("b.jpg")).xmp, "");
+  EXPECT_FALSE(oiio_loaded());  // none of this needed OpenImageIO
+}
+
+// The lean path: the command converts JPEG, PNG and PPM with the plugin made unavailable;
+// TIFF then fails in one line naming the plugin and what needs it.
+TEST_F(Codecs, JpegPngAndPpmNeedNoOpenImageIO) {
+  const std::string cli = std::string("PANOPROJ_OIIO_PLUGIN=") + path("none.so") + " " + PANOPROJ_CLI + " convert ";
+  write_image(photo({128, 64}, 3), path("e.jpg"), {});
+  for (const char* out : {"c.jpg", "c.png", "c.ppm"}) {
+    const std::string cmd = cli + path("e.jpg") + " " + path(out) + " --to cubemap -q";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  }
+  EXPECT_EQ(std::system((cli + path("c.ppm") + " " + path("d.png") + " --from cubemap --to equirect -q").c_str()), 0);
+  const std::string cmd = cli + path("e.jpg") + " " + path("c.tif") + " --to cubemap -q 2> " + path("err.txt");
+  EXPECT_NE(std::system(cmd.c_str()), 0);
+  const std::string err = bytes_of_file(path("err.txt"));
+  EXPECT_NE(err.find("needs OpenImageIO"), std::string::npos) << err;
+  EXPECT_NE(err.find("not found"), std::string::npos) << err;
+  EXPECT_FALSE(std::filesystem::exists(path("c.tif")));
+}
+
+}  // namespace
+}  // namespace panoproj
