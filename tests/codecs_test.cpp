@@ -8,6 +8,7 @@
 #include <fstream>
 #include <random>
 
+#include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
 #include "io/exif.hpp"
@@ -395,6 +396,64 @@ TEST_F(Codecs, JpegPngAndPpmNeedNoOpenImageIO) {
   EXPECT_NE(err.find("needs OpenImageIO"), std::string::npos) << err;
   EXPECT_NE(err.find("not found"), std::string::npos) << err;
   EXPECT_FALSE(std::filesystem::exists(path("c.tif")));
+}
+
+// The finest step is the least singular value of the map's Jacobian: exactly the shrink factor of
+// an equirect to a smaller one, the smaller one's of an anisotropic shrink; a view that enlarges
+// anywhere allows no scale; a scale must divide the source's sides.
+TEST(DecodeScale, FollowsTheFinestStepOfTheView) {
+  ConvertOptions o;
+  auto step = [&](const char* from, Size src, const char* to, Size out) {
+    o.size = out;
+    return finest_source_step(make_geometry(src, parse_spec(from), parse_spec(to), o));
+  };
+  auto scale = [&](const char* from, Size src, const char* to, Size out) {
+    o.size = out;
+    const ConversionGeometry g = make_geometry(src, parse_spec(from), parse_spec(to), o);
+    return coarsest_decode_scale(g, finest_source_step(g));
+  };
+  EXPECT_NEAR(step("equirect", {4096, 2048}, "equirect", {512, 256}), 8.0, 1e-6);
+  EXPECT_NEAR(step("equirect", {4096, 2048}, "equirect", {1024, 128}), 4.0, 1e-6);
+  EXPECT_EQ(scale("equirect", {4096, 2048}, "equirect", {512, 256}), 4);   // 2 x 4 <= 8 < 2 x 8
+  EXPECT_EQ(scale("equirect", {4096, 2048}, "equirect", {256, 128}), 8);
+  EXPECT_EQ(scale("equirect", {4096, 2048}, "equirect", {2048, 1024}), 1);  // 2 px steps: 1/2 would lose half
+  EXPECT_EQ(scale("equirect", {4096, 2048}, "equirect", {1000, 500}), 2);
+  EXPECT_EQ(scale("equirect", {4100, 2050}, "equirect", {256, 128}), 2);  // 4100 = 4 x 1025: 8 and 4 do not divide
+  // A narrow pinhole view enlarges its centre: full scale, however small the output.
+  EXPECT_EQ(scale("equirect", {4096, 2048}, "pinhole:hfov=10", {64, 64}), 1);
+  // Nothing of the source in view (a view straight up; the source's field ends at 45 degrees).
+  o.pitch = 90;
+  EXPECT_TRUE(std::isinf(step("equirect:hfov=90,vfov=90", {1024, 1024}, "pinhole:hfov=30", {64, 64})));
+}
+
+// The command: a JPEG overview decodes at the coarsest scale its view allows, says so, and stays
+// within 40 dB of the whole decode's; --decode-scale fixes it, and refuses what cannot be.
+TEST_F(Codecs, OverviewsOfJpegsDecodeScaledAndCloseToTheWholeDecode) {
+  write_image(real_photo(3), path("half.jpg"), {});  // 1024x512
+  auto run = [&](const std::string& args, const std::string& input = "half.jpg") {
+    const std::string cmd = std::string(PANOPROJ_CLI) + " convert " + path(input) + " " + args + " > " +
+                            path("out.txt") + " 2>&1";
+    const int code = std::system(cmd.c_str());
+    return std::pair{code, bytes_of_file(path("out.txt"))};
+  };
+  const auto [code, out] = run(path("s.png") + " --to equirect --size 128x64");
+  ASSERT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("(1024x512, equirect)"), std::string::npos) << out;  // the file's size
+  EXPECT_NE(out.find("decoded 100% of the source (jpeg at 1/4 scale)"), std::string::npos) << out;
+  ASSERT_EQ(run(path("f.png") + " --to equirect --size 128x64 --decode-scale 1").first, 0);
+  EXPECT_GE(test::psnr(read_image(path("s.png")), read_image(path("f.png"))), 40.0);
+  for (const auto& [input, args, why] :
+       {std::tuple<std::string, std::string, std::string>{"half.jpg", "--decode-scale 3", "expected auto, 1, 2, 4 or 8"},
+        {"f.png", "--decode-scale 8", "only JPEG sources"}}) {
+    const auto [c, o] = run(path("x.png") + " --to equirect --size 128x64 " + args, input);
+    EXPECT_NE(c, 0) << args;
+    EXPECT_NE(o.find(why), std::string::npos) << o;
+  }
+  write_image(test::pattern({1000, 500}, 3, PixelType::U8, -1), path("odd.jpg"), {});
+  const auto [c, o] = run(path("x.png") + " --to equirect --size 100x50 --decode-scale 8", "odd.jpg");
+  EXPECT_NE(c, 0);
+  EXPECT_NE(o.find("1000x500 is not a multiple of 8"), std::string::npos) << o;
+  EXPECT_FALSE(std::filesystem::exists(path("x.png")));
 }
 
 }  // namespace

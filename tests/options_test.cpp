@@ -30,6 +30,7 @@ const Good kGood[] = {
     {"alpha", true, [](const ConvertOptions& o) { return o.add_alpha && o.edges.soft; }},
     {"fill", std::string("#ff0000"), [](const ConvertOptions& o) { return o.edges.colour && (*o.edges.colour)[0] == 1.0 && o.edges.soft; }},
     {"memory_limit", std::string("2G"), [](const ConvertOptions& o) { return o.memory_limit == 2000000000; }},
+    {"decode_scale", std::string("4"), [](const ConvertOptions& o) { return o.decode_scale == 4; }},
 };
 
 TEST(Options, EveryRowSetsItsFieldAndHasACase) {
@@ -56,6 +57,7 @@ TEST(Options, BadValuesNameTheOption) {
   EXPECT_EQ(error_of("threads", int64_t{1} << 40), "threads: 1099511627776 (expected 0 for all cores, or 1 to 1024)");
   EXPECT_NE(error_of("interp", std::string("cubic")).find("cubic"), std::string::npos);
   EXPECT_NE(error_of("memory_limit", std::string("lots")).find("memory limit: lots"), std::string::npos);
+  EXPECT_EQ(error_of("decode_scale", std::string("3")), "--decode-scale 3 (expected auto, 1, 2, 4 or 8)");
   // A name a call does not take, and a value of another type (a front end's bug).
   EXPECT_THROW(conversion_option("interp", kUseMaps), Error);
   try {

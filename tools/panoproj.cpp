@@ -327,12 +327,14 @@ int main(int argc, char** argv) {
         job,
         [&](const ConvertReport& r) {
           if (quiet) return;
+          const std::string decoded =
+              r.source_format.empty() ? "" : " (" + r.source_format + (r.decode_scale > 1 ? " at 1/" + std::to_string(r.decode_scale) + " scale" : "") + ")";
           std::printf("\r%s (%s, %s) -> %s (%s, %s): %.3f s, %s, antialias %s, %s engine (%s), %d threads, "
-                      "read %.0f%% of the source\n",
+                      "decoded %.0f%% of the source%s\n",
                       r.input.c_str(), dims(r.input_size, r.input_faces).c_str(), r.from.c_str(),
                       r.output.c_str(), dims(r.output_size, r.output_faces).c_str(), r.to.c_str(),
                       r.seconds, name_of(job.options.interp), name_of(antialias_of(job.options)).c_str(), name_of(job.options.engine), simd_target(),
-                      resolve_threads(job.options.threads), 100 * r.read_fraction);
+                      resolve_threads(job.options.threads), 100 * r.read_fraction, decoded.c_str());
           std::fflush(stdout);
         },
         [&](double f) { bar.update(f); });

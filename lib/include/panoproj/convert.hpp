@@ -111,6 +111,16 @@ void require_job_memory(const ConversionGeometry& geometry, int channels, PixelT
                         const ConvertOptions& options, uint64_t more);
 Image convert(const Image& source, const ProjectionSpec& from, const ProjectionSpec& to,
               const ConvertOptions& options);
+// The smallest step, in source pixels, from an output pixel's source position to its neighbours'
+// in any direction (the least singular value of the map's Jacobian, steps across a seam taken the
+// short way), over the output sampled every 16 pixels (at most 257 x 257 points); infinity where
+// no output pixel has a source.
+double finest_source_step(const ConversionGeometry& geometry);
+// The coarsest scale s (8, 4, 2, else 1) whose decode still holds twice the detail the view
+// resolves (2 s <= finest_step) and that divides the source's sides (the 1/s frame is then the
+// same field exactly: its pixel i covers pixels s i .. s i + s - 1).
+int coarsest_decode_scale(const ConversionGeometry& geometry, double finest_step);
+
 // The geometry's Converter with the options' kernel, engine, threads, antialiasing and edge
 // fill (cache_map: keep the tile maps for many runs).
 Converter converter_for(const ConversionGeometry& geometry, const ConvertOptions& options,

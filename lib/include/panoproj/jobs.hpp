@@ -42,6 +42,8 @@ struct ConvertReport {
   bool input_faces = false, output_faces = false;
   double seconds = 0;    // map (first input of a batch) and remap; not reading or writing
   double read_fraction = 1;  // share of the source's pixels read (only what the view needs)
+  std::string source_format;  // jpeg, png, pnm, tiff, openexr, hdr ("" for face sets)
+  int decode_scale = 1;       // the source decoded at 1/decode_scale (JPEG DCT scaling)
 };
 
 // Converts every input; on_frame (if given) is called after each one is written, progress with

@@ -118,6 +118,8 @@ struct ConvertOptions {
                                         // the output has alpha (0 where it has no source)
   int64_t memory_limit = 0;             // bytes a job may allocate; 0: the memory available
                                         // (limits.hpp)
+  int decode_scale = 0;                 // file jobs: decode a JPEG source at 1/decode_scale (1,
+                                        // 2, 4, 8); 0 (auto): coarsest_decode_scale (convert.hpp)
 };
 
 // How front ends hand a value over: a number of degrees, an integer, a flag, or text the row's

@@ -61,6 +61,15 @@ std::vector<OptionDef> make_options() {
          o.edges.colour = parse_fill_colour(value_as<std::string>(v, "fill"));
          o.edges.soft = true;
        }},
+      {"decode_scale", OptionType::Text, kUseConvert, "'auto'",
+       "auto (default: a JPEG source that the view samples at under half its resolution everywhere decodes at 1/2, "
+       "1/4 or 1/8 by DCT scaling, still twice the detail the output holds) | 1 | 2 | 4 | 8",
+       [](ConvertOptions& o, const OptionValue& v) {
+         const std::string t = value_as<std::string>(v, "decode_scale");
+         if (t == "auto") o.decode_scale = 0;
+         else if (t == "1" || t == "2" || t == "4" || t == "8") o.decode_scale = t[0] - '0';
+         else throw Error(option_text("decode-scale") + " " + t + " (expected auto, 1, 2, 4 or 8)");
+       }},
       {"memory_limit", OptionType::Text, kAll, "None",
        "bytes a job may allocate, e.g. 4G or 512M (default: the memory available now); larger jobs are refused "
        "before any work",

@@ -136,10 +136,13 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
                          : option_text("from") + " cubemap:layout=files needs an input pattern with {face} or {index}");
   // A batch shares one geometry: every header is read (no pixels) before any work.
   Size batch_size{};
+  bool scalable = true;  // every input decodes at 1/2, 1/4, 1/8 (JPEG)
   if (batch) {
     batch_size = read_image_size(job.inputs[0]);
     for (const auto& in : job.inputs) {
-      const Size s = read_image_size(in);
+      const ImageInfo i = read_image_info(in);
+      const Size s = i.size;
+      scalable = scalable && i.scalable;
       if (s != batch_size)
         throw Error("input " + in + " is " + std::to_string(s.width) + "x" + std::to_string(s.height) +
                     " but " + job.inputs[0] + " is " + std::to_string(batch_size.width) + "x" +
@@ -163,6 +166,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   std::optional<Image> faces;
   if (in_faces) faces = read_cube_faces(job.inputs[0], options.memory_limit);
   const Size source_size = in_faces ? faces->size() : frame;
+  scalable = scalable && !in_faces && info.scalable;
   const int channels = in_faces ? faces->channels() : info.channels;
   const PixelType type = in_faces ? faces->type() : info.type;
   if (!from) from = infer_source_spec(std::nullopt, job.inputs[0], source_size);
@@ -176,6 +180,18 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     o << from_text << ", levelled by its Photo Sphere pose: pitch " << ps->pose_pitch << ", roll " << ps->pose_roll;
     from_text = o.str();
   }
+  // A JPEG source the view samples at under half its resolution everywhere decodes at 1/2, 1/4
+  // or 1/8 (DCT scaling); the conversion, its antialiasing and its footprint are planned on that
+  // frame (the same field: the scale divides the sides).
+  int scale = options.decode_scale;
+  if (scale > 1 && !scalable)
+    throw Error(option_text("decode-scale") + " " + std::to_string(scale) + ": only JPEG sources decode at a scale (" +
+                job.inputs[0] + " is not one; use auto or 1)");
+  if (scale > 1 && (frame.width % scale != 0 || frame.height % scale != 0))
+    throw Error(option_text("decode-scale") + " " + std::to_string(scale) + ": the source's " + size_text(frame) +
+                " is not a multiple of " + std::to_string(scale) + " (use auto or a divisor)");
+  if (scale == 0) scale = scalable ? coarsest_decode_scale(geometry, finest_source_step(geometry)) : 1;
+  if (scale > 1) geometry.source = rescaled(geometry.source, {frame.width / scale, frame.height / scale});
   // Sizes the output formats cannot hold, and jobs over the memory budget, stop before any work.
   const Size out_size = size_of(geometry.target);
   for (const auto& o : all_outputs) check_writable_size(o, out_faces ? Size{out_size.height, out_size.height} : out_size);
@@ -200,7 +216,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   for (size_t n = 0; n < job.inputs.size(); ++n) {
     const Image input = in_faces ? std::move(*faces)
                                  : read_image_region(job.inputs[n], need.x0, need.y0, need.x1, need.y1,
-                                                     options.memory_limit, job_bytes);
+                                                     options.memory_limit, job_bytes, scale);
     Image with_alpha;
     const Image& source = source_for(input, options, with_alpha);
     const auto t0 = std::chrono::steady_clock::now();
@@ -221,8 +237,9 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     const double read = static_cast<double>(source.width() * source.height()) /
                         static_cast<double>(source.frame_size().width * source.frame_size().height);
     reports.push_back({job.inputs[n], outputs[n], from_text, to.str(),
-                       in_faces ? face_size(source.size()) : source.frame_size(),
-                       out_faces ? face_size(out.size()) : out.size(), in_faces, out_faces, seconds, read});
+                       in_faces ? face_size(source.size()) : frame,
+                       out_faces ? face_size(out.size()) : out.size(), in_faces, out_faces, seconds, read,
+                       in_faces ? "" : batch ? read_image_info(job.inputs[n]).format : info.format, scale});
     if (on_frame) on_frame(reports.back());
   }
   return reports;
