@@ -1,5 +1,6 @@
-// Fuzzes the image-reading path (panoproj's input checks, then OpenImageIO through panoproj's
-// reader, and panoproj's own Photo Sphere XMP reader): any bytes as a file, whole and as a region.
+// Fuzzes the image-reading path (panoproj's input checks, then its JPEG, PNG and PPM codecs or
+// OpenImageIO through the plugin, and panoproj's own Photo Sphere XMP reader and EXIF editor):
+// any bytes as a file, whole, as a region and at 1/8 scale.
 // Only panoproj::Error may leave it. Reads run under a 64 MB memory limit, so a header declaring
 // more is refused by panoproj's own budget (the path under test), never by libFuzzer's malloc
 // limit.
@@ -14,6 +15,7 @@
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/photo_sphere.hpp"
+#include "io/exif.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = "/tmp/panoproj_read_fuzz_" + std::to_string(::getpid());
@@ -31,6 +33,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const panoproj::Image im = panoproj::read_image(path, kLimit);
     (void)panoproj::read_image_region(path, 1, 1, std::max<int64_t>(2, im.width() / 2),
                                       std::max<int64_t>(2, im.height() / 2), kLimit);
+  } catch (const panoproj::Error&) {
+  }
+  try {
+    (void)panoproj::read_image_region(path, 0, 1, 3, 5, kLimit, 0, 8);
+  } catch (const panoproj::Error&) {
+  }
+  try {
+    (void)panoproj::exif_for_output(panoproj::read_embedded_metadata(path).exif, {100, 50});
   } catch (const panoproj::Error&) {
   }
   std::remove(path.c_str());

@@ -20,7 +20,7 @@ flags+=" -DHWY_COMPILE_ONLY_STATIC"
   CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPANOPROJ_BUILD_FUZZ=ON \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS="$flags" \
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DPANOPROJ_BUILD_TESTS=OFF >/dev/null
-ninja -C "$build" spec_fuzz read_fuzz xmp_fuzz convert_fuzz | grep -v '^ninja: no work to do' || true
+ninja -C "$build" spec_fuzz read_fuzz xmp_fuzz convert_fuzz panoproj_oiio | grep -v '^ninja: no work to do' || true
 for t in ${TARGETS:-spec read xmp convert}; do
   work="$build/corpus-$t"
   rm -rf "$work" && mkdir -p "$work"

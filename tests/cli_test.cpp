@@ -307,19 +307,19 @@ TEST_F(Cli, AccuracyReportsErrorAgainstTime) {
                            "--interp bilinear --truth-supersample 6 ";
   const CliRun r = run(base + "--csv " + p("a.csv") + " --json " + p("a.json") + " --plot " + p("a.png"));
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("| bilinear | auto | simd |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| memory | bilinear | auto | simd |"), std::string::npos) << r.out;
   std::ifstream csv(p("a.csv"));
   std::string header, line;
   std::getline(csv, header);
-  EXPECT_EQ(header, "kernel,antialias,engine,median_ms,psnr_db,rmse,max_abs,ssim,pixels,pareto");
+  EXPECT_EQ(header, "source,kernel,antialias,engine,median_ms,psnr_db,rmse,max_abs,ssim,pixels,pareto");
   std::map<std::string, double> psnr;
   int rows = 0;
   while (std::getline(csv, line)) {
     std::vector<std::string> f;
     std::stringstream ss(line);
     for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
-    ASSERT_EQ(f.size(), 10u) << line;
-    psnr[f[1] + "/" + f[2]] = std::stod(f[4]);
+    ASSERT_EQ(f.size(), 11u) << line;
+    psnr[f[2] + "/" + f[3]] = std::stod(f[5]);
     ++rows;
   }
   EXPECT_EQ(rows, 5);  // off, auto, mip, 4 on simd; off on reference
@@ -337,6 +337,34 @@ TEST_F(Cli, AccuracyReportsErrorAgainstTime) {
   expect_refused(base + "--antialias off,sometimes", "antialias 'sometimes'");
   expect_refused(base + "--scene clouds", "scene 'clouds'");
   expect_refused(base + "--type keep", "type: keep");
+}
+
+TEST_F(Cli, AccuracyWeighsScaledJpegDecodes) {
+  // The chart shrunk 8 times (mip levels): the source as a JPEG (quality 95) decoded whole, or
+  // at 1/4 (which the view allows: still twice the detail the output holds), within a dB of the
+  // source in memory.
+  const std::string base = "accuracy --from-size 1024x512 --to equirect --size 128x64 --runs 1 --threads 2 "
+                           "--interp bilinear --antialias mip --engine simd --truth-supersample 6 ";
+  const CliRun r = run(base + "--decode-scale memory,1,4 --csv " + p("d.csv"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream csv(p("d.csv"));
+  std::map<std::string, double> psnr;
+  std::string line;
+  std::getline(csv, line);  // the header
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    psnr[f[0]] = std::stod(f[5]);
+  }
+  ASSERT_EQ(psnr.size(), 3u) << r.out;
+  EXPECT_NEAR(psnr["jpeg"], psnr["memory"], 1.0) << r.out;
+  EXPECT_NEAR(psnr["jpeg 1/4"], psnr["jpeg"], 1.0) << r.out;
+  EXPECT_NE(r.out.find("| jpeg 1/4 | bilinear | mip | simd |"), std::string::npos) << r.out;
+  expect_refused(base + "--decode-scale 3", "--decode-scale: 3 (expected memory, 1, 2, 4 or 8");
+  expect_refused(base + "--decode-scale 4 --type float", "need a uint8 source");
+  expect_refused("accuracy --from-size 500x250 --to fisheye --size 32x32 --runs 1 --decode-scale 4",
+                 "needs the source's sides (500x250) to be multiples of it");
 }
 
 TEST_F(Cli, StabilityReportPasses) {

@@ -11,6 +11,7 @@
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
+#include "io/codec.hpp"
 #include "io/exif.hpp"
 #include "io/oiio_plugin.hpp"
 #include "test_support.hpp"
@@ -293,6 +294,21 @@ TEST_F(Codecs, JpegQualityAndSubsamplingAreWritten) {
   }
   EXPECT_FALSE(std::filesystem::exists(path("bad.jpg")));
   EXPECT_THROW(parse_subsampling("411"), Error);
+}
+
+// libjpeg's own errors come back as exceptions, never exit(): a side over its 65500 (which
+// write_image refuses before encoding) reaches it here directly.
+TEST_F(Codecs, EncoderErrorsAreExceptions) {
+  const Image wide({70000, 1}, 1, PixelType::U8);
+  try {
+    encode_jpeg(wide, path("wide.jpg"), {}, {});
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot write " + path("wide.jpg") + ": "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("65500"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(write_image(wide, path("wide.jpg"), {}), Error);
+  EXPECT_FALSE(std::filesystem::exists(path("wide.jpg")));
 }
 
 // A TIFF-structured EXIF block, little- or big-endian: IFD0 with Orientation (SHORT) and the

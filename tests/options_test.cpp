@@ -38,7 +38,7 @@ TEST(Options, EveryRowSetsItsFieldAndHasACase) {
   for (const Good& g : kGood) {
     ConvertOptions o;
     EXPECT_FALSE(g.changed(o)) << g.name;
-    conversion_option(g.name, kUseConvert).set(o, g.value);
+    conversion_option(g.name, kUseConvert | kUseFiles).set(o, g.value);
     EXPECT_TRUE(g.changed(o)) << g.name;
   }
 }
@@ -47,7 +47,7 @@ TEST(Options, BadValuesNameTheOption) {
   auto error_of = [](const char* name, OptionValue v) -> std::string {
     ConvertOptions o;
     try {
-      conversion_option(name, kUseConvert).set(o, v);
+      conversion_option(name, kUseConvert | kUseFiles).set(o, v);
     } catch (const Error& e) {
       return e.what();
     }
@@ -80,7 +80,7 @@ TEST(Options, TheCommandOffersEachRowWhereTheTableSays) {
     while (p && std::fgets(buf, sizeof buf, p.get())) out += buf;
     return out;
   };
-  for (auto [sub, use] : {std::pair{"convert", kUseConvert}, {"maps", kUseMaps}, {"accuracy", kUseAccuracy}}) {
+  for (auto [sub, use] : {std::pair{"convert", kUseConvert | kUseFiles}, {"maps", +kUseMaps}, {"accuracy", +kUseAccuracy}}) {
     const std::string text = help(sub);
     for (const OptionDef& d : conversion_options()) {
       const bool offered = text.find(flag_of(d) + " ") != std::string::npos;

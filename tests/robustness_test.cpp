@@ -125,7 +125,7 @@ TEST_P(WriteFault, FailsWithTheOutputsNameAndLeavesTheOldFileIntact) {
 
 std::vector<WriteCase> write_cases() {
   std::vector<WriteCase> v;
-  for (const std::string ext : {"jpg", "png", "tif", "exr", "hdr", "csv"})
+  for (const std::string ext : {"jpg", "png", "ppm", "tif", "exr", "hdr", "csv"})
     for (const auto& [cut_name, cut] : {std::pair{"at0", 0.0}, {"at1byte", 1e-9}, {"at10pct", 0.1}, {"at50pct", 0.5},
                                         {"at99pct", 0.99}})
       v.push_back({ext + "_" + cut_name, "out." + ext, cut});
@@ -293,6 +293,10 @@ std::vector<InputCase> hostile_cases() {
       {"jpeg_soi_only", std::string("\xFF\xD8\xFF", 3), "cannot read"},
       {"tiff_header_only", std::string("II*\0\x08\0\0\0", 8), "cannot read"},
       {"exr_magic_only", std::string("\x76\x2f\x31\x01", 4), "cannot read"},
+      {"ppm_2147483647_squared", "P6\n2147483647 2147483647\n255\n" + std::string(100, 'x'), "too few to hold them"},
+      {"ppm_maxval_0", "P6\n4 4\n0\n" + std::string(48, 'x'), "maxval 0"},
+      {"ppm_header_only", std::string("P5\n"), "damaged PPM/PGM header"},
+      {"ppm_width_over_2_31", "P5\n99999999999 1\n255\n" + std::string(10, 'x'), "over 2^31"},
   };
 }
 

@@ -174,7 +174,7 @@ int main(int argc, char** argv) {
                       "source projection spec (default: 2:1 image = equirect; face pattern = "
                       "cubemap:layout=files)");
   convert->add_option("--to", job.to, "target projection spec, e.g. fisheye:fov=180")->required();
-  const TableOptions convert_options(convert, kUseConvert);
+  const TableOptions convert_options(convert, kUseConvert | kUseFiles);
   convert->add_option("--depth", depth_text, "output samples: keep|uint8|uint16|half|float");
   convert->add_flag("--overwrite", job.write.overwrite, "replace an existing output");
   std::string subsampling_text = "420";
@@ -204,7 +204,7 @@ int main(int argc, char** argv) {
   SweepSetup sweep;
   std::string acc_scene = "chart", acc_from = "equirect", acc_from_size = "4096x2048", acc_to,
               acc_type = "uint8", acc_interp = "nearest,bilinear,bicubic,lanczos3", acc_antialias = "off,auto,mip,4",
-              acc_engine = "simd,reference", acc_csv, acc_json, acc_plot;
+              acc_engine = "simd,reference", acc_decode = "memory", acc_csv, acc_json, acc_plot;
   bool acc_overwrite = false;
   auto* accuracy = app.add_subcommand(
       "accuracy", "measure error against time: a synthetic scene converted with each option, against its truth");
@@ -219,6 +219,9 @@ int main(int argc, char** argv) {
   accuracy->add_option("--engine", acc_engine,
                        "engines to sweep: simd (float geometry where within 1/1024 px), reference (exact double, "
                        "no antialiasing); default both");
+  accuracy->add_option("--decode-scale", acc_decode,
+                       "sources to sweep: memory (default: the rendered source as is), or the source as a JPEG "
+                       "(quality 95, 4:2:0) decoded at 1, 2, 4, 8 (1/N scale, inside the timing), e.g. memory,1,4");
   accuracy->add_option("--runs", sweep.runs, "timed runs per option, median reported (default 5)");
   accuracy->add_option("--truth-supersample", sweep.truth_supersample,
                        "rays per axis of each truth pixel (default 8: its area average)");
@@ -278,7 +281,13 @@ int main(int argc, char** argv) {
       sweep.type = *type;
       const auto options = sweep_options(parse_list(acc_interp, [](std::string_view t) { return parse_interp(t); }),
                                          parse_list(acc_antialias, parse_antialias),
-                                         parse_list(acc_engine, [](std::string_view t) { return parse_engine(t); }));
+                                         parse_list(acc_engine, [](std::string_view t) { return parse_engine(t); }),
+                                         parse_list(acc_decode, [](std::string_view t) {
+                                           if (t == "memory") return 0;
+                                           if (t == "1" || t == "2" || t == "4" || t == "8") return t[0] - '0';
+                                           throw Error("--decode-scale: " + std::string(t) +
+                                                       " (expected memory, 1, 2, 4 or 8, comma-separated)");
+                                         }));
       const Size fs = size_of(geometry.source), ts = size_of(geometry.target);
       const std::string about = std::string("scene ") + acc_scene + ", " + acc_from + " " + std::to_string(fs.width) + "x" +
                                 std::to_string(fs.height) + " -> " + acc_to + " " + std::to_string(ts.width) + "x" +

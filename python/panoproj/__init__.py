@@ -408,14 +408,16 @@ def read(path: str, *, metadata: bool = False, memory_limit: Union[int, str, Non
 
 @_one_line_type_errors
 def write(path: str, array: np.ndarray, *, overwrite: bool = False, dtype: Optional[str] = None,
-          metadata: Optional[Dict[str, Any]] = None) -> None:
+          metadata: Optional[Dict[str, Any]] = None, quality: int = 95, subsampling: str = "420") -> None:
     """Writes an array atomically (a temporary file, then a rename): the format follows the
     extension. An existing file is replaced only with ``overwrite=True``. ``dtype`` converts the
     samples first (e.g. ``"uint8"`` for a JPEG of a float image); ``metadata`` attributes are
     written where the format has a place for them. A path with ``{face}``/``{index}`` writes a
     6x1 cubemap (6N x N) as six files, all replaced or none. On any error (a full disk, no
-    permission) the old file is intact and no temporary is left."""
-    _core.write(str(path), array, bool(overwrite), dtype, dict(metadata or {}))
+    permission) the old file is intact and no temporary is left. JPEG: ``quality`` 1 to 100,
+    ``subsampling`` of the chroma "420" (half width and height), "422" (half width) or "444"."""
+    _core.write(str(path), array, bool(overwrite), dtype, dict(metadata or {}),
+                _int("quality", quality, 1, 100, "1 to 100"), str(subsampling))
 
 
 @_one_line_type_errors

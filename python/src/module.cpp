@@ -396,17 +396,20 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "write",
       [](const std::string& path, const py::array& array, bool overwrite, std::optional<std::string> dtype,
-         const py::dict& metadata) {
+         const py::dict& metadata, int quality, const std::string& subsampling) {
         py::object keep;
         const Image im = image_of(array, keep);
         WriteOptions w;
         w.overwrite = overwrite;
+        w.quality = quality;
+        w.subsampling = parse_subsampling(subsampling);
         if (dtype) w.type = pixel_type(py::dtype(*dtype));
         for (const auto& [k, v] : metadata) w.metadata.push_back(attribute_of(k.cast<std::string>(), v));
         py::gil_scoped_release unlocked;
         is_face_pattern(path) ? write_cube_faces(im, path, w) : write_image(im, path, w);
       },
-      py::arg("path"), py::arg("array"), py::arg("overwrite"), py::arg("dtype"), py::arg("metadata"));
+      py::arg("path"), py::arg("array"), py::arg("overwrite"), py::arg("dtype"), py::arg("metadata"),
+      py::arg("quality"), py::arg("subsampling"));
 
   m.def(
       "to_ray",

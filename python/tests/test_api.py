@@ -216,3 +216,41 @@ def test_alpha_and_fill_at_the_fields_edge():
         pp.convert(img, "equirect", "fisheye:fov=180", fill="red", **kw)
     with pytest.raises(TypeError, match="fill"):
         pp.convert(img, "equirect", "fisheye:fov=180", fill=object(), **kw)
+
+
+def test_the_module_loads_openimageio_only_for_files_that_need_it(tmp_path):
+    # Run in a fresh interpreter: this one may have loaded the plugin already.
+    code = f"""
+import numpy as np, panoproj as pp
+maps = lambda: open('/proc/self/maps').read()
+assert 'OpenImageIO' not in maps(), 'import'
+a = (np.arange(64 * 32 * 3) % 251).astype(np.uint8).reshape(32, 64, 3)
+for ext in ('jpg', 'png', 'ppm'):
+    pp.write(r'{tmp_path}/a.' + ext, a)
+    pp.convert(pp.read(r'{tmp_path}/a.' + ext), 'equirect', 'cubemap', size=(48, 8))
+assert 'OpenImageIO' not in maps(), 'jpeg, png, ppm'
+pp.write(r'{tmp_path}/a.tif', a)
+assert 'OpenImageIO' in maps(), 'tiff'
+"""
+    import subprocess
+    import sys
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+
+
+def test_jpeg_quality_and_subsampling(tmp_path):
+    a = np.random.default_rng(1).integers(0, 255, (64, 96, 3), dtype=np.uint8)
+    sizes = []
+    for q in (20, 60, 95):
+        pp.write(str(tmp_path / f"q{q}.jpg"), a, quality=q)
+        sizes.append((tmp_path / f"q{q}.jpg").stat().st_size)
+    assert sizes == sorted(sizes)
+    pp.write(str(tmp_path / "s.jpg"), a, subsampling="444")
+    b = (tmp_path / "s.jpg").read_bytes()
+    sof = b.find(b"\xff\xc0")
+    assert b[sof + 11] == 0x11  # luma sampled 1x1: no chroma subsampling
+    with pytest.raises(ValueError, match="quality: 0"):
+        pp.write(str(tmp_path / "bad.jpg"), a, quality=0)
+    with pytest.raises(ValueError, match="subsampling 411"):
+        pp.write(str(tmp_path / "bad.jpg"), a, subsampling="411")
+    assert not (tmp_path / "bad.jpg").exists()

@@ -128,7 +128,8 @@ enum class OptionType { Angle, Integer, Flag, Text };
 using OptionValue = std::variant<double, int64_t, bool, std::string>;
 
 // Which calls take an option (bits).
-enum OptionUse : unsigned { kUseConvert = 1, kUseMaps = 2, kUseAccuracy = 4 };
+// kUseFiles: only conversions between files (the command's convert), e.g. how a file is decoded.
+enum OptionUse : unsigned { kUseConvert = 1, kUseMaps = 2, kUseAccuracy = 4, kUseFiles = 8 };
 
 struct OptionDef {
   const char* name;          // Python's keyword; the command's flag is --name with '-' for '_'

@@ -2,13 +2,21 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
+#include <climits>
+#include <cstring>
+#include <filesystem>
+#include <memory>
 #include <cstdarg>
 #include <cstdio>
+#include <cstdlib>
 #include <numeric>
 #include <cmath>
 #include <string>
 
 #include "panoproj/error.hpp"
+#include "panoproj/io.hpp"
+#include "panoproj/limits.hpp"
 #include "base/sample_io.hpp"
 
 namespace panoproj {
@@ -85,18 +93,50 @@ ErrorStats compare_images(const Image& result, const Image& truth, const std::ve
 }
 
 std::vector<SweepOption> sweep_options(const std::vector<Interp>& interps, const std::vector<Antialias>& antialias,
-                                       const std::vector<Engine>& engines) {
+                                       const std::vector<Engine>& engines, const std::vector<int>& decode_scales) {
   std::vector<SweepOption> v;
-  for (Engine e : engines)
-    for (Interp k : interps) {
-      if (e == Engine::Reference) {
-        v.push_back({k, Antialias{}, e});
-        continue;
+  for (int d : decode_scales)
+    for (Engine e : engines)
+      for (Interp k : interps) {
+        if (e == Engine::Reference) {
+          v.push_back({k, Antialias{}, e, d});
+          continue;
+        }
+        for (const Antialias& a : antialias) v.push_back({k, a, e, d});
       }
-      for (const Antialias& a : antialias) v.push_back({k, a, e});
-    }
   return v;
 }
+
+std::string decode_name(int decode_scale) {
+  return decode_scale == 0 ? "memory" : decode_scale == 1 ? "jpeg" : "jpeg 1/" + std::to_string(decode_scale);
+}
+
+namespace {
+
+// The rendered source as a JPEG file in a fresh temporary folder, removed with it.
+class JpegSource {
+ public:
+  explicit JpegSource(const Image& source) {
+    if (source.type() != PixelType::U8)
+      throw Error("accuracy: decode scales need a uint8 source (--type uint8): JPEG holds 8-bit samples");
+    std::string dir = (std::filesystem::temp_directory_path() / "panoproj-accuracy-XXXXXX").string();
+    if (!::mkdtemp(dir.data())) throw Error("accuracy: cannot make a temporary folder: " + std::string(std::strerror(errno)), ErrorKind::File);
+    dir_ = dir;
+    write_image(source, path(), {});
+  }
+  ~JpegSource() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir_, ec);
+  }
+  JpegSource(const JpegSource&) = delete;
+  JpegSource& operator=(const JpegSource&) = delete;
+  std::string path() const { return (dir_ / "source.jpg").string(); }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+}  // namespace
 
 std::vector<SweepResult> run_sweep(const Projection& sp, const Projection& dp, const Eigen::Matrix3d& rotation,
                                    const SweepSetup& setup, const std::vector<SweepOption>& options) {
@@ -104,14 +144,25 @@ std::vector<SweepResult> run_sweep(const Projection& sp, const Projection& dp, c
   const Image source = render_scene(setup.scene, sp, setup.type, setup.source_supersample, setup.threads);
   const Image truth = render_scene(setup.scene, dp, setup.type, setup.truth_supersample, setup.threads);
   const std::vector<uint8_t> mask = compared_pixels(sp, dp, rotation);
+  std::unique_ptr<JpegSource> jpeg;
+  const Size size = size_of(sp);
+  for (const SweepOption& o : options) {
+    if (o.decode_scale > 0 && !jpeg) jpeg = std::make_unique<JpegSource>(source);
+    if (o.decode_scale > 1 && (size.width % o.decode_scale != 0 || size.height % o.decode_scale != 0))
+      throw Error("accuracy: decode scale " + std::to_string(o.decode_scale) + " needs the source's sides (" +
+                  size_text(size) + ") to be multiples of it");
+  }
   std::vector<SweepResult> results;
   for (const SweepOption& o : options) {
     std::vector<double> ms;
     Image out;
+    const int s = std::max(1, o.decode_scale);
+    const Projection from = s > 1 ? rescaled(sp, {size.width / s, size.height / s}) : sp;
     for (int r = 0; r < setup.runs; ++r) {
       const auto t0 = std::chrono::steady_clock::now();
-      const Converter c(sp, dp, rotation, o.interp, o.engine, setup.threads, false, o.antialias);
-      c.run(source, out);
+      const Converter c(from, dp, rotation, o.interp, o.engine, setup.threads, false, o.antialias);
+      if (o.decode_scale > 0) c.run(read_image_region(jpeg->path(), 0, 0, INT64_MAX, INT64_MAX, 0, 0, s), out);
+      else c.run(source, out);
       ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
@@ -149,12 +200,13 @@ std::string format(const char* f, ...) {
 
 std::string sweep_table(const std::vector<SweepResult>& results) {
   const auto front = pareto_front(results);
-  std::string t = "| kernel | antialias | engine | median ms | PSNR dB | max abs error | SSIM | Pareto |\n"
-                  "|---|---|---|---|---|---|---|---|\n";
+  std::string t = "| source | kernel | antialias | engine | median ms | PSNR dB | max abs error | SSIM | Pareto |\n"
+                  "|---|---|---|---|---|---|---|---|---|\n";
   for (size_t i = 0; i < results.size(); ++i) {
     const SweepResult& r = results[i];
     const bool best = std::find(front.begin(), front.end(), i) != front.end();
-    t += format("| %s | %s | %s | %.2f | %.2f | %.4f | %.4f | %s |\n", name_of(r.option.interp),
+    t += format("| %s | %s | %s | %s | %.2f | %.2f | %.4f | %.4f | %s |\n", decode_name(r.option.decode_scale).c_str(),
+                name_of(r.option.interp),
                 name_of(r.option.antialias).c_str(), name_of(r.option.engine), r.median_ms, r.error.psnr, r.error.max_abs,
                 r.error.ssim, best ? "yes" : "");
   }
@@ -163,10 +215,11 @@ std::string sweep_table(const std::vector<SweepResult>& results) {
 
 std::string sweep_csv(const std::vector<SweepResult>& results) {
   const auto front = pareto_front(results);
-  std::string t = "kernel,antialias,engine,median_ms,psnr_db,rmse,max_abs,ssim,pixels,pareto\n";
+  std::string t = "source,kernel,antialias,engine,median_ms,psnr_db,rmse,max_abs,ssim,pixels,pareto\n";
   for (size_t i = 0; i < results.size(); ++i) {
     const SweepResult& r = results[i];
-    t += format("%s,%s,%s,%.4f,%.4f,%.6g,%.6g,%.6f,%lld,%d\n", name_of(r.option.interp), name_of(r.option.antialias).c_str(),
+    t += format("%s,%s,%s,%s,%.4f,%.4f,%.6g,%.6g,%.6f,%lld,%d\n", decode_name(r.option.decode_scale).c_str(),
+                name_of(r.option.interp), name_of(r.option.antialias).c_str(),
                 name_of(r.option.engine), r.median_ms, r.error.psnr, r.error.rmse, r.error.max_abs, r.error.ssim,
                 static_cast<long long>(r.error.pixels), std::find(front.begin(), front.end(), i) != front.end() ? 1 : 0);
   }
@@ -180,12 +233,12 @@ std::string sweep_json(const std::vector<SweepResult>& results, const std::strin
   std::string t = "{\n  \"about\": \"" + escaped + "\",\n  \"results\": [\n";
   for (size_t i = 0; i < results.size(); ++i) {
     const SweepResult& r = results[i];
-    t += format("    {\"kernel\": \"%s\", \"antialias\": \"%s\", \"engine\": \"%s\", \"median_ms\": %.4f, "
+    t += format("    {\"source\": \"%s\", \"kernel\": \"%s\", \"antialias\": \"%s\", \"engine\": \"%s\", \"median_ms\": %.4f, "
                 "\"psnr_db\": %.4f, \"rmse\": %.6g, \"max_abs\": %.6g, \"ssim\": %.6f, \"pixels\": %lld, "
                 "\"pareto\": %s}%s\n",
-                name_of(r.option.interp), name_of(r.option.antialias).c_str(), name_of(r.option.engine), r.median_ms,
-                r.error.psnr, r.error.rmse, r.error.max_abs, r.error.ssim, static_cast<long long>(r.error.pixels),
-                std::find(front.begin(), front.end(), i) != front.end() ? "true" : "false",
+                decode_name(r.option.decode_scale).c_str(), name_of(r.option.interp), name_of(r.option.antialias).c_str(),
+                name_of(r.option.engine), r.median_ms, r.error.psnr, r.error.rmse, r.error.max_abs, r.error.ssim,
+                static_cast<long long>(r.error.pixels), std::find(front.begin(), front.end(), i) != front.end() ? "true" : "false",
                 i + 1 < results.size() ? "," : "");
   }
   return t + "  ]\n}\n";

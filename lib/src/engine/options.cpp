@@ -61,7 +61,7 @@ std::vector<OptionDef> make_options() {
          o.edges.colour = parse_fill_colour(value_as<std::string>(v, "fill"));
          o.edges.soft = true;
        }},
-      {"decode_scale", OptionType::Text, kUseConvert, "'auto'",
+      {"decode_scale", OptionType::Text, kUseFiles, "'auto'",
        "auto (default: a JPEG source that the view samples at under half its resolution everywhere decodes at 1/2, "
        "1/4 or 1/8 by DCT scaling, still twice the detail the output holds) | 1 | 2 | 4 | 8",
        [](ConvertOptions& o, const OptionValue& v) {

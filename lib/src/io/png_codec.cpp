@@ -161,12 +161,13 @@ std::vector<unsigned char> encode_png(const Image& image, const std::string& pat
   const bool ok = guarded(png, [&] {
     png_set_write_fn(png, &bytes, append, flush);
     png_set_benign_errors(png, 1);  // a malformed ICC profile carried from an input is left out, not fatal
+    png_set_user_limits(png, 0x7FFFFFFF, 0x7FFFFFFF);  // the format's sides, not libpng's default 10^6
     static const int kTypes[5] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
                                   PNG_COLOR_TYPE_RGB_ALPHA};
     const int depth = image.type() == PixelType::U16 ? 16 : 8;
     png_set_IHDR(png, info, static_cast<png_uint_32>(image.width()), static_cast<png_uint_32>(image.height()), depth,
                  kTypes[image.channels()], PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_set_compression_level(png, 6);
+    png_set_compression_level(png, 6);  // zlib's default (as OpenImageIO wrote; level 1: 2.5x faster, 3% larger)
     if (!meta.icc.empty())
       png_set_iCCP(png, info, "ICC Profile", PNG_COMPRESSION_TYPE_BASE,
                    reinterpret_cast<png_const_bytep>(meta.icc.data()), static_cast<png_uint_32>(meta.icc.size()));

@@ -1,6 +1,6 @@
 #pragma once
 // The feathered blend of a dual-fisheye source (dual_fisheye.hpp) over one output tile, for the
-// converter (engine.cpp), which samples each lens alone (DualFisheye::only) and blends them here.
+// converter (engine.cpp), which samples each lens alone (LensSource) and blends them here.
 // Internal.
 #include <Eigen/Core>
 #include <vector>

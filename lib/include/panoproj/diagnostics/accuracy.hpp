@@ -43,6 +43,10 @@ struct SweepOption {
   Interp interp;
   Antialias antialias;
   Engine engine;  // simd: float geometry where within 1/1024 px; reference: exact double
+  // 0: the rendered source as it is; 1, 2, 4, 8: the source written as a JPEG (quality 95,
+  // 4:2:0, uint8) and decoded at 1/decode_scale (DCT scaling) inside the timing, the geometry
+  // rescaled to that frame, as `convert --decode-scale` does.
+  int decode_scale = 0;
 };
 struct SweepResult {
   SweepOption option;
@@ -50,15 +54,19 @@ struct SweepResult {
   ErrorStats error;
 };
 
-// The sweep over every listed engine x kernel x antialiasing (the reference engine: off only);
-// by default all four kernels, off, auto, mip and 4x4, simd and reference.
+// The sweep over every listed engine x kernel x antialiasing x decode scale (the reference
+// engine: off only); by default all four kernels, off, auto, mip and 4x4, simd and reference,
+// the source in memory.
 std::vector<SweepOption> sweep_options(const std::vector<Interp>& interps = {Interp::Nearest, Interp::Bilinear,
                                                                                Interp::Bicubic, Interp::Lanczos3},
                                        const std::vector<Antialias>& antialias = {Antialias{},
                                                                                   {Antialias::Mode::Auto, 1},
                                                                                   {Antialias::Mode::Mip, 1},
                                                                                   {Antialias::Mode::Supersample, 4}},
-                                       const std::vector<Engine>& engines = {Engine::Simd, Engine::Reference});
+                                       const std::vector<Engine>& engines = {Engine::Simd, Engine::Reference},
+                                       const std::vector<int>& decode_scales = {0});
+// "memory" (0), "jpeg" (1), "jpeg 1/4" ...
+std::string decode_name(int decode_scale);
 std::vector<SweepResult> run_sweep(const Projection& source, const Projection& target, const Eigen::Matrix3d& rotation,
                                    const SweepSetup& setup, const std::vector<SweepOption>& options);
 // The results as a Markdown table (Pareto-optimal rows marked), CSV and JSON (with `about`, a
