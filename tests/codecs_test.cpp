@@ -296,6 +296,26 @@ TEST_F(Codecs, JpegQualityAndSubsamplingAreWritten) {
   EXPECT_THROW(parse_subsampling("411"), Error);
 }
 
+// A large image encodes in two bands at once, joined at a restart marker: the file differs from
+// one encoder's (restart markers), its pixels do not, for every chroma layout (bands end on iMCU
+// rows); a damaged join would show in any decoder.
+TEST_F(Codecs, BandedJpegEncodesDecodeAsOneEncoder) {
+  const Image im = photo({1100, 1000}, 3);  // over 2^20 pixels; 1000 rows: not a multiple of 16
+  for (const Layout& l : kLayouts) {
+    WriteOptions one, two;
+    one.subsampling = two.subsampling = l.subsampling;
+    one.threads = 1;
+    const Image src = l.channels == 1 ? photo({1100, 1000}, 1) : im;
+    write_image(src, path("one.jpg"), one);
+    write_image(src, path("two.jpg"), two);
+    const std::string a = bytes_of_file(path("one.jpg")), b = bytes_of_file(path("two.jpg"));
+    EXPECT_NE(a, b) << l.name;
+    EXPECT_NE(b.find("\xFF\xDD"), std::string::npos) << l.name;  // DRI: restart markers
+    EXPECT_TRUE(read_image(path("one.jpg")) == read_image(path("two.jpg"))) << l.name;
+    std::filesystem::remove(path("one.jpg")), std::filesystem::remove(path("two.jpg"));
+  }
+}
+
 // libjpeg's own errors come back as exceptions, never exit(): a side over its 65500 (which
 // write_image refuses before encoding) reaches it here directly.
 TEST_F(Codecs, EncoderErrorsAreExceptions) {

@@ -12,6 +12,8 @@
 // clang-format on
 
 #include <algorithm>
+#include <exception>
+#include <thread>
 
 #include "panoproj/error.hpp"
 #include "io/codec.hpp"
@@ -111,11 +113,37 @@ class JpegDecoder final : public Decoder {
 
   PixelRect window(PixelRect need, int) const override { return need; }
 
+  // A baseline JPEG's large region decodes in two bands at once: a second decoder skips to the
+  // lower band (entropy decoding only: kSkipCost of a decoded row) while this one decodes
+  // the upper; the split balances the two. (A progressive JPEG would read every scan twice.)
   Image read(PixelRect r, int scale) override {
     Image img = allocate_window(path_, r.size(), header_);
-    std::vector<unsigned char> row;
-    const bool ok = guarded(fail_, [&] { decode(r, scale, img, row); });
+    const int64_t rows = r.y1 - r.y0;
+    const bool split = !c_.progressive_mode && rows >= 64 && r.size().width * rows >= (int64_t{1} << 20) &&
+                       std::thread::hardware_concurrency() > 1;
+    constexpr double kSkipCost = 0.55;  // measured: skipping a row costs about half of decoding it
+    const int64_t mid = split ? std::clamp<int64_t>(static_cast<int64_t>((static_cast<double>(r.y1) + (1 - kSkipCost) * static_cast<double>(r.y0)) / (2 - kSkipCost)), r.y0 + 16, r.y1 - 16)
+                              : r.y1;
+    std::string lower_error;
+    std::exception_ptr lower_failed;
+    std::thread lower;
+    if (split)
+      lower = std::thread([&] {
+        try {
+          JpegDecoder other(path_);
+          std::vector<unsigned char> buffer;
+          if (!guarded(other.fail_, [&] { other.decode({r.x0, mid, r.x1, r.y1}, scale, img, r.y0, buffer); }))
+            lower_error = other.fail_.message;
+        } catch (...) {
+          lower_failed = std::current_exception();
+        }
+      });
+    std::vector<unsigned char> buffer;
+    const bool ok = guarded(fail_, [&] { decode({r.x0, r.y0, r.x1, mid}, scale, img, r.y0, buffer); });
+    if (lower.joinable()) lower.join();
     if (!ok) throw_damaged(path_, fail_.message);
+    if (lower_failed) std::rethrow_exception(lower_failed);
+    if (!lower_error.empty()) throw_damaged(path_, lower_error);
     img.set_window(r.x0, r.y0, scaled_size(scale));
     return img;
   }
@@ -123,10 +151,11 @@ class JpegDecoder final : public Decoder {
   EmbeddedMetadata embedded() const override { return embedded_; }
 
  private:
-  // Decodes rows r.y0 .. r.y1 - 1 (columns r.x0 .. r.x1 - 1) into img, starting one iMCU above and
-  // to the left and ending one to the right, so that the chroma upsampling at the region's edges
-  // sees the neighbours it sees in a whole decode; what lies outside r is decoded and dropped.
-  void decode(PixelRect r, int scale, Image& img, std::vector<unsigned char>& row) {
+  // Decodes rows r.y0 .. r.y1 - 1 (columns r.x0 .. r.x1 - 1) into img's rows from y_base on,
+  // starting one iMCU above and to the left and ending one to the right, so that the chroma
+  // upsampling at the region's edges sees the neighbours it sees in a whole decode; what lies
+  // outside r is decoded and dropped.
+  void decode(PixelRect r, int scale, Image& img, int64_t y_base, std::vector<unsigned char>& row) {
     c_.scale_num = 1;
     c_.scale_denom = static_cast<unsigned int>(scale);
     c_.out_color_space = c_.num_components == 1 ? JCS_GRAYSCALE : JCS_RGB;
@@ -144,9 +173,9 @@ class JpegDecoder final : public Decoder {
     row.resize(size_t{cols} * px);
     while (c_.output_scanline < r.y1) {
       const int64_t y = c_.output_scanline;
-      JSAMPROW dst = direct && y >= r.y0 ? img.row(y - r.y0) : row.data();
+      JSAMPROW dst = direct && y >= r.y0 ? img.row(y - y_base) : row.data();
       jpeg_read_scanlines(&c_, &dst, 1);
-      if (!direct && y >= r.y0) std::memcpy(img.row(y - r.y0), row.data() + (r.x0 - x0) * px, img.row_bytes());
+      if (!direct && y >= r.y0) std::memcpy(img.row(y - y_base), row.data() + (r.x0 - x0) * px, img.row_bytes());
     }
     jpeg_abort_decompress(&c_);  // the rows below are never decoded
   }
@@ -204,15 +233,18 @@ std::unique_ptr<Decoder> open_jpeg(const std::string& path, const InputFile&) {
   return d;
 }
 
-std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& path, const WriteOptions& options,
-                                       const EmbeddedMetadata& meta) {
+namespace {
+
+// Rows [y0, y1) of image as a whole JPEG file, a restart marker every `interval` MCUs (0: none);
+// false with fail.message on an error.
+bool encode_rows(const Image& image, int64_t y0, int64_t y1, const WriteOptions& options, const EmbeddedMetadata& meta,
+                 unsigned interval, std::vector<unsigned char>& bytes, JpegFailure& fail) {
   // Gray or RGB; an alpha channel (the last) is left out.
   const int in_channels = image.channels(), channels = in_channels <= 2 ? 1 : 3;
-  std::vector<unsigned char> bytes, row;
-  bytes.reserve(static_cast<size_t>(image.width() * image.height() * channels / 6) + 65536);
+  std::vector<unsigned char> row;
+  bytes.reserve(static_cast<size_t>(image.width() * (y1 - y0) * channels / 6) + 65536);
   if (in_channels != channels) row.resize(static_cast<size_t>(image.width() * channels));
   jpeg_compress_struct c{};
-  JpegFailure fail;
   c.err = jpeg_std_error(&fail.mgr);
   fail.mgr.error_exit = on_error;
   fail.mgr.emit_message = on_encode_message;
@@ -226,11 +258,12 @@ std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& pa
     created = true;
     c.dest = &dest.mgr;
     c.image_width = static_cast<JDIMENSION>(image.width());
-    c.image_height = static_cast<JDIMENSION>(image.height());
+    c.image_height = static_cast<JDIMENSION>(y1 - y0);
     c.input_components = channels;
     c.in_color_space = channels == 1 ? JCS_GRAYSCALE : JCS_RGB;
     jpeg_set_defaults(&c);
     jpeg_set_quality(&c, options.quality, TRUE);
+    c.restart_interval = interval;
     if (channels == 3) {
       const int h = options.subsampling == ChromaSubsampling::S444 ? 1 : 2;
       const int v = options.subsampling == ChromaSubsampling::S420 ? 2 : 1;
@@ -254,7 +287,7 @@ std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& pa
     if (!meta.icc.empty())
       jpeg_write_icc_profile(&c, reinterpret_cast<const JOCTET*>(meta.icc.data()),
                              static_cast<unsigned int>(meta.icc.size()));
-    for (int64_t y = 0; y < image.height(); ++y) {
+    for (int64_t y = y0; y < y1; ++y) {
       auto* src = const_cast<unsigned char*>(image.row(y));
       JSAMPROW p = src;
       if (!row.empty()) {
@@ -267,7 +300,82 @@ std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& pa
     jpeg_finish_compress(&c);
   });
   if (created) jpeg_destroy_compress(&c);
-  if (!ok) throw Error("cannot write " + path + ": " + one_line(fail.message), ErrorKind::File);
+  return ok;
+}
+
+// Where a JPEG file's entropy-coded data starts (after its SOS segment), and its SOF's height
+// field; libjpeg's own output, so well formed.
+void locate(const std::vector<unsigned char>& b, size_t& sof_height, size_t& data) {
+  for (size_t at = 2; at + 4 <= b.size();) {
+    const unsigned marker = b[at + 1], length = b[at + 2] << 8 | b[at + 3];
+    if (marker == 0xC0 || marker == 0xC1) sof_height = at + 5;
+    if (marker == 0xDA) {
+      data = at + 2 + length;
+      return;
+    }
+    at += 2 + length;
+  }
+  throw InternalError("libjpeg's output has no scan");
+}
+
+}  // namespace
+
+// Large images encode in bands at once, each a JPEG whose scan restarts every `interval` MCU
+// rows; the bands' scans are joined into one (restart markers renumbered), which decodes to the
+// same pixels as a single encode: a restart resets only the DC predictions, and bands end on iMCU
+// rows (chroma is downsampled within 2x2 blocks).
+std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& path, const WriteOptions& options,
+                                       const EmbeddedMetadata& meta) {
+  const bool colour = image.channels() > 2;
+  const int64_t mcu_w = colour && options.subsampling != ChromaSubsampling::S444 ? 16 : 8;
+  const int64_t mcu_h = colour && options.subsampling == ChromaSubsampling::S420 ? 16 : 8;
+  const int64_t per_row = (image.width() + mcu_w - 1) / mcu_w, mcu_rows = (image.height() + mcu_h - 1) / mcu_h;
+  const int threads = options.threads == 1 ? 1 : static_cast<int>(std::min<unsigned>(2, std::max(1u, std::thread::hardware_concurrency())));
+  const int64_t interval_rows = std::min<int64_t>(mcu_rows / threads, 65535 / per_row);  // DRI holds 16 bits
+  std::vector<unsigned char> bytes;
+  JpegFailure fail;
+  if (threads < 2 || image.width() * image.height() < (int64_t{1} << 20) || interval_rows < 1) {
+    if (!encode_rows(image, 0, image.height(), options, meta, 0, bytes, fail))
+      throw Error("cannot write " + path + ": " + one_line(fail.message), ErrorKind::File);
+    return bytes;
+  }
+  const int64_t intervals = (mcu_rows + interval_rows - 1) / interval_rows;
+  std::vector<std::vector<unsigned char>> band(static_cast<size_t>(threads));
+  std::vector<JpegFailure> fails(static_cast<size_t>(threads));
+  std::vector<int64_t> first(static_cast<size_t>(threads) + 1);  // each band's first interval
+  for (int t = 0; t <= threads; ++t) first[static_cast<size_t>(t)] = intervals * t / threads;
+  std::vector<char> ok(static_cast<size_t>(threads));
+  auto encode_band = [&](int t) {
+    const auto k = static_cast<size_t>(t);
+    const int64_t y0 = first[k] * interval_rows * mcu_h, y1 = std::min(image.height(), first[k + 1] * interval_rows * mcu_h);
+    ok[k] = encode_rows(image, y0, y1, options, t == 0 ? meta : EmbeddedMetadata{}, static_cast<unsigned>(interval_rows * per_row),
+                        band[k], fails[k]);
+  };
+  std::thread other(encode_band, 1);
+  encode_band(0);
+  other.join();
+  for (int t = 0; t < threads; ++t)
+    if (!ok[static_cast<size_t>(t)])
+      throw Error("cannot write " + path + ": " + one_line(fails[static_cast<size_t>(t)].message), ErrorKind::File);
+  // Band 0's headers, the whole height in its SOF; then every band's scan, restart markers
+  // numbered on across bands (RSTm after global interval g: m = g mod 8); one EOI.
+  size_t sof = 0, data = 0;
+  locate(band[0], sof, data);
+  bytes.assign(band[0].begin(), band[0].begin() + static_cast<std::ptrdiff_t>(data));
+  bytes[sof] = static_cast<unsigned char>(image.height() >> 8), bytes[sof + 1] = static_cast<unsigned char>(image.height() & 0xFF);
+  int64_t g = 0;  // intervals written
+  for (int t = 0; t < threads; ++t) {
+    const std::vector<unsigned char>& b = band[static_cast<size_t>(t)];
+    size_t band_sof = 0, start = 0;
+    locate(b, band_sof, start);
+    if (t > 0) bytes.push_back(0xFF), bytes.push_back(static_cast<unsigned char>(0xD0 + (g - 1) % 8));
+    for (size_t i = start; i + 2 < b.size(); ++i) {  // (the band's EOI left out)
+      bytes.push_back(b[i]);
+      if (b[i] == 0xFF && b[i + 1] >= 0xD0 && b[i + 1] <= 0xD7) bytes.push_back(static_cast<unsigned char>(0xD0 + g % 8)), ++g, ++i;
+    }
+    ++g;  // the band's last interval
+  }
+  bytes.push_back(0xFF), bytes.push_back(0xD9);
   return bytes;
 }
 

@@ -227,6 +227,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +
                            (n == 0 ? map_seconds : 0.0);  // the map is built once, for the first
     WriteOptions write = job.write;
+    write.threads = options.threads;
     if (job.keep_metadata && !in_faces) carry_metadata(job.inputs[n], batch ? read_image_info(job.inputs[n]).format : info.format, write);
     // Equirect outputs say where they sit in the sphere (Photo Sphere XMP, read by viewers).
     if (const auto* e = std::get_if<Equirect>(&geometry.target); e && job.keep_metadata)
