@@ -64,7 +64,23 @@ bool starts_with(const jpeg_marker_struct* m, const char* header, size_t n) {
 
 class JpegDecoder final : public Decoder {
  public:
-  JpegDecoder(const std::string& path) : path_(path) {
+  explicit JpegDecoder(const std::string& path) : path_(path) {
+    try {
+      open(path);
+    } catch (...) {  // (a throwing constructor runs no destructor)
+      release();
+      throw;
+    }
+  }
+  ~JpegDecoder() override { release(); }
+  JpegDecoder(const JpegDecoder&) = delete;
+  JpegDecoder& operator=(const JpegDecoder&) = delete;
+
+  // CMYK and YCCK (Adobe) JPEGs go to OpenImageIO, which converts them to RGB.
+  bool supported() const { return c_.num_components == 1 || c_.num_components == 3; }
+
+ private:
+  void open(const std::string& path) {
     file_ = std::fopen(path.c_str(), "rbe");
     if (!file_) throw Error("cannot read " + path + ": " + std::strerror(errno), ErrorKind::File);
     c_.err = jpeg_std_error(&fail_.mgr);
@@ -95,16 +111,12 @@ class JpegDecoder final : public Decoder {
       embedded_.icc.assign(reinterpret_cast<const char*>(icc), icc_bytes);
     std::free(icc);
   }
-  ~JpegDecoder() override {
-    if (created_) jpeg_destroy_decompress(&c_);
-    if (file_) std::fclose(file_);
+  void release() {
+    if (created_) jpeg_destroy_decompress(&c_), created_ = false;
+    if (file_) std::fclose(file_), file_ = nullptr;
   }
-  JpegDecoder(const JpegDecoder&) = delete;
-  JpegDecoder& operator=(const JpegDecoder&) = delete;
 
-  // CMYK and YCCK (Adobe) JPEGs go to OpenImageIO, which converts them to RGB.
-  bool supported() const { return c_.num_components == 1 || c_.num_components == 3; }
-
+ public:
   // libjpeg's output size at scale_num / scale_denom: ceil(size / scale).
   Size scaled_size(int scale) const override {
     if (scale != 1 && scale != 2 && scale != 4 && scale != 8) return {};

@@ -38,6 +38,19 @@ constexpr char kXmpKeyword[] = "XML:com.adobe.xmp";
 class PngDecoder final : public Decoder {
  public:
   explicit PngDecoder(const std::string& path) : path_(path) {
+    try {
+      open(path);
+    } catch (...) {  // (a throwing constructor runs no destructor)
+      release();
+      throw;
+    }
+  }
+  ~PngDecoder() override { release(); }
+  PngDecoder(const PngDecoder&) = delete;
+  PngDecoder& operator=(const PngDecoder&) = delete;
+
+ private:
+  void open(const std::string& path) {
     file_ = std::fopen(path.c_str(), "rbe");
     if (!file_) throw Error("cannot read " + path + ": " + std::strerror(errno), ErrorKind::File);
     png_ = png_create_read_struct(PNG_LIBPNG_VER_STRING, &fail_, on_png_error, on_png_warning);
@@ -65,13 +78,13 @@ class PngDecoder final : public Decoder {
     header_.compression = "zip";
     read_chunks();
   }
-  ~PngDecoder() override {
+  void release() {
     if (png_) png_destroy_read_struct(&png_, info_ ? &info_ : nullptr, nullptr);
-    if (file_) std::fclose(file_);
+    png_ = nullptr, info_ = nullptr;
+    if (file_) std::fclose(file_), file_ = nullptr;
   }
-  PngDecoder(const PngDecoder&) = delete;
-  PngDecoder& operator=(const PngDecoder&) = delete;
 
+ public:
   // Rows 0 .. need.y1 - 1 are decoded (the others never); an interlaced PNG decodes whole.
   PixelRect window(PixelRect need, int) const override {
     return passes_ > 1 ? PixelRect{0, 0, header_.size.width, header_.size.height} : need;
