@@ -5,8 +5,9 @@
 - startup: `panoproj --help` and `panoproj info` (hyperfine), their peak RSS; `import panoproj`
   against `import numpy` (hyperfine, both in fresh interpreters).
 - jpeg: equirect JPEG -> cube 6x1024 JPEG (bilinear, quality 95, 4:2:0): the whole panoproj
-  process against the codec floor (bench/codec_floor.cpp: libjpeg-turbo decode of the input and
-  encode of panoproj's output, in process, one thread) and FFmpeg's v360 CLI on the same files.
+  process against the codec floor (bench/codec_floor.cpp: libjpeg-turbo's decode of the input and
+  encode of panoproj's output, in process, one thread, libjpeg's defaults) and FFmpeg's v360 CLI
+  on the same files.
   Inputs: the Jordan Pond sample (progressive 4:4:4) and a baseline 4:2:0 copy (OpenCV's writer).
 - ppm: the same with uncompressed PPM in and out, against v360.
 - big: a 32768x16384 baseline 4:2:0 JPEG (Jordan Pond enlarged, made once in the data folder):

@@ -114,8 +114,9 @@ Image convert(const Image& source, const ProjectionSpec& from, const ProjectionS
 // The smallest step, in source pixels, from an output pixel's source position to its neighbours'
 // in any direction (the least singular value of the map's Jacobian, steps across a seam taken the
 // short way), over the output sampled every 16 pixels (at most 257 x 257 points); infinity where
-// no output pixel has a source.
-double finest_source_step(const ConversionGeometry& geometry);
+// no output pixel has a source. Returns at the first step under stop_below (e.g. 4: no scale
+// would apply) without sampling the rest.
+double finest_source_step(const ConversionGeometry& geometry, double stop_below = 0);
 // The coarsest scale s (8, 4, 2, else 1) whose decode still holds twice the detail the view
 // resolves (2 s <= finest_step) and that divides the source's sides (the 1/s frame is then the
 // same field exactly: its pixel i covers pixels s i .. s i + s - 1).

@@ -9,7 +9,7 @@
 
 namespace panoproj {
 
-double finest_source_step(const ConversionGeometry& g) {
+double finest_source_step(const ConversionGeometry& g, double stop_below) {
   const Size out = size_of(g.target);
   const double wrap = SourceTaps(g.source).wraps_x() ? static_cast<double>(size_of(g.source).width) : 0.0;
   // Points every 16 output pixels, at most 257 per axis, the last row and column included.
@@ -39,6 +39,7 @@ double finest_source_step(const ConversionGeometry& g) {
       const double a = double{ux} * ux + double{uy} * uy + double{vx} * vx + double{vy} * vy;
       const double det = double{ux} * vy - double{uy} * vx;
       finest = std::min(finest, std::sqrt(std::max(0.0, 0.5 * (a - std::sqrt(std::max(0.0, a * a - 4 * det * det))))));
+      if (finest < stop_below) return finest;
     }
   return finest;
 }

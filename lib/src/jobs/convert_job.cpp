@@ -190,7 +190,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   if (scale > 1 && (frame.width % scale != 0 || frame.height % scale != 0))
     throw Error(option_text("decode-scale") + " " + std::to_string(scale) + ": the source's " + size_text(frame) +
                 " is not a multiple of " + std::to_string(scale) + " (use auto or a divisor)");
-  if (scale == 0) scale = scalable ? coarsest_decode_scale(geometry, finest_source_step(geometry)) : 1;
+  if (scale == 0) scale = scalable ? coarsest_decode_scale(geometry, finest_source_step(geometry, 4)) : 1;
   if (scale > 1) geometry.source = rescaled(geometry.source, {frame.width / scale, frame.height / scale});
   // Sizes the output formats cannot hold, and jobs over the memory budget, stop before any work.
   const Size out_size = size_of(geometry.target);
