@@ -450,6 +450,11 @@ TEST(DecodeScale, FollowsTheFinestStepOfTheView) {
   };
   EXPECT_NEAR(step("equirect", {4096, 2048}, "equirect", {512, 256}), 8.0, 1e-6);
   EXPECT_NEAR(step("equirect", {4096, 2048}, "equirect", {1024, 128}), 4.0, 1e-6);
+  // Stopping below 4 (as the command does): a view that allows no scale returns early, others whole.
+  o.size = Size{2048, 1024};
+  EXPECT_LT(finest_source_step(make_geometry({4096, 2048}, parse_spec("equirect"), parse_spec("equirect"), o), 4), 4.0);
+  o.size = Size{512, 256};
+  EXPECT_NEAR(finest_source_step(make_geometry({4096, 2048}, parse_spec("equirect"), parse_spec("equirect"), o), 4), 8.0, 1e-6);
   EXPECT_EQ(scale("equirect", {4096, 2048}, "equirect", {512, 256}), 4);   // 2 x 4 <= 8 < 2 x 8
   EXPECT_EQ(scale("equirect", {4096, 2048}, "equirect", {256, 128}), 8);
   EXPECT_EQ(scale("equirect", {4096, 2048}, "equirect", {2048, 1024}), 1);  // 2 px steps: 1/2 would lose half
