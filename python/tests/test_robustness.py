@@ -138,8 +138,8 @@ def files(tmp_path_factory):
     d = tmp_path_factory.mktemp("inputs")
     img = smooth_equirect(256, 128)
     paths = {}
-    for ext in ("jpg", "png", "tif", "exr", "hdr"):
-        a = img if ext in ("jpg", "png", "tif") else img.astype(np.float32) / 255
+    for ext in ("jpg", "png", "ppm", "tif", "exr", "hdr"):
+        a = img if ext in ("jpg", "png", "ppm", "tif") else img.astype(np.float32) / 255
         pp.write(str(d / f"pano.{ext}"), a)
         paths[ext] = d / f"pano.{ext}"
     big = smooth_equirect(2048, 1024)
@@ -177,7 +177,9 @@ def files(tmp_path_factory):
     paths["huge_exr"] = d / "huge.exr"
     (d / "huge.hdr").write_bytes(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1000000 +X 1000000\n" + b"\x02" * 64)
     paths["huge_hdr"] = d / "huge.hdr"
-    for ext in ("jpg", "png", "tif", "exr", "hdr"):
+    (d / "huge.ppm").write_bytes(b"P6\n2147483647 2147483647\n255\n" + b"\x02" * 64)
+    paths["huge_ppm"] = d / "huge.ppm"
+    for ext in ("jpg", "png", "ppm", "tif", "exr", "hdr"):
         data = paths[ext].read_bytes()
         (d / f"cut.{ext}").write_bytes(data[:len(data) // 2])
         paths[f"cut_{ext}"] = d / f"cut.{ext}"
@@ -244,6 +246,16 @@ PARAMS = [
     ("engine", ["--to", "fisheye", "--engine", "gpu"], "gpu", False),
     ("antialias", ["--to", "fisheye", "--antialias", "99"], "99", False),
     ("depth", ["--to", "fisheye", "--depth", "int7"], "int7", False),
+    ("quality_0", ["--to", "fisheye", "--quality", "0"], "quality 0 (expected 1 to 100)", False),
+    ("quality_101", ["--to", "fisheye", "--quality", "101"], "quality 101 (expected 1 to 100)", False),
+    ("quality_text", ["--to", "fisheye", "--quality", "high"], "--quality", False),
+    ("subsampling", ["--to", "fisheye", "--subsampling", "411"], "subsampling 411 (expected 420, 422 or 444)", False),
+    ("decode_scale_3", ["--to", "fisheye", "--decode-scale", "3"], "--decode-scale 3 (expected auto, 1, 2, 4 or 8)",
+     False),
+    ("decode_scale_png", ["--to", "fisheye", "--decode-scale", "4"], "only JPEG sources decode at a scale", False),
+    ("output_extension", ["--to", "fisheye", "--size", "32x32", "OUT=o.bmp"], "no image format for its extension",
+     False),
+    ("accuracy_decode_scale", ["accuracy", "--to", "fisheye", "--decode-scale", "memory,5"], "--decode-scale: 5", False),
     ("fill", ["--to", "fisheye", "--fill", "purple"], "purple", False),
     ("unknown_projection", ["--to", "mercatorish"], "mercatorish", False),
     ("fov_400", ["--to", "fisheye:fov=400"], "fov", False),
@@ -278,7 +290,8 @@ def test_bad_parameters(cli, files, tmp_path, case):
         full = args
     else:
         out = "o.jpg" if name == "jpeg_over_65500" else ("{face}.png" if name == "faces_without_files_layout" else "o.png")
-        full = ["convert", files["png"], out] + args
+        out = next((a[4:] for a in args if a.startswith("OUT=")), out)
+        full = ["convert", files["png"], out] + [a for a in args if not a.startswith("OUT=")]
     before = snapshot(tmp_path)
     r = run(cli, full, tmp_path)
     expect_refused(r, needle)
@@ -341,7 +354,8 @@ def test_gpano_fields_that_are_not_finite_numbers_are_refused(cli, files, tmp_pa
 HOSTILE = [
     ("patched_jpeg", "too few to hold them", True), ("huge_tiff", "too few to hold them", True),
     ("huge_png", "too few to hold them", False), ("huge_exr", "cannot read", False),
-    ("huge_hdr", "too few to hold them", False), ("cut_jpg", "cannot read", False), ("cut_png", "cannot read", False),
+    ("huge_hdr", "too few to hold them", False), ("huge_ppm", "too few to hold them", False),
+    ("cut_jpg", "cannot read", False), ("cut_png", "cannot read", False), ("cut_ppm", "cannot read", False),
     ("cut_tif", "cannot read", False), ("cut_exr", "cannot read", False), ("cut_hdr", "cannot read", False),
     ("garbage", "not a JPEG, PNG, PPM/PGM, TIFF, OpenEXR or Radiance HDR image", False), ("empty", "the file is empty", False),
     ("fifo", "a FIFO", True), ("dir", "a directory", False), ("zero", "a device", True), ("devzero", "a device", True),
@@ -736,6 +750,20 @@ def test_python_write_refusals(tmp_path, case):
     else:
         with pytest.raises(FileNotFoundError, match="output folder"):
             pp.write(str(tmp_path / "nowhere" / "x.png"), img)
+
+
+@pytest.mark.parametrize("kw, error, needle", [
+    (dict(quality=0), ValueError, "quality: 0 \\(expected 1 to 100\\)"),
+    (dict(quality=101), ValueError, "quality: 101"),
+    (dict(quality="high"), TypeError, "quality: 'high' \\(expected an integer"),
+    (dict(quality=True), TypeError, "quality: True"),
+    (dict(subsampling="411"), ValueError, "subsampling 411 \\(expected 420, 422 or 444\\)"),
+    (dict(subsampling=None), ValueError, "subsampling None"),
+], ids=["quality_0", "quality_101", "quality_text", "quality_bool", "subsampling_411", "subsampling_none"])
+def test_python_write_option_refusals(tmp_path, kw, error, needle):
+    with pytest.raises(error, match=needle):
+        pp.write(str(tmp_path / "x.jpg"), np.zeros((8, 8, 3), np.uint8), **kw)
+    assert listing(tmp_path) == []
 
 
 @pytest.mark.parametrize("case", ["same", "view", "overlap"])
