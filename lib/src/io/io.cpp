@@ -76,11 +76,19 @@ void check_write_options(const WriteOptions& options) {
 
 namespace {
 
-// A writer's blocks: the embedded ones (EXIF rewritten for the output), or those made from
-// attributes (ICCProfile; EXIF through OpenImageIO when there are others); the XMP packet given.
-EmbeddedMetadata blocks_for(const WriteOptions& options, Size size) {
+// The embedded blocks as an output of `size` carries them: EXIF rewritten for it, a Photo Sphere
+// packet left out (it described the input's projection).
+EmbeddedMetadata carried_blocks(const WriteOptions& options, Size size) {
   EmbeddedMetadata m = options.embedded;
   if (!m.exif.empty()) m.exif = exif_for_output(m.exif, size);
+  if (m.xmp.find("GPano") != std::string::npos) m.xmp.clear();
+  return m;
+}
+
+// A JPEG or PNG writer's blocks: the carried ones, or those made from attributes (ICCProfile;
+// EXIF through OpenImageIO when there are others); the XMP packet given.
+EmbeddedMetadata blocks_for(const WriteOptions& options, Size size) {
+  EmbeddedMetadata m = carried_blocks(options, size);
   bool other = false;
   for (const Attribute& a : options.metadata) {
     const auto* b = std::get_if<std::vector<uint8_t>>(&a.value);
@@ -88,7 +96,6 @@ EmbeddedMetadata blocks_for(const WriteOptions& options, Size size) {
     other |= a.name != "ICCProfile";
   }
   if (other && m.exif.empty()) m.exif = oiio_backend("writing EXIF attributes").encode_exif(options.metadata);
-  if (m.xmp.find("GPano") != std::string::npos) m.xmp.clear();  // described the input's projection
   if (!options.xmp.empty()) m.xmp = options.xmp;
   return m;
 }
@@ -113,9 +120,7 @@ std::vector<unsigned char> encode(const Image& in, const std::string& path, cons
     case OutFormat::Oiio: break;
   }
   OiioBackend& oiio = oiio_backend("writing " + path);
-  EmbeddedMetadata blocks = options.embedded;
-  blocks.exif = exif_for_output(blocks.exif, image.size());
-  if (blocks.xmp.find("GPano") != std::string::npos) blocks.xmp.clear();
+  const EmbeddedMetadata blocks = carried_blocks(options, image.size());
   return oiio.encode(image, path, options, blocks.empty() ? Metadata{} : oiio.attributes_of(blocks));
 }
 

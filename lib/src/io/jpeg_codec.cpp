@@ -376,15 +376,22 @@ std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& pa
   locate(band[0], sof, data);
   bytes.assign(band[0].begin(), band[0].begin() + static_cast<std::ptrdiff_t>(data));
   bytes[sof] = static_cast<unsigned char>(image.height() >> 8), bytes[sof + 1] = static_cast<unsigned char>(image.height() & 0xFF);
+  size_t total = bytes.size() + 2;
+  for (const auto& b : band) total += b.size() + 2;
+  bytes.reserve(total);
   int64_t g = 0;  // intervals written
   for (int t = 0; t < threads; ++t) {
     const std::vector<unsigned char>& b = band[static_cast<size_t>(t)];
     size_t band_sof = 0, start = 0;
     locate(b, band_sof, start);
     if (t > 0) bytes.push_back(0xFF), bytes.push_back(static_cast<unsigned char>(0xD0 + (g - 1) % 8));
-    for (size_t i = start; i + 2 < b.size(); ++i) {  // (the band's EOI left out)
-      bytes.push_back(b[i]);
-      if (b[i] == 0xFF && b[i + 1] >= 0xD0 && b[i + 1] <= 0xD7) bytes.push_back(static_cast<unsigned char>(0xD0 + g % 8)), ++g, ++i;
+    const size_t at = bytes.size();
+    bytes.insert(bytes.end(), b.begin() + static_cast<std::ptrdiff_t>(start), b.end() - 2);  // (its EOI left out)
+    // Its restart markers (0xFF 0xD0-0xD7; a 0xFF in the data is followed by 0x00) numbered on.
+    for (unsigned char* p = bytes.data() + at; p + 1 < bytes.data() + bytes.size(); ++p) {
+      p = static_cast<unsigned char*>(std::memchr(p, 0xFF, static_cast<size_t>(bytes.data() + bytes.size() - 1 - p)));
+      if (!p) break;
+      if (p[1] >= 0xD0 && p[1] <= 0xD7) p[1] = static_cast<unsigned char>(0xD0 + g++ % 8);
     }
     ++g;  // the band's last interval
   }

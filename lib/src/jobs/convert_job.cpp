@@ -134,20 +134,19 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     throw Error(in_faces ? "input " + job.inputs[0] + " is a face pattern but " + option_text("from") +
                                " is not cubemap:layout=files"
                          : option_text("from") + " cubemap:layout=files needs an input pattern with {face} or {index}");
-  // A batch shares one geometry: every header is read (no pixels) before any work.
-  Size batch_size{};
-  bool scalable = true;  // every input decodes at 1/2, 1/4, 1/8 (JPEG)
-  if (batch) {
-    batch_size = read_image_size(job.inputs[0]);
-    for (const auto& in : job.inputs) {
-      const ImageInfo i = read_image_info(in);
-      const Size s = i.size;
-      scalable = scalable && i.scalable;
-      if (s != batch_size)
-        throw Error("input " + in + " is " + std::to_string(s.width) + "x" + std::to_string(s.height) +
-                    " but " + job.inputs[0] + " is " + std::to_string(batch_size.width) + "x" +
-                    std::to_string(batch_size.height) + " (a batch shares one size)");
-    }
+  // Every header, read once before any work (a batch shares one geometry); a face set's come with
+  // its pixels.
+  std::vector<ImageInfo> infos;
+  if (!in_faces)
+    for (const auto& in : job.inputs) infos.push_back(read_image_info(in));
+  bool scalable = !in_faces;  // every input decodes at 1/2, 1/4, 1/8 (JPEG)
+  for (size_t n = 0; n < infos.size(); ++n) {
+    const Size s = infos[n].size, first = infos[0].size;
+    scalable = scalable && infos[n].scalable;
+    if (s != first)
+      throw Error("input " + job.inputs[n] + " is " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                  " but " + job.inputs[0] + " is " + std::to_string(first.width) + "x" +
+                  std::to_string(first.height) + " (a batch shares one size)");
   }
 
   std::vector<ConvertReport> reports;
@@ -161,12 +160,11 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     options.size = Size{6 * options.size->width, options.size->height};
   }
   // The geometry from the first input's header; then of each input read only what the view needs.
-  const ImageInfo info = in_faces ? ImageInfo{} : read_image_info(job.inputs[0]);
-  const Size frame = in_faces ? Size{} : (batch ? batch_size : info.size);
+  const ImageInfo info = in_faces ? ImageInfo{} : infos[0];
+  const Size frame = info.size;
   std::optional<Image> faces;
   if (in_faces) faces = read_cube_faces(job.inputs[0], options.memory_limit);
   const Size source_size = in_faces ? faces->size() : frame;
-  scalable = scalable && !in_faces && info.scalable;
   const int channels = in_faces ? faces->channels() : info.channels;
   const PixelType type = in_faces ? faces->type() : info.type;
   if (!from) from = infer_source_spec(std::nullopt, job.inputs[0], source_size);
@@ -228,7 +226,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
                            (n == 0 ? map_seconds : 0.0);  // the map is built once, for the first
     WriteOptions write = job.write;
     write.threads = options.threads;
-    if (job.keep_metadata && !in_faces) carry_metadata(job.inputs[n], batch ? read_image_info(job.inputs[n]).format : info.format, write);
+    if (job.keep_metadata && !in_faces) carry_metadata(job.inputs[n], infos[n].format, write);
     // Equirect outputs say where they sit in the sphere (Photo Sphere XMP, read by viewers).
     if (const auto* e = std::get_if<Equirect>(&geometry.target); e && job.keep_metadata)
       write.xmp = photo_sphere_xmp(photo_sphere_of(*e));
@@ -240,7 +238,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     reports.push_back({job.inputs[n], outputs[n], from_text, to.str(),
                        in_faces ? face_size(source.size()) : frame,
                        out_faces ? face_size(out.size()) : out.size(), in_faces, out_faces, seconds, read,
-                       in_faces ? "" : batch ? read_image_info(job.inputs[n]).format : info.format, scale});
+                       in_faces ? "" : infos[n].format, scale});
     if (on_frame) on_frame(reports.back());
   }
   return reports;
