@@ -58,6 +58,13 @@ class Converter {
   // (video frames, batches: no new memory per frame).
   void run(const Image& src, Image& out, EngineStats* stats = nullptr,
            const std::function<void(double)>& progress = {}) const;
+  // The same while src is read: read(arrived) runs once, first, on one of the run's threads; it
+  // fills src (its buffer already the window's size) from the top, calling arrived as its rows
+  // come in (RowsArrived, image.hpp). Tiles go in the order their source rows come, each once
+  // the rows it reads are in (once all are, for mip, cube and dual-fisheye sources and the
+  // reference engine). An exception from read ends the run; it is rethrown.
+  void run_reading(const Image& src, Image& out, const std::function<void(const RowsArrived&)>& read,
+                   EngineStats* stats = nullptr, const std::function<void(double)>& progress = {}) const;
 
   // The source pixels [x0, x1) x [y0, y1) that run() reads (with the kernel's taps and the
   // tap rules: a seam or pole crossing widens it to the full width; cubemap sources and targets

@@ -3,6 +3,7 @@
 // rows stored top to bottom with 64-bit offsets (no size limit but memory).
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -129,5 +130,10 @@ class Image {
   unsigned char* data_ = nullptr;  // pixels_.data(), or the viewed pixels
   bool view_ = false;
 };
+
+// An image's rows coming in from the top (a decoder's progress): called with k once rows [0, k)
+// are in.
+using RowsArrived = std::function<void(int64_t rows)>;
+
 
 }  // namespace panoproj

@@ -13,6 +13,7 @@
 #include "engine/tile_strategies.hpp"
 #include "panoproj/error.hpp"
 #include "base/parallel.hpp"
+#include "base/row_feed.hpp"
 #include "sampling/resample.hpp"
 #include "geometry/tile_map.hpp"
 #include "sampling/edge_pass.hpp"
@@ -40,6 +41,10 @@ const char* simd_target() { return simd_target_name(); }
 
 namespace {
 
+// How much further than interp's taps auto's footprint kernel reaches (kFootprintTaps / 2 from
+// the sample).
+int footprint_reach_beyond(Interp interp) { return std::max(0, kFootprintTaps / 2 - support(interp) / 2); }
+
 // Widens box {x0, y0, x1, y1} to the valid positions of a tile map.
 void widen_to(const TileMap& tm, std::array<double, 4>& b) {
   for (size_t i = 0; i < tm.ok.size(); ++i)
@@ -54,7 +59,9 @@ struct Converter::Impl {
   Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
        int threads, bool cache_map, Antialias antialias, EdgeFill edges);
   Region source_footprint() const;
-  void run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress) const;
+  using Reader = std::function<void(const RowsArrived&)>;
+  void run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress,
+           const Reader* read) const;
 
   Projection source_, target_;
   Antialias antialias_;
@@ -75,6 +82,12 @@ struct Converter::Impl {
   // True (and g filled) where the tile's geometry runs in registers fused with the sampling.
   bool fused(const TileRect& rect, SimdGeometry& g) const;
   const TileMap* cached(int64_t t) const;  // the kept map of a tile that has one, else null
+  // Whether run_reading can start tiles before the whole source is in.
+  bool streams() const;
+  // Tiles in the order their source rows come in: by the source row of their centre.
+  std::vector<int64_t> tiles_by_source_row() const;
+  // The frame rows [0, k) a tile reads (0 if it has no source).
+  int64_t rows_read(const TileRect& rect, TileMap& scratch) const;
 };
 
 Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
@@ -89,7 +102,11 @@ const Projection& Converter::target() const { return impl_->target_; }
 const Antialias& Converter::antialias() const { return impl_->antialias_; }
 Converter::Region Converter::source_footprint() const { return impl_->source_footprint(); }
 void Converter::run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress) const {
-  impl_->run(src, out, stats, progress);
+  impl_->run(src, out, stats, progress, nullptr);
+}
+void Converter::run_reading(const Image& src, Image& out, const std::function<void(const RowsArrived&)>& read,
+                            EngineStats* stats, const std::function<void(double)>& progress) const {
+  impl_->run(src, out, stats, progress, &read);
 }
 
 Converter::Impl::Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
@@ -200,7 +217,7 @@ Converter::Region Converter::Impl::source_footprint() const {
     // (kFootprintTaps / 2 from the sample) where they reach further than interp_'s.
     const double rho = std::max(1.0, *std::max_element(spread.begin(), spread.end()));
     int64_t m = static_cast<int64_t>(std::ceil(rho / 2)) + 1;
-    if (antialias_.mode == Antialias::Mode::Auto) m += std::max(0, kFootprintTaps / 2 - n / 2);
+    if (antialias_.mode == Antialias::Mode::Auto) m += footprint_reach_beyond(interp_);
     if (antialias_.mode == Antialias::Mode::Mip) m = static_cast<int64_t>(std::exp2(std::ceil(std::log2(rho)))) * (n / 2 + 2);
     r = {r.x0 - m, r.y0 - m, r.x1 + m, r.y1 + m};
   }
@@ -212,6 +229,52 @@ Converter::Region Converter::Impl::source_footprint() const {
   return r;
 }
 
+bool Converter::Impl::streams() const {
+  // Mip builds levels over the rows its tiles reach; a cube or dual fisheye's taps cross into
+  // other faces or lenses (source_footprint reads them whole).
+  return engine_ != Engine::Reference && antialias_.mode != Antialias::Mode::Mip &&
+         !std::holds_alternative<Cubemap>(source_) && !std::holds_alternative<DualFisheye>(source_);
+}
+
+std::vector<int64_t> Converter::Impl::tiles_by_source_row() const {
+  const int64_t n = tile_count();
+  std::vector<double> row(static_cast<size_t>(n), 0.0);  // no source at the centre: first
+  for (int64_t t = 0; t < n; ++t) {
+    const TileRect r = tile(t);
+    double x = 0, y = 0;
+    if (source_pixel(source_, target_, rotation_, static_cast<double>(r.x0) + 0.5 * static_cast<double>(r.w),
+                     static_cast<double>(r.y0) + 0.5 * static_cast<double>(r.h), x, y))
+      row[static_cast<size_t>(t)] = y;
+  }
+  std::vector<int64_t> order(static_cast<size_t>(n));
+  for (int64_t t = 0; t < n; ++t) order[static_cast<size_t>(t)] = t;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int64_t a, int64_t b) { return row[static_cast<size_t>(a)] < row[static_cast<size_t>(b)]; });
+  return order;
+}
+
+int64_t Converter::Impl::rows_read(const TileRect& rect, TileMap& scratch) const {
+  // The tile grown by a pixel each way: its bounds hold the sub-pixels' (within the tile's pixels)
+  // with half a pixel to spare.
+  const Size ts = size_of(target_);
+  const int64_t x0 = std::max<int64_t>(0, rect.x0 - 1), y0 = std::max<int64_t>(0, rect.y0 - 1);
+  const TileRect grown{x0, y0, std::min(ts.width, rect.x0 + rect.w + 1) - x0, std::min(ts.height, rect.y0 + rect.h + 1) - y0};
+  std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  SimdGeometry g;
+  if (fused(grown, g)) {
+    simd_tile_bounds(g, grown, b);
+  } else {
+    map_tile(source_, target_, rotation_, grown, scratch);
+    widen_to(scratch, b);
+  }
+  if (b[1] > b[3]) return 0;
+  // The taps below the lowest position (one row for the 1/256 px map tolerance), the footprint
+  // kernel's reach beyond them, and two rows for a position inside a pixel lower than its corners'.
+  int64_t k = first_tap(interp_, b[3]) + support(interp_) + 1;
+  if (antialias_.mode != Antialias::Mode::Off) k += footprint_reach_beyond(interp_) + 2;
+  return std::min(k, size_of(source_).height);
+}
+
 Image Converter::run(const Image& src, EngineStats* stats,
                      const std::function<void(double)>& progress) const {
   Image out;
@@ -220,12 +283,13 @@ Image Converter::run(const Image& src, EngineStats* stats,
 }
 
 void Converter::Impl::run(const Image& src, Image& out, EngineStats* stats,
-                          const std::function<void(double)>& progress) const {
+                          const std::function<void(double)>& progress, const Reader* read) const {
   const Size expected = size_of(source_);
   if (src.frame_size() != expected)
     throw Error("image size " + std::to_string(src.frame_size().width) + "x" + std::to_string(src.frame_size().height) +
                 " does not match the source projection's " + std::to_string(expected.width) + "x" +
                 std::to_string(expected.height));
+  if (read && engine_ == Engine::Reference) (*read)({}), read = nullptr;
   if (engine_ == Engine::Reference) {
     out = remap(src, source_, target_, rotation_, {interp_, threads_});
     finish_edges(src, source_, target_, rotation_, interp_, edges_, threads_, out);
@@ -242,11 +306,32 @@ void Converter::Impl::run(const Image& src, Image& out, EngineStats* stats,
   // Where x wraps, footprints measure steps across the seam the short way.
   const double wrap = sampling.taps().wraps_x() ? static_cast<double>(size_of(source_).width) : 0.0;
   const auto strategy = tile_strategy(antialias_, {sampling, source_, target_, sub_targets_, rotation_, wrap});
-  std::vector<TileScratch> workers(static_cast<size_t>(workers_for(n_tiles, threads_)));
+  // While src is read (task 0), tiles go in the order their rows come in, each once they are.
+  const int64_t first = read ? 1 : 0;
+  const bool stream = read && streams();
+  const std::vector<int64_t> order = stream ? tiles_by_source_row() : std::vector<int64_t>{};
+  RowFeed feed;
+  const int64_t all_rows = src.origin_y() + src.height();
+  std::vector<TileScratch> workers(static_cast<size_t>(workers_for(n_tiles + first, threads_)));
   std::atomic<int64_t> done{0};
   int64_t last_percent = -1;
-  parallel_tasks(n_tiles, threads_, [&](int64_t t, int w) {
+  parallel_tasks(n_tiles + first, threads_, [&](int64_t task, int w) {
+    if (task < first) {
+      try {
+        (*read)(stream ? RowsArrived([&](int64_t k) { feed.arrived(src.origin_y() + k); }) : RowsArrived{});
+      } catch (...) {
+        feed.close();  // the tiles waiting stop; the error ends the run
+        throw;
+      }
+      feed.arrived(all_rows);
+      return;
+    }
+    const int64_t t = stream ? order[static_cast<size_t>(task - first)] : task - first;
     const TileRect rect = tile(t);
+    // (A tile waits for the rows its positions reach; they come in the order taken.)
+    if (read && !feed.has(all_rows) &&
+        !feed.wait(stream ? std::min(all_rows, rows_read(rect, workers[static_cast<size_t>(w)].map)) : all_rows))
+      return;  // the read failed: its error ends the run
     strategy->tile(rect, cached(t), out.pixel(rect.x0, rect.y0), static_cast<int64_t>(out.row_bytes()),
                    workers[static_cast<size_t>(w)]);
     const int64_t d = ++done;

@@ -9,14 +9,24 @@
 
 namespace panoproj {
 
-Image allocate_window(const std::string& path, Size size, const ImageHeader& h) {
+Image window_buffer(const std::string& path, const Decoder& d, PixelRect window, int scale) {
+  const ImageHeader& h = d.header();
+  const Size size = window.size();
   try {
-    return Image(size, h.channels, h.type, h.alpha_channel);
+    Image img(size, h.channels, h.type, h.alpha_channel, Image::Unfilled{});
+    img.set_window(window.x0, window.y0, d.scaled_size(scale));
+    return img;
   } catch (const std::bad_alloc&) {
     throw Error("cannot read " + path + ": " + size_text(size) + " pixels (" +
                     bytes_text(image_bytes(size, h.channels, bytes_of(h.type))) + ") cannot be allocated",
                 ErrorKind::Memory);
   }
+}
+
+Image Decoder::read(const std::string& path, PixelRect window, int scale) {
+  Image img = window_buffer(path, *this, window, scale);
+  read_into(window, scale, img, {});
+  return img;
 }
 
 void throw_damaged(const std::string& path, const std::string& why) {

@@ -42,7 +42,12 @@ class Decoder {
   // whole tiles, whole rows, the frame.
   virtual PixelRect window(PixelRect need, int scale) const = 0;
   // Decodes window(need, scale) as a window of the scaled frame (Image::set_window).
-  virtual Image read(PixelRect window, int scale) = 0;
+  Image read(const std::string& path, PixelRect window, int scale);
+  // The same into img, the window's buffer (window_buffer). With arrived, rows are decoded from
+  // the top and arrived(k) is called as rows [0, k) of the window come in (once, at the end, where
+  // the format cannot tell sooner: interlaced PNG, OpenImageIO's); without, in any order (a large
+  // baseline JPEG: two bands at once).
+  virtual void read_into(PixelRect window, int scale, Image& img, const RowsArrived& arrived) = 0;
   // The metadata blocks as stored, where the format has them (JPEG, PNG); empty elsewhere.
   virtual EmbeddedMetadata embedded() const { return {}; }
 
@@ -61,8 +66,15 @@ std::vector<unsigned char> encode_png(const Image& image, const std::string& pat
                                       const EmbeddedMetadata& meta);
 std::vector<unsigned char> encode_pnm(const Image& image, const std::string& path);
 
-// The buffer for a decoded window (a one-line Error when it cannot be allocated).
-Image allocate_window(const std::string& path, Size size, const ImageHeader& h);
+// Tells arrived (if any) that rows [0, k) of a window of `rows` are in, every 16 rows and at the
+// last (a call takes a lock: not one per row).
+inline void rows_in(const RowsArrived& arrived, int64_t k, int64_t rows) {
+  if (arrived && (k % 16 == 0 || k == rows)) arrived(k);
+}
+
+// The buffer for window of the frame decoded at 1/scale, unfilled (read_into writes every pixel),
+// its frame set (a one-line Error when it cannot be allocated).
+Image window_buffer(const std::string& path, const Decoder& d, PixelRect window, int scale);
 // "cannot read PATH: WHY (the file is damaged or truncated)"
 [[noreturn]] void throw_damaged(const std::string& path, const std::string& why);
 

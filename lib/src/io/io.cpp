@@ -20,6 +20,7 @@
 #include "panoproj/photo_sphere.hpp"
 #include "io/atomic_output.hpp"
 #include "io/codec.hpp"
+#include "io/region_read.hpp"
 #include "io/exif.hpp"
 #include "io/oiio_plugin.hpp"
 #include "base/input_check.hpp"
@@ -170,8 +171,9 @@ Metadata read_metadata(const std::string& path) {
 
 EmbeddedMetadata read_embedded_metadata(const std::string& path) { return open_input(path).decoder->embedded(); }
 
-Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1,
-                        int64_t memory_limit, uint64_t other_bytes, int scale) {
+RegionRead::RegionRead(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1,
+                       int64_t memory_limit, uint64_t other_bytes, int scale)
+    : path_(path), scale_(scale) {
   Opened o = open_input(path);
   const ImageHeader& h = o.header();
   if (!o.decoder->scale_ok(scale))
@@ -181,13 +183,23 @@ Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t
   x0 = std::clamp<int64_t>(x0, 0, frame.width), x1 = std::clamp<int64_t>(x1, x0, frame.width);
   y0 = std::clamp<int64_t>(y0, 0, frame.height), y1 = std::clamp<int64_t>(y1, y0, frame.height);
   if (x1 == x0 || y1 == y0) x0 = 0, x1 = 1, y0 = 0, y1 = 1;  // nothing needed: one pixel
-  const PixelRect window = o.decoder->window({x0, y0, x1, y1}, scale);
+  window_ = o.decoder->window({x0, y0, x1, y1}, scale);
   // Before any pixel is decoded: the file can hold what is decoded (at full scale), and it fits.
-  const Size stored{std::min(h.size.width, window.size().width * scale),
-                    std::min(h.size.height, window.size().height * scale)};
+  const Size stored{std::min(h.size.width, window_.size().width * scale),
+                    std::min(h.size.height, window_.size().height * scale)};
   check_plausible(path, o.file, h.size, h.channels, h.sample_bits, h.compression, stored,
-                  add_bytes(image_bytes(window.size(), h.channels, bytes_of(h.type)), other_bytes), memory_limit);
-  return o.decoder->read(window, scale);
+                  add_bytes(image_bytes(window_.size(), h.channels, bytes_of(h.type)), other_bytes), memory_limit);
+  decoder_ = std::move(o.decoder);
+  image_ = window_buffer(path, *decoder_, window_, scale);
+}
+
+void RegionRead::read(const RowsArrived& arrived) { decoder_->read_into(window_, scale_, image_, arrived); }
+
+Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1,
+                        int64_t memory_limit, uint64_t other_bytes, int scale) {
+  RegionRead r(path, x0, y0, x1, y1, memory_limit, other_bytes, scale);
+  r.read();
+  return std::move(r.image());
 }
 
 void write_image(const Image& image, const std::string& path, const WriteOptions& options) {

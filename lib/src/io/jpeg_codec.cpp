@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <memory>
 #include <thread>
 
 #include "panoproj/error.hpp"
@@ -83,7 +84,10 @@ class JpegDecoder final : public Decoder {
   void open(const std::string& path) {
     file_ = std::fopen(path.c_str(), "rbe");
     if (!file_) throw Error("cannot read " + path + ": " + std::strerror(errno), ErrorKind::File);
-    std::setvbuf(file_, nullptr, _IOFBF, 1 << 18);  // libjpeg reads 4 kB at a time: one system call per 256 kB
+    // libjpeg reads 4 kB at a time: one system call per 256 kB (glibc ignores the size given
+    // without a buffer).
+    buffer_ = std::make_unique<char[]>(kReadBuffer);
+    std::setvbuf(file_, buffer_.get(), _IOFBF, kReadBuffer);
     c_.err = jpeg_std_error(&fail_.mgr);
     fail_.mgr.error_exit = on_error;
     fail_.mgr.emit_message = on_decode_message;
@@ -126,13 +130,13 @@ class JpegDecoder final : public Decoder {
 
   PixelRect window(PixelRect need, int) const override { return need; }
 
-  // A baseline JPEG's large region decodes in two bands at once: a second decoder skips to the
-  // lower band (entropy decoding only: kSkipCost of a decoded row) while this one decodes
-  // the upper; the split balances the two. (A progressive JPEG would read every scan twice.)
-  Image read(PixelRect r, int scale) override {
-    Image img = allocate_window(path_, r.size(), header_);
+  // Without arrived, a baseline JPEG's large region decodes in two bands at once: a second
+  // decoder skips to the lower band (entropy decoding only: kSkipCost of a decoded row) while
+  // this one decodes the upper; the split balances the two. (A progressive JPEG would read every
+  // scan twice.)
+  void read_into(PixelRect r, int scale, Image& img, const RowsArrived& arrived) override {
     const int64_t rows = r.y1 - r.y0;
-    const bool split = !c_.progressive_mode && rows >= 64 && r.size().width * rows >= (int64_t{1} << 20) &&
+    const bool split = !arrived && !c_.progressive_mode && rows >= 64 && r.size().width * rows >= (int64_t{1} << 20) &&
                        std::thread::hardware_concurrency() > 1;
     constexpr double kSkipCost = 0.55;  // measured: skipping a row costs about half of decoding it
     const int64_t mid = split ? std::clamp<int64_t>(static_cast<int64_t>((static_cast<double>(r.y1) + (1 - kSkipCost) * static_cast<double>(r.y0)) / (2 - kSkipCost)), r.y0 + 16, r.y1 - 16)
@@ -145,20 +149,18 @@ class JpegDecoder final : public Decoder {
         try {
           JpegDecoder other(path_);
           std::vector<unsigned char> buffer;
-          if (!guarded(other.fail_, [&] { other.decode({r.x0, mid, r.x1, r.y1}, scale, img, r.y0, buffer); }))
+          if (!guarded(other.fail_, [&] { other.decode({r.x0, mid, r.x1, r.y1}, scale, img, r.y0, buffer, {}); }))
             lower_error = other.fail_.message;
         } catch (...) {
           lower_failed = std::current_exception();
         }
       });
     std::vector<unsigned char> buffer;
-    const bool ok = guarded(fail_, [&] { decode({r.x0, r.y0, r.x1, mid}, scale, img, r.y0, buffer); });
+    const bool ok = guarded(fail_, [&] { decode({r.x0, r.y0, r.x1, mid}, scale, img, r.y0, buffer, arrived); });
     if (lower.joinable()) lower.join();
     if (!ok) throw_damaged(path_, fail_.message);
     if (lower_failed) std::rethrow_exception(lower_failed);
     if (!lower_error.empty()) throw_damaged(path_, lower_error);
-    img.set_window(r.x0, r.y0, scaled_size(scale));
-    return img;
   }
 
   EmbeddedMetadata embedded() const override { return embedded_; }
@@ -168,7 +170,8 @@ class JpegDecoder final : public Decoder {
   // starting one iMCU above and to the left and ending one to the right, so that the chroma
   // upsampling at the region's edges sees the neighbours it sees in a whole decode; what lies
   // outside r is decoded and dropped.
-  void decode(PixelRect r, int scale, Image& img, int64_t y_base, std::vector<unsigned char>& row) {
+  void decode(PixelRect r, int scale, Image& img, int64_t y_base, std::vector<unsigned char>& row,
+              const RowsArrived& arrived) {
     c_.scale_num = 1;
     c_.scale_denom = static_cast<unsigned int>(scale);
     c_.out_color_space = c_.num_components == 1 ? JCS_GRAYSCALE : JCS_RGB;
@@ -189,11 +192,14 @@ class JpegDecoder final : public Decoder {
       JSAMPROW dst = direct && y >= r.y0 ? img.row(y - y_base) : row.data();
       jpeg_read_scanlines(&c_, &dst, 1);
       if (!direct && y >= r.y0) std::memcpy(img.row(y - y_base), row.data() + (r.x0 - x0) * px, img.row_bytes());
+      if (y >= r.y0) rows_in(arrived, y + 1 - y_base, r.y1 - y_base);
     }
     jpeg_abort_decompress(&c_);  // the rows below are never decoded
   }
 
   std::string path_;
+  static constexpr size_t kReadBuffer = size_t{1} << 18;
+  std::unique_ptr<char[]> buffer_;  // file_'s (declared first: outlives the FILE)
   FILE* file_ = nullptr;
   jpeg_decompress_struct c_{};
   JpegFailure fail_;

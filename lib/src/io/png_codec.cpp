@@ -90,8 +90,7 @@ class PngDecoder final : public Decoder {
     return passes_ > 1 ? PixelRect{0, 0, header_.size.width, header_.size.height} : need;
   }
 
-  Image read(PixelRect r, int) override {
-    Image img = allocate_window(path_, r.size(), header_);
+  void read_into(PixelRect r, int, Image& img, const RowsArrived& arrived) override {
     // Buffers made here: nothing is allocated under the longjmp.
     const bool direct = r.x0 == 0 && r.x1 == header_.size.width;
     std::vector<unsigned char> row(png_get_rowbytes(png_, info_));
@@ -103,11 +102,11 @@ class PngDecoder final : public Decoder {
         const bool keep = y >= r.y0;
         png_read_row(png_, direct && keep ? img.row(y - r.y0) : row.data(), nullptr);
         if (!direct && keep) std::memcpy(img.row(y - r.y0), row.data() + r.x0 * img.pixel_bytes(), img.row_bytes());
+        if (keep) rows_in(arrived, y + 1 - r.y0, r.y1 - r.y0);
       }
     });
     if (!ok) throw_damaged(path_, fail_.message);
-    img.set_window(r.x0, r.y0, header_.size);
-    return img;
+    if (arrived && passes_ > 1) arrived(r.y1 - r.y0);
   }
 
   EmbeddedMetadata embedded() const override { return embedded_; }

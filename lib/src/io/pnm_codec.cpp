@@ -70,8 +70,7 @@ class PnmDecoder final : public Decoder {
 
   PixelRect window(PixelRect need, int) const override { return need; }
 
-  Image read(PixelRect r, int) override {
-    Image img = allocate_window(path_, r.size(), header_);
+  void read_into(PixelRect r, int, Image& img, const RowsArrived& arrived) override {
     const size_t sample = bytes_of(header_.type), px = sample * static_cast<size_t>(h_.channels);
     const uint64_t row_bytes = static_cast<uint64_t>(h_.width) * px;
     const uint64_t end = h_.data_offset + row_bytes * static_cast<uint64_t>(r.y1);
@@ -95,10 +94,9 @@ class PnmDecoder final : public Decoder {
         got += static_cast<size_t>(n);
       }
       to_native(dst, static_cast<size_t>(r.x1 - r.x0) * static_cast<size_t>(h_.channels));
+      rows_in(arrived, y + 1 - r.y0, r.y1 - r.y0);
     }
     ::close(fd);
-    img.set_window(r.x0, r.y0, header_.size);
-    return img;
   }
 
  private:

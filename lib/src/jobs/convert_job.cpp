@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/photo_sphere.hpp"
+#include "io/region_read.hpp"
 
 namespace panoproj {
 namespace fs = std::filesystem;
@@ -212,16 +214,23 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const double map_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count();
   Image out;  // one buffer for every frame of a batch
   for (size_t n = 0; n < job.inputs.size(); ++n) {
-    const Image input = in_faces ? std::move(*faces)
-                                 : read_image_region(job.inputs[n], need.x0, need.y0, need.x1, need.y1,
-                                                     options.memory_limit, job_bytes, scale);
+    Image face_set;
+    std::optional<RegionRead> file;
+    if (in_faces) face_set = std::move(*faces);
+    else file.emplace(job.inputs[n], need.x0, need.y0, need.x1, need.y1, options.memory_limit, job_bytes, scale);
+    // The conversion starts on the source's rows as they are decoded, unless an alpha channel is
+    // first added to a copy of it.
+    const bool reading = file && !(options.add_alpha && file->image().alpha_channel() < 0);
+    if (file && !reading) file->read();
     Image with_alpha;
-    const Image& source = source_for(input, options, with_alpha);
+    const Image& source = source_for(file ? file->image() : face_set, options, with_alpha);
     const auto t0 = std::chrono::steady_clock::now();
     const double frames = static_cast<double>(job.inputs.size());
-    converter.run(source, out, nullptr, [&](double f) {
+    const auto report = [&](double f) {
       if (progress) progress((static_cast<double>(n) + f) / frames);
-    });
+    };
+    if (reading) converter.run_reading(source, out, [&](const RowsArrived& arrived) { file->read(arrived); }, nullptr, report);
+    else converter.run(source, out, nullptr, report);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +
                            (n == 0 ? map_seconds : 0.0);  // the map is built once, for the first
     WriteOptions write = job.write;

@@ -85,9 +85,8 @@ class OiioDecoder final : public Decoder {
     return {0, need.y0, w, need.y1};
   }
 
-  Image read(PixelRect r, int) override {
+  void read_into(PixelRect r, int, Image& win, const RowsArrived& arrived) override {
     const OIIO::ImageSpec& s = in_->spec();
-    Image win = allocate_window(path_, r.size(), header_);
     const auto px = static_cast<OIIO::stride_t>(win.pixel_bytes()), row = static_cast<OIIO::stride_t>(win.row_bytes());
     bool ok;
     if (r == PixelRect{0, 0, s.width, s.height}) {
@@ -101,8 +100,7 @@ class OiioDecoder final : public Decoder {
                                oiio_type(header_.type), win.data(), px, row);
     }
     if (!ok || in_->has_error()) throw_damaged(path_, in_->geterror());
-    win.set_window(r.x0, r.y0, header_.size);
-    return win;
+    if (arrived) arrived(r.y1 - r.y0);
   }
 
   const OIIO::ImageSpec& spec() const { return in_->spec(); }
