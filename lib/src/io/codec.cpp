@@ -23,11 +23,6 @@ Image window_buffer(const std::string& path, const Decoder& d, PixelRect window,
   }
 }
 
-Image Decoder::read(const std::string& path, PixelRect window, int scale) {
-  Image img = window_buffer(path, *this, window, scale);
-  read_into(window, scale, img, {});
-  return img;
-}
 
 void throw_damaged(const std::string& path, const std::string& why) {
   throw Error("cannot read " + path + ": " + one_line(why) + " (the file is damaged or truncated)", ErrorKind::File);

@@ -41,9 +41,7 @@ class Decoder {
   // The part of the (scaled) frame that read() decodes and keeps for `need`, which it covers:
   // whole tiles, whole rows, the frame.
   virtual PixelRect window(PixelRect need, int scale) const = 0;
-  // Decodes window(need, scale) as a window of the scaled frame (Image::set_window).
-  Image read(const std::string& path, PixelRect window, int scale);
-  // The same into img, the window's buffer (window_buffer). With arrived, rows are decoded from
+  // Decodes window(need, scale) into img, the window's buffer (window_buffer). With arrived, rows are decoded from
   // the top and arrived(k) is called as rows [0, k) of the window come in (once, at the end, where
   // the format cannot tell sooner: interlaced PNG, OpenImageIO's); without, in any order (a large
   // baseline JPEG: two bands at once).
