@@ -46,9 +46,10 @@ TEST(RowFeed, WaitsForRowsAndStopsWhenClosed) {
   closer.join();
 }
 
-// Fills window `into` (poisoned) from `from`, a few rows at a time with pauses, telling arrived.
+// Fills window `into` (poisoned) from `from`, a row at a time with pauses (so that the tiles
+// start as soon as their rows are told), telling arrived.
 void trickle(const Image& from, Image& into, const RowsArrived& arrived, int64_t fail_at = -1) {
-  const int64_t rows = into.height(), step = 5;
+  const int64_t rows = into.height(), step = 1;
   for (int64_t y = 0; y < rows; y += step) {
     const int64_t end = std::min(rows, y + step);
     if (fail_at >= 0 && end > fail_at) throw Error("cannot read source.jpg: cut (the file is damaged or truncated)");
@@ -92,10 +93,16 @@ TEST(ReadWhileConverting, EqualsTheConversionOfTheWholeSource) {
       {"fisheye:fov=180", {600, 600}, "equirect", {512, 256}, 0, 0, 0, Interp::Bicubic, {M::Auto, 1}},
       {"equirect", {1024, 512}, "equirect", {256, 128}, 0, 0, 0, Interp::Bilinear, {M::Mip, 1}},  // waits for all
       {"cubemap", {6 * 128, 128}, "equirect", {512, 256}, 10, 0, 0, Interp::Bilinear, {M::Auto, 1}},  // waits for all
+      // Shrinks by 16-32: sub-pixels reach half a pixel beyond the centres at the image's and
+      // the faces' edges.
+      {"equirect", {1024, 512}, "equirect", {32, 16}, 0, 0, 90, Interp::Bilinear, {M::Auto, 1}},
+      {"equirect", {1024, 512}, "equirect", {64, 32}, 20, 30, 60, Interp::Bicubic, {M::Supersample, 8}},
+      {"equirect", {1024, 512}, "cubemap", {6 * 16, 16}, 20, 30, 10, Interp::Bilinear, {M::Auto, 1}},
+      {"equirect", {1024, 512}, "cubemap:layout=cross", {4 * 16, 3 * 16}, -30, 50, 20, Interp::Bilinear, {M::Supersample, 6}},
   };
   std::map<std::string, Image> rendered;  // by source
   for (const Case& c : cases) {
-    const std::string what = std::string(c.from) + " -> " + c.to;
+    const std::string what = std::string(c.from) + " -> " + c.to + " " + std::to_string(c.to_size.width);
     const Projection src = make(c.from, c.from_size), dst = make(c.to, c.to_size);
     const Eigen::Matrix3d r = rotation_from_ypr(c.yaw, c.pitch, c.roll);
     if (!rendered.count(c.from))

@@ -45,12 +45,6 @@ namespace {
 // the sample).
 int footprint_reach_beyond(Interp interp) { return std::max(0, kFootprintTaps / 2 - support(interp) / 2); }
 
-// Widens box {x0, y0, x1, y1} to the valid positions of a tile map.
-void widen_to(const TileMap& tm, std::array<double, 4>& b) {
-  for (size_t i = 0; i < tm.ok.size(); ++i)
-    if (tm.ok[i]) b = {std::min(b[0], tm.xs[i]), std::min(b[1], tm.ys[i]), std::max(b[2], tm.xs[i]), std::max(b[3], tm.ys[i])};
-}
-
 }  // namespace
 
 // The Converter's state: the projections, options and kept maps (convert.hpp's promises are kept
@@ -86,8 +80,8 @@ struct Converter::Impl {
   bool streams() const;
   // Tiles in the order their source rows come in: by the source row of their centre.
   std::vector<int64_t> tiles_by_source_row() const;
-  // The frame rows [0, k) a tile reads (0 if it has no source).
-  int64_t rows_read(const TileRect& rect, TileMap& scratch) const;
+  // The frame rows [0, k) a tile reads through strategy s (0 if it has no source).
+  int64_t rows_read(const TileStrategy& s, const TileRect& rect, TileScratch& wk) const;
 };
 
 Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
@@ -186,14 +180,7 @@ Converter::Region Converter::Impl::source_footprint() const {
   parallel_tasks(n_tiles, threads_, [&](int64_t t, int w) {
     std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};  // this tile's
     const TileRect rect = tile(t);
-    const TileMap* tm = cached(t);
-    SimdGeometry g;
-    if (!tm && fused(rect, g)) {
-      simd_tile_bounds(g, rect, b);
-    } else {
-      if (!tm) map_tile(source_, target_, rotation_, rect, local[static_cast<size_t>(w)]), tm = &local[static_cast<size_t>(w)];
-      widen_to(*tm, b);
-    }
+    widen_to_positions(source_, rotation_, target_, rect, cached(t), engine_ == Engine::Simd, local[static_cast<size_t>(w)], b);
     if (b[0] > b[2]) return;
     auto& all = box[static_cast<size_t>(w)];
     all = {std::min(all[0], b[0]), std::min(all[1], b[1]), std::max(all[2], b[2]), std::max(all[3], b[3])};
@@ -253,26 +240,16 @@ std::vector<int64_t> Converter::Impl::tiles_by_source_row() const {
   return order;
 }
 
-int64_t Converter::Impl::rows_read(const TileRect& rect, TileMap& scratch) const {
-  // The tile grown by a pixel each way: its bounds hold the sub-pixels' (within the tile's pixels)
-  // with half a pixel to spare.
-  const Size ts = size_of(target_);
-  const int64_t x0 = std::max<int64_t>(0, rect.x0 - 1), y0 = std::max<int64_t>(0, rect.y0 - 1);
-  const TileRect grown{x0, y0, std::min(ts.width, rect.x0 + rect.w + 1) - x0, std::min(ts.height, rect.y0 + rect.h + 1) - y0};
+int64_t Converter::Impl::rows_read(const TileStrategy& s, const TileRect& rect, TileScratch& wk) const {
+  const int64_t all = size_of(source_).height;
   std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  SimdGeometry g;
-  if (fused(grown, g)) {
-    simd_tile_bounds(g, grown, b);
-  } else {
-    map_tile(source_, target_, rotation_, grown, scratch);
-    widen_to(scratch, b);
-  }
+  if (!s.widen_to_samples(rect, wk, b)) return all;
   if (b[1] > b[3]) return 0;
-  // The taps below the lowest position (one row for the 1/256 px map tolerance), the footprint
-  // kernel's reach beyond them, and two rows for a position inside a pixel lower than its corners'.
+  // The taps below the lowest sample (one row more for the 1/256 px map tolerance), and the
+  // footprint kernel's reach beyond them.
   int64_t k = first_tap(interp_, b[3]) + support(interp_) + 1;
-  if (antialias_.mode != Antialias::Mode::Off) k += footprint_reach_beyond(interp_) + 2;
-  return std::min(k, size_of(source_).height);
+  if (antialias_.mode == Antialias::Mode::Auto) k += footprint_reach_beyond(interp_);
+  return std::min(k, all);
 }
 
 Image Converter::run(const Image& src, EngineStats* stats,
@@ -330,7 +307,7 @@ void Converter::Impl::run(const Image& src, Image& out, EngineStats* stats,
     const TileRect rect = tile(t);
     // (A tile waits for the rows its positions reach; they come in the order taken.)
     if (read && !feed.has(all_rows) &&
-        !feed.wait(stream ? std::min(all_rows, rows_read(rect, workers[static_cast<size_t>(w)].map)) : all_rows))
+        !feed.wait(stream ? std::min(all_rows, rows_read(*strategy, rect, workers[static_cast<size_t>(w)])) : all_rows))
       return;  // the read failed: its error ends the run
     strategy->tile(rect, cached(t), out.pixel(rect.x0, rect.y0), static_cast<int64_t>(out.row_bytes()),
                    workers[static_cast<size_t>(w)]);

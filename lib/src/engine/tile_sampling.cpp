@@ -1,5 +1,7 @@
 #include "engine/tile_sampling.hpp"
 
+#include <algorithm>
+
 #include "sampling/dual_blend.hpp"
 #include "sampling/reference_sampler.hpp"
 #include "simd/geometry.hpp"
@@ -22,6 +24,16 @@ TileSampling::TileSampling(const Image& src, const Projection& source, const std
                            const Eigen::Matrix3d& rotation, Interp interp, bool simd)
     : src_(src), source_(source), lenses_(lenses), rotation_(rotation), interp_(interp), simd_(simd), taps_(source),
       simd_src_(simd_source(src, source)) {}
+
+void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
+                        const TileMap* tm, bool simd, TileMap& scratch, std::array<double, 4>& b) {
+  SimdGeometry g;
+  if (!tm && simd && simd_geometry_for(sp, t, r, rect, g)) return simd_tile_bounds(g, rect, b);
+  if (!tm) map_tile(sp, t, r, rect, scratch), tm = &scratch;
+  for (size_t i = 0; i < tm->ok.size(); ++i)
+    if (tm->ok[i])
+      b = {std::min(b[0], tm->xs[i]), std::min(b[1], tm->ys[i]), std::max(b[2], tm->xs[i]), std::max(b[3], tm->ys[i])};
+}
 
 bool TileSampling::fused(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
                          SimdGeometry& g) const {

@@ -6,6 +6,7 @@
 // the reference for all (the scalar engine); a dual fisheye's rects from the lens that sees
 // them all, or from both, blended (dual_blend.hpp). Internal.
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -45,6 +46,12 @@ struct LensSource {
 };
 std::vector<LensSource> lens_sources(const DualFisheye& d, const Eigen::Matrix3d& rotation);
 
+// Widens box {x0, y0, x1, y1} to the valid source positions of rect of target t, from source sp
+// through rotation r: those of its kept map tm if given, else the fused geometry's (simd, nothing
+// stored), else those of a map made in scratch.
+void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
+                        const TileMap* tm, bool simd, TileMap& scratch, std::array<double, 4>& b);
+
 class TileSampling {
  public:
   // lenses: a dual-fisheye source's lenses alone (blended per rect), else empty. simd: the simd
@@ -59,6 +66,11 @@ class TileSampling {
   // Positions m of image im (its taps, SIMD view ss: the source or one of its mip levels).
   void map(const Image& im, const SourceTaps& taps, const SimdSource& ss, const TileMap& m, unsigned char* out,
            int64_t stride, TileScratch& wk, const FootprintField* fp) const;
+  // Widens b to the source positions rect of target t samples (a dual-fisheye source's: those of
+  // its whole-frame map).
+  void widen_to_positions(const Projection& t, const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const {
+    panoproj::widen_to_positions(source_, rotation_, t, rect, nullptr, simd_, wk.map, b);
+  }
   // Whether rect of target t from the source runs fused (g filled).
   bool fused(const Projection& t, const TileRect& rect, SimdGeometry& g) const {
     return fused(source_, rotation_, t, rect, g);

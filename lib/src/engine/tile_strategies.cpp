@@ -30,12 +30,22 @@ void subpixels(const TileJob& job, int n, const TileRect& rect, unsigned char* c
   average_subpixels(src, wk.sub.data(), sub_stride, rect, n, corner, stride);
 }
 
+// Widens b to the positions of the tile's n x n sub-pixels (its centres for n = 1).
+void widen_to_subpixels(const TileJob& job, int n, const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) {
+  job.sampling.widen_to_positions(job.sub_targets[static_cast<size_t>(n)], {rect.x0 * n, rect.y0 * n, rect.w * n, rect.h * n},
+                                  wk, b);
+}
+
 class Plain final : public TileStrategy {
  public:
   explicit Plain(const TileJob& job) : job_(job) {}
   void tile(const TileRect& rect, const TileMap* kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
     job_.sampling.rect(job_.target, rect, kept, corner, stride, wk);
+  }
+  bool widen_to_samples(const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const override {
+    widen_to_subpixels(job_, 1, rect, wk, b);
+    return true;
   }
 
  private:
@@ -47,6 +57,10 @@ class Supersample final : public TileStrategy {
   Supersample(const TileJob& job, int n) : job_(job), n_(n) {}
   void tile(const TileRect& rect, const TileMap*, unsigned char* corner, int64_t stride, TileScratch& wk) const override {
     subpixels(job_, n_, rect, corner, stride, wk, nullptr);
+  }
+  bool widen_to_samples(const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const override {
+    widen_to_subpixels(job_, n_, rect, wk, b);
+    return true;
   }
 
  private:
@@ -63,14 +77,24 @@ class Footprint final : public TileStrategy {
   void tile(const TileRect& rect, const TileMap* kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
     FootprintField& fp = wk.field;
-    const FootprintSides s = footprint_field(job_.source, job_.target, job_.rotation, rect, job_.wrap, fp);
-    const int n = std::clamp(static_cast<int>(std::ceil(s.split / kFootprintReach - 1e-9)), 1, Antialias::kMaxAuto);
-    if (s.side <= 2.0) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk);
+    const int n = sub_pixels(rect, fp);
+    if (n == 0) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk);
     else if (n == 1) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk, &fp);
     else subpixels(job_, n, rect, corner, stride, wk, &fp);
   }
+  bool widen_to_samples(const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const override {
+    widen_to_subpixels(job_, std::max(1, sub_pixels(rect, wk.field)), rect, wk, b);
+    return true;
+  }
 
  private:
+  // 0: plain samples; else the footprint kernel (fp filled) on n x n sub-pixels (1: the centres).
+  int sub_pixels(const TileRect& rect, FootprintField& fp) const {
+    const FootprintSides s = footprint_field(job_.source, job_.target, job_.rotation, rect, job_.wrap, fp);
+    if (s.side <= 2.0) return 0;
+    return std::clamp(static_cast<int>(std::ceil(s.split / kFootprintReach - 1e-9)), 1, Antialias::kMaxAuto);
+  }
+
   TileJob job_;
 };
 
@@ -109,6 +133,8 @@ class Mip final : public TileStrategy {
         },
         corner, stride, wk.mip);
   }
+  // (Its levels' rows reach beyond the taps' positions by the level's pixel size.)
+  bool widen_to_samples(const TileRect&, TileScratch&, std::array<double, 4>&) const override { return false; }
 
  private:
   TileJob job_;

@@ -4,6 +4,7 @@
 // kernel on n x n sub-pixels); n x n sub-pixels (supersample); mip levels. Each samples through
 // TileSampling. Internal.
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -29,6 +30,9 @@ class TileStrategy {
   // Writes tile rect of the target at corner (rows of stride bytes); kept: its kept map, or null.
   virtual void tile(const TileRect& rect, const TileMap* kept, unsigned char* corner, int64_t stride,
                     TileScratch& wk) const = 0;
+  // Widens box {x0, y0, x1, y1} to the source positions tile() samples there (pixel centres or
+  // sub-pixels; the kernels' taps reach around them); false where it cannot tell (mip).
+  virtual bool widen_to_samples(const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const = 0;
 };
 
 // The strategy for antialias (mip builds the source's levels as its tiles read them).
