@@ -54,6 +54,33 @@ TEST_F(PhotoSphereTest, WrittenFieldsReadBack) {
   EXPECT_FALSE(read_photo_sphere(path("c.png")).has_value());
 }
 
+TEST_F(PhotoSphereTest, PacketsAfterLargeSegmentsAndCutFiles) {
+  // The reader takes 64 kB first, and up to 4 MB where the segments or chunks before the packet
+  // run past them: 150 kB of APP2 segments (JPEG) or a private chunk (PNG) before it.
+  const PhotoSphere ps{"equirectangular", 8000, 4000, 3000, 1500, 7000, 1200, 5, 0};
+  auto bytes = [](const std::string& f) {
+    std::ifstream in(f, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  auto put = [&](const std::string& name, const std::string& b) {
+    std::ofstream(path(name), std::ios::binary) << b;
+    return path(name);
+  };
+  std::string jpeg = bytes(file("big.jpg", photo_sphere_xmp(ps))), app2;
+  for (int k = 0; k < 3; ++k) app2 += std::string("\xFF\xE2\xC3\x52", 4) + std::string(50000, 'i');  // 0xC352 = 50002
+  const auto from_jpeg = read_photo_sphere(put("big.jpg", jpeg.substr(0, 2) + app2 + jpeg.substr(2)));
+  ASSERT_TRUE(from_jpeg.has_value());
+  EXPECT_TRUE(same(*from_jpeg, ps));
+  const std::string png = bytes(file("big.png", photo_sphere_xmp(ps)));
+  const std::string chunk = std::string("\x00\x02\x49\xF0prIv", 8) + std::string(150000, 'p') + "crc!";  // 0x249F0
+  const auto from_png = read_photo_sphere(put("big.png", png.substr(0, 33) + chunk + png.substr(33)));  // after IHDR
+  ASSERT_TRUE(from_png.has_value());
+  EXPECT_TRUE(same(*from_png, ps));
+  // Cut inside the segments before the packet: none, no error (the decoder names the damage).
+  EXPECT_FALSE(read_photo_sphere(put("cut.jpg", (jpeg.substr(0, 2) + app2).substr(0, 120000))).has_value());
+  EXPECT_FALSE(read_photo_sphere(put("cut.png", (png.substr(0, 33) + chunk).substr(0, 90000))).has_value());
+}
+
 TEST_F(PhotoSphereTest, ElementFormAndDefaults) {
   // Fields as elements, no crop fields: the crop is the whole panorama.
   const std::string xmp =

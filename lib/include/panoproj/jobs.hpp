@@ -16,6 +16,7 @@
 #include "panoproj/convert.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/maps.hpp"
+#include "panoproj/photo_sphere.hpp"
 
 namespace panoproj {
 
@@ -64,8 +65,9 @@ struct MapsJob {
 // Writes the 2-channel float map (channels x, y; see maps.hpp); returns the output size.
 Size run_maps(const MapsJob& job);
 
-// The source spec to use for an image of this size (rules above).
-ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const std::string& input,
-                                 Size size);
+// The source spec to use for an image of this size (rules above); photo_sphere: the input's
+// packet (read_photo_sphere), if any.
+ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const std::string& input, Size size,
+                                 const std::optional<PhotoSphere>& photo_sphere);
 
 }  // namespace panoproj

@@ -16,21 +16,25 @@ namespace {
 
 constexpr char kXmpHeader[] = "http://ns.adobe.com/xap/1.0/";  // then a NUL, then the packet
 
-// The XMP packet of JPEG bytes, or "" (segments walked from the start marker to the scan).
-std::string jpeg_xmp(const std::string& b) {
-  if (b.size() < 4 || static_cast<unsigned char>(b[0]) != 0xFF || static_cast<unsigned char>(b[1]) != 0xD8) return {};
+// The XMP packet of JPEG bytes, "" for none, or nullopt where the segments (walked from the
+// start marker to the scan) run past the bytes.
+std::optional<std::string> jpeg_xmp(const std::string& b) {
+  if (b.size() < 4 || static_cast<unsigned char>(b[0]) != 0xFF || static_cast<unsigned char>(b[1]) != 0xD8) return "";
   size_t i = 2;
   const size_t header = sizeof kXmpHeader;  // with its NUL
-  while (i + 4 <= b.size() && static_cast<unsigned char>(b[i]) == 0xFF) {
+  while (static_cast<unsigned char>(b[i]) == 0xFF) {
+    if (i + 4 > b.size()) return std::nullopt;
     const auto marker = static_cast<unsigned char>(b[i + 1]);
     if (marker == 0xDA || marker == 0xD9) break;  // start of scan, end of image
     const size_t len = (static_cast<unsigned char>(b[i + 2]) << 8) | static_cast<unsigned char>(b[i + 3]);
-    if (len < 2 || i + 2 + len > b.size()) break;
+    if (len < 2) break;
+    if (i + 2 + len > b.size()) return std::nullopt;
     if (marker == 0xE1 && len - 2 > header && b.compare(i + 4, header, std::string(kXmpHeader, header)) == 0)
       return b.substr(i + 4 + header, len - 2 - header);
     i += 2 + len;
+    if (i >= b.size()) return std::nullopt;
   }
-  return {};
+  return "";
 }
 
 constexpr char kPngSignature[] = "\x89PNG\r\n\x1a\n";       // 8 bytes
@@ -42,15 +46,17 @@ uint32_t be32(const std::string& b, size_t at) {
          (static_cast<uint32_t>(static_cast<unsigned char>(b[at + 2])) << 8) | static_cast<unsigned char>(b[at + 3]);
 }
 
-// The XMP packet of PNG bytes, or "": an uncompressed iTXt chunk "XML:com.adobe.xmp" before the
-// image data (keyword NUL, compression flag and method, language NUL, translated keyword NUL, text;
-// PNG specification 11.3.4.5).
-std::string png_xmp(const std::string& b) {
-  if (b.compare(0, 8, std::string(kPngSignature, 8)) != 0) return {};
-  for (size_t i = 8; i + 12 <= b.size();) {
+// The XMP packet of PNG bytes, "" for none, or nullopt where the chunks before the image data
+// run past the bytes: an uncompressed iTXt chunk "XML:com.adobe.xmp" (keyword NUL, compression
+// flag and method, language NUL, translated keyword NUL, text; PNG specification 11.3.4.5).
+std::optional<std::string> png_xmp(const std::string& b) {
+  if (b.compare(0, 8, std::string(kPngSignature, 8)) != 0) return "";
+  for (size_t i = 8;;) {
+    if (i + 12 > b.size()) return std::nullopt;
     const size_t len = be32(b, i);
     const std::string type = b.substr(i + 4, 4);
-    if (type == "IDAT" || type == "IEND" || len > b.size() - i - 12) break;
+    if (type == "IDAT" || type == "IEND") break;
+    if (len > b.size() - i - 12) return std::nullopt;
     const size_t key = sizeof kPngXmpKeyword;  // with its NUL
     if (type == "iTXt" && len > key + 2 && b.compare(i + 8, key, std::string(kPngXmpKeyword, key)) == 0 &&
         b[i + 8 + key] == 0) {
@@ -61,7 +67,7 @@ std::string png_xmp(const std::string& b) {
     }
     i += 12 + len;
   }
-  return {};
+  return "";
 }
 
 // CRC-32 of PNG chunks (ISO 3309, the PNG specification's Annex D), over type and data.
@@ -127,14 +133,18 @@ int64_t integer(const std::string& xmp, const char* name, int64_t fallback, cons
 }  // namespace
 
 std::optional<PhotoSphere> read_photo_sphere(const std::string& path) {
-  // The segments or chunks before the image data: the XMP packet comes early (4 MB leave room
-  // for EXIF, ICC profiles and thumbnails before it). Other formats: the signature alone is read.
-  const std::string signature = read_head(path, 8);
-  const bool jpeg = signature.compare(0, 2, "\xFF\xD8") == 0, png = signature == std::string(kPngSignature, 8);
+  // The segments or chunks before the image data, where the XMP packet comes: 64 kB, or up to
+  // 4 MB where EXIF, ICC profiles and thumbnails before it take more.
+  std::string head = read_head(path, size_t{64} << 10);
+  const bool jpeg = head.compare(0, 2, "\xFF\xD8") == 0, png = head.compare(0, 8, std::string(kPngSignature, 8)) == 0;
   if (!jpeg && !png) return std::nullopt;
-  const std::string head = read_head(path, size_t{4} << 20);
-  const std::string xmp = jpeg ? jpeg_xmp(head) : png_xmp(head);
-  if (xmp.empty()) return std::nullopt;
+  std::optional<std::string> found = jpeg ? jpeg_xmp(head) : png_xmp(head);
+  if (!found && head.size() == size_t{64} << 10) {
+    head = read_head(path, size_t{4} << 20);
+    found = jpeg ? jpeg_xmp(head) : png_xmp(head);
+  }
+  if (!found || found->empty()) return std::nullopt;
+  const std::string& xmp = *found;
   const auto type = field(xmp, "ProjectionType");
   if (!type) return std::nullopt;
   PhotoSphere ps;

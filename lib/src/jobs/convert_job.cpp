@@ -42,11 +42,11 @@ bool same_file(const std::string& a, const std::string& b) {
 
 }  // namespace
 
-ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const std::string& input,
-                                 Size size) {
+ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const std::string& input, Size size,
+                                 const std::optional<PhotoSphere>& photo_sphere) {
   if (from) return parse_spec(*from);
   if (is_face_pattern(input)) return parse_spec("cubemap:layout=files");
-  if (const auto ps = read_photo_sphere(input)) return parse_spec(photo_sphere_spec(*ps, size));
+  if (photo_sphere) return parse_spec(photo_sphere_spec(*photo_sphere, size));
   if (size.width == 2 * size.height) return parse_spec("equirect");
   throw Error("cannot tell the projection of " + input + " (" + std::to_string(size.width) + "x" +
               std::to_string(size.height) + " is not a 2:1 equirect): give " + option_text("from") + " SPEC");
@@ -169,12 +169,13 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const Size source_size = in_faces ? faces->size() : frame;
   const int channels = in_faces ? faces->channels() : info.channels;
   const PixelType type = in_faces ? faces->type() : info.type;
-  if (!from) from = infer_source_spec(std::nullopt, job.inputs[0], source_size);
+  // (The Photo Sphere packet, read once, gives the projection and the pose unless --from does.)
+  const auto ps = job.from || in_faces ? std::nullopt : read_photo_sphere(job.inputs[0]);
+  if (!from) from = infer_source_spec(std::nullopt, job.inputs[0], source_size, ps);
   ConversionGeometry geometry = make_geometry(source_size, *from, to, options);
   // A Photo Sphere taken tilted is levelled by its pose (unless --from overrides the metadata).
   std::string from_text = from->str();
-  if (const auto ps = job.from || in_faces ? std::nullopt : read_photo_sphere(job.inputs[0]);
-      ps && (ps->pose_pitch != 0 || ps->pose_roll != 0)) {
+  if (ps && (ps->pose_pitch != 0 || ps->pose_roll != 0)) {
     geometry.rotation = photo_sphere_pose(*ps).transpose() * geometry.rotation;
     std::ostringstream o;
     o << from_text << ", levelled by its Photo Sphere pose: pitch " << ps->pose_pitch << ", roll " << ps->pose_roll;
