@@ -296,9 +296,21 @@ TEST_F(Codecs, JpegQualityAndSubsamplingAreWritten) {
   EXPECT_THROW(parse_subsampling("411"), Error);
 }
 
-// A large image encodes in two bands at once, joined at a restart marker: the file differs from
-// one encoder's (restart markers), its pixels do not, for every chroma layout (bands end on iMCU
-// rows); a damaged join would show in any decoder.
+// The restart markers of a JPEG's scan in order, RST0 to RST7 and again, and their count.
+int64_t restarts_in_order(const std::string& b) {
+  int64_t n = 0;
+  for (size_t at = b.find("\xFF\xDA"); at != std::string::npos && at + 1 < b.size(); ++at) {
+    at = b.find('\xFF', at);
+    if (at == std::string::npos || at + 1 >= b.size()) break;
+    const auto m = static_cast<unsigned char>(b[at + 1]);
+    if (m >= 0xD0 && m <= 0xD7 && m != 0xD0 + n++ % 8) return -1;
+  }
+  return n;
+}
+
+// A large image encodes in bands at once, joined at restart markers: the file differs from one
+// encoder's (restart markers, numbered on across the bands), its pixels do not, for every chroma
+// layout (bands end on iMCU rows); a damaged join would show in any decoder.
 TEST_F(Codecs, BandedJpegEncodesDecodeAsOneEncoder) {
   const Image im = photo({1100, 1000}, 3);  // over 2^20 pixels; 1000 rows: not a multiple of 16
   for (const Layout& l : kLayouts) {
@@ -311,6 +323,7 @@ TEST_F(Codecs, BandedJpegEncodesDecodeAsOneEncoder) {
     const std::string a = bytes_of_file(path("one.jpg")), b = bytes_of_file(path("two.jpg"));
     EXPECT_NE(a, b) << l.name;
     EXPECT_NE(b.find("\xFF\xDD"), std::string::npos) << l.name;  // DRI: restart markers
+    EXPECT_GE(restarts_in_order(b), 3) << l.name;  // 4 bands, the last of 2 intervals here
     EXPECT_TRUE(read_image(path("one.jpg")) == read_image(path("two.jpg"))) << l.name;
     std::filesystem::remove(path("one.jpg")), std::filesystem::remove(path("two.jpg"));
   }

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <exception>
 #include <memory>
+#include <atomic>
 #include <thread>
 
 #include "panoproj/error.hpp"
@@ -339,10 +340,11 @@ void locate(const std::vector<unsigned char>& b, size_t& sof_height, size_t& dat
 
 }  // namespace
 
-// Large images encode in bands at once, each a JPEG whose scan restarts every `interval` MCU
-// rows; the bands' scans are joined into one (restart markers renumbered), which decodes to the
-// same pixels as a single encode: a restart resets only the DC predictions, and bands end on iMCU
-// rows (chroma is downsampled within 2x2 blocks).
+// Large images encode in bands at once (twice as many as threads, taken in turn: their costs
+// differ with the content), each a JPEG whose scan restarts every `interval` MCU rows; the bands'
+// scans are joined into one (restart markers renumbered where a band's own numbering differs),
+// which decodes to the same pixels as a single encode: a restart resets only the DC predictions,
+// and bands end on iMCU rows (chroma is downsampled within 2x2 blocks).
 std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& path, const WriteOptions& options,
                                        const EmbeddedMetadata& meta) {
   const bool colour = image.channels() > 2;
@@ -350,7 +352,7 @@ std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& pa
   const int64_t mcu_h = colour && options.subsampling == ChromaSubsampling::S420 ? 16 : 8;
   const int64_t per_row = (image.width() + mcu_w - 1) / mcu_w, mcu_rows = (image.height() + mcu_h - 1) / mcu_h;
   const int threads = options.threads == 1 ? 1 : static_cast<int>(std::min<unsigned>(2, std::max(1u, std::thread::hardware_concurrency())));
-  const int64_t interval_rows = std::min<int64_t>(mcu_rows / threads, 65535 / per_row);  // DRI holds 16 bits
+  const int64_t interval_rows = std::min<int64_t>(mcu_rows / (2 * threads), 65535 / per_row);  // DRI holds 16 bits
   std::vector<unsigned char> bytes;
   JpegFailure fail;
   if (threads < 2 || image.width() * image.height() < (int64_t{1} << 20) || interval_rows < 1) {
@@ -359,21 +361,25 @@ std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& pa
     return bytes;
   }
   const int64_t intervals = (mcu_rows + interval_rows - 1) / interval_rows;
-  std::vector<std::vector<unsigned char>> band(static_cast<size_t>(threads));
-  std::vector<JpegFailure> fails(static_cast<size_t>(threads));
-  std::vector<int64_t> first(static_cast<size_t>(threads) + 1);  // each band's first interval
-  for (int t = 0; t <= threads; ++t) first[static_cast<size_t>(t)] = intervals * t / threads;
-  std::vector<char> ok(static_cast<size_t>(threads));
-  auto encode_band = [&](int t) {
-    const auto k = static_cast<size_t>(t);
-    const int64_t y0 = first[k] * interval_rows * mcu_h, y1 = std::min(image.height(), first[k + 1] * interval_rows * mcu_h);
-    ok[k] = encode_rows(image, y0, y1, options, t == 0 ? meta : EmbeddedMetadata{}, static_cast<unsigned>(interval_rows * per_row),
-                        band[k], fails[k]);
+  const int bands = static_cast<int>(std::min<int64_t>(2 * threads, intervals));
+  std::vector<std::vector<unsigned char>> band(static_cast<size_t>(bands));
+  std::vector<JpegFailure> fails(static_cast<size_t>(bands));
+  std::vector<int64_t> first(static_cast<size_t>(bands) + 1);  // each band's first interval
+  for (int t = 0; t <= bands; ++t) first[static_cast<size_t>(t)] = intervals * t / bands;
+  std::vector<char> ok(static_cast<size_t>(bands));
+  std::atomic<int> next{0};
+  auto encode_bands = [&] {
+    for (int t; (t = next++) < bands;) {
+      const auto k = static_cast<size_t>(t);
+      const int64_t y0 = first[k] * interval_rows * mcu_h, y1 = std::min(image.height(), first[k + 1] * interval_rows * mcu_h);
+      ok[k] = encode_rows(image, y0, y1, options, t == 0 ? meta : EmbeddedMetadata{},
+                          static_cast<unsigned>(interval_rows * per_row), band[k], fails[k]);
+    }
   };
-  std::thread other(encode_band, 1);
-  encode_band(0);
+  std::thread other(encode_bands);
+  encode_bands();
   other.join();
-  for (int t = 0; t < threads; ++t)
+  for (int t = 0; t < bands; ++t)
     if (!ok[static_cast<size_t>(t)])
       throw Error("cannot write " + path + ": " + one_line(fails[static_cast<size_t>(t)].message), ErrorKind::File);
   // Band 0's headers, the whole height in its SOF; then every band's scan, restart markers
@@ -385,21 +391,23 @@ std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& pa
   size_t total = bytes.size() + 2;
   for (const auto& b : band) total += b.size() + 2;
   bytes.reserve(total);
-  int64_t g = 0;  // intervals written
-  for (int t = 0; t < threads; ++t) {
+  for (int t = 0; t < bands; ++t) {
     const std::vector<unsigned char>& b = band[static_cast<size_t>(t)];
+    const int64_t g = first[static_cast<size_t>(t)];  // the band's first interval
     size_t band_sof = 0, start = 0;
     locate(b, band_sof, start);
     if (t > 0) bytes.push_back(0xFF), bytes.push_back(static_cast<unsigned char>(0xD0 + (g - 1) % 8));
     const size_t at = bytes.size();
     bytes.insert(bytes.end(), b.begin() + static_cast<std::ptrdiff_t>(start), b.end() - 2);  // (its EOI left out)
-    // Its restart markers (0xFF 0xD0-0xD7; a 0xFF in the data is followed by 0x00) numbered on.
+    // Its restart markers (0xFF 0xD0-0xD7; a 0xFF in the data is followed by 0x00), numbered from
+    // 0 by libjpeg: renumbered from g unless g is a multiple of 8 or the band has none.
+    if (g % 8 == 0 || first[static_cast<size_t>(t) + 1] - g == 1) continue;
+    int64_t m = g;
     for (unsigned char* p = bytes.data() + at; p + 1 < bytes.data() + bytes.size(); ++p) {
       p = static_cast<unsigned char*>(std::memchr(p, 0xFF, static_cast<size_t>(bytes.data() + bytes.size() - 1 - p)));
       if (!p) break;
-      if (p[1] >= 0xD0 && p[1] <= 0xD7) p[1] = static_cast<unsigned char>(0xD0 + g++ % 8);
+      if (p[1] >= 0xD0 && p[1] <= 0xD7) p[1] = static_cast<unsigned char>(0xD0 + m++ % 8);
     }
-    ++g;  // the band's last interval
   }
   bytes.push_back(0xFF), bytes.push_back(0xD9);
   return bytes;
