@@ -30,6 +30,8 @@ struct TileScratch {
   std::vector<float> weights;        // a dual fisheye's lens 0 weights over a rect
   std::vector<unsigned char> other;  // and its lens 1 samples there
   FootprintField field;              // the footprint kernel's widths over a tile
+  int64_t field_tile = -1;           // the tile (its corner's index) field and field_n are of
+  int field_n = 0;                   // auto's sub-pixels per axis there (tile_strategies.cpp)
   std::vector<float> ex, ey;         // and over a row (the scalar engine)
 };
 

@@ -76,23 +76,28 @@ class Footprint final : public TileStrategy {
   explicit Footprint(const TileJob& job) : job_(job) {}
   void tile(const TileRect& rect, const TileMap* kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
-    FootprintField& fp = wk.field;
-    const int n = sub_pixels(rect, fp);
+    const int n = sub_pixels(rect, wk);
     if (n == 0) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk);
-    else if (n == 1) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk, &fp);
-    else subpixels(job_, n, rect, corner, stride, wk, &fp);
+    else if (n == 1) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk, &wk.field);
+    else subpixels(job_, n, rect, corner, stride, wk, &wk.field);
   }
   bool widen_to_samples(const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const override {
-    widen_to_subpixels(job_, std::max(1, sub_pixels(rect, wk.field)), rect, wk, b);
+    widen_to_subpixels(job_, std::max(1, sub_pixels(rect, wk)), rect, wk, b);
     return true;
   }
 
  private:
-  // 0: plain samples; else the footprint kernel (fp filled) on n x n sub-pixels (1: the centres).
-  int sub_pixels(const TileRect& rect, FootprintField& fp) const {
-    const FootprintSides s = footprint_field(job_.source, job_.target, job_.rotation, rect, job_.wrap, fp);
-    if (s.side <= 2.0) return 0;
-    return std::clamp(static_cast<int>(std::ceil(s.split / kFootprintReach - 1e-9)), 1, Antialias::kMaxAuto);
+  // 0: plain samples; else the footprint kernel (wk.field) on n x n sub-pixels (1: the centres).
+  // Measured once per tile (widen_to_samples, then tile()).
+  int sub_pixels(const TileRect& rect, TileScratch& wk) const {
+    const int64_t id = rect.y0 * size_of(job_.target).width + rect.x0;
+    if (wk.field_tile == id) return wk.field_n;
+    const FootprintSides s = footprint_field(job_.source, job_.target, job_.rotation, rect, job_.wrap, wk.field);
+    wk.field_tile = id;
+    wk.field_n = s.side <= 2.0 ? 0
+                               : std::clamp(static_cast<int>(std::ceil(s.split / kFootprintReach - 1e-9)), 1,
+                                            Antialias::kMaxAuto);
+    return wk.field_n;
   }
 
   TileJob job_;

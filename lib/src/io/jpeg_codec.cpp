@@ -12,9 +12,9 @@
 // clang-format on
 
 #include <algorithm>
+#include <atomic>
 #include <exception>
 #include <memory>
-#include <atomic>
 #include <thread>
 
 #include "panoproj/error.hpp"
