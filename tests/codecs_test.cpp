@@ -3,10 +3,12 @@
 // lean path (no OpenImageIO for JPEG, PNG and PPM).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <random>
+#include <thread>
 
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
@@ -308,24 +310,79 @@ int64_t restarts_in_order(const std::string& b) {
   return n;
 }
 
-// A large image encodes in bands at once, joined at restart markers: the file differs from one
-// encoder's (restart markers, numbered on across the bands), its pixels do not, for every chroma
-// layout (bands end on iMCU rows); a damaged join would show in any decoder.
-TEST_F(Codecs, BandedJpegEncodesDecodeAsOneEncoder) {
-  const Image im = photo({1100, 1000}, 3);  // over 2^20 pixels; 1000 rows: not a multiple of 16
-  for (const Layout& l : kLayouts) {
-    WriteOptions one, two;
-    one.subsampling = two.subsampling = l.subsampling;
+// A large image encodes in blocks (columns of at least 1024 px where they divide the MCU row,
+// bands of 128 rows), joined at restart markers: the file differs from one encoder's, its pixels
+// do not, for every chroma layout and sizes whose edges cut MCUs; a damaged join (a segment out
+// of place, a marker misnumbered) would show in any decoder.
+TEST_F(Codecs, BlockedJpegEncodesDecodeAsOneEncoder) {
+  // 1100: one column (69 MCUs of 16 px have no divisor leaving 1024 px); 2552: two of 4:2:0 and
+  // 4:2:2 (160 MCUs, the last cut), one of 4:4:4 and gray (319 of 8 px); 4100: 4:4:4 and gray in
+  // three (513 of 8 px: 3 x 171). 1000 and 1030 rows: not multiples of 16.
+  for (const Size size : {Size{1100, 1000}, Size{2552, 1000}, Size{4100, 1030}}) {
+    const Image colour = photo(size, 3), gray = photo(size, 1);
+    for (const Layout& l : kLayouts) {
+      const std::string what = l.name + std::string(" ") + std::to_string(size.width);
+      WriteOptions one, two;
+      one.subsampling = two.subsampling = l.subsampling;
+      one.threads = 1;
+      const Image& src = l.channels == 1 ? gray : colour;
+      write_image(src, path("one.jpg"), one);
+      write_image(src, path("two.jpg"), two);
+      const std::string a = bytes_of_file(path("one.jpg")), b = bytes_of_file(path("two.jpg"));
+      EXPECT_NE(a, b) << what;
+      EXPECT_EQ(a.find("\xFF\xDD"), std::string::npos) << what;  // one encoder: no DRI
+      EXPECT_NE(b.find("\xFF\xDD"), std::string::npos) << what;  // DRI: restart markers
+      // A restart at every MCU row at least (more where the rows are cut into columns).
+      const int64_t mcu_h = l.channels == 3 && l.subsampling == ChromaSubsampling::S420 ? 16 : 8;
+      EXPECT_GE(restarts_in_order(b), (size.height + mcu_h - 1) / mcu_h - 1) << what;
+      EXPECT_TRUE(read_image(path("one.jpg")) == read_image(path("two.jpg"))) << what;
+      std::filesystem::remove(path("one.jpg")), std::filesystem::remove(path("two.jpg"));
+    }
+  }
+}
+
+// Parts reported as they are final, in any order and from two threads at once, give the file
+// that encoding at the end gives; so does a picture of noise at quality 100, whose blocks
+// overflow the shared buffer sized for a quarter of the samples.
+TEST_F(Codecs, JpegBlocksEncodedAsTheirPartsArriveGiveTheSameFile) {
+  std::mt19937 rng(7);
+  Image noise({2552, 1000}, 3, PixelType::U8, -1, Image::Unfilled{});
+  for (size_t i = 0; i < noise.byte_size(); ++i) noise.data()[i] = static_cast<unsigned char>(rng());
+  struct Picture {
+    const Image image;
+    int quality;
+    ChromaSubsampling subsampling;
+  };
+  const Picture pictures[] = {{photo({2552, 1000}, 3), 95, ChromaSubsampling::S420},
+                              {photo({4100, 1030}, 1), 90, ChromaSubsampling::S420},
+                              {noise, 100, ChromaSubsampling::S444}};
+  for (const Picture& p : pictures) {
+    WriteOptions w;
+    w.quality = p.quality, w.subsampling = p.subsampling;
+    EmbeddedMetadata meta;
+    meta.xmp = "<x:xmpmeta/>";
+    const FileBytes at_end = JpegBlockEncoder(p.image.size(), p.image.channels(), "a.jpg", w, meta).finish(p.image);
+    std::vector<PixelRect> parts;  // 64 px tiles, shuffled
+    for (int64_t y = 0; y < p.image.height(); y += 64)
+      for (int64_t x = 0; x < p.image.width(); x += 64)
+        parts.push_back({x, y, std::min(x + 64, p.image.width()), std::min(y + 64, p.image.height())});
+    std::shuffle(parts.begin(), parts.end(), rng);
+    JpegBlockEncoder streamed(p.image.size(), p.image.channels(), "a.jpg", w, meta);
+    std::thread other([&] {
+      for (size_t i = 0; i < parts.size(); i += 2) streamed.done(p.image, parts[i]);
+    });
+    for (size_t i = 1; i < parts.size(); i += 2) streamed.done(p.image, parts[i]);
+    other.join();
+    const FileBytes arrived = streamed.finish(p.image);
+    EXPECT_TRUE(at_end == arrived) << p.quality;
+    std::ofstream(path("b.jpg"), std::ios::binary).write(reinterpret_cast<const char*>(arrived.data()),
+                                                       static_cast<std::streamsize>(arrived.size()));
+    WriteOptions one = w;
     one.threads = 1;
-    const Image src = l.channels == 1 ? photo({1100, 1000}, 1) : im;
-    write_image(src, path("one.jpg"), one);
-    write_image(src, path("two.jpg"), two);
-    const std::string a = bytes_of_file(path("one.jpg")), b = bytes_of_file(path("two.jpg"));
-    EXPECT_NE(a, b) << l.name;
-    EXPECT_NE(b.find("\xFF\xDD"), std::string::npos) << l.name;  // DRI: restart markers
-    EXPECT_GE(restarts_in_order(b), 3) << l.name;  // 4 bands, the last of 2 intervals here
-    EXPECT_TRUE(read_image(path("one.jpg")) == read_image(path("two.jpg"))) << l.name;
-    std::filesystem::remove(path("one.jpg")), std::filesystem::remove(path("two.jpg"));
+    write_image(p.image, path("one.jpg"), one);
+    EXPECT_TRUE(read_image(path("b.jpg")) == read_image(path("one.jpg"))) << p.quality;
+    if (p.quality == 100) EXPECT_GT(arrived.size(), p.image.byte_size() / 4);  // (the buffer overflowed)
+    std::filesystem::remove(path("b.jpg")), std::filesystem::remove(path("one.jpg"));
   }
 }
 

@@ -4,10 +4,14 @@
 #include <gtest/gtest.h>
 #include <png.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <map>
+#include <mutex>
 #include <thread>
 
 #include "base/row_feed.hpp"
@@ -15,6 +19,7 @@
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
+#include "panoproj/jobs.hpp"
 #include "panoproj/rotation.hpp"
 #include "test_support.hpp"
 
@@ -129,6 +134,42 @@ TEST(ReadWhileConverting, EqualsTheConversionOfTheWholeSource) {
   EXPECT_TRUE(out == ref.run(whole));
 }
 
+// The parts reported finished (to encode them while the rest is made) hold their final pixels
+// when reported, and cover the output once; an edge fill (which rewrites pixels after the tiles)
+// reports none.
+TEST(ReadWhileConverting, FinishedPartsAreFinalWhenReportedAndCoverTheOutputOnce) {
+  const Projection src = make("equirect", {1024, 512});
+  const Image whole = test::render(src, test::band_limited_scene(0.1, 1024), PixelType::U8);
+  for (const char* to : {"cubemap", "pinhole:hfov=100"})
+    for (int threads : {1, 2, 3})
+      for (bool fill : {false, true}) {
+        const std::string what = std::string(to) + ", " + std::to_string(threads) + " threads" + (fill ? ", edge fill" : "");
+        const Projection dst = make(to, std::string(to) == "cubemap" ? Size{6 * 128, 128} : Size{300, 200});
+        EdgeFill edges;
+        edges.soft = fill;
+        const Converter conv(src, dst, rotation_from_ypr(10, 20, 0), Interp::Bicubic, Engine::Simd, threads, false,
+                             {Antialias::Mode::Auto, 1}, edges);
+        const Image expected = conv.run(whole);
+        Image arriving(whole.size(), 3, PixelType::U8), out;
+        std::mutex m;
+        std::vector<int> times(static_cast<size_t>(expected.width() * expected.height()), 0);
+        int64_t wrong = 0;
+        conv.run_reading(arriving, out, [&](const RowsArrived& a) { trickle(whole, arriving, a); }, nullptr, {},
+                         [&](const Converter::Region& r) {
+                           const std::lock_guard<std::mutex> lock(m);
+                           for (int64_t y = r.y0; y < r.y1; ++y)
+                             for (int64_t x = r.x0; x < r.x1; ++x) {
+                               ++times[static_cast<size_t>(y * expected.width() + x)];
+                               wrong += std::memcmp(out.pixel(x, y), expected.pixel(x, y), out.pixel_bytes()) != 0;
+                             }
+                         });
+        EXPECT_TRUE(out == expected) << what;
+        EXPECT_EQ(wrong, 0) << what;
+        const int want = fill ? 0 : 1;
+        EXPECT_EQ(std::count(times.begin(), times.end(), want), static_cast<std::ptrdiff_t>(times.size())) << what;
+      }
+}
+
 TEST(ReadWhileConverting, AFailedReadEndsTheRunWithItsError) {
   const Projection src = make("equirect", {1024, 512}), dst = make("cubemap", {6 * 128, 128});
   const Image whole = test::render(src, test::band_limited_scene(0.1, 1024), PixelType::U8);
@@ -188,6 +229,42 @@ TEST_F(RowsFromFiles, DecodersTellTheRowsInOrderAndDecodeWhatReadDoes) {
         EXPECT_TRUE(region.image() == read) << what;
         EXPECT_EQ(region.image().origin_y(), read.origin_y()) << what;
       }
+}
+
+// A JPEG output is encoded in blocks while the source is still decoded: its pixels are those of
+// one encoder after the conversion (one thread), and those of an edge-filled conversion, which
+// encodes after; a source cut short leaves no output.
+TEST_F(RowsFromFiles, AJpegOutputEncodedWhileConvertingDecodesAsOneWrittenAfter) {
+  const Projection p = make("equirect", {1024, 512});
+  write_image(test::render(p, test::band_limited_scene(0.1, 1024), PixelType::U8), path("in.jpg"), {});
+  auto convert = [&](const std::string& in, const std::string& out, int threads, bool soft) {
+    ConvertJob job;
+    job.inputs = {in};
+    job.output = path(out);
+    job.to = "cubemap";
+    job.options.size = Size{6 * 512, 512};  // 1.5 Mpx: three columns of blocks, four bands
+    job.options.threads = threads;
+    job.options.edges.soft = soft;
+    run_convert(job);
+  };
+  convert(path("in.jpg"), "two.jpg", 2, false);
+  convert(path("in.jpg"), "one.jpg", 1, false);
+  convert(path("in.jpg"), "after.jpg", 2, true);
+  const Image two = read_image(path("two.jpg"));
+  EXPECT_TRUE(two == read_image(path("one.jpg")));
+  auto file = [&](const std::string& name) {
+    std::ifstream f(path(name), std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  };
+  const std::string bytes = file("two.jpg");
+  EXPECT_NE(bytes.find("\xFF\xDD"), std::string::npos);  // restart markers: blocks
+  // An edge fill changes no pixel of a full sphere's cube (every pixel has a source).
+  EXPECT_TRUE(two == read_image(path("after.jpg")));
+  std::string cut = file("in.jpg");
+  cut.resize(cut.size() * 2 / 3);
+  std::ofstream(path("cut.jpg"), std::ios::binary) << cut;
+  EXPECT_THROW(convert(path("cut.jpg"), "none.jpg", 2, false), Error);
+  EXPECT_FALSE(std::filesystem::exists(path("none.jpg")));
 }
 
 }  // namespace

@@ -79,7 +79,9 @@ class WriteFault : public Robustness, public ::testing::WithParamInterface<Write
 TEST_P(WriteFault, FailsWithTheOutputsNameAndLeavesTheOldFileIntact) {
   const WriteCase& c = GetParam();
   const bool faces = is_face_pattern(c.file), text = c.file.ends_with(".csv");
-  const Image image = test::pattern(faces ? Size{6 * 24, 24} : Size{160, 80}, 3, PixelType::U8, -1);
+  // (A JPEG of 2^20 pixels and more is encoded in blocks and joined.)
+  const Size size = faces ? Size{6 * 24, 24} : c.file == "blocks.jpg" ? Size{2100, 1000} : Size{160, 80};
+  const Image image = test::pattern(size, 3, PixelType::U8, -1);
   const std::string target = path(c.file);
   std::vector<std::string> names;
   for (int f = 0; f < (faces ? 6 : 1); ++f) names.push_back(faces ? face_path(target, f) : target);
@@ -129,6 +131,8 @@ std::vector<WriteCase> write_cases() {
     for (const auto& [cut_name, cut] : {std::pair{"at0", 0.0}, {"at1byte", 1e-9}, {"at10pct", 0.1}, {"at50pct", 0.5},
                                         {"at99pct", 0.99}})
       v.push_back({ext + "_" + cut_name, "out." + ext, cut});
+  for (const auto& [cut_name, cut] : {std::pair{"at1byte", 1e-9}, {"at50pct", 0.5}, {"at99pct", 0.99}})
+    v.push_back({std::string("jpg_blocks_") + cut_name, "blocks.jpg", cut});
   // A face set: the limit cuts the sixth face (each face is about a sixth of the set).
   for (const auto& [cut_name, cut] : {std::pair{"at0", 0.0}, {"at50pct", 0.5}, {"at99pct", 0.99}})
     v.push_back({std::string("faces_png_") + cut_name, "{face}.png", cut});

@@ -45,6 +45,10 @@ struct EngineStats {
 // simd or scalar engine; mip builds the source's levels on each run, as far as they are read.
 class Converter {
  public:
+  // Pixels [x0, x1) x [y0, y1).
+  struct Region {
+    int64_t x0, y0, x1, y1;
+  };
   // edges: what pixels without a source, or on the field's edge, get (EdgeFill, options.hpp; by default
   // 0, decided at pixel centres).
   Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
@@ -62,18 +66,19 @@ class Converter {
   // fills src (its buffer already the window's size) from the top, calling arrived as its rows
   // come in (RowsArrived, image.hpp). Tiles go in the order their source rows come, each once
   // the rows it reads are in (once all are, for mip, cube and dual-fisheye sources and the
-  // reference engine). An exception from read ends the run; it is rethrown.
+  // reference engine). An exception from read ends the run; it is rethrown. finished, if given,
+  // is called from the run's threads with each part of out once its pixels are final (each pixel
+  // once; out is allocated by then): to encode it while the rest is made. Parts an edge fill
+  // (EdgeFill) or the reference engine finishes later are not reported.
   void run_reading(const Image& src, Image& out, const std::function<void(const RowsArrived&)>& read,
-                   EngineStats* stats = nullptr, const std::function<void(double)>& progress = {}) const;
+                   EngineStats* stats = nullptr, const std::function<void(double)>& progress = {},
+                   const std::function<void(const Region&)>& finished = {}) const;
 
   // The source pixels [x0, x1) x [y0, y1) that run() reads (with the kernel's taps and the
   // tap rules: a seam or pole crossing widens it to the full width; cubemap sources and targets
   // showing the whole sphere (cubemap, full equirect, the world maps) read all). Read
   // only this part of a large source. With cache_map it builds and keeps the tile maps (run()
   // then reuses them); without, it maps tile by tile and keeps nothing.
-  struct Region {
-    int64_t x0, y0, x1, y1;
-  };
   Region source_footprint() const;
 
   const Projection& source() const;

@@ -34,7 +34,7 @@ const char* name_of(PixelType t);
 double unit_of(PixelType t);
 
 // Pixel memory: allocated without value-initializing (std::vector would zero every byte), for
-// buffers written whole before they are read; buffers of 4 MB and more start on a 2 MB boundary
+// buffers written whole before they are read; buffers of 2 MB and more start on a 2 MB boundary
 // and are advised for transparent huge pages, so that the gathers of a remap over a large source
 // do not miss the TLB on nearly every row (one 4 KB page holds a third of a 4096-px RGB row).
 void* allocate_pixels(size_t bytes);

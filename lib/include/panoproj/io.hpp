@@ -42,7 +42,7 @@ struct WriteOptions {
   bool overwrite = false;
   int quality = 95;  // JPEG, 1 to 100
   ChromaSubsampling subsampling = ChromaSubsampling::S420;  // JPEG: chroma at half width and height
-  int threads = 0;  // JPEG encoders of a large image at once (in bands, restart markers between): 0: 2 where there are 2 cores
+  int threads = 0;  // JPEG encoders of a large image at once (in blocks, restart markers between): 0: all cores
   std::optional<PixelType> type;  // convert samples before writing; default: keep
   std::vector<std::string> channel_names;  // default: the format's (R, G, B, A)
   Metadata metadata;  // written where the format has a place for them, else dropped by it

@@ -41,7 +41,8 @@ struct ConvertReport {
   std::string from, to;  // canonical specs used
   Size input_size, output_size;  // one face's size where input/output_faces
   bool input_faces = false, output_faces = false;
-  double seconds = 0;    // map (first input of a batch) and remap, with the source's decoding they overlap; not writing
+  double seconds = 0;    // map (first input of a batch) and remap, with the source's decoding and the
+                         // JPEG blocks encoded as they are made (which they overlap); not the rest of the write
   double read_fraction = 1;  // share of the source's pixels read (only what the view needs)
   std::string source_format;  // jpeg, png, pnm, tiff, openexr, hdr ("" for face sets)
   int decode_scale = 1;       // the source decoded at 1/decode_scale (JPEG DCT scaling)

@@ -32,7 +32,7 @@ double unit_of(PixelType t) {
 
 namespace {
 constexpr size_t kHugePage = size_t{2} << 20;
-constexpr size_t kHugeFrom = size_t{4} << 20;
+constexpr size_t kHugeFrom = size_t{2} << 20;
 }  // namespace
 
 void* allocate_pixels(size_t bytes) {

@@ -54,8 +54,9 @@ struct Converter::Impl {
        int threads, bool cache_map, Antialias antialias, EdgeFill edges);
   Region source_footprint() const;
   using Reader = std::function<void(const RowsArrived&)>;
+  using Finished = std::function<void(const Region&)>;
   void run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress,
-           const Reader* read) const;
+           const Reader* read, const Finished& finished = {}) const;
 
   Projection source_, target_;
   Antialias antialias_;
@@ -99,8 +100,9 @@ void Converter::run(const Image& src, Image& out, EngineStats* stats, const std:
   impl_->run(src, out, stats, progress, nullptr);
 }
 void Converter::run_reading(const Image& src, Image& out, const std::function<void(const RowsArrived&)>& read,
-                            EngineStats* stats, const std::function<void(double)>& progress) const {
-  impl_->run(src, out, stats, progress, &read);
+                            EngineStats* stats, const std::function<void(double)>& progress,
+                            const std::function<void(const Region&)>& finished) const {
+  impl_->run(src, out, stats, progress, &read, finished);
 }
 
 Converter::Impl::Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
@@ -260,7 +262,8 @@ Image Converter::run(const Image& src, EngineStats* stats,
 }
 
 void Converter::Impl::run(const Image& src, Image& out, EngineStats* stats,
-                          const std::function<void(double)>& progress, const Reader* read) const {
+                          const std::function<void(double)>& progress, const Reader* read,
+                          const Finished& finished) const {
   const Size expected = size_of(source_);
   if (src.frame_size() != expected)
     throw Error("image size " + std::to_string(src.frame_size().width) + "x" + std::to_string(src.frame_size().height) +
@@ -311,6 +314,7 @@ void Converter::Impl::run(const Image& src, Image& out, EngineStats* stats,
       return;  // the read failed: its error ends the run
     strategy->tile(rect, cached(t), out.pixel(rect.x0, rect.y0), static_cast<int64_t>(out.row_bytes()),
                    workers[static_cast<size_t>(w)]);
+    if (finished && !edges_.active()) finished({rect.x0, rect.y0, rect.x0 + rect.w, rect.y0 + rect.h});
     const int64_t d = ++done;
     if (w == 0 && progress && d * 100 / n_tiles != last_percent) {
       last_percent = d * 100 / n_tiles;

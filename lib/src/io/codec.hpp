@@ -2,8 +2,10 @@
 // One image file format's reader and writer, behind io.hpp. JPEG (libjpeg-turbo), PNG (libpng)
 // and PPM/PGM are built in; TIFF, OpenEXR and Radiance HDR go through OpenImageIO, loaded as a
 // plugin on first use (oiio_plugin.hpp), so that nothing else loads it.
+#include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -57,12 +59,55 @@ std::unique_ptr<Decoder> open_jpeg(const std::string& path, const InputFile& fil
 std::unique_ptr<Decoder> open_png(const std::string& path, const InputFile& file);
 std::unique_ptr<Decoder> open_pnm(const std::string& path, const InputFile& file);
 
+// An encoded file in memory: not zero-filled as it grows (encoders write every byte they keep),
+// on huge pages when large (PixelAllocator, image.hpp).
+using FileBytes = std::vector<unsigned char, PixelAllocator<unsigned char>>;
+
+// A JPEG encoded in blocks, so that the parts of an image final early encode while the rest is
+// still being made, and the others on several threads. Blocks are a grid of MCU-aligned parts
+// (columns of at least 1024 px where they divide the MCU row, bands of 128 rows), each encoded
+// alone as a JPEG whose scan restarts at each of its MCU rows; the scans are then interleaved into
+// one (each MCU row takes the blocks across it in turn, restart markers numbered on). The file
+// decodes to the pixels of a single encode: a restart resets only the DC predictions, and every
+// block edge falls on an MCU boundary or the image's own (padded alike); chroma is downsampled
+// within MCUs. Small images (under 2^20 pixels) and one thread: one block, no restart markers.
+class JpegBlockEncoder {
+ public:
+  // image (given to done and finish) is size x channels, uint8.
+  JpegBlockEncoder(Size size, int channels, std::string path, WriteOptions options, EmbeddedMetadata meta);
+  ~JpegBlockEncoder();
+  JpegBlockEncoder(const JpegBlockEncoder&) = delete;
+  JpegBlockEncoder& operator=(const JpegBlockEncoder&) = delete;
+  // Pixels r of image are final (each pixel reported once; from any thread): the blocks this
+  // completes are encoded in the calling thread. Throws Error ("cannot write PATH: ...").
+  void done(const Image& image, const PixelRect& r);
+  // Encodes the blocks not yet encoded (on options.threads) and joins all into the file's bytes.
+  FileBytes finish(const Image& image);
+
+ private:
+  struct Block;
+  void encode(const Image& image, int64_t block);
+  Size size_;
+  std::string path_;
+  WriteOptions options_;
+  EmbeddedMetadata meta_;
+  int64_t mcu_w_ = 8, mcu_h_ = 8, cols_ = 1, band_rows_ = 1, n_blocks_ = 1;
+  unsigned interval_ = 0;  // MCUs per restart interval (0: none)
+  std::unique_ptr<Block[]> blocks_;
+  std::vector<unsigned char> header_;  // block 0's, up to its scan
+  size_t sof_ = 0;                     // its SOF's height field
+  FileBytes arena_;                    // the blocks' scans
+  std::atomic<size_t> arena_used_{0};
+  std::mutex mutex_;
+  std::vector<FileBytes> spare_;  // encoding buffers not in use
+};
+
 // Encoded file bytes. `image` has the samples the format takes (see encode() in io.cpp).
-std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& path, const WriteOptions& options,
-                                       const EmbeddedMetadata& meta);
-std::vector<unsigned char> encode_png(const Image& image, const std::string& path, const WriteOptions& options,
-                                      const EmbeddedMetadata& meta);
-std::vector<unsigned char> encode_pnm(const Image& image, const std::string& path);
+FileBytes encode_jpeg(const Image& image, const std::string& path, const WriteOptions& options,
+                      const EmbeddedMetadata& meta);
+FileBytes encode_png(const Image& image, const std::string& path, const WriteOptions& options,
+                     const EmbeddedMetadata& meta);
+FileBytes encode_pnm(const Image& image, const std::string& path);
 
 // Tells arrived (if any) that rows [0, k) of a window of `rows` are in, every 16 rows and at the
 // last (a call takes a lock: not one per row).

@@ -12,7 +12,9 @@
 #include <cstring>
 #include <filesystem>
 #include <new>
+#include <string_view>
 #include <system_error>
+#include <variant>
 #include <vector>
 
 #include "panoproj/error.hpp"
@@ -21,6 +23,7 @@
 #include "io/atomic_output.hpp"
 #include "io/codec.hpp"
 #include "io/region_read.hpp"
+#include "io/streamed_output.hpp"
 #include "io/exif.hpp"
 #include "io/oiio_plugin.hpp"
 #include "base/input_check.hpp"
@@ -104,7 +107,21 @@ EmbeddedMetadata blocks_for(const WriteOptions& options, Size size) {
 // The file's bytes, encoded in memory: no codec touches the disk, so none can fail there or end
 // the process on a write error; OutputSet writes the bytes. Samples the format cannot hold are
 // converted first: to uint8 for JPEG, to uint16 for PNG and PPM from floats.
-std::vector<unsigned char> encode(const Image& in, const std::string& path, const WriteOptions& options) {
+// (A built-in encoder's buffer, or OpenImageIO's.)
+class Encoded {
+ public:
+  Encoded(FileBytes b) : bytes_(std::move(b)) {}
+  Encoded(std::vector<unsigned char> b) : bytes_(std::move(b)) {}
+  std::string_view view() const {
+    return std::visit([](const auto& b) { return std::string_view(reinterpret_cast<const char*>(b.data()), b.size()); },
+                      bytes_);
+  }
+
+ private:
+  std::variant<FileBytes, std::vector<unsigned char>> bytes_;
+};
+
+Encoded encode(const Image& in, const std::string& path, const WriteOptions& options) {
   check_write_options(options);
   const OutFormat format = out_format(path);
   PixelType type = options.type.value_or(in.type());
@@ -204,8 +221,28 @@ Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t
 
 void write_image(const Image& image, const std::string& path, const WriteOptions& options) {
   check_output_path(path, options.overwrite);
-  const std::vector<unsigned char> bytes = encode(image, path, options);
-  write_bytes({reinterpret_cast<const char*>(bytes.data()), bytes.size()}, path, options.overwrite);
+  write_bytes(encode(image, path, options).view(), path, options.overwrite);
+}
+
+StreamedOutput::StreamedOutput(std::string path, WriteOptions options, Size size, int channels, PixelType type)
+    : path_(std::move(path)), options_(std::move(options)) {
+  check_write_options(options_);
+  check_writable_size(path_, size);
+  // (A JPEG takes uint8 samples as they are; others are converted first, in encode.)
+  if (out_format(path_) == OutFormat::Jpeg && type == PixelType::U8 && options_.type.value_or(type) == type)
+    jpeg_ = std::make_unique<JpegBlockEncoder>(size, channels, path_, options_, blocks_for(options_, size));
+}
+
+StreamedOutput::~StreamedOutput() = default;
+
+void StreamedOutput::done(const Image& image, const PixelRect& r) {
+  if (jpeg_) jpeg_->done(image, r);
+}
+
+void StreamedOutput::write(const Image& image) {
+  check_output_path(path_, options_.overwrite);
+  const Encoded bytes = jpeg_ ? Encoded(jpeg_->finish(image)) : encode(image, path_, options_);
+  write_bytes(bytes.view(), path_, options_.overwrite);
 }
 
 Image convert_pixels(const Image& in, PixelType type) {
@@ -288,8 +325,7 @@ void write_cube_faces(const Image& strip, const std::string& pattern, const Writ
     Image face({f, f}, strip.channels(), strip.type(), strip.alpha_channel(), Image::Unfilled{});
     for (int64_t y = 0; y < f; ++y) std::memcpy(face.row(y), strip.pixel(i * f, y), face.row_bytes());
     const std::string path = face_path(pattern, i);
-    const std::vector<unsigned char> bytes = encode(face, path, options);
-    set.add(path, {reinterpret_cast<const char*>(bytes.data()), bytes.size()});
+    set.add(path, encode(face, path, options).view());
   }
   set.commit();
 }

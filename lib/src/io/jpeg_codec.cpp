@@ -15,10 +15,13 @@
 #include <atomic>
 #include <exception>
 #include <memory>
+#include <mutex>
+#include <new>
 #include <thread>
 
 #include "panoproj/error.hpp"
 #include "io/codec.hpp"
+#include "base/parallel.hpp"
 
 namespace panoproj {
 namespace {
@@ -208,10 +211,10 @@ class JpegDecoder final : public Decoder {
   EmbeddedMetadata embedded_;
 };
 
-// Appends the encoded bytes to a vector (doubling it as it fills).
+// Appends the encoded bytes to a buffer (doubling it as it fills).
 struct VectorDestination {
   jpeg_destination_mgr mgr;
-  std::vector<unsigned char>* out;
+  FileBytes* out;
 };
 
 void grow(j_compress_ptr c, size_t to) {
@@ -255,15 +258,16 @@ std::unique_ptr<Decoder> open_jpeg(const std::string& path, const InputFile&) {
 
 namespace {
 
-// Rows [y0, y1) of image as a whole JPEG file, a restart marker every `interval` MCUs (0: none);
-// false with fail.message on an error.
-bool encode_rows(const Image& image, int64_t y0, int64_t y1, const WriteOptions& options, const EmbeddedMetadata& meta,
-                 unsigned interval, std::vector<unsigned char>& bytes, JpegFailure& fail) {
+// Pixels r of image as a whole JPEG file, a restart marker every `interval` MCUs (0: none); false
+// with fail.message on an error.
+bool encode_part(const Image& image, const PixelRect& r, const WriteOptions& options, const EmbeddedMetadata& meta,
+                 unsigned interval, FileBytes& bytes, JpegFailure& fail) {
   // Gray or RGB; an alpha channel (the last) is left out.
   const int in_channels = image.channels(), channels = in_channels <= 2 ? 1 : 3;
+  const int64_t width = r.x1 - r.x0;
   std::vector<unsigned char> row;
-  bytes.reserve(static_cast<size_t>(image.width() * (y1 - y0) * channels / 6) + 65536);
-  if (in_channels != channels) row.resize(static_cast<size_t>(image.width() * channels));
+  bytes.reserve(static_cast<size_t>(width * (r.y1 - r.y0) * channels / 6) + 65536);  // (kept when reused)
+  if (in_channels != channels) row.resize(static_cast<size_t>(width * channels));
   jpeg_compress_struct c{};
   c.err = jpeg_std_error(&fail.mgr);
   fail.mgr.error_exit = on_error;
@@ -277,8 +281,8 @@ bool encode_rows(const Image& image, int64_t y0, int64_t y1, const WriteOptions&
     jpeg_create_compress(&c);
     created = true;
     c.dest = &dest.mgr;
-    c.image_width = static_cast<JDIMENSION>(image.width());
-    c.image_height = static_cast<JDIMENSION>(y1 - y0);
+    c.image_width = static_cast<JDIMENSION>(width);
+    c.image_height = static_cast<JDIMENSION>(r.y1 - r.y0);
     c.input_components = channels;
     c.in_color_space = channels == 1 ? JCS_GRAYSCALE : JCS_RGB;
     jpeg_set_defaults(&c);
@@ -307,11 +311,11 @@ bool encode_rows(const Image& image, int64_t y0, int64_t y1, const WriteOptions&
     if (!meta.icc.empty())
       jpeg_write_icc_profile(&c, reinterpret_cast<const JOCTET*>(meta.icc.data()),
                              static_cast<unsigned int>(meta.icc.size()));
-    for (int64_t y = y0; y < y1; ++y) {
-      auto* src = const_cast<unsigned char*>(image.row(y));
+    for (int64_t y = r.y0; y < r.y1; ++y) {
+      auto* src = const_cast<unsigned char*>(image.pixel(r.x0, y));
       JSAMPROW p = src;
       if (!row.empty()) {
-        for (int64_t x = 0; x < image.width(); ++x)
+        for (int64_t x = 0; x < width; ++x)
           for (int k = 0; k < channels; ++k) row[static_cast<size_t>(x * channels + k)] = src[x * in_channels + k];
         p = row.data();
       }
@@ -324,9 +328,9 @@ bool encode_rows(const Image& image, int64_t y0, int64_t y1, const WriteOptions&
 }
 
 // Where a JPEG file's entropy-coded data starts (after its SOS segment), and its SOF's height
-// field; libjpeg's own output, so well formed.
-void locate(const std::vector<unsigned char>& b, size_t& sof_height, size_t& data) {
-  for (size_t at = 2; at + 4 <= b.size();) {
+// field (the width follows it); libjpeg's own output, so well formed.
+void locate(const unsigned char* b, size_t size, size_t& sof_height, size_t& data) {
+  for (size_t at = 2; at + 4 <= size;) {
     const unsigned marker = b[at + 1], length = b[at + 2] << 8 | b[at + 3];
     if (marker == 0xC0 || marker == 0xC1) sof_height = at + 5;
     if (marker == 0xDA) {
@@ -338,79 +342,157 @@ void locate(const std::vector<unsigned char>& b, size_t& sof_height, size_t& dat
   throw InternalError("libjpeg's output has no scan");
 }
 
+void put16(unsigned char* p, int64_t v) {
+  p[0] = static_cast<unsigned char>(v >> 8), p[1] = static_cast<unsigned char>(v & 0xFF);
+}
+
+constexpr int64_t kBlockWidth = 1024;  // columns of blocks at least this wide (where they divide the MCU row)
+constexpr int64_t kBandHeight = 128;   // rows of blocks (pixels)
+
 }  // namespace
 
-// Large images encode in bands at once (twice as many as threads, taken in turn: their costs
-// differ with the content), each a JPEG whose scan restarts every `interval` MCU rows; the bands'
-// scans are joined into one (restart markers renumbered where a band's own numbering differs),
-// which decodes to the same pixels as a single encode: a restart resets only the DC predictions,
-// and bands end on iMCU rows (chroma is downsampled within 2x2 blocks).
-std::vector<unsigned char> encode_jpeg(const Image& image, const std::string& path, const WriteOptions& options,
-                                       const EmbeddedMetadata& meta) {
-  const bool colour = image.channels() > 2;
-  const int64_t mcu_w = colour && options.subsampling != ChromaSubsampling::S444 ? 16 : 8;
-  const int64_t mcu_h = colour && options.subsampling == ChromaSubsampling::S420 ? 16 : 8;
-  const int64_t per_row = (image.width() + mcu_w - 1) / mcu_w, mcu_rows = (image.height() + mcu_h - 1) / mcu_h;
-  const int threads = options.threads == 1 ? 1 : static_cast<int>(std::min<unsigned>(2, std::max(1u, std::thread::hardware_concurrency())));
-  const int64_t interval_rows = std::min<int64_t>(mcu_rows / (2 * threads), 65535 / per_row);  // DRI holds 16 bits
-  std::vector<unsigned char> bytes;
+struct JpegBlockEncoder::Block {
+  PixelRect r;
+  std::atomic<int64_t> left{0};  // pixels not yet final
+  bool encoded = false;
+  const unsigned char* scan = nullptr;  // its entropy-coded data: in the arena, or in own
+  FileBytes own;
+  std::vector<size_t> cuts;  // segment k: scan[cuts[2k] .. cuts[2k + 1])
+};
+
+JpegBlockEncoder::JpegBlockEncoder(Size size, int channels, std::string path, WriteOptions options,
+                                   EmbeddedMetadata meta)
+    : size_(size), path_(std::move(path)), options_(std::move(options)), meta_(std::move(meta)) {
+  const bool colour = channels > 2;
+  mcu_w_ = colour && options_.subsampling != ChromaSubsampling::S444 ? 16 : 8;
+  mcu_h_ = colour && options_.subsampling == ChromaSubsampling::S420 ? 16 : 8;
+  const int64_t per_row = (size.width + mcu_w_ - 1) / mcu_w_, mcu_rows = (size.height + mcu_h_ - 1) / mcu_h_;
+  if (resolve_threads(options_.threads) > 1 && size.width * size.height >= (int64_t{1} << 20)) {
+    // The most columns of at least kBlockWidth that divide the MCU row (the restart interval is
+    // one block's row, the same for all).
+    for (int64_t d = 2; d <= per_row; ++d)
+      if (per_row % d == 0 && per_row / d * mcu_w_ >= kBlockWidth) cols_ = d;
+    band_rows_ = std::max<int64_t>(1, kBandHeight / mcu_h_);
+    interval_ = static_cast<unsigned>(per_row / cols_);
+  } else {
+    band_rows_ = mcu_rows;  // one block, no restarts
+  }
+  const int64_t bands = (mcu_rows + band_rows_ - 1) / band_rows_;
+  const int64_t block_w = per_row / cols_ * mcu_w_, band_h = band_rows_ * mcu_h_;
+  n_blocks_ = bands * cols_;
+  blocks_ = std::make_unique<Block[]>(static_cast<size_t>(n_blocks_));
+  for (int64_t b = 0; b < n_blocks_; ++b) {
+    Block& k = blocks_[static_cast<size_t>(b)];
+    const int64_t x0 = b % cols_ * block_w, y0 = b / cols_ * band_h;
+    k.r = {x0, y0, std::min(size.width, x0 + block_w), std::min(size.height, y0 + band_h)};
+    k.left = (k.r.x1 - k.r.x0) * (k.r.y1 - k.r.y0);
+  }
+  // The blocks' scans go side by side into one buffer (a quarter of the samples, at most 256 MB:
+  // a block that finds it full, or none, keeps its own), untouched until written: few fresh
+  // pages, huge ones when large.
+  if (n_blocks_ > 1) {
+    try {
+      arena_.resize(std::min<size_t>(static_cast<size_t>(size.width * size.height * (colour ? 3 : 1) / 4), size_t{256} << 20));
+    } catch (const std::bad_alloc&) {
+      arena_ = {};
+    }
+  }
+}
+
+JpegBlockEncoder::~JpegBlockEncoder() = default;
+
+void JpegBlockEncoder::encode(const Image& image, int64_t b) {
+  Block& k = blocks_[static_cast<size_t>(b)];
   JpegFailure fail;
-  if (threads < 2 || image.width() * image.height() < (int64_t{1} << 20) || interval_rows < 1) {
-    if (!encode_rows(image, 0, image.height(), options, meta, 0, bytes, fail))
-      throw Error("cannot write " + path + ": " + one_line(fail.message), ErrorKind::File);
-    return bytes;
+  if (n_blocks_ == 1) {  // the file itself
+    if (!encode_part(image, k.r, options_, meta_, 0, k.own, fail))
+      throw Error("cannot write " + path_ + ": " + one_line(fail.message), ErrorKind::File);
+    k.encoded = true;
+    return;
   }
-  const int64_t intervals = (mcu_rows + interval_rows - 1) / interval_rows;
-  const int bands = static_cast<int>(std::min<int64_t>(2 * threads, intervals));
-  std::vector<std::vector<unsigned char>> band(static_cast<size_t>(bands));
-  std::vector<JpegFailure> fails(static_cast<size_t>(bands));
-  std::vector<int64_t> first(static_cast<size_t>(bands) + 1);  // each band's first interval
-  for (int t = 0; t <= bands; ++t) first[static_cast<size_t>(t)] = intervals * t / bands;
-  std::vector<char> ok(static_cast<size_t>(bands));
-  std::atomic<int> next{0};
-  auto encode_bands = [&] {
-    for (int t; (t = next++) < bands;) {
-      const auto k = static_cast<size_t>(t);
-      const int64_t y0 = first[k] * interval_rows * mcu_h, y1 = std::min(image.height(), first[k + 1] * interval_rows * mcu_h);
-      ok[k] = encode_rows(image, y0, y1, options, t == 0 ? meta : EmbeddedMetadata{},
-                          static_cast<unsigned>(interval_rows * per_row), band[k], fails[k]);
-    }
+  // Encoded into a buffer reused across blocks (its pages touched once).
+  FileBytes bytes;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!spare_.empty()) bytes = std::move(spare_.back()), spare_.pop_back();
+  }
+  const bool ok = encode_part(image, k.r, options_, b == 0 ? meta_ : EmbeddedMetadata{}, interval_, bytes, fail);
+  const auto give_back = [&] {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    spare_.push_back(std::move(bytes));
   };
-  std::thread other(encode_bands);
-  encode_bands();
-  other.join();
-  for (int t = 0; t < bands; ++t)
-    if (!ok[static_cast<size_t>(t)])
-      throw Error("cannot write " + path + ": " + one_line(fails[static_cast<size_t>(t)].message), ErrorKind::File);
-  // Band 0's headers, the whole height in its SOF; then every band's scan, restart markers
-  // numbered on across bands (RSTm after global interval g: m = g mod 8); one EOI.
-  size_t sof = 0, data = 0;
-  locate(band[0], sof, data);
-  bytes.assign(band[0].begin(), band[0].begin() + static_cast<std::ptrdiff_t>(data));
-  bytes[sof] = static_cast<unsigned char>(image.height() >> 8), bytes[sof + 1] = static_cast<unsigned char>(image.height() & 0xFF);
-  size_t total = bytes.size() + 2;
-  for (const auto& b : band) total += b.size() + 2;
-  bytes.reserve(total);
-  for (int t = 0; t < bands; ++t) {
-    const std::vector<unsigned char>& b = band[static_cast<size_t>(t)];
-    const int64_t g = first[static_cast<size_t>(t)];  // the band's first interval
-    size_t band_sof = 0, start = 0;
-    locate(b, band_sof, start);
-    if (t > 0) bytes.push_back(0xFF), bytes.push_back(static_cast<unsigned char>(0xD0 + (g - 1) % 8));
-    const size_t at = bytes.size();
-    bytes.insert(bytes.end(), b.begin() + static_cast<std::ptrdiff_t>(start), b.end() - 2);  // (its EOI left out)
-    // Its restart markers (0xFF 0xD0-0xD7; a 0xFF in the data is followed by 0x00), numbered from
-    // 0 by libjpeg: renumbered from g unless g is a multiple of 8 or the band has none.
-    if (g % 8 == 0 || first[static_cast<size_t>(t) + 1] - g == 1) continue;
-    int64_t m = g;
-    for (unsigned char* p = bytes.data() + at; p + 1 < bytes.data() + bytes.size(); ++p) {
-      p = static_cast<unsigned char*>(std::memchr(p, 0xFF, static_cast<size_t>(bytes.data() + bytes.size() - 1 - p)));
-      if (!p) break;
-      if (p[1] >= 0xD0 && p[1] <= 0xD7) p[1] = static_cast<unsigned char>(0xD0 + m++ % 8);
-    }
+  if (!ok) {
+    give_back();
+    throw Error("cannot write " + path_ + ": " + one_line(fail.message), ErrorKind::File);
   }
-  bytes.push_back(0xFF), bytes.push_back(0xD9);
+  size_t sof = 0, start = 0;
+  locate(bytes.data(), bytes.size(), sof, start);
+  if (b == 0) header_.assign(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(start)), sof_ = sof;
+  const size_t n = bytes.size() - 2 - start;  // the scan (its EOI left out)
+  const size_t at = arena_used_.fetch_add(n);
+  unsigned char* scan = nullptr;
+  if (at + n <= arena_.size()) scan = arena_.data() + at;
+  else k.own.resize(n), scan = k.own.data();
+  std::memcpy(scan, bytes.data() + start, n);
+  give_back();
+  // Its segments, one per MCU row, between its restart markers (0xFF 0xD0-0xD7; a 0xFF in the
+  // data is followed by 0x00).
+  k.cuts.push_back(0);
+  for (size_t i = 0; i + 1 < n; ++i) {
+    const void* p = std::memchr(scan + i, 0xFF, n - 1 - i);
+    if (!p) break;
+    i = static_cast<size_t>(static_cast<const unsigned char*>(p) - scan);
+    if (scan[i + 1] >= 0xD0 && scan[i + 1] <= 0xD7) k.cuts.push_back(i), k.cuts.push_back(i + 2), ++i;
+  }
+  k.cuts.push_back(n);
+  if (static_cast<int64_t>(k.cuts.size()) != 2 * ((k.r.y1 - k.r.y0 + mcu_h_ - 1) / mcu_h_))
+    throw InternalError("a JPEG block's restart markers do not match its MCU rows");
+  k.scan = scan;
+  k.encoded = true;
+}
+
+void JpegBlockEncoder::done(const Image& image, const PixelRect& r) {
+  const int64_t block_w = blocks_[0].r.x1, band_h = band_rows_ * mcu_h_;
+  for (int64_t by = r.y0 / band_h; by * band_h < r.y1; ++by)
+    for (int64_t bx = r.x0 / block_w; bx * block_w < r.x1 && bx < cols_; ++bx) {
+      const int64_t b = by * cols_ + bx;
+      Block& k = blocks_[static_cast<size_t>(b)];
+      const int64_t part = (std::min(r.x1, k.r.x1) - std::max(r.x0, k.r.x0)) * (std::min(r.y1, k.r.y1) - std::max(r.y0, k.r.y0));
+      if (part > 0 && k.left.fetch_sub(part) == part) encode(image, b);
+    }
+}
+
+FileBytes JpegBlockEncoder::finish(const Image& image) {
+  std::vector<int64_t> rest;
+  for (int64_t b = 0; b < n_blocks_; ++b)
+    if (!blocks_[static_cast<size_t>(b)].encoded) rest.push_back(b);
+  parallel_tasks(static_cast<int64_t>(rest.size()), options_.threads,
+                 [&](int64_t t, int) { encode(image, rest[static_cast<size_t>(t)]); });
+  if (n_blocks_ == 1) return std::move(blocks_[0].own);
+  // Block 0's headers, the whole size in its SOF; then for each MCU row, the blocks across it in
+  // turn, restart markers numbered on (RSTm before interval i: m = (i - 1) mod 8); one EOI.
+  const int64_t mcu_rows = (size_.height + mcu_h_ - 1) / mcu_h_;
+  size_t total = header_.size() + 2 * static_cast<size_t>(mcu_rows * cols_) + 2;
+  for (int64_t b = 0; b < n_blocks_; ++b) total += blocks_[static_cast<size_t>(b)].cuts.back();
+  FileBytes bytes(total);
+  unsigned char* out = bytes.data();
+  out = std::copy(header_.begin(), header_.end(), out);
+  put16(bytes.data() + sof_, size_.height), put16(bytes.data() + sof_ + 2, size_.width);
+  for (int64_t row = 0, i = 0; row < mcu_rows; ++row)
+    for (int64_t c = 0; c < cols_; ++c, ++i) {
+      const Block& k = blocks_[static_cast<size_t>(row / band_rows_ * cols_ + c)];
+      const size_t s = static_cast<size_t>(row % band_rows_);
+      if (i > 0) *out++ = 0xFF, *out++ = static_cast<unsigned char>(0xD0 + (i - 1) % 8);
+      out = std::copy(k.scan + k.cuts[2 * s], k.scan + k.cuts[2 * s + 1], out);
+    }
+  *out++ = 0xFF, *out++ = 0xD9;
+  bytes.resize(static_cast<size_t>(out - bytes.data()));
   return bytes;
+}
+
+FileBytes encode_jpeg(const Image& image, const std::string& path, const WriteOptions& options,
+                      const EmbeddedMetadata& meta) {
+  return JpegBlockEncoder(image.size(), image.channels(), path, options, meta).finish(image);
 }
 
 }  // namespace panoproj

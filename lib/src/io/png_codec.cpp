@@ -143,7 +143,7 @@ class PngDecoder final : public Decoder {
 };
 
 void append(png_structp png, png_bytep data, png_size_t n) {
-  auto* out = static_cast<std::vector<unsigned char>*>(png_get_io_ptr(png));
+  auto* out = static_cast<FileBytes*>(png_get_io_ptr(png));
   try {
     out->insert(out->end(), data, data + n);
   } catch (const std::bad_alloc&) {
@@ -157,9 +157,9 @@ void flush(png_structp) {}
 
 std::unique_ptr<Decoder> open_png(const std::string& path, const InputFile&) { return std::make_unique<PngDecoder>(path); }
 
-std::vector<unsigned char> encode_png(const Image& image, const std::string& path, const WriteOptions&,
-                                      const EmbeddedMetadata& meta) {
-  std::vector<unsigned char> bytes;
+FileBytes encode_png(const Image& image, const std::string& path, const WriteOptions&,
+                     const EmbeddedMetadata& meta) {
+  FileBytes bytes;
   bytes.reserve(std::min<size_t>(image.byte_size() / 2, size_t{256} << 20) + 65536);
   PngFailure fail;
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &fail, on_png_error, on_png_warning);

@@ -123,14 +123,14 @@ std::unique_ptr<Decoder> open_pnm(const std::string& path, const InputFile& file
   return std::make_unique<PnmDecoder>(path, file);
 }
 
-std::vector<unsigned char> encode_pnm(const Image& image, const std::string& path) {
+FileBytes encode_pnm(const Image& image, const std::string& path) {
   // Gray or RGB (an alpha channel, the last, left out); 8 or 16 bits (big-endian).
   const int in_channels = image.channels(), channels = in_channels <= 2 ? 1 : 3;
   const bool wide = image.type() == PixelType::U16;
   const std::string head = std::string(channels == 1 ? "P5\n" : "P6\n") + std::to_string(image.width()) + " " +
                            std::to_string(image.height()) + "\n" + (wide ? "65535" : "255") + "\n";
   const size_t sample = wide ? 2 : 1, row = static_cast<size_t>(image.width()) * channels * sample;
-  std::vector<unsigned char> bytes;
+  FileBytes bytes;
   try {
     bytes.resize(head.size() + row * static_cast<size_t>(image.height()));
   } catch (const std::bad_alloc&) {

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <sstream>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "panoproj/limits.hpp"
 #include "panoproj/photo_sphere.hpp"
 #include "io/region_read.hpp"
+#include "io/streamed_output.hpp"
 
 namespace panoproj {
 namespace fs = std::filesystem;
@@ -230,18 +232,24 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     const auto report = [&](double f) {
       if (progress) progress((static_cast<double>(n) + f) / frames);
     };
-    if (reading) converter.run_reading(source, out, [&](const RowsArrived& arrived) { file->read(arrived); }, nullptr, report);
-    else converter.run(source, out, nullptr, report);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +
-                           (n == 0 ? map_seconds : 0.0);  // the map is built once, for the first
     WriteOptions write = job.write;
     write.threads = options.threads;
     if (job.keep_metadata && !in_faces) carry_metadata(job.inputs[n], infos[n].format, write);
     // Equirect outputs say where they sit in the sphere (Photo Sphere XMP, read by viewers).
     if (const auto* e = std::get_if<Equirect>(&geometry.target); e && job.keep_metadata)
       write.xmp = photo_sphere_xmp(photo_sphere_of(*e));
-    if (out_faces) write_cube_faces(out, outputs[n], write);
-    else write_image(out, outputs[n], write);
+    // A single JPEG output encodes its parts as they are done, while the source is still read.
+    std::optional<StreamedOutput> single;
+    if (!out_faces) single.emplace(outputs[n], write, out_size, out_channels, type);
+    std::function<void(const Converter::Region&)> finished;
+    if (single && single->streams())
+      finished = [&](const Converter::Region& r) { single->done(out, {r.x0, r.y0, r.x1, r.y1}); };
+    if (reading) converter.run_reading(source, out, [&](const RowsArrived& arrived) { file->read(arrived); }, nullptr, report, finished);
+    else converter.run(source, out, nullptr, report);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +
+                           (n == 0 ? map_seconds : 0.0);  // the map is built once, for the first
+    if (single) single->write(out);
+    else write_cube_faces(out, outputs[n], write);
     auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };
     const double read = static_cast<double>(source.width() * source.height()) /
                         static_cast<double>(source.frame_size().width * source.frame_size().height);
