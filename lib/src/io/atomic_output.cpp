@@ -121,7 +121,7 @@ OutputSet::~OutputSet() {
   }
 }
 
-void OutputSet::add(const std::string& path, std::string_view bytes) {
+void OutputSet::add(const std::string& path, std::span<const std::string_view> pieces) {
   check_output_path(path, overwrite_);
   std::string temp;
   int fd = -1;
@@ -132,20 +132,24 @@ void OutputSet::add(const std::string& path, std::string_view bytes) {
   }
   if (fd < 0) fail(path, "no free temporary name", EEXIST);
   staged_.push_back({path, temp, claim(temp)});
-  const char* p = bytes.data();
-  size_t left = bytes.size();
-  while (left > 0) {
-    const ssize_t n = ::write(fd, p, left);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int err = n < 0 ? errno : ENOSPC;
-      ::close(fd);
-      char at[64];
-      std::snprintf(at, sizeof at, "writing byte %zu of %zu", bytes.size() - left, bytes.size());
-      fail(path, at, err);
+  size_t total = 0, written = 0;
+  for (const std::string_view piece : pieces) total += piece.size();
+  for (const std::string_view piece : pieces) {
+    const char* p = piece.data();
+    size_t left = piece.size();
+    while (left > 0) {
+      const ssize_t n = ::write(fd, p, left);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        const int err = n < 0 ? errno : ENOSPC;
+        ::close(fd);
+        char at[64];
+        std::snprintf(at, sizeof at, "writing byte %zu of %zu", written, total);
+        fail(path, at, err);
+      }
+      p += n, written += static_cast<size_t>(n);
+      left -= static_cast<size_t>(n);
     }
-    p += n;
-    left -= static_cast<size_t>(n);
   }
   if (::fsync(fd) != 0) {
     const int err = errno;

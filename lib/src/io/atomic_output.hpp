@@ -5,6 +5,7 @@
 // commit() then renames every staged file into place; if one rename fails the ones before are
 // rolled back (old files restored). A temporary not committed is removed by the destructor, and
 // on SIGINT / SIGTERM / SIGHUP once install_signal_cleanup() ran (io.hpp).
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,7 +20,9 @@ class OutputSet {
   OutputSet& operator=(const OutputSet&) = delete;
 
   // Writes `bytes` to a temporary beside `path`; throws (naming `path` and the system's reason).
-  void add(const std::string& path, std::string_view bytes);
+  void add(const std::string& path, std::string_view bytes) { add(path, std::span(&bytes, 1)); }
+  // The same for a file in pieces, one after the other (a header and pixels held elsewhere).
+  void add(const std::string& path, std::span<const std::string_view> pieces);
   // Renames every staged file onto its path, all or none.
   void commit();
 

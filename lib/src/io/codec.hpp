@@ -108,6 +108,10 @@ FileBytes encode_jpeg(const Image& image, const std::string& path, const WriteOp
 FileBytes encode_png(const Image& image, const std::string& path, const WriteOptions& options,
                      const EmbeddedMetadata& meta);
 FileBytes encode_pnm(const Image& image, const std::string& path);
+// A PPM/PGM file is pnm_header(image) and then, where pnm_as_stored(image) (8-bit gray or RGB),
+// the image's samples as they are.
+std::string pnm_header(const Image& image);
+bool pnm_as_stored(const Image& image);
 
 // Tells arrived (if any) that rows [0, k) of a window of `rows` are in, every 16 rows and at the
 // last (a call takes a lock: not one per row).

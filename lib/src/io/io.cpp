@@ -107,19 +107,30 @@ EmbeddedMetadata blocks_for(const WriteOptions& options, Size size) {
 // The file's bytes, encoded in memory: no codec touches the disk, so none can fail there or end
 // the process on a write error; OutputSet writes the bytes. Samples the format cannot hold are
 // converted first: to uint8 for JPEG, to uint16 for PNG and PPM from floats.
-// (A built-in encoder's buffer, or OpenImageIO's.)
+// (A built-in encoder's buffer, OpenImageIO's, or a header before the image's own samples.)
 class Encoded {
  public:
   Encoded(FileBytes b) : bytes_(std::move(b)) {}
   Encoded(std::vector<unsigned char> b) : bytes_(std::move(b)) {}
-  std::string_view view() const {
-    return std::visit([](const auto& b) { return std::string_view(reinterpret_cast<const char*>(b.data()), b.size()); },
-                      bytes_);
+  Encoded(std::string head, std::string_view body) : bytes_(std::move(head)), body_(body) {}
+  // The file: one piece, or the header and the body.
+  std::vector<std::string_view> pieces() const {
+    std::vector<std::string_view> p{std::visit(
+        [](const auto& b) { return std::string_view(reinterpret_cast<const char*>(b.data()), b.size()); }, bytes_)};
+    if (!body_.empty()) p.push_back(body_);
+    return p;
   }
 
  private:
-  std::variant<FileBytes, std::vector<unsigned char>> bytes_;
+  std::variant<FileBytes, std::vector<unsigned char>, std::string> bytes_;
+  std::string_view body_;  // held by the image written
 };
+
+void write_encoded(const Encoded& e, const std::string& path, bool overwrite) {
+  OutputSet set(overwrite);
+  set.add(path, e.pieces());
+  set.commit();
+}
 
 Encoded encode(const Image& in, const std::string& path, const WriteOptions& options) {
   check_write_options(options);
@@ -134,7 +145,11 @@ Encoded encode(const Image& in, const std::string& path, const WriteOptions& opt
   switch (format) {
     case OutFormat::Jpeg: return encode_jpeg(image, path, options, blocks_for(options, image.size()));
     case OutFormat::Png: return encode_png(image, path, options, blocks_for(options, image.size()));
-    case OutFormat::Pnm: return encode_pnm(image, path);
+    case OutFormat::Pnm:
+      // 8-bit samples as stored need no copy: the header, then the image's rows.
+      if (&image == &in && pnm_as_stored(image))
+        return Encoded(pnm_header(image), {reinterpret_cast<const char*>(image.data()), image.row_bytes() * static_cast<size_t>(image.height())});
+      return encode_pnm(image, path);
     case OutFormat::Oiio: break;
   }
   OiioBackend& oiio = oiio_backend("writing " + path);
@@ -221,7 +236,7 @@ Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t
 
 void write_image(const Image& image, const std::string& path, const WriteOptions& options) {
   check_output_path(path, options.overwrite);
-  write_bytes(encode(image, path, options).view(), path, options.overwrite);
+  write_encoded(encode(image, path, options), path, options.overwrite);
 }
 
 StreamedOutput::StreamedOutput(std::string path, WriteOptions options, Size size, int channels, PixelType type)
@@ -241,8 +256,7 @@ void StreamedOutput::done(const Image& image, const PixelRect& r) {
 
 void StreamedOutput::write(const Image& image) {
   check_output_path(path_, options_.overwrite);
-  const Encoded bytes = jpeg_ ? Encoded(jpeg_->finish(image)) : encode(image, path_, options_);
-  write_bytes(bytes.view(), path_, options_.overwrite);
+  write_encoded(jpeg_ ? Encoded(jpeg_->finish(image)) : encode(image, path_, options_), path_, options_.overwrite);
 }
 
 Image convert_pixels(const Image& in, PixelType type) {
@@ -325,7 +339,7 @@ void write_cube_faces(const Image& strip, const std::string& pattern, const Writ
     Image face({f, f}, strip.channels(), strip.type(), strip.alpha_channel(), Image::Unfilled{});
     for (int64_t y = 0; y < f; ++y) std::memcpy(face.row(y), strip.pixel(i * f, y), face.row_bytes());
     const std::string path = face_path(pattern, i);
-    set.add(path, encode(face, path, options).view());
+    set.add(path, encode(face, path, options).pieces());
   }
   set.commit();
 }

@@ -123,12 +123,20 @@ std::unique_ptr<Decoder> open_pnm(const std::string& path, const InputFile& file
   return std::make_unique<PnmDecoder>(path, file);
 }
 
+// Gray or RGB (an alpha channel, the last, left out); 8 or 16 bits (big-endian).
+std::string pnm_header(const Image& image) {
+  return std::string(image.channels() <= 2 ? "P5\n" : "P6\n") + std::to_string(image.width()) + " " +
+         std::to_string(image.height()) + "\n" + (image.type() == PixelType::U16 ? "65535" : "255") + "\n";
+}
+
+bool pnm_as_stored(const Image& image) {
+  return image.type() == PixelType::U8 && (image.channels() == 1 || image.channels() == 3);
+}
+
 FileBytes encode_pnm(const Image& image, const std::string& path) {
-  // Gray or RGB (an alpha channel, the last, left out); 8 or 16 bits (big-endian).
   const int in_channels = image.channels(), channels = in_channels <= 2 ? 1 : 3;
   const bool wide = image.type() == PixelType::U16;
-  const std::string head = std::string(channels == 1 ? "P5\n" : "P6\n") + std::to_string(image.width()) + " " +
-                           std::to_string(image.height()) + "\n" + (wide ? "65535" : "255") + "\n";
+  const std::string head = pnm_header(image);
   const size_t sample = wide ? 2 : 1, row = static_cast<size_t>(image.width()) * channels * sample;
   FileBytes bytes;
   try {
