@@ -25,7 +25,12 @@ for p in "${pkgs[@]}"; do
     missing+=("$p")
   fi
 done
-((${#missing[@]} == 0)) && exit 0
+# Highway's source for a static build (CMakeLists.txt), once.
+fetch_highway() { bash "$(dirname "$0")/fetch-highway.sh"; }
+if ((${#missing[@]} == 0)); then
+  fetch_highway
+  exit 0
+fi
 
 echo "install-deps: installing ${missing[*]}" >&2
 sudo=""
@@ -40,3 +45,4 @@ for p in "${missing[@]}"; do
 done
 ((need_update)) && apt_get update
 apt_get install --no-install-recommends "${missing[@]}"
+fetch_highway
