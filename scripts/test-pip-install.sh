@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `pip install ./python` into a fresh virtual environment, then the pytest suite against that
-# installed package (not the build tree). A CI stage; needs the Debian packages of
-# install-deps.sh and the CLI of a finished scripts/test.sh (for the parity tests). ~1.5 min.
+# installed package (not the build tree) and the panoproj command installed with it, with no
+# environment variable pointing at either. A CI stage; needs the Debian packages of
+# install-deps.sh. ~1.5 min.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bash "$root/scripts/install-deps.sh"
@@ -12,4 +13,5 @@ python3 -m venv "$venv"
 "$venv/bin/python" -m pip install -q "$root/python"
 cd "$(dirname "$venv")"  # away from the source tree: the installed module must be the one imported
 "$venv/bin/python" -c "import panoproj, sys; assert panoproj.__file__.startswith('$venv'), panoproj.__file__"
-PANOPROJ_CLI="$root/build/tools/panoproj" "$venv/bin/python" -m pytest -q -p no:cacheprovider "$root/python/tests"
+"$venv/bin/panoproj" --version
+env -u PANOPROJ_CLI "$venv/bin/python" -m pytest -q -p no:cacheprovider "$root/python/tests"

@@ -111,11 +111,17 @@ TEST_F(Cli, OutputsKeepTheInputsMetadataButNotItsOrientation) {
   EXPECT_NE(find(kept, "ExposureTime"), nullptr);
   // The conversion worked on the stored pixels: orientation reset (1, top-left) or absent.
   const Attribute* orientation = find(kept, "Orientation");
-  if (orientation) EXPECT_EQ(std::get<int64_t>(orientation->value), 1);
+  if (orientation) {
+    EXPECT_EQ(std::get<int64_t>(orientation->value), 1);
+  }
   // The dimensions, where EXIF has them, are the output's.
   const Size out = read_image_size(p("kept.jpg"));
-  if (const Attribute* w = find(kept, "Exif:PixelXDimension")) EXPECT_EQ(std::get<int64_t>(w->value), out.width);
-  if (const Attribute* h = find(kept, "Exif:PixelYDimension")) EXPECT_EQ(std::get<int64_t>(h->value), out.height);
+  if (const Attribute* w = find(kept, "Exif:PixelXDimension")) {
+    EXPECT_EQ(std::get<int64_t>(w->value), out.width);
+  }
+  if (const Attribute* h = find(kept, "Exif:PixelYDimension")) {
+    EXPECT_EQ(std::get<int64_t>(h->value), out.height);
+  }
   // --no-metadata writes none of them.
   ASSERT_EQ(run("convert " + p("tagged.jpg") + " " + p("bare.jpg") + " --to fisheye -q --no-metadata").code, 0);
   const Metadata bare = read_metadata(p("bare.jpg"));

@@ -159,6 +159,7 @@ int main(int argc, char** argv) {
   CLI::App app{"panoproj: convert images between panoramic, fisheye, pinhole, cubemap and map "
                "projections"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "panoproj " PANOPROJ_VERSION);
 
   ConvertJob job;
   std::string depth_text;
@@ -240,6 +241,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // One line, exit 1 (CLI11's own codes are 100 and up).

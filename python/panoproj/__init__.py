@@ -33,6 +33,8 @@ import numpy as np
 
 from . import _core
 
+__version__: str = _core.__version__  # the project's version (`panoproj --version` says the same)
+
 # (the projection classes, one per catalogue name, are added below as they are made)
 __all__ = [
     "Projection", "projection", "convert", "build_map", "Plan", "read", "write", "to_ray", "to_pixel", "split_faces",

@@ -268,6 +268,7 @@ using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "panoproj's compiled core; use the panoproj package.";
+  m.attr("__version__") = PANOPROJ_VERSION;  // CMake's project version, as is the package's
   use_python_option_names();
   py::register_exception_translator([](std::exception_ptr p) {
     try {

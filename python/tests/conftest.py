@@ -2,6 +2,7 @@
 import os
 import pathlib
 import shutil
+import sysconfig
 
 import numpy as np
 import pytest
@@ -10,12 +11,19 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 SAMPLES = ROOT / "samples" / "images"
 
 
+def installed_cli():
+    """The panoproj command pip installed with the package into this environment, if any."""
+    path = pathlib.Path(sysconfig.get_path("scripts")) / "panoproj"
+    return str(path) if path.is_file() and os.access(path, os.X_OK) else None
+
+
 @pytest.fixture(scope="session")
 def cli():
-    """The panoproj command of the same build (scripts/test.sh sets PANOPROJ_CLI)."""
-    path = os.environ.get("PANOPROJ_CLI") or shutil.which("panoproj")
+    """The panoproj command of the same build: PANOPROJ_CLI (scripts/test.sh sets it for the build
+    tree), else the one installed with the package, else the one on PATH."""
+    path = os.environ.get("PANOPROJ_CLI") or installed_cli() or shutil.which("panoproj")
     if not path:
-        pytest.fail("PANOPROJ_CLI is not set and panoproj is not on PATH (run scripts/test.sh)")
+        pytest.fail("PANOPROJ_CLI is not set and panoproj is neither installed here nor on PATH (run scripts/test.sh)")
     return path
 
 
