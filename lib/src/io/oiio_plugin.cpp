@@ -38,6 +38,7 @@ std::vector<std::string> candidates() {
   if (const auto own = own_folder(); !own.empty()) {
     out.push_back((own / kPluginName).string());
     out.push_back((own.parent_path() / "lib" / "panoproj" / kPluginName).string());  // bin/ -> lib/panoproj/
+    out.push_back((own.parent_path() / "panoproj" / kPluginName).string());  // a repaired wheel's panoproj.scripts/
   }
   // The install's and the build tree's folders (':'-separated, set by CMake).
   const std::string dirs = PANOPROJ_PLUGIN_DIRS;
@@ -78,8 +79,8 @@ OiioBackend& oiio_backend(const std::string& why) {
   std::call_once(g_once, [] { g_loaded = load(), g_ready = g_loaded.backend != nullptr; });
   const Loaded& l = g_loaded;
   if (!l.backend)
-    throw Error(why + " needs OpenImageIO (for TIFF, EXR, HDR, metadata by name), whose plugin " + kPluginName +
-                    " is " + l.error,
+    throw Error(why + " needs OpenImageIO 2.4 (TIFF, EXR, HDR, metadata by name; apt install libopenimageio2.4): plugin " +
+                    kPluginName + " " + l.error,
                 ErrorKind::File);
   return *l.backend;
 }

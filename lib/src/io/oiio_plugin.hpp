@@ -33,7 +33,9 @@ class OiioBackend {
 };
 
 // The plugin, loaded on first use: $PANOPROJ_OIIO_PLUGIN, else beside the executable or Python
-// module holding this code, else the install's and the build's library folders. Throws Error
+// module holding this code, or in ../lib/panoproj/ (a bin/ folder's: an install, pip's scripts)
+// or ../panoproj/ (a repaired wheel's panoproj.scripts/) from there, else the install's and the
+// build's library folders. Throws Error
 // saying what is missing and which formats need it, naming `why` ("reading a.tif").
 OiioBackend& oiio_backend(const std::string& why);
 // Whether it has been loaded in this process (tests: the lean paths never load it).

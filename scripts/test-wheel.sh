@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# The repaired wheel as a user gets it (a CI stage, ~3 min): built by scripts/wheel.sh, installed
+# into a fresh virtual environment, checked to resolve no system imaging library, its command run
+# from the environment's bin, the whole pytest suite run against it with no environment variable,
+# and, where a mount namespace can be made (root), the module used with the system's OpenImageIO
+# really gone. Prints the wheel's size and tag, and import time and memory.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+work=$(mktemp -d)
+chmod 755 "$work"  # (a robustness test runs the command as another user)
+trap 'rm -rf "$work"' EXIT
+bash "$root/scripts/wheel.sh" "$work/dist" >/dev/null
+wheel=$(ls "$work"/dist/panoproj-*.whl)
+echo "wheel: $(basename "$wheel"), $(( $(stat -c %s "$wheel") / 1024 )) kB"
+python3 -m venv "$work/venv"
+py="$work/venv/bin/python"
+"$py" -m pip install -q "$wheel" pytest opencv-python-headless "dask[distributed]"
+site=$("$py" -c 'import sysconfig; print(sysconfig.get_path("platlib"))')
+# The extension and the command: every imaging library their own copy in panoproj.libs.
+for elf in "$site"/panoproj/_core*.so "$site/panoproj.scripts/panoproj"; do
+  if ldd "$elf" | grep -E 'lib(jpeg|png|tiff|OpenImageIO|hwy|Imath|webp|heif|openjp|raw)' | grep -v panoproj.libs; then
+    echo "test-wheel: $elf resolves a system imaging library (above)" >&2
+    exit 1
+  fi
+done
+cd "$work"  # away from the source tree
+"$work/venv/bin/panoproj" --version
+"$work/venv/bin/panoproj" info >/dev/null
+"$work/venv/bin/panoproj" convert "$root/samples/images/jordan_pond_4096x2048.jpg" "$work/cube.jpg" --to cubemap --size 1536x256
+env -u PANOPROJ_CLI "$py" -m pytest -q -p no:cacheprovider "$root/python/tests"
+# OpenImageIO gone: its libraries covered by empty files in a private mount namespace.
+if unshare -m true 2>/dev/null; then
+  unshare -m bash -c '
+    for f in $(ldconfig -p | grep -o "/[^ ]*libOpenImageIO[^ ]*"); do mount --bind /dev/null "$(readlink -f "$f")"; done
+    "$0" -c "
+import numpy as np, panoproj as pp
+a = pp.convert(np.zeros((64, 128, 3), np.uint8), \"equirect\", \"cubemap\")
+assert pp.read(\"$1/samples/images/jordan_pond_4096x2048.jpg\").shape == (2048, 4096, 3)
+try:
+    pp.read(\"$1/samples/images/blender_city_1024x512.exr\")
+    raise SystemExit(\"an EXR was read without OpenImageIO\")
+except OSError as e:
+    assert \"\\n\" not in str(e) and \"OpenImageIO\" in str(e) and \"install\" in str(e), e
+    print(\"without OpenImageIO: arrays and JPEG work; an EXR:\", e)
+"' "$py" "$root"
+else
+  echo "test-wheel: no mount namespace here (not root): the run without OpenImageIO is skipped"
+fi
+"$py" - <<'PY'
+import statistics, subprocess, sys
+code = ("import time, resource, numpy; t = time.perf_counter(); import panoproj; "
+        "print(time.perf_counter() - t, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)")
+runs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+        for _ in range(15)]
+ms = statistics.median(float(r[0]) for r in runs) * 1e3
+rss = statistics.median(int(r[1]) for r in runs) / 1024
+print(f"import panoproj after numpy: {ms:.1f} ms (median of 15; target <= 50); peak RSS {rss:.0f} MB (target < 60)")
+PY

