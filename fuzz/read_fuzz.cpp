@@ -1,5 +1,6 @@
 // Fuzzes the image-reading path (panoproj's input checks, then its JPEG, PNG and PPM codecs or
-// OpenImageIO through the plugin, and panoproj's own Photo Sphere XMP reader and EXIF editor):
+// OpenImageIO through the plugin, and panoproj's own Photo Sphere XMP reader, EXIF editor and EXIF
+// attribute reader):
 // any bytes as a file, whole, as a region and at 1/8 scale.
 // Only panoproj::Error may leave it. Reads run under a 64 MB memory limit, so a header declaring
 // more is refused by panoproj's own budget (the path under test), never by libFuzzer's malloc
@@ -40,7 +41,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   } catch (const panoproj::Error&) {
   }
   try {
-    (void)panoproj::exif_for_output(panoproj::read_embedded_metadata(path).exif, {100, 50});
+    const panoproj::EmbeddedMetadata m = panoproj::read_embedded_metadata(path);
+    (void)panoproj::exif_for_output(m.exif, {100, 50});
+    (void)panoproj::exif_attributes(m.exif);
   } catch (const panoproj::Error&) {
   }
   std::remove(path.c_str());

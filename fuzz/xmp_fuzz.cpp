@@ -1,4 +1,4 @@
-// Fuzzes the Photo Sphere XMP reader's field parser: the input is the XMP packet, wrapped in a
+// Fuzzes the Photo Sphere XMP reader's field parser (and the GPano attributes read from a packet): the input is the XMP packet, wrapped in a
 // JPEG's APP1 segment (so every input reaches the parser, not the segment walk), then read back
 // and turned into a spec. Only panoproj::Error may leave it.
 #include <unistd.h>
@@ -15,6 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size > 60000) return 0;  // one APP1 segment
   const std::string jpeg = std::string("\xFF\xD8\xFF\xD9", 4);
   std::string file;
+  (void)panoproj::photo_sphere_attributes(std::string(reinterpret_cast<const char*>(data), size));
   try {
     file = panoproj::with_xmp(jpeg, std::string(reinterpret_cast<const char*>(data), size));
   } catch (const panoproj::Error&) {

@@ -14,7 +14,7 @@ wheel=$(ls "$work"/dist/panoproj-*.whl)
 echo "wheel: $(basename "$wheel"), $(( $(stat -c %s "$wheel") / 1024 )) kB"
 python3 -m venv "$work/venv"
 py="$work/venv/bin/python"
-"$py" -m pip install -q "$wheel" pytest opencv-python-headless "dask[distributed]"
+"$py" -m pip install -q "$wheel[io,test]"
 site=$("$py" -c 'import sysconfig; print(sysconfig.get_path("platlib"))')
 # The extension and the command: every imaging library their own copy in panoproj.libs.
 for elf in "$site"/panoproj/_core*.so "$site/panoproj.scripts/panoproj"; do
@@ -33,6 +33,7 @@ if unshare -m true 2>/dev/null; then
   unshare -m bash -c '
     for f in $(ldconfig -p | grep -o "/[^ ]*libOpenImageIO[^ ]*"); do mount --bind /dev/null "$(readlink -f "$f")"; done
     "$0" -c "
+import sys; sys.modules[\"OpenImageIO\"] = None  # (the package hidden too: an import of it fails)
 import numpy as np, panoproj as pp
 a = pp.convert(np.zeros((64, 128, 3), np.uint8), \"equirect\", \"cubemap\")
 assert pp.read(\"$1/samples/images/jordan_pond_4096x2048.jpg\").shape == (2048, 4096, 3)
@@ -42,6 +43,11 @@ try:
 except OSError as e:
     assert \"\\n\" not in str(e) and \"OpenImageIO\" in str(e) and \"install\" in str(e), e
     print(\"without OpenImageIO: arrays and JPEG work; an EXR:\", e)
+"
+    "$0" -c "
+import panoproj as pp
+assert pp.read(\"$1/samples/images/blender_city_1024x512.exr\").shape == (512, 1024, 3)
+print(\"without the system OpenImageIO, with the openimageio package: an EXR reads\")
 "' "$py" "$root"
 else
   echo "test-wheel: no mount namespace here (not root): the run without OpenImageIO is skipped"

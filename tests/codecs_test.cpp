@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <random>
 #include <thread>
 
@@ -458,6 +459,58 @@ TEST(Exif, DamagedBlocksAreDroppedOrEditedInPlace) {
       EXPECT_TRUE(out.empty() || out.size() == b.size()) << i;
     }
   EXPECT_EQ(exif_for_output("MM\0*garbage", {1, 1}), "");
+}
+
+// The attributes of a block holding each value type: ASCII (Make, with its NUL), SHORT (Orientation,
+// ResolutionUnit as OpenImageIO's text), LONG, RATIONAL, SRATIONAL (negative), UNDEFINED
+// (ExifVersion), three RATIONALs (GPS latitude), values stored after the IFDs; an entry pointing
+// outside the block and one of an unread type are left out.
+TEST(Exif, AttributesByOpenImageIONames) {
+  for (bool little : {true, false}) {
+    std::string b;
+    auto u16 = [&](uint32_t v) { little ? (b += char(v & 255), b += char(v >> 8)) : (b += char(v >> 8), b += char(v & 255)); };
+    auto u32 = [&](uint32_t v) { little ? (u16(v & 0xFFFF), u16(v >> 16)) : (u16(v >> 16), u16(v & 0xFFFF)); };
+    auto entry = [&](uint32_t tag, uint32_t type, uint32_t count, uint32_t value) { u16(tag), u16(type), u32(count), u32(value); };
+    auto short_entry = [&](uint32_t tag, uint32_t v) { u16(tag), u16(3), u32(1), u16(v), u16(0); };
+    b += little ? "II" : "MM";
+    u16(42), u32(8);
+    // IFD0 at 8: 6 entries (to 86); Exif IFD at 86: 4 entries (to 140); GPS IFD at 140: 1 entry
+    // (to 158); then the values: "Acme\0" at 158, 1/250 at 163, -7/10 at 171, lat at 179.
+    u16(6);
+    entry(0x010F, 2, 5, 158);
+    short_entry(0x0112, 6);
+    short_entry(0x0128, 3);
+    entry(0x0110, 2, 5, 100000);  // Model: outside the block
+    entry(0x8769, 4, 1, 86);
+    entry(0x8825, 4, 1, 140);
+    u32(0);
+    u16(4);
+    entry(0x829A, 5, 1, 163);
+    entry(0x9204, 10, 1, 171);
+    u16(0x9000), u16(7), u32(4), b += "0232";
+    entry(0xA002, 12, 1, 0);  // a DOUBLE: not read
+    u32(0);
+    u16(1);
+    entry(0x0002, 5, 3, 179);
+    u32(0);
+    b += std::string("Acme\0", 5);
+    u32(1), u32(250);
+    u32(static_cast<uint32_t>(-7)), u32(10);
+    u32(44), u32(1), u32(21), u32(1), u32(30), u32(4);
+    ASSERT_EQ(b.size(), 179u + 24u);
+    std::map<std::string, Attribute::Value> got;
+    for (const Attribute& a : exif_attributes(b)) got[a.name] = a.value;
+    const std::map<std::string, Attribute::Value> expected = {
+        {"Make", std::string("Acme")},
+        {"Orientation", int64_t{6}},
+        {"ResolutionUnit", std::string("cm")},
+        {"ExposureTime", double(float(1.0 / 250))},
+        {"Exif:ExposureBiasValue", double(float(-0.7))},
+        {"Exif:ExifVersion", std::string("0232")},
+        {"GPS:Latitude", std::vector<double>{44, 21, 7.5}}};
+    EXPECT_EQ(got, expected) << little;
+    for (size_t n = 0; n < b.size(); ++n) (void)exif_attributes(b.substr(0, n));  // (ASan: no read outside)
+  }
 }
 
 // A well-formed ICC profile (libpng checks one before writing or reading it).

@@ -24,6 +24,7 @@
 #include "panoproj/io.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/maps.hpp"
+#include "oiio_package.hpp"
 
 namespace py = pybind11;
 using namespace panoproj;
@@ -270,6 +271,7 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "panoproj's compiled core; use the panoproj package.";
   m.attr("__version__") = PANOPROJ_VERSION;  // CMake's project version, as is the package's
   use_python_option_names();
+  use_oiio_package();  // TIFF, EXR, HDR through `pip install openimageio` where the system has no OpenImageIO
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -389,8 +391,13 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "read_metadata",
       [](const std::string& path) {
+        Metadata m;
+        {
+          py::gil_scoped_release unlocked;  // (the package backend takes it back)
+          m = read_metadata(path);
+        }
         py::dict out;
-        for (const Attribute& a : read_metadata(path)) out[py::str(a.name)] = metadata_value(a);
+        for (const Attribute& a : m) out[py::str(a.name)] = metadata_value(a);
         return out;
       },
       py::arg("path"));

@@ -23,8 +23,9 @@ namespace panoproj {
 // A file's attributes besides its pixels, by OpenImageIO's names ("Make", "Exif:FocalLength",
 // "XResolution", "ICCProfile", "XMP" ...): integers, reals, text, real arrays, or bytes.
 struct Attribute {
+  using Value = std::variant<int64_t, double, std::string, std::vector<double>, std::vector<uint8_t>>;
   std::string name;
-  std::variant<int64_t, double, std::string, std::vector<double>, std::vector<uint8_t>> value;
+  Value value;
 };
 using Metadata = std::vector<Attribute>;
 
@@ -63,11 +64,15 @@ struct ImageInfo {
 };
 
 Image read_image(const std::string& path, int64_t memory_limit = 0);
-// The file's attributes (OpenImageIO's own "oiio:*" bookkeeping left out); throws like read_image.
-// Loads OpenImageIO.
+// The file's attributes by OpenImageIO's names (its own "oiio:*" bookkeeping left out), through
+// its plugin; without the plugin, a JPEG's or PNG's built-in set (ICCProfile, EXIF's common tags:
+// exif.hpp, GPano: photo_sphere.hpp) and a PPM's none. Throws like read_image.
 Metadata read_metadata(const std::string& path);
 // A JPEG's or PNG's metadata blocks (others: none), without OpenImageIO.
 EmbeddedMetadata read_embedded_metadata(const std::string& path);
+// Blocks as attributes by OpenImageIO's names, without it: ICCProfile, EXIF's common tags
+// (exif.hpp), the GPano fields (photo_sphere.hpp).
+Metadata built_in_attributes(const EmbeddedMetadata& blocks);
 // The image's size from its header only (no pixels decoded); throws like read_image.
 Size read_image_size(const std::string& path);
 ImageInfo read_image_info(const std::string& path);

@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "panoproj/io.hpp"
 #include "panoproj/projection.hpp"
 
 namespace panoproj {
@@ -32,6 +33,11 @@ Eigen::Matrix3d photo_sphere_pose(const PhotoSphere& ps);
 // The GPano fields of a JPEG's or PNG's XMP; none if the file has no XMP packet with the
 // equirect's fields (other files: none). Throws panoproj::Error if the file cannot be read.
 std::optional<PhotoSphere> read_photo_sphere(const std::string& path);
+
+// The GPano fields of an XMP packet as attributes "GPano:Name", by the spec's types: Integer and
+// Boolean (True: 1) fields as integers, Real as floats, Text as strings; a field whose text is not
+// of its type is left out.
+Metadata photo_sphere_attributes(const std::string& xmp);
 
 // The spec of an image of `size` carrying `ps`: its crop as a partial equirect (the crop may be
 // stored scaled; its fields are in full-panorama pixels). Throws panoproj::Error naming the bad

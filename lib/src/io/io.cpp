@@ -198,10 +198,27 @@ Image read_image(const std::string& path, int64_t memory_limit) {
 
 Metadata read_metadata(const std::string& path) {
   const InputFile file = probe_input(path);
-  return oiio_backend("reading the metadata of " + path).metadata(path, file);
+  const bool built_in = file.format == "jpeg" || file.format == "png" || file.format == "pnm";
+  const bool all = built_in && !oiio_available();
+  Metadata out;
+  if (!all) out = oiio_backend("reading the metadata of " + path).metadata(path, file);
+  if (!built_in) return out;
+  // Without OpenImageIO: the ICC profile, EXIF's common tags and the GPano fields; with it, the
+  // GPano fields it left out (it reads no GPano packet laid out as panoproj writes it).
+  const EmbeddedMetadata m = read_embedded_metadata(path);
+  for (Attribute& a : all ? built_in_attributes(m) : photo_sphere_attributes(m.xmp))
+    if (std::none_of(out.begin(), out.end(), [&](const Attribute& o) { return o.name == a.name; })) out.push_back(std::move(a));
+  return out;
 }
 
 EmbeddedMetadata read_embedded_metadata(const std::string& path) { return open_input(path).decoder->embedded(); }
+
+Metadata built_in_attributes(const EmbeddedMetadata& blocks) {
+  Metadata out = exif_attributes(blocks.exif);
+  if (!blocks.icc.empty()) out.push_back({"ICCProfile", std::vector<uint8_t>(blocks.icc.begin(), blocks.icc.end())});
+  for (Attribute& a : photo_sphere_attributes(blocks.xmp)) out.push_back(std::move(a));
+  return out;
+}
 
 RegionRead::RegionRead(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1,
                        int64_t memory_limit, uint64_t other_bytes, int scale)

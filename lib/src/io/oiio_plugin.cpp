@@ -73,18 +73,38 @@ Loaded g_loaded;
 std::once_flag g_once;
 std::atomic<bool> g_ready{false};
 
+OiioFallback g_fallback = nullptr;
+const char* g_fallback_hint = "";
+
+const Loaded& loaded() {
+  std::call_once(g_once, [] { g_loaded = load(), g_ready = g_loaded.backend != nullptr; });
+  return g_loaded;
+}
+
 }  // namespace
 
 OiioBackend& oiio_backend(const std::string& why) {
-  std::call_once(g_once, [] { g_loaded = load(), g_ready = g_loaded.backend != nullptr; });
-  const Loaded& l = g_loaded;
-  if (!l.backend)
-    throw Error(why + " needs OpenImageIO 2.4 (TIFF, EXR, HDR, metadata by name; apt install libopenimageio2.4): plugin " +
-                    kPluginName + " " + l.error,
+  const Loaded& l = loaded();
+  if (l.backend) return *l.backend;
+  std::string why_not;
+  if (g_fallback) {
+    if (OiioBackend* b = g_fallback(why_not)) return *b;
+    throw Error(why + " needs OpenImageIO (TIFF, EXR, HDR, metadata by name): " + g_fallback_hint +
+                    ", or apt install libopenimageio2.4 (plugin " + kPluginName + " " + l.error + "; " + why_not + ")",
                 ErrorKind::File);
-  return *l.backend;
+  }
+  throw Error(why + " needs OpenImageIO 2.4 (TIFF, EXR, HDR, metadata by name; apt install libopenimageio2.4): plugin " +
+                  kPluginName + " " + l.error,
+              ErrorKind::File);
 }
 
+void set_oiio_fallback(OiioFallback get, const char* hint) { g_fallback = get, g_fallback_hint = hint; }
+
 bool oiio_loaded() { return g_ready; }
+
+bool oiio_available() {
+  std::string why_not;
+  return loaded().backend != nullptr || (g_fallback && g_fallback(why_not) != nullptr);
+}
 
 }  // namespace panoproj

@@ -40,6 +40,14 @@ class OiioBackend {
 OiioBackend& oiio_backend(const std::string& why);
 // Whether it has been loaded in this process (tests: the lean paths never load it).
 bool oiio_loaded();
+// Whether a backend can be had (the plugin loaded if it can be; no error when none).
+bool oiio_available();
+
+// A second backend for where the plugin is missing, tried after it: the Python module's, through
+// the `openimageio` package (python/src/oiio_package.cpp). `get` gives it, or nullptr and why not;
+// `hint` says how to install it.
+using OiioFallback = OiioBackend* (*)(std::string& why_not);
+void set_oiio_fallback(OiioFallback get, const char* hint);
 
 constexpr int kOiioPluginAbi = 1;
 

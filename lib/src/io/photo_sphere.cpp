@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
+#include <utility>
 
 
 #include "panoproj/error.hpp"
@@ -130,7 +132,45 @@ int64_t integer(const std::string& xmp, const char* name, int64_t fallback, cons
   return std::llround(number(xmp, name, static_cast<double>(fallback), path));
 }
 
+// The GPano fields (developers.google.com/streetview/spherical-metadata) and their types.
+enum class GPanoType { Boolean, Integer, Real, Text };
+constexpr std::pair<const char*, GPanoType> kGPanoFields[] = {
+    {"UsePanoramaViewer", GPanoType::Boolean},         {"CaptureSoftware", GPanoType::Text},
+    {"StitchingSoftware", GPanoType::Text},            {"ProjectionType", GPanoType::Text},
+    {"PoseHeadingDegrees", GPanoType::Real},           {"PosePitchDegrees", GPanoType::Real},
+    {"PoseRollDegrees", GPanoType::Real},              {"InitialViewHeadingDegrees", GPanoType::Integer},
+    {"InitialViewPitchDegrees", GPanoType::Integer},   {"InitialViewRollDegrees", GPanoType::Integer},
+    {"InitialHorizontalFOVDegrees", GPanoType::Real},  {"InitialCameraDolly", GPanoType::Real},
+    {"FirstPhotoDate", GPanoType::Text},               {"LastPhotoDate", GPanoType::Text},
+    {"SourcePhotosCount", GPanoType::Integer},         {"ExposureLockUsed", GPanoType::Boolean},
+    {"CroppedAreaImageWidthPixels", GPanoType::Integer}, {"CroppedAreaImageHeightPixels", GPanoType::Integer},
+    {"FullPanoWidthPixels", GPanoType::Integer},       {"FullPanoHeightPixels", GPanoType::Integer},
+    {"CroppedAreaLeftPixels", GPanoType::Integer},     {"CroppedAreaTopPixels", GPanoType::Integer}};
+
 }  // namespace
+
+Metadata photo_sphere_attributes(const std::string& xmp) {
+  Metadata out;
+  for (const auto& [name, type] : kGPanoFields) {
+    const auto v = field(xmp, name);
+    if (!v) continue;
+    const std::string key = std::string("GPano:") + name;
+    const char* c = v->c_str();
+    char* end = nullptr;
+    if (type == GPanoType::Text) {
+      out.push_back({key, *v});
+    } else if (type == GPanoType::Boolean) {
+      if (*v == "True" || *v == "False") out.push_back({key, int64_t{*v == "True"}});
+    } else if (type == GPanoType::Integer) {
+      const long long i = std::strtoll(c, &end, 10);
+      if (end != c && *end == '\0') out.push_back({key, int64_t{i}});
+    } else {
+      const double d = std::strtod(c, &end);
+      if (end != c && *end == '\0' && std::isfinite(d)) out.push_back({key, static_cast<double>(static_cast<float>(d))});
+    }
+  }
+  return out;
+}
 
 std::optional<PhotoSphere> read_photo_sphere(const std::string& path) {
   // The segments or chunks before the image data, where the XMP packet comes: 64 kB, or up to
