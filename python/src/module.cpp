@@ -24,6 +24,7 @@
 #include "panoproj/io.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/maps.hpp"
+#include "attribute_values.hpp"
 #include "oiio_package.hpp"
 
 namespace py = pybind11;
@@ -234,34 +235,6 @@ std::pair<py::array, py::array> split_map(Image&& map) {
   return {array_of(std::move(x), true), array_of(std::move(y), true)};
 }
 
-py::object metadata_value(const Attribute& a) {
-  return std::visit(
-      [](const auto& v) -> py::object {
-        using V = std::decay_t<decltype(v)>;
-        if constexpr (std::is_same_v<V, std::vector<uint8_t>>) {
-          return py::bytes(reinterpret_cast<const char*>(v.data()), v.size());
-        } else if constexpr (std::is_same_v<V, std::vector<double>>) {
-          return py::tuple(py::cast(v));
-        } else {
-          return py::cast(v);
-        }
-      },
-      a.value);
-}
-
-Attribute attribute_of(const std::string& name, const py::handle& v) {
-  if (py::isinstance<py::bool_>(v) || py::isinstance<py::int_>(v)) return {name, v.cast<int64_t>()};
-  if (py::isinstance<py::float_>(v)) return {name, v.cast<double>()};
-  if (py::isinstance<py::str>(v)) return {name, v.cast<std::string>()};
-  if (py::isinstance<py::bytes>(v)) {
-    const std::string b = v.cast<std::string>();
-    return {name, std::vector<uint8_t>(b.begin(), b.end())};
-  }
-  if (py::isinstance<py::sequence>(v)) return {name, v.cast<std::vector<double>>()};
-  throw py::type_error("metadata " + name + ": " + py::repr(v).cast<std::string>() +
-                       " (expected int, float, str, bytes or a sequence of numbers)");
-}
-
 // Finite x, y arrays of one shape as flat double vectors.
 using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
@@ -397,7 +370,7 @@ PYBIND11_MODULE(_core, m) {
           m = read_metadata(path);
         }
         py::dict out;
-        for (const Attribute& a : m) out[py::str(a.name)] = metadata_value(a);
+        for (const Attribute& a : m) out[py::str(a.name)] = python_value(a);
         return out;
       },
       py::arg("path"));
@@ -412,7 +385,13 @@ PYBIND11_MODULE(_core, m) {
         w.quality = quality;
         w.subsampling = parse_subsampling(subsampling);
         if (dtype) w.type = pixel_type(py::dtype(*dtype));
-        for (const auto& [k, v] : metadata) w.metadata.push_back(attribute_of(k.cast<std::string>(), v));
+        for (const auto& [k, v] : metadata) {
+          auto value = attribute_value(v);
+          if (!value)
+            throw py::type_error("metadata " + k.cast<std::string>() + ": " + py::repr(v).cast<std::string>() +
+                                 " (expected int, float, str, bytes or a sequence of numbers)");
+          w.metadata.push_back({k.cast<std::string>(), std::move(*value)});
+        }
         py::gil_scoped_release unlocked;
         is_face_pattern(path) ? write_cube_faces(im, path, w) : write_image(im, path, w);
       },

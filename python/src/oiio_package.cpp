@@ -6,6 +6,7 @@
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include <mutex>
 
 #include "panoproj/error.hpp"
+#include "attribute_values.hpp"
 #include "io/oiio_plugin.hpp"
 
 namespace py = pybind11;
@@ -40,37 +42,12 @@ std::string error_of(const py::object& o) {
   return one_line(e.empty() ? py::module_::import("OpenImageIO").attr("geterror")().cast<std::string>() : e);
 }
 
-// The value of a ParamValue as the plugin gives it (oiio/backend.cpp to_metadata): strings,
-// integers, floats, tuples of numbers as floats, byte arrays (ICCProfile) as bytes.
-std::optional<Attribute::Value> value_of(const py::handle& v) {
-  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
-  if (py::isinstance<py::bool_>(v) || py::isinstance<py::int_>(v)) return v.cast<int64_t>();
-  if (py::isinstance<py::float_>(v)) return v.cast<double>();
-  if (py::isinstance<py::array>(v)) {
-    const auto a = py::array::ensure(v);
-    if (a.dtype().kind() == 'u' && a.itemsize() == 1) {
-      const auto* b = static_cast<const uint8_t*>(a.data());
-      return std::vector<uint8_t>(b, b + a.size());
-    }
-    return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(v).cast<std::vector<double>>();
-  }
-  if (py::isinstance<py::tuple>(v)) {
-    std::vector<double> out;
-    for (const auto& x : v.cast<py::tuple>()) {
-      if (!py::isinstance<py::int_>(x) && !py::isinstance<py::float_>(x)) return std::nullopt;
-      out.push_back(x.cast<double>());
-    }
-    return out;
-  }
-  return std::nullopt;  // strings arrays, pointers: as the plugin, none
-}
-
 Metadata metadata_of(const py::object& spec) {
   Metadata out;
   for (const auto& p : spec.attr("extra_attribs")) {
     const std::string name = p.attr("name").cast<std::string>();
     if (name.rfind("oiio:", 0) == 0) continue;
-    if (auto v = value_of(p.attr("value"))) out.push_back({name, std::move(*v)});
+    if (auto v = attribute_value(p.attr("value"))) out.push_back({name, std::move(*v)});  // (string arrays: none, as the plugin)
   }
   return out;
 }
@@ -200,11 +177,30 @@ class PackageBackend final : public OiioBackend {
 
   std::vector<unsigned char> encode(const Image& image, const std::string& path, const WriteOptions& options,
                                     const Metadata& extra) override {
-    const std::string ext = std::filesystem::path(path).extension().string();
-    ScratchFile scratch(ext);
+    const ScratchFile scratch(std::filesystem::path(path).extension().string());
+    write_file(image, path, scratch.path(), options, extra);
+    return scratch.bytes();
+  }
+
+  Metadata attributes_of(const EmbeddedMetadata& blocks) override { return built_in_attributes(blocks); }
+
+  // The package has no EXIF encoder of its own in Python: a 1x1 JPEG written with the attributes,
+  // whose EXIF block is taken.
+  std::string encode_exif(const Metadata& metadata) override {
+    const ScratchFile jpeg(".jpg");
+    write_file(Image({1, 1}, 1, PixelType::U8), "EXIF attributes", jpeg.path(), {}, metadata);
+    return read_embedded_metadata(jpeg.path()).exif;
+  }
+
+  void draw_text(Image&, int, int, const std::string&, int, const float*) override {}  // (plots: the command's)
+
+ private:
+  // The image as the file `file` (the format its extension names); errors name `path`.
+  static void write_file(const Image& image, const std::string& path, const std::string& file,
+                         const WriteOptions& options, const Metadata& extra) {
     py::gil_scoped_acquire gil;
     const py::module_ oiio = py::module_::import("OpenImageIO");
-    py::object out = oiio.attr("ImageOutput").attr("create")(scratch.path());
+    py::object out = oiio.attr("ImageOutput").attr("create")(file);
     if (out.is_none())
       throw Error("cannot write " + path + ": no image format for its extension (use .jpg .png .ppm .tif .exr .hdr)",
                   ErrorKind::File);
@@ -223,29 +219,11 @@ class PackageBackend final : public OiioBackend {
     const py::array pixels(py::dtype(dtype), {image.height(), image.width(), int64_t{nch}},
                            {static_cast<py::ssize_t>(image.row_bytes()), static_cast<py::ssize_t>(image.pixel_bytes()), item},
                            image.data(), py::none());
-    bool ok = out.attr("open")(scratch.path(), spec).cast<bool>();
+    bool ok = out.attr("open")(file, spec).cast<bool>();
     if (ok) ok = out.attr("write_image")(pixels).cast<bool>();
     ok = out.attr("close")().cast<bool>() && ok;
     if (!ok) throw Error("cannot write " + path + ": " + error_of(out), ErrorKind::File);
-    return scratch.bytes();
   }
-
-  Metadata attributes_of(const EmbeddedMetadata& blocks) override { return built_in_attributes(blocks); }
-
-  // The package has no EXIF encoder of its own in Python: a 1x1 JPEG written with the attributes,
-  // whose EXIF block is taken.
-  std::string encode_exif(const Metadata& metadata) override {
-    const Image pixel({1, 1}, 1, PixelType::U8);
-    ScratchFile jpeg(".jpg");
-    const std::vector<unsigned char> bytes = encode(pixel, jpeg.path(), {}, metadata);
-    {
-      std::ofstream f(jpeg.path(), std::ios::binary);
-      f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    }
-    return read_embedded_metadata(jpeg.path()).exif;
-  }
-
-  void draw_text(Image&, int, int, const std::string&, int, const float*) override {}  // (plots: the command's)
 };
 
 OiioBackend* package_backend(std::string& why_not) {

@@ -2,6 +2,7 @@
 import os
 import pathlib
 import shutil
+import struct
 import sysconfig
 
 import numpy as np
@@ -54,3 +55,26 @@ def smooth_equirect(w, h, dtype=np.uint8, channels=3):
 
 def pytest_configure(config):
     config.addinivalue_line("markers", "why: reproduces a failure listed under 'Why' in issue 15 (test_robustness.py)")
+
+
+# Hostile files: small, declaring gigapixel images (test_robustness.py, test_io_paths.py).
+def huge_tiff():
+    """A 1 kB TIFF declaring 100000 x 40000 RGB (one IFD, one strip past the end)."""
+    tags = [(256, 4, 100000), (257, 4, 40000), (258, 3, 8), (259, 3, 1), (262, 3, 2), (273, 4, 200),
+            (277, 3, 3), (278, 4, 40000), (279, 4, 12000000000 % 2**32)]
+    t = b"II*\0" + struct.pack("<I", 8) + struct.pack("<H", len(tags))
+    for tag, typ, v in tags:
+        t += struct.pack("<HHI", tag, typ, 1) + (struct.pack("<HH", v, 0) if typ == 3 else struct.pack("<I", v))
+    return t + struct.pack("<I", 0) + b"\0" * (1024 - len(t) - 4)
+
+
+def huge_exr(exr):
+    """The EXR file's bytes with its dataWindow and displayWindow patched to 0..999999 x 0..999999."""
+    e = bytearray(exr)
+    for name in (b"dataWindow", b"displayWindow"):
+        at = e.find(name + b"\0box2i\0") + len(name) + 1 + 6 + 4
+        e[at:at + 16] = struct.pack("<iiii", 0, 0, 999999, 999999)
+    return bytes(e)
+
+
+HUGE_HDR = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1000000 +X 1000000\n" + b"\x02" * 64

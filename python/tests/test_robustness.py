@@ -30,7 +30,7 @@ import numpy as np
 import pytest
 
 import panoproj as pp
-from conftest import smooth_equirect
+from conftest import HUGE_HDR, huge_exr, huge_tiff, smooth_equirect
 
 HOSTILE_RSS = 300 << 20
 DEFAULT_RSS = 1500 << 20
@@ -151,14 +151,7 @@ def files(tmp_path_factory):
     b[sof + 5:sof + 9] = struct.pack(">HH", 32750, 65500)
     (d / "patched.jpg").write_bytes(bytes(b))
     paths["patched_jpeg"] = d / "patched.jpg"
-    # A 1 kB TIFF declaring 100000 x 40000 RGB (one IFD, one strip past the end).
-    tags = [(256, 4, 100000), (257, 4, 40000), (258, 3, 8), (259, 3, 1), (262, 3, 2), (273, 4, 200),
-            (277, 3, 3), (278, 4, 40000), (279, 4, 12000000000 % 2**32)]
-    t = b"II*\0" + struct.pack("<I", 8) + struct.pack("<H", len(tags))
-    for tag, typ, v in tags:
-        t += struct.pack("<HHI", tag, typ, 1) + (struct.pack("<HH", v, 0) if typ == 3 else struct.pack("<I", v))
-    t += struct.pack("<I", 0) + b"\0" * (1024 - len(t) - 4)
-    (d / "huge.tif").write_bytes(t)
+    (d / "huge.tif").write_bytes(huge_tiff())
     paths["huge_tiff"] = d / "huge.tif"
     # A PNG whose IHDR (CRC correct) declares 1000000 x 1000000, then a little deflate data.
     ihdr = b"IHDR" + struct.pack(">IIBBBBB", 1000000, 1000000, 8, 2, 0, 0, 0)
@@ -168,14 +161,9 @@ def files(tmp_path_factory):
         png += struct.pack(">I", len(chunk) - 4) + chunk + struct.pack(">I", zlib.crc32(chunk))
     (d / "huge.png").write_bytes(png)
     paths["huge_png"] = d / "huge.png"
-    # An EXR whose dataWindow is patched to 0..999999 x 0..999999.
-    e = bytearray(paths["exr"].read_bytes())
-    for name in (b"dataWindow", b"displayWindow"):
-        at = e.find(name + b"\0box2i\0") + len(name) + 1 + 6 + 4
-        e[at:at + 16] = struct.pack("<iiii", 0, 0, 999999, 999999)
-    (d / "huge.exr").write_bytes(bytes(e))
+    (d / "huge.exr").write_bytes(huge_exr(paths["exr"].read_bytes()))
     paths["huge_exr"] = d / "huge.exr"
-    (d / "huge.hdr").write_bytes(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1000000 +X 1000000\n" + b"\x02" * 64)
+    (d / "huge.hdr").write_bytes(HUGE_HDR)
     paths["huge_hdr"] = d / "huge.hdr"
     (d / "huge.ppm").write_bytes(b"P6\n2147483647 2147483647\n255\n" + b"\x02" * 64)
     paths["huge_ppm"] = d / "huge.ppm"

@@ -110,6 +110,24 @@ class OiioDecoder final : public Decoder {
   std::unique_ptr<OIIO::ImageInput> in_;
 };
 
+// Element i of an array of basetype `base` as a number; known false for other types.
+double stored_value(unsigned char base, const void* data, int i, bool& known) {
+  switch (base) {
+    case OIIO::TypeDesc::UINT8: return static_cast<const uint8_t*>(data)[i];
+    case OIIO::TypeDesc::INT8: return static_cast<const int8_t*>(data)[i];
+    case OIIO::TypeDesc::UINT16: return static_cast<const uint16_t*>(data)[i];
+    case OIIO::TypeDesc::INT16: return static_cast<const int16_t*>(data)[i];
+    case OIIO::TypeDesc::UINT32: return static_cast<const uint32_t*>(data)[i];
+    case OIIO::TypeDesc::INT32: return static_cast<const int32_t*>(data)[i];
+    case OIIO::TypeDesc::UINT64: return static_cast<double>(static_cast<const uint64_t*>(data)[i]);
+    case OIIO::TypeDesc::INT64: return static_cast<double>(static_cast<const int64_t*>(data)[i]);
+    case OIIO::TypeDesc::HALF: return static_cast<float>(static_cast<const Imath::half*>(data)[i]);
+    case OIIO::TypeDesc::FLOAT: return static_cast<const float*>(data)[i];
+    case OIIO::TypeDesc::DOUBLE: return static_cast<const double*>(data)[i];
+    default: known = false; return 0;
+  }
+}
+
 Metadata to_metadata(const OIIO::ImageSpec& spec) {
   Metadata out;
   for (const OIIO::ParamValue& p : spec.extra_attribs) {
@@ -143,9 +161,12 @@ Metadata to_metadata(const OIIO::ImageSpec& spec) {
       }
       out.push_back({name, std::move(v)});
     } else {
+      // The values as stored, not normalized (get_float_indexed gives 0 past the first element of
+      // an array type such as float[2] or GPS:VersionID's int[4]).
       std::vector<double> v(static_cast<size_t>(n));
-      for (int i = 0; i < n; ++i) v[static_cast<size_t>(i)] = p.get_float_indexed(i);  // (get_float's argument is a default)
-      out.push_back({name, std::move(v)});
+      bool known = true;
+      for (int i = 0; i < n && known; ++i) v[static_cast<size_t>(i)] = stored_value(t.basetype, p.data(), i, known);
+      if (known) out.push_back({name, std::move(v)});
     }
   }
   return out;
