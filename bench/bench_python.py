@@ -6,6 +6,8 @@ in one process, on the Jordan Pond equirect (4096x2048 uint8 RGB), bilinear, com
 - cold: nothing cached. py360convert's lru caches are cleared before each call; panoproj.convert
   builds its geometry each time (it keeps nothing).
 - warm: the geometry cached. py360convert's caches kept; a panoproj.Plan after its first run.
+- batch: 8 frames e2p (1920x1080) as one (8, H, W, 3) array in one convert call, against a
+  Python loop of convert calls and a loop of py360convert.e2p: per-frame ms, interleaved rounds.
 - two threads: 8 warm conversions, split over two Python threads at once, each library limited
   to one core (panoproj threads=1; cv2.setNumThreads(1)), against the 8 on one thread. The
   speed-up shows whether the GIL is released while converting.
@@ -71,6 +73,29 @@ def two_threads_speedup(fn, n=8):
     return one / (time.perf_counter() - t)
 
 
+def batch_table(e, runs):
+    """Per-frame ms of 8 frames e2p: a batch call, a Python loop, py360convert's loop (interleaved)."""
+    frames = np.stack([np.roll(e, 512 * i, axis=1) for i in range(8)])
+    spec, size = f"pinhole:hfov={HFOV}", (OUT_W, OUT_H)
+    ways = {
+        "panoproj batch (one call)": lambda: pp.convert(frames, "equirect", spec, size=size, interp="bilinear"),
+        "panoproj Python loop": lambda: [pp.convert(f, "equirect", spec, size=size, interp="bilinear") for f in frames],
+        "py360convert loop": lambda: [py360convert.e2p(f, (HFOV, VFOV), 0, 0, (OUT_H, OUT_W), mode="bilinear")
+                                      for f in frames],
+    }
+    times = {k: [] for k in ways}
+    for _ in range(runs):
+        for name, fn in ways.items():
+            time.sleep(0.2)  # let the other library's pool settle
+            t = time.perf_counter()
+            fn()
+            times[name].append((time.perf_counter() - t) * 1000 / len(frames))
+    print("| 8 frames e2p 1920x1080 | per-frame ms (median) | spread (min-max) |")
+    print("|---|---|---|")
+    for name, t in times.items():
+        print(f"| {name} | {statistics.median(t):.1f} | {min(t):.1f}-{max(t):.1f} |")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=5)
@@ -111,6 +136,8 @@ def main():
         our_warm = median_ms(functools.partial(plan, src), a.runs)
         print(f"| {name} | {their_cold:.1f} | {our_cold:.1f} | {their_cold / our_cold:.1f}x | "
               f"{their_warm:.1f} | {our_warm:.1f} | {their_warm / our_warm:.1f}x |")
+    print()
+    batch_table(e, a.runs)
     print()
     cv2.setNumThreads(1)
     one_core = pp.Plan("equirect", "cubemap", (w, h), size=(6 * FACE, FACE), interp="bilinear", threads=1)

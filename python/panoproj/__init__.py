@@ -24,113 +24,67 @@ Conventions (the same as the ``panoproj`` command; see docs/projections.md):
 from __future__ import annotations
 
 import ast
+import difflib
 import functools
 import inspect
+import os
 import re
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+import warnings
+from concurrent.futures import ThreadPoolExecutor
+from typing import TYPE_CHECKING, Any, Callable, Dict, List, NamedTuple, Optional, Tuple, TypeVar, Union, cast, overload
 
 import numpy as np
 
-from . import _core
+from . import _arrays, _coordinates, _core, _declared
+from ._declared import *  # noqa: F401,F403 (the projection classes and Literal aliases)
+from ._declared import CLASSES, ConvertOptions, MapOptions, ProjectionName
+from ._projection import _CLASSES, Projection, projection
+from ._types import Array, FillLike, ImageLike, Mask, PathLike, SizeLike
+
+if TYPE_CHECKING:
+    from typing import Literal
+
+    from typing_extensions import Unpack
 
 __version__: str = _core.__version__  # the project's version (`panoproj --version` says the same)
 
-# (the projection classes, one per catalogue name, are added below as they are made)
+_CLASSES.update(CLASSES)
 __all__ = [
-    "Projection", "projection", "convert", "build_map", "Plan", "read", "write", "to_ray", "to_pixel", "split_faces",
-    "simd_target",
+    "Projection", "projection", "projections", "ProjectionInfo", "ParameterInfo", "convert", "build_map", "Plan",
+    "read", "write", "to_ray", "to_pixel", "split_faces", "simd_target", "ConvertOptions", "MapOptions",
+    "SizeLike", "FillLike", "ImageLike", "PathLike",
 ]
-
-SizeLike = Union[Tuple[int, int], str, None]
-
-
-class Projection:
-    """A projection spec: a name and parameters, as in ``"fisheye:fov=180,model=equisolid"``.
-
-    Build one from keywords with the subclass (``Fisheye(fov=180, model="equisolid")``) or from
-    spec text with :func:`projection`. Parameters not given take their defaults, some derived
-    from the image size when the projection is used (``panoproj info`` lists them all).
-    """
-
-    name: str = ""
-    _keys: Tuple[str, ...] = ()
-
-    def __init__(self, **params: Any) -> None:
-        unknown = [k for k in params if k not in self._keys]
-        if unknown:
-            raise TypeError(f"{type(self).__name__}: unknown parameter {unknown[0]!r} "
-                            f"(expected one of {', '.join(self._keys)})")
-        parts = [f"{k}={_text(v)}" for k, v in params.items() if v is not None]
-        self._text = _core.canonical(self.name + (":" + ",".join(parts) if parts else ""))
-
-    @property
-    def params(self) -> Dict[str, Union[float, str]]:
-        """The parameters given (not the defaults), by name."""
-        _, _, rest = self._text.partition(":")
-        return {k: _value(v) for k, v in (p.split("=", 1) for p in rest.split(",") if p)}
-
-    def __str__(self) -> str:
-        return self._text
-
-    def __repr__(self) -> str:
-        args = ", ".join(f"{k}={v!r}" for k, v in self.params.items())
-        return f"{type(self).__name__}({args})"
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, Projection) and self._text == other._text
-
-    def __hash__(self) -> int:
-        return hash(self._text)
-
-    def __reduce__(self):
-        return (projection, (self._text,))
+__all__ += _declared.__all__  # the projection classes and the Literal aliases
 
 
-def _text(v: Any) -> str:
-    if isinstance(v, bool):
-        raise TypeError(f"parameter value {v!r}: expected a number or a name")
-    if isinstance(v, float):
-        return repr(v)  # shortest text that reads back to the same double
-    return str(v)
+class ParameterInfo(NamedTuple):
+    """One key of a projection: ``kind`` is "number", "integer" or "choice"; ``default`` is text
+    ("" when derived from the image); ``lo``/``hi`` bound numbers; ``choices`` are a choice's names."""
+
+    key: str
+    kind: str
+    default: str
+    lo: float
+    hi: float
+    choices: Tuple[str, ...]
+    help: str
 
 
-def _value(text: str) -> Union[float, int, str]:
-    for kind in (int, float):
-        try:
-            return kind(text)
-        except ValueError:
-            pass
-    return text
+class ProjectionInfo(NamedTuple):
+    """A catalogue entry: its spec name, its class, a one-line summary and its keys."""
+
+    name: str
+    cls: type
+    summary: str
+    parameters: Tuple[ParameterInfo, ...]
 
 
-def _class_name(spec_name: str) -> str:
-    return "".join(part.capitalize() for part in spec_name.split("-"))
-
-
-_CLASSES: Dict[str, type] = {}
-for _def in _core.catalog():
-    _doc = _def["summary"] + ".\n\nParameters (degrees, pixels):\n" + "\n".join(
-        f"    {p['key']}: {p['help']}" + (f" (default {p['default']})" if p["default"] else "")
-        for p in _def["params"])
-    _CLASSES[_def["name"]] = type(_class_name(_def["name"]), (Projection,), {
-        "name": _def["name"], "_keys": tuple(p["key"] for p in _def["params"]), "__doc__": _doc,
-        "__module__": __name__})
-    globals()[_class_name(_def["name"])] = _CLASSES[_def["name"]]
-    __all__.append(_class_name(_def["name"]))
-del _def, _doc
-
-
-def projection(spec: Union[str, Projection]) -> Projection:
-    """The projection of spec text (``"pinhole:hfov=90"``), as an instance of its class."""
-    if isinstance(spec, Projection):
-        return spec
-    if not isinstance(spec, str):
-        raise TypeError(f"projection: {spec!r} (expected spec text or a Projection)")
-    text = _core.canonical(spec)
-    cls = _CLASSES[text.partition(":")[0]]
-    p = cls.__new__(cls)
-    p._text = text
-    return p
+def projections() -> List[ProjectionInfo]:
+    """The catalogue: every projection panoproj converts from and to (``panoproj info`` lists the same)."""
+    return [ProjectionInfo(d["name"], CLASSES[d["name"]], d["summary"], tuple(
+        ParameterInfo(p["key"], p["type"], p["default"], p["lo"], p["hi"],
+                      tuple(p["choices"].split("|")) if p["choices"] else (), p["help"]) for p in d["params"]))
+        for d in _core.catalog()]
 
 
 def _spec(p: Union[str, Projection, None]) -> Optional[str]:
@@ -191,7 +145,10 @@ def _memory_limit(limit: Union[int, str, None]) -> int:
     return _int("memory_limit", limit, 10**6, 9 * 10**18, "at least 1000000 bytes, or text such as '4G'")
 
 
-def _one_line_type_errors(fn):
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _one_line_type_errors(fn: _F) -> _F:
     """pybind11 answers an argument of a type it cannot convert with a list of overloads: one
     line instead, naming the call."""
     @functools.wraps(fn)
@@ -203,7 +160,7 @@ def _one_line_type_errors(fn):
                 raise TypeError(f"{fn.__qualname__}: an argument of the wrong type (see help(panoproj."
                                 f"{fn.__qualname__}))") from None
             raise
-    return call
+    return cast(_F, call)
 
 
 def _antialias(antialias: Union[str, int, None]) -> Optional[str]:
@@ -214,7 +171,6 @@ def _antialias(antialias: Union[str, int, None]) -> Optional[str]:
     raise TypeError(f"antialias: {antialias!r} (expected 'auto', 'off', 'mip', a sub-pixel count or None)")
 
 
-FillLike = Union[str, Sequence[float], None]
 
 
 def _fill(fill: FillLike) -> Optional[str]:
@@ -231,12 +187,19 @@ def _fill(fill: FillLike) -> Optional[str]:
 # convert / build_map / Plan where the table says so, its value checked here by its type (a few
 # by name, for their Python forms) and handed to the row's setter.
 _OPTIONS = _core.options()
+_CHOICES = {o["name"]: o["choices"].split("|") for o in _OPTIONS if o["choices"]}
 
 
 def _option_text(name: str, v: Any) -> str:
     if not isinstance(v, str):
         raise TypeError(f"{name}: {v!r} (expected text)")
+    choices = _CHOICES.get(name)
+    if choices and v not in choices:
+        near = difflib.get_close_matches(v, choices, 1)
+        raise ValueError(f"{name}: {v!r} (expected one of {', '.join(choices)}"
+                         + (f"; did you mean {near[0]!r}?)" if near else ")"))
     return v
+
 
 
 def _integer(name: str, v: Any) -> int:
@@ -276,64 +239,153 @@ def _core_options(given: Dict[str, Any]) -> Dict[str, Any]:
     return out
 
 
-def _takes_options(use: str):
-    """Gives fn (whose last parameter is ``options``) the table's options for ``use`` as keyword-only
-    arguments, with their defaults, in its signature and docstring."""
+def _takes_options(use: str) -> Callable[[_F], _F]:
+    """Gives fn (declared with ``**options``) the table's options for ``use`` as keyword-only
+    arguments, with their defaults, in its runtime signature and docstring; unknown keywords
+    raise TypeError naming the ones it takes."""
     rows = [o for o in _OPTIONS if use in o["use"]]
     names = [o["name"] for o in rows]
 
-    def wrap(fn):
+    def wrap(fn: _F) -> _F:
         sig = inspect.signature(fn)
-        fixed = [p for p in sig.parameters.values() if p.name not in ("self", "options")]
-        first = [p for p in sig.parameters.values() if p.name == "self"]
+        fixed = [p for p in sig.parameters.values() if p.kind != p.VAR_KEYWORD]
         own = {p.name for p in fixed}
         expected = ", ".join(names + [p.name for p in fixed if p.kind == p.KEYWORD_ONLY])
 
         @functools.wraps(fn)
         def call(*args, **kwargs):
-            given = {k: kwargs.pop(k) for k in list(kwargs) if k in names}
-            bad = [k for k in kwargs if k not in own]
+            bad = [k for k in kwargs if k not in own and k not in names]
             if bad:
-                raise TypeError(f"{fn.__qualname__}: unknown option {bad[0]!r} (expected one of: {expected})")
-            return fn(*args, options=given, **kwargs)
+                near = difflib.get_close_matches(bad[0], names + list(own), 1)
+                raise TypeError(f"{fn.__qualname__}: unknown option {bad[0]!r} ("
+                                + (f"did you mean {near[0]!r}? " if near else "") + f"expected one of: {expected})")
+            return fn(*args, **kwargs)
 
         keywords = [inspect.Parameter(o["name"], inspect.Parameter.KEYWORD_ONLY, default=ast.literal_eval(o["default"]))
                     for o in rows]
-        call.__signature__ = sig.replace(parameters=first + fixed + keywords)
+        call.__signature__ = sig.replace(parameters=fixed + keywords)  # type: ignore[attr-defined]
         call.__doc__ = (fn.__doc__ or "") + "\n    Options (the command's flags of the same names):\n" + "\n".join(
             f"      {o['name']} = {o['default']}: {o['help']}" for o in rows) + "\n"
-        return call
+        return cast(_F, call)
     return wrap
+
+
+def _source_spec(src: Union[str, Projection, None], size: Optional[Tuple[int, int]]) -> str:
+    """src=None takes a 2:1 image as a full equirect, as the command does."""
+    if src is not None:
+        return str(projection(src))
+    if size is None:
+        return "cubemap"
+    if size[0] != 2 * size[1]:
+        raise ValueError(f"src: None, and a {size[0]}x{size[1]} image is not a 2:1 equirect (give src, e.g. "
+                         "'fisheye:fov=180')")
+    return "equirect"
+
+
+def _check_target_size(dst: str, options: Dict[str, Any]) -> None:
+    """A (height, width) given for an equirect or cylindrical target's (width, height) transposes it."""
+    size = _size(options.get("size"))
+    p = projection(dst)
+    if size is None or p.name not in ("equirect", "cylindrical"):
+        return
+    hfov, vfov = float(p.params.get("hfov", 360)), float(p.params.get("vfov", 180 if p.name == "equirect" else 100))
+    w, h = size
+    if w != h and abs(h / w - hfov / vfov) < 1e-9 * hfov / vfov:
+        warnings.warn(f"size=({w}, {h}) is (width, height): this {p.name} (hfov {hfov:g}, vfov {vfov:g}) would get "
+                      f"pixels {(hfov / w) / (vfov / h):g}x as wide as tall in degrees; did you mean size=({h}, {w})?",
+                      UserWarning, stacklevel=4)
+
+
+def _image_job(image: Any) -> Tuple[Any, Optional[Tuple[int, int]]]:
+    """A cubemap's faces (a list of arrays) or one array as numpy holds it, and its source (width, height)."""
+    faces = _arrays.faces_of(image)
+    if faces is not None:
+        for f in faces:
+            _arrays.check_layout(f, "cube face")
+        return faces, None
+    a = _arrays.as_array(image)
+    _arrays.check_layout(a)
+    return a, _arrays.source_size(a)
+
+
+def _codec(image: Any, options: Dict[str, Any]) -> "_arrays.Codec":
+    first = image[0] if isinstance(image, list) else image
+    codec = _arrays.codec_for(first, options.get("interp", "bicubic"))
+    _arrays.refuse_alpha(codec, options)
+    return codec
 
 
 @_one_line_type_errors
 @_takes_options("convert")
-def convert(image: Union[np.ndarray, Sequence[np.ndarray]], src: Union[str, Projection, None],
-            dst: Union[str, Projection], options: Dict[str, Any]) -> np.ndarray:
+def convert(image: ImageLike, src: Union[str, Projection, None], dst: Union[str, Projection],
+            **options: Unpack[ConvertOptions]) -> Array:
     """Converts ``image`` from projection ``src`` to ``dst`` and returns the new image.
 
-    ``src=None`` takes a 2:1 image as a full equirect (as the command does); a list of six
-    arrays is a cubemap's faces. The result has the input's dtype and channels; pixels without a
-    source are 0 (alpha 0). In Python, ``size`` is ``(width, height)`` (or ``"WxH"``),
-    ``antialias`` may be a sub-pixel count ``N``, ``fill`` a tuple ``(r, g, b[, a])`` in unit range,
-    and ``memory_limit`` a byte count or text such as ``"4G"``; a job over it raises MemoryError
-    before any work.
+    ``image``: HxW, HxWxC, a batch NxHxWxC (frames converted in parallel on one plan, equal to
+    converting each), or a cubemap's six faces (a list, or a dict by ``F R B L U D``); numpy or
+    anything numpy reads (``__array__``, ``__dlpack__``, buffers). The result has the input's
+    dtype and channels (float64 computed in float32); pixels without a source are 0 (alpha 0).
+    ``src=None`` takes a 2:1 image as a full equirect, as the command does. In Python, ``size``
+    is ``(width, height)`` (or ``"WxH"``), ``antialias`` may be a sub-pixel count ``N``, ``fill`` a
+    tuple ``(r, g, b[, a])`` in unit range, and ``memory_limit`` a byte count or text such as
+    ``"4G"``; a job over it raises MemoryError before any work.
     """
-    return _core.convert(image, _spec(src), _spec(dst), _core_options(options))
+    job, size = _image_job(image)
+    src_spec, dst_spec = _source_spec(src, size), str(projection(dst))
+    _check_target_size(dst_spec, options)
+    codec = _codec(job, options)
+    if not isinstance(job, list) and job.ndim == 4:
+        return _convert_batch(job, src_spec, dst_spec, codec, options)
+    core = _core_options(options)
+    run = lambda im, alpha: _core.convert(im, src_spec, dst_spec, core, alpha)  # noqa: E731
+    return _arrays.run_faces(job, codec, run) if isinstance(job, list) else _arrays.run_image(job, codec, run)
+
+
+def _convert_batch(frames: np.ndarray, src: str, dst: str, codec: "_arrays.Codec", options: Dict[str, Any]) -> Array:
+    """One plan, frames shared out to the threads (each frame on one thread: no per-frame sync)."""
+    workers = _threads(options.get("threads", 0)) or os.cpu_count() or 1
+    plan = _core.Plan(src, dst, (frames.shape[2], frames.shape[1]), _core_options({**options, "threads": 1}))
+    run = lambda im, alpha: plan.run(im, None, alpha)  # noqa: E731
+    with ThreadPoolExecutor(min(workers, len(frames))) as pool:
+        return np.stack(list(pool.map(lambda f: _arrays.run_image(f, codec, run), frames)))
+
+
+@overload
+def build_map(src: Union[str, Projection], dst: Union[str, Projection], source_size: SizeLike, *,
+              convention: Literal["opencv", "panoproj"] = ..., **options: Unpack[MapOptions]) -> Tuple[Array, Array]: ...
+@overload
+def build_map(src: Union[str, Projection], dst: Union[str, Projection], source_size: SizeLike, *,
+              convention: Literal["torch"], **options: Unpack[MapOptions]) -> Array: ...
 
 
 @_one_line_type_errors
 @_takes_options("maps")
 def build_map(src: Union[str, Projection], dst: Union[str, Projection], source_size: SizeLike, *,
-              convention: str = "opencv", options: Dict[str, Any]) -> Tuple[np.ndarray, np.ndarray]:
-    """Source-coordinate maps ``(map_x, map_y)``, float32 arrays of the output's shape.
+              convention: _coordinates.Convention = "opencv",
+              **options: Unpack[MapOptions]) -> Union[Tuple[Array, Array], Array]:
+    """Source-coordinate maps of the output's shape.
 
-    With ``convention="opencv"`` (pixel centres at integers, -1 where no source) they go straight
-    into ``cv2.remap(img, map_x, map_y, cv2.INTER_LINEAR)``; ``"panoproj"`` gives centres at
-    i + 0.5 and NaN where no source. Within 1/256 px of the exact map; cv2.remap itself rounds
-    positions to 1/32 px and cannot wrap seams, poles or cube edges.
+    ``convention="opencv"`` (pixel centres at integers, -1 where no source): ``(map_x, map_y)``,
+    float32, straight into ``cv2.remap(img, map_x, map_y, cv2.INTER_LINEAR)``; ``"panoproj"``:
+    centres at i + 0.5 and NaN where no source; ``"torch"``: one (H, W, 2) float32 grid for
+    ``torch.nn.functional.grid_sample(img, grid[None], align_corners=False)``, normalized to
+    [-1, 1] across the source's edges, -2 where no source. Within 1/256 px of the exact map;
+    cv2.remap itself rounds positions to 1/32 px and cannot wrap seams, poles or cube edges.
     """
-    return _core.build_map(_spec(src), _spec(dst), _size(source_size), convention, _core_options(options))
+    convention = _coordinates.check(convention)
+    size = _source_size(source_size)
+    _check_target_size(str(projection(dst)), options)
+    maps = _core.build_map(str(projection(src)), str(projection(dst)), size,
+                           "panoproj" if convention == "torch" else convention, _core_options(options))
+    return _coordinates.torch_grid(*maps, size) if convention == "torch" else maps
+
+
+def _source_size(size: SizeLike) -> Tuple[int, int]:
+    if size is None:
+        raise TypeError("source_size: None (expected the source image's (width, height), e.g. image.shape[1::-1])")
+    out = _size(size)
+    assert out is not None
+    return out
 
 
 class Plan:
@@ -341,18 +393,22 @@ class Plan:
 
     The first run builds and keeps the map of the tiles whose geometry is not computed in
     registers; later runs reuse it. ``plan(image)`` or ``plan.run(image, out=array)`` (writes
-    into a C-contiguous array of the output's shape and dtype). Safe to call from several
-    threads at once. Pickles as its parameters, so it can be sent to multiprocessing, Dask or
-    Ray workers (each rebuilds its map on its first run). Takes convert's options.
+    into a C-contiguous array of the output's shape and dtype). Takes what :func:`convert` takes
+    (dtypes, channels, batches, faces). Safe to call from several threads at once. Pickles as
+    its parameters, so it can be sent to multiprocessing, Dask or Ray workers (each rebuilds its
+    map on its first run). Takes convert's options.
     """
 
-    __slots__ = ("_args", "_plan")
+    __slots__ = ("_args", "_plan", "_given")
 
     @_one_line_type_errors
     @_takes_options("convert")
     def __init__(self, src: Union[str, Projection], dst: Union[str, Projection], source_size: SizeLike,
-                 options: Dict[str, Any]) -> None:
-        self._args = (_spec(src), _spec(dst), _size(source_size), _core_options(options))
+                 **options: Unpack[ConvertOptions]) -> None:
+        size = _source_size(source_size)
+        _check_target_size(str(projection(dst)), options)
+        self._given = dict(options)
+        self._args = (str(projection(src)), str(projection(dst)), size, _core_options(options))
         self._plan = _core.Plan(*self._args)
 
     @property
@@ -370,22 +426,33 @@ class Plan:
     @property
     def size(self) -> Tuple[int, int]:
         """The output's (width, height)."""
-        return tuple(self._plan.size)
+        w, h = self._plan.size
+        return (w, h)
 
     @_one_line_type_errors
-    def run(self, image: Union[np.ndarray, Sequence[np.ndarray]],
-            out: Optional[np.ndarray] = None) -> np.ndarray:
+    def run(self, image: ImageLike, out: Optional[Array] = None) -> Array:
         """Converts ``image``; with ``out``, into that array (which must not share memory with
         ``image``: ValueError)."""
-        return self._plan.run(image, out)
+        job, _ = _image_job(image)
+        codec = _codec(job, self._given)
+        if not isinstance(job, list) and job.ndim == 4:
+            if out is not None:
+                raise ValueError("out: not with a batch (convert the frames one by one into out[i], or take the result)")
+            return _convert_batch(job, self._args[0], self._args[1], codec, self._given)
+        if out is not None:
+            if isinstance(job, list) or codec.groups > 1 or codec.lanes is not None or codec.through is not None:
+                raise ValueError("out: only for images of at most 4 channels of uint8, uint16, float16 or float32")
+            return self._plan.run(job, out, True)
+        run = lambda im, alpha: self._plan.run(im, None, alpha)  # noqa: E731
+        return _arrays.run_faces(job, codec, run) if isinstance(job, list) else _arrays.run_image(job, codec, run)
 
     __call__ = run
 
-    def __getstate__(self):
-        return self._args
+    def __getstate__(self) -> Any:
+        return self._args, self._given
 
-    def __setstate__(self, args) -> None:
-        self._args = tuple(args)
+    def __setstate__(self, state: Any) -> None:
+        self._args, self._given = tuple(state[0]), state[1]
         self._plan = _core.Plan(*self._args)
 
     def __repr__(self) -> str:
@@ -394,13 +461,24 @@ class Plan:
         return f"Plan({src!r}, {dst!r}, source_size={source_size}, size={self.size}{shown})"
 
 
+@overload
+def read(path: PathLike, *, metadata: Literal[False] = ...,
+         memory_limit: Union[int, str, None] = ...) -> Array: ...
+@overload
+def read(path: PathLike, *, metadata: Literal[True],
+         memory_limit: Union[int, str, None] = ...) -> Tuple[Array, Dict[str, Any]]: ...
+
+
 @_one_line_type_errors
-def read(path: str, *, metadata: bool = False, memory_limit: Union[int, str, None] = None):
-    """Reads an image file (JPEG, PNG, TIFF, EXR or HDR, by its magic bytes) through OpenImageIO as an array of the
+def read(path: PathLike, *, metadata: bool = False,
+         memory_limit: Union[int, str, None] = None) -> Union[Array, Tuple[Array, Dict[str, Any]]]:
+    """Reads an image file (JPEG, PNG, TIFF, EXR or HDR, by its magic bytes) as an array of the
     file's sample type (other types become float32). A path with ``{face}`` or ``{index}`` reads
     six cube face files as one 6x1 cubemap. With ``metadata=True`` returns ``(array, dict)``, the
     dict holding the file's attributes by OpenImageIO's names (EXIF, XMP, ICC profile ...)."""
-    path = str(path)
+    path = os.fspath(path)
+    if not isinstance(path, str):
+        raise TypeError(f"path: {path!r} (expected a str or os.PathLike path)")
     limit = _memory_limit(memory_limit)
     array = _core.read_faces(path, limit) if re.search(r"\{(face|index)\}", path) else _core.read(path, limit)
     if metadata:
@@ -409,8 +487,9 @@ def read(path: str, *, metadata: bool = False, memory_limit: Union[int, str, Non
 
 
 @_one_line_type_errors
-def write(path: str, array: np.ndarray, *, overwrite: bool = False, dtype: Optional[str] = None,
-          metadata: Optional[Dict[str, Any]] = None, quality: int = 95, subsampling: str = "420") -> None:
+def write(path: PathLike, array: Array, *, overwrite: bool = False, dtype: Optional[str] = None,
+          metadata: Optional[Dict[str, Any]] = None, quality: int = 95,
+          subsampling: Literal["420", "422", "444"] = "420") -> None:
     """Writes an array atomically (a temporary file, then a rename): the format follows the
     extension. An existing file is replaced only with ``overwrite=True``. ``dtype`` converts the
     samples first (e.g. ``"uint8"`` for a JPEG of a float image); ``metadata`` attributes are
@@ -418,29 +497,38 @@ def write(path: str, array: np.ndarray, *, overwrite: bool = False, dtype: Optio
     6x1 cubemap (6N x N) as six files, all replaced or none. On any error (a full disk, no
     permission) the old file is intact and no temporary is left. JPEG: ``quality`` 1 to 100,
     ``subsampling`` of the chroma "420" (half width and height), "422" (half width) or "444"."""
-    _core.write(str(path), array, bool(overwrite), dtype, dict(metadata or {}),
+    a = _arrays.as_array(array, "array")
+    _core.write(os.fspath(path), a, bool(overwrite), dtype, dict(metadata or {}),
                 _int("quality", quality, 1, 100, "1 to 100"), str(subsampling))
 
 
 @_one_line_type_errors
-def to_ray(proj: Union[str, Projection], size: SizeLike, x, y) -> Tuple[np.ndarray, np.ndarray]:
-    """Unit rays through pixel positions (x, y) of ``proj`` at ``size``: ``(rays[..., 3], ok)``;
-    where ``ok`` is False (outside the projection) the ray is NaN."""
-    return _core.to_ray(_spec(proj), _size(size), x, y)
+def to_ray(proj: Union[str, Projection], size: SizeLike, x: Any, y: Any, *,
+           convention: _coordinates.Convention = "panoproj") -> Tuple[Array, Mask]:
+    """Unit rays through pixel positions (x, y) of ``proj`` at ``size`` (any shape of x, y):
+    ``(rays[..., 3], ok)``; where ``ok`` is False (outside the projection) the ray is NaN.
+    ``convention``: where x, y put pixel centres (panoproj: i + 0.5; opencv: i; torch: [-1, 1])."""
+    convention, (w, h) = _coordinates.check(convention), _source_size(size)
+    x = _coordinates.to_panoproj(convention, np.asarray(x, np.float64), w)
+    y = _coordinates.to_panoproj(convention, np.asarray(y, np.float64), h)
+    return _core.to_ray(str(projection(proj)), (w, h), x, y)
 
 
 @_one_line_type_errors
-def to_pixel(proj: Union[str, Projection], size: SizeLike,
-             rays) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+def to_pixel(proj: Union[str, Projection], size: SizeLike, rays: Any, *,
+             convention: _coordinates.Convention = "panoproj") -> Tuple[Array, Array, Mask]:
     """Pixel positions of rays (``[..., 3]``, any length but 0) in ``proj`` at ``size``:
-    ``(x, y, ok)``; NaN where ``ok`` is False (the ray has no pixel)."""
-    return _core.to_pixel(_spec(proj), _size(size), rays)
+    ``(x, y, ok)``; NaN where ``ok`` is False (the ray has no pixel). ``convention`` as in
+    :func:`to_ray`."""
+    convention, (w, h) = _coordinates.check(convention), _source_size(size)
+    x, y, ok = _core.to_pixel(str(projection(proj)), (w, h), np.asarray(rays, np.float64))
+    return _coordinates.from_panoproj(convention, x, w), _coordinates.from_panoproj(convention, y, h), ok
 
 
 @_one_line_type_errors
-def split_faces(image: np.ndarray, layout: Union[str, Projection] = "cubemap") -> List[np.ndarray]:
+def split_faces(image: Array, layout: Union[str, Projection] = "cubemap") -> List[Array]:
     """The six faces (front, right, back, left, up, down) of a cubemap image, as views."""
-    spec = _spec(layout)
+    spec = str(projection(layout))
     face, origins = _core.face_origins(spec, (image.shape[1], image.shape[0]))
     return [image[y:y + face, x:x + face] for x, y in origins]
 

@@ -55,8 +55,8 @@ py::dtype dtype_of(PixelType t) {
 int alpha_for(int channels) { return channels == 2 || channels == 4 ? channels - 1 : -1; }
 
 // An array as an Image: a view of its pixels when C-contiguous, else of a C-order copy (kept in
-// `keep`). HxW or HxWxC, C in 1..4.
-Image image_of(const py::array& a, py::object& keep) {
+// `keep`). HxW or HxWxC, C in 1..4; with 2 or 4 channels the last is alpha when `has_alpha`.
+Image image_of(const py::array& a, py::object& keep, bool has_alpha = true) {
   const PixelType t = pixel_type(a.dtype());
   if (a.ndim() != 2 && a.ndim() != 3)
     throw py::value_error("array shape: " + std::to_string(a.ndim()) +
@@ -71,7 +71,7 @@ Image image_of(const py::array& a, py::object& keep) {
   if (!(a.flags() & py::array::c_style)) c = py::array::ensure(a, py::array::c_style);
   keep = c;
   auto* data = static_cast<unsigned char*>(const_cast<void*>(c.data()));
-  return Image::view(data, {c.shape(1), c.shape(0)}, channels, t, alpha_for(channels));
+  return Image::view(data, {c.shape(1), c.shape(0)}, channels, t, has_alpha ? alpha_for(channels) : -1);
 }
 
 // Hands an image's buffer to numpy (no copy): HxWxC, or HxW for one channel when flat.
@@ -97,13 +97,13 @@ py::array read_array(Read&& read) {
 }
 
 // Six faces (front, right, back, left, up, down) of one shape and dtype as the 6x1 strip.
-Image strip_of(const py::sequence& faces) {
+Image strip_of(const py::sequence& faces, bool has_alpha) {
   if (py::len(faces) != 6)
     throw py::value_error("cube faces: " + std::to_string(py::len(faces)) + " arrays (expected 6)");
   std::vector<Image> views;
   std::vector<py::object> keep(6);
   for (size_t f = 0; f < 6; ++f) {
-    views.push_back(image_of(faces[f].cast<py::array>(), keep[f]));
+    views.push_back(image_of(faces[f].cast<py::array>(), keep[f], has_alpha));
     const Image& v = views.back();
     if (v.width() != v.height())
       throw py::value_error("cube face " + std::string(kFaceNames[f]) + ": " + std::to_string(v.width()) + "x" +
@@ -124,21 +124,13 @@ Image strip_of(const py::sequence& faces) {
   return strip;
 }
 
-// The source as an Image: one array, or a sequence of six cube faces (then the spec must be a
-// cubemap laid out as 6x1 or files).
-Image source_of(const py::object& src, py::object& keep, std::optional<ProjectionSpec>& spec) {
-  if (py::isinstance<py::array>(src)) return image_of(src.cast<py::array>(), keep);
-  if (!py::isinstance<py::sequence>(src) || py::isinstance<py::str>(src))
-    throw py::type_error("image: expected a numpy array or a list of six cube faces");
-  if (!spec) spec = parse_spec("cubemap");
-  if (spec->kind() != Kind::Cubemap || (spec->choice("layout") != "6x1" && spec->choice("layout") != "files"))
-    throw py::value_error("src: " + spec->str() + " with six face arrays (expected cubemap, layout 6x1 or files)");
-  return strip_of(src.cast<py::sequence>());
-}
-
-std::optional<ProjectionSpec> spec_of(const std::optional<std::string>& text) {
-  if (!text) return std::nullopt;
-  return parse_spec(*text);
+// The source as an Image: one array, or a list of six cube faces (then the spec must be a cubemap
+// laid out as 6x1 or files). panoproj/_arrays.py has made every other form one of these.
+Image source_of(const py::object& src, py::object& keep, const ProjectionSpec& spec, bool has_alpha) {
+  if (py::isinstance<py::array>(src)) return image_of(src.cast<py::array>(), keep, has_alpha);
+  if (spec.kind() != Kind::Cubemap || (spec.choice("layout") != "6x1" && spec.choice("layout") != "files"))
+    throw py::value_error("src: " + spec.str() + " with six face arrays (expected cubemap, layout 6x1 or files)");
+  return strip_of(src.cast<py::list>(), has_alpha);
 }
 
 // Python's keyword options, by the table's names (panoproj/__init__.py hands over those given,
@@ -176,10 +168,9 @@ class PyPlan {
         converter_(converter_for(geometry_, options_, true)) {}
   const ConversionGeometry& geometry() const { return geometry_; }
 
-  py::array run(const py::object& src, std::optional<py::array> out) const {
+  py::array run(const py::object& src, std::optional<py::array> out, bool has_alpha) const {
     py::object keep;
-    std::optional<ProjectionSpec> spec = parse_spec(src_);
-    const Image raw = source_of(src, keep, spec);
+    const Image raw = source_of(src, keep, parse_spec(src_), has_alpha);
     Image with_alpha;
     const Image& in = source_for(raw, options_, with_alpha);
     const bool flat = py::isinstance<py::array>(src) && src.cast<py::array>().ndim() == 2 && in.channels() == 1;
@@ -272,7 +263,8 @@ PYBIND11_MODULE(_core, m) {
         if (d.use & bit) use.append(name);
       const char* types[] = {"angle", "integer", "flag", "text"};
       out.append(py::dict(py::arg("name") = d.name, py::arg("type") = types[static_cast<int>(d.type)],
-                          py::arg("use") = use, py::arg("default") = d.default_text, py::arg("help") = d.help));
+                          py::arg("use") = use, py::arg("default") = d.default_text, py::arg("help") = d.help,
+                          py::arg("choices") = d.choices ? d.choices : ""));
     }
     return out;
   });
@@ -298,26 +290,22 @@ PYBIND11_MODULE(_core, m) {
 
   m.def(
       "convert",
-      [](const py::object& src_image, std::optional<std::string> src, const std::string& dst,
-         const py::dict& options) {
-        std::optional<ProjectionSpec> from = spec_of(src);
+      [](const py::object& src_image, const std::string& src, const std::string& dst, const py::dict& options,
+         bool has_alpha) {
+        const ProjectionSpec from = parse_spec(src);
         py::object keep;
-        const Image in = source_of(src_image, keep, from);
-        if (!from && in.width() != 2 * in.height())
-          throw Error("src: None, and a " + std::to_string(in.width()) + "x" + std::to_string(in.height()) +
-                      " image is not a 2:1 equirect (give src, e.g. 'fisheye:fov=180')");
-        if (!from) from = parse_spec("equirect");
+        const Image in = source_of(src_image, keep, from, has_alpha);
         const ProjectionSpec to = parse_spec(dst);
         const ConvertOptions o = options_from(options, kUseConvert);
         const bool flat = py::isinstance<py::array>(src_image) && src_image.cast<py::array>().ndim() == 2 && !o.add_alpha;
         Image out;
         {
           py::gil_scoped_release unlocked;
-          out = convert(in, *from, to, o);
+          out = convert(in, from, to, o);
         }
         return array_of(std::move(out), flat);
       },
-      py::arg("image"), py::arg("src"), py::arg("dst"), py::arg("options"));
+      py::arg("image"), py::arg("src"), py::arg("dst"), py::arg("options"), py::arg("has_alpha") = true);
 
   m.def(
       "build_map",
@@ -346,7 +334,7 @@ PYBIND11_MODULE(_core, m) {
   py::class_<PyPlan>(m, "Plan")
       .def(py::init<const std::string&, const std::string&, std::pair<int64_t, int64_t>, const py::dict&>(),
            py::arg("src"), py::arg("dst"), py::arg("source_size"), py::arg("options"))
-      .def("run", &PyPlan::run, py::arg("image"), py::arg("out") = std::nullopt)
+      .def("run", &PyPlan::run, py::arg("image"), py::arg("out") = std::nullopt, py::arg("has_alpha") = true)
       .def_property_readonly("size", [](const PyPlan& p) {
         const Size s = size_of(p.geometry().target);
         return std::pair{s.width, s.height};

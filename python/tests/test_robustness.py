@@ -806,7 +806,7 @@ PY_CALLS = [
     ("memory_limit_tiny", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', memory_limit=5)", "ValueError",
      "memory_limit: 5", False),
     ("image_not_array", "pp.convert('not an image', 'equirect', 'fisheye')", "TypeError", "image", False),
-    ("write_not_array", "pp.write('/tmp/never-written.png', 'pixels')", "TypeError", "write", True),
+    ("write_not_array", "pp.write('/tmp/never-written.png', 'pixels')", "TypeError", "array: str", True),
     ("to_ray_text", "pp.to_ray('pinhole', (10, 10), 'a', 'b')", "Exception", "", False),
     ("src_wording", "pp.convert(np.zeros((33, 64, 3), np.uint8), None, 'fisheye')", "ValueError", "give src", False),
     ("overwrite_wording", "open('/tmp/pp-exists.png', 'wb').close(); pp.write('/tmp/pp-exists.png', "

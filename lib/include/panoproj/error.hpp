@@ -33,6 +33,8 @@ class InternalError : public std::logic_error {
 // An option as the user writes it in messages: "--overwrite" on the command line (default),
 // "overwrite=True" once the Python module called use_python_option_names().
 std::string option_text(std::string_view cli_option);
+// An option with a text value: "--interp nearest", or "interp='nearest'" in Python.
+std::string option_text(std::string_view cli_option, std::string_view value);
 void use_python_option_names();
 
 // A library's message as one line of at most 240 characters (newlines folded, the rest cut).

@@ -140,6 +140,7 @@ struct OptionDef {
   // Stores the value; throws Error naming the option and what it expects. A value of the wrong
   // alternative is an InternalError (the front ends convert by `type`).
   void (*set)(ConvertOptions& options, const OptionValue& value);
+  const char* choices = nullptr;  // "a|b|c" for a Text option that takes names (Python's Literal)
 };
 
 const std::vector<OptionDef>& conversion_options();

@@ -25,6 +25,11 @@ std::string option_text(std::string_view cli_option) {
   return name + "=";
 }
 
+std::string option_text(std::string_view cli_option, std::string_view value) {
+  return python_names ? option_text(cli_option) + "'" + std::string(value) + "'"
+                      : option_text(cli_option) + " " + std::string(value);
+}
+
 std::string one_line(std::string s) {
   constexpr size_t kMost = 240;
   for (char& c : s)

@@ -37,6 +37,14 @@ ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, c
 }
 
 Antialias antialias_of(const ConvertOptions& options) {
+  // nearest copies source pixels (labels, masks, ids): it never averages them.
+  if (options.interp == Interp::Nearest) {
+    if (options.antialias && options.antialias->mode != Antialias::Mode::Off)
+      throw Error(option_text("antialias", name_of(*options.antialias)) + " with " +
+                  option_text("interp", "nearest") + ": nearest copies source pixels and never averages them (give " +
+                  option_text("antialias", "off") + ", or another interp)");
+    return {Antialias::Mode::Off, 1};
+  }
   if (options.antialias) return *options.antialias;
   return {options.engine == Engine::Reference ? Antialias::Mode::Off : Antialias::Mode::Auto, 1};
 }

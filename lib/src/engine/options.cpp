@@ -33,7 +33,8 @@ std::vector<OptionDef> make_options() {
        [](ConvertOptions& o, const OptionValue& v) { o.roll = value_as<double>(v, "roll"); }},
       {"interp", OptionType::Text, kUseConvert, "'bicubic'",
        "nearest|bilinear|bicubic|lanczos3|bicubic-dering|lanczos3-dering (default bicubic; -dering: no ringing)",
-       [](ConvertOptions& o, const OptionValue& v) { o.interp = parse_interp(value_as<std::string>(v, "interp")); }},
+       [](ConvertOptions& o, const OptionValue& v) { o.interp = parse_interp(value_as<std::string>(v, "interp")); },
+       "nearest|bilinear|bicubic|lanczos3|bicubic-dering|lanczos3-dering"},
       {"threads", OptionType::Integer, kAll, "0", "worker threads (default 0: all cores)",
        [](ConvertOptions& o, const OptionValue& v) {
          const int64_t n = value_as<int64_t>(v, "threads");
@@ -42,11 +43,13 @@ std::vector<OptionDef> make_options() {
        }},
       {"engine", OptionType::Text, kUseConvert, "'simd'",
        "simd (default) | scalar (same tiles, no SIMD) | reference (exact, slow)",
-       [](ConvertOptions& o, const OptionValue& v) { o.engine = parse_engine(value_as<std::string>(v, "engine")); }},
+       [](ConvertOptions& o, const OptionValue& v) { o.engine = parse_engine(value_as<std::string>(v, "engine")); },
+       "simd|scalar|reference"},
       {"antialias", OptionType::Text, kUseConvert, "None",
        "auto (default: where the output shrinks the source, each pixel the area-weighted mean of the source pixels "
        "under its footprint) | off | mip (mip levels) | N (N x N sub-pixels, 2..16); the reference engine has none",
-       [](ConvertOptions& o, const OptionValue& v) { o.antialias = parse_antialias(value_as<std::string>(v, "antialias")); }},
+       [](ConvertOptions& o, const OptionValue& v) { o.antialias = parse_antialias(value_as<std::string>(v, "antialias")); },
+       "auto|off|mip"},
       {"alpha", OptionType::Flag, kUseConvert, "False",
        "output alpha: 0 where there is no source, the covered share of each pixel on the field's edge (antialiased "
        "edges; a source without alpha gets an opaque one)",
@@ -69,7 +72,8 @@ std::vector<OptionDef> make_options() {
          if (t == "auto") o.decode_scale = 0;
          else if (t == "1" || t == "2" || t == "4" || t == "8") o.decode_scale = t[0] - '0';
          else throw Error(option_text("decode-scale") + " " + t + " (expected auto, 1, 2, 4 or 8)");
-       }},
+       },
+       "auto|1|2|4|8"},
       {"memory_limit", OptionType::Text, kAll, "None",
        "bytes a job may allocate, e.g. 4G or 512M (default: the memory available now); larger jobs are refused "
        "before any work",

@@ -1,6 +1,8 @@
 // The projection catalogue (gathered from the modules) and the spec-string parser.
 #include "panoproj/spec.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -10,6 +12,50 @@
 
 namespace panoproj {
 namespace {
+
+// Names other tools use for a catalogue entry (py360convert, Hugin, FFmpeg's v360, cartography).
+constexpr std::pair<std::string_view, std::string_view> kOtherNames[] = {
+    {"perspective", "pinhole"},       {"rectilinear", "pinhole"},         {"gnomonic", "pinhole"},
+    {"flat", "pinhole"},              {"equirectangular", "equirect"},    {"erp", "equirect"},
+    {"latlong", "equirect"},          {"spherical", "equirect"},          {"plate-carree", "equirect"},
+    {"cube", "cubemap"},              {"dice", "cubemap:layout=cross"},   {"cross", "cubemap:layout=cross"},
+    {"horizon", "cubemap:layout=6x1"}, {"c6x1", "cubemap:layout=6x1"},    {"c3x2", "cubemap:layout=3x2"},
+    {"skybox", "cubemap"},            {"dfisheye", "dual-fisheye"},       {"fish-eye", "fisheye"},
+    {"equidistant", "fisheye"},       {"ball", "fisheye"},                {"hammer-aitoff", "hammer"},
+    {"cylinder", "cylindrical"},      {"brown", "brown-conrady"},         {"opencv-fisheye", "kannala-brandt"},
+};
+
+// Levenshtein distance, for "did you mean" on a misspelt name.
+size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// "did you mean X? " for another tool's name, a catalogue name within two edits, or one that
+// begins the text (equirectangle); else "".
+std::string did_you_mean(const std::string& name) {
+  std::string lower = name;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::replace(lower.begin(), lower.end(), '_', '-');
+  for (const auto& [other, ours] : kOtherNames)
+    if (lower == other) return "did you mean " + std::string(ours) + "? ";
+  std::string best;
+  size_t best_distance = 3;
+  for (const auto& d : projection_catalog())
+    if (const size_t e = lower.rfind(d.name, 0) == 0 ? 0 : edit_distance(lower, d.name); e < best_distance)
+      best_distance = e, best = d.name;
+  return best.empty() ? "" : "did you mean " + best + "? ";
+}
 
 std::string list_names() {
   std::string s;
@@ -125,7 +171,7 @@ ProjectionSpec parse_spec(std::string_view text) {
   for (const auto& d : projection_catalog())
     if (name == d.name) def = &d;
   if (!def)
-    throw Error("unknown projection '" + name + "' (expected one of: " + list_names() + ")");
+    throw Error("unknown projection '" + name + "' (" + did_you_mean(name) + "expected one of: " + list_names() + ")");
 
   std::map<std::string, std::string> values;
   if (colon != std::string_view::npos) {
