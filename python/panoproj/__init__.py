@@ -3,12 +3,13 @@ cylindrical, cubemap, Aitoff, Hammer / Eckert-Greifendorff, Bonne) at native spe
 
 Conventions (the same as the ``panoproj`` command; see docs/projections.md):
 
-- Images are numpy arrays, ``HxW`` or ``HxWxC`` with C in 1..4, dtype uint8, uint16, float16 or
-  float32. With 2 or 4 channels the last one is alpha. A C-contiguous array is read in place,
-  never copied; any other layout is copied once to C order.
+- Images are arrays ``HxW``, ``HxWxC`` or batches ``NxHxWxC`` of any channel count (2 or 4:
+  alpha last; more than 4 in groups, no alpha): uint8, uint16, float16, float32 as they are,
+  float64 through float32, any integer/bool/float with ``interp="nearest"`` exactly; anything
+  numpy reads (``__dlpack__``, ``__array__``, buffers). A C-contiguous array is read in place.
 - A cubemap in memory is one image in its layout (6x1 by default: front, right, back, left, up,
-  down); :func:`convert` also takes a list of six face arrays, and :func:`split_faces` gives
-  the faces of a cubemap image as views.
+  down); :func:`convert` also takes six face arrays (a list, or a dict by ``F R B L U D``), and
+  :func:`split_faces` gives the faces of a cubemap image as views.
 - Sizes are ``(width, height)`` like OpenCV's ``dsize`` (or ``"WxH"``); angles in degrees.
 - Pixel coordinates put pixel centres at ``i + 0.5`` (panoproj's convention); rays are unit
   vectors, x right, y down, z forward.
