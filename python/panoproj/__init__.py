@@ -306,7 +306,7 @@ def _image_job(image: Any) -> Tuple[Any, Optional[Tuple[int, int]]]:
         return faces, None
     a = _arrays.as_array(image)
     _arrays.check_layout(a)
-    return a, _arrays.source_size(a)
+    return a, (a.shape[-2], a.shape[-3]) if a.ndim == 4 else (a.shape[1], a.shape[0])
 
 
 def _codec(image: Any, options: Dict[str, Any]) -> "_arrays.Codec":
@@ -335,20 +335,34 @@ def convert(image: ImageLike, src: Union[str, Projection, None], dst: Union[str,
     src_spec, dst_spec = _source_spec(src, size), str(projection(dst))
     _check_target_size(dst_spec, options)
     codec = _codec(job, options)
-    if not isinstance(job, list) and job.ndim == 4:
-        return _convert_batch(job, src_spec, dst_spec, codec, options)
     core = _core_options(options)
+    if not isinstance(job, list) and job.ndim == 4:
+        plan = _core.Plan(src_spec, dst_spec, size, {**core, "threads": 1})
+        return _convert_batch(job, plan, codec, options)
     run = lambda im, alpha: _core.convert(im, src_spec, dst_spec, core, alpha)  # noqa: E731
     return _arrays.run_faces(job, codec, run) if isinstance(job, list) else _arrays.run_image(job, codec, run)
 
 
-def _convert_batch(frames: np.ndarray, src: str, dst: str, codec: "_arrays.Codec", options: Dict[str, Any]) -> Array:
-    """One plan, frames shared out to the threads (each frame on one thread: no per-frame sync)."""
-    workers = _threads(options.get("threads", 0)) or os.cpu_count() or 1
-    plan = _core.Plan(src, dst, (frames.shape[2], frames.shape[1]), _core_options({**options, "threads": 1}))
+def _convert_batch(frames: Array, plan: Any, codec: "_arrays.Codec", options: Dict[str, Any]) -> Array:
+    """Frames shared out to the threads, each converted on one thread by a one-thread plan (no
+    per-frame sync), into one array sized (and checked against memory_limit) after the first."""
     run = lambda im, alpha: plan.run(im, None, alpha)  # noqa: E731
-    with ThreadPoolExecutor(min(workers, len(frames))) as pool:
-        return np.stack(list(pool.map(lambda f: _arrays.run_image(f, codec, run), frames)))
+    first = _arrays.run_image(frames[0], codec, run)
+    _core.require_memory(f"batch output {len(frames)} x {'x'.join(map(str, first.shape))}",
+                         first.nbytes * len(frames), _memory_limit(options.get("memory_limit")))
+    out = np.empty((len(frames),) + first.shape, first.dtype)
+    out[0] = first
+
+    def one(i: int) -> None:
+        if codec.as_is:
+            plan.run(frames[i], out[i], True)
+        else:
+            out[i] = _arrays.run_image(frames[i], codec, run)
+
+    workers = _threads(options.get("threads", 0)) or os.cpu_count() or 1
+    with ThreadPoolExecutor(max(1, min(workers, len(frames) - 1))) as pool:
+        list(pool.map(one, range(1, len(frames))))
+    return out
 
 
 @overload
@@ -400,7 +414,7 @@ class Plan:
     map on its first run). Takes convert's options.
     """
 
-    __slots__ = ("_args", "_plan", "_given")
+    __slots__ = ("_args", "_plan", "_given", "_frame_plan")
 
     @_one_line_type_errors
     @_takes_options("convert")
@@ -411,6 +425,7 @@ class Plan:
         self._given = dict(options)
         self._args = (str(projection(src)), str(projection(dst)), size, _core_options(options))
         self._plan = _core.Plan(*self._args)
+        self._frame_plan: Any = None  # batches: a one-thread plan, each frame on its own thread
 
     @property
     def src(self) -> Projection:
@@ -439,9 +454,12 @@ class Plan:
         if not isinstance(job, list) and job.ndim == 4:
             if out is not None:
                 raise ValueError("out: not with a batch (convert the frames one by one into out[i], or take the result)")
-            return _convert_batch(job, self._args[0], self._args[1], codec, self._given)
+            if self._frame_plan is None:
+                src, dst, size, options = self._args
+                self._frame_plan = _core.Plan(src, dst, size, {**options, "threads": 1})
+            return _convert_batch(job, self._frame_plan, codec, self._given)
         if out is not None:
-            if isinstance(job, list) or codec.groups > 1 or codec.lanes is not None or codec.through is not None:
+            if isinstance(job, list) or not codec.as_is:
                 raise ValueError("out: only for images of at most 4 channels of uint8, uint16, float16 or float32")
             return self._plan.run(job, out, True)
         run = lambda im, alpha: self._plan.run(im, None, alpha)  # noqa: E731
@@ -455,6 +473,7 @@ class Plan:
     def __setstate__(self, state: Any) -> None:
         self._args, self._given = tuple(state[0]), state[1]
         self._plan = _core.Plan(*self._args)
+        self._frame_plan = None
 
     def __repr__(self) -> str:
         src, dst, source_size, options = self._args

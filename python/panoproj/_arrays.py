@@ -98,6 +98,7 @@ class Codec:
         self.groups = -(-self.channels // _GROUP)
         # Channels 2 and 4 are alpha only for images the core sees whole, as they are.
         self.alpha = self.groups == 1 and self.lanes is None
+        self.as_is = self.alpha and self.through is None  # the core takes and gives the user's arrays
 
     def encode(self, a: np.ndarray) -> List[np.ndarray]:
         if self.lanes is not None:
@@ -146,9 +147,3 @@ def run_faces(faces: Sequence[np.ndarray], codec: Codec, run: Run) -> np.ndarray
 
 def codec_for(a: np.ndarray, interp: Any) -> Codec:
     return Codec(a.dtype, a.shape[-1] if a.ndim in (3, 4) else 1, interp == "nearest")
-
-
-def source_size(image: Any) -> Optional[tuple]:
-    """(width, height) of an array (a batch: of a frame); None for faces."""
-    return None if isinstance(image, list) else (image.shape[-2], image.shape[-3]) if image.ndim == 4 else \
-        (image.shape[1], image.shape[0])

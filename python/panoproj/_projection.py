@@ -3,7 +3,10 @@ spec text <-> instances."""
 
 from __future__ import annotations
 
+import numbers
 from typing import Any, Dict, Tuple, Union
+
+import numpy as np
 
 from . import _core
 
@@ -47,14 +50,13 @@ class Projection:
 
 
 def _text(key: str, v: Any) -> str:
-    if isinstance(v, bool) or not isinstance(v, (int, float, str)) and not hasattr(v, "__index__") \
-            and not hasattr(v, "__float__"):
-        raise TypeError(f"{key}: {v!r} (expected a number or a name)")
+    """A key's value as spec text: names as they are, integers (numpy's too) exactly, floats by
+    their shortest text that reads back to the same double."""
     if isinstance(v, str):
         return v
-    if hasattr(v, "__index__"):
-        return str(int(v))
-    return repr(float(v))  # shortest text that reads back to the same double
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Integral, numbers.Real)):
+        raise TypeError(f"{key}: {v!r} (expected a number or a name)")
+    return str(int(v)) if isinstance(v, numbers.Integral) else repr(float(v))
 
 
 def _value(text: str) -> Union[float, int, str]:

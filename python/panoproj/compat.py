@@ -21,6 +21,7 @@ python/tests/test_compat.py.
 
 from __future__ import annotations
 
+import numbers
 from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
@@ -48,6 +49,20 @@ def _interp(mode: str) -> str:
     return _MODES[mode.lower()]
 
 
+def _pixels(name: str, v: Any) -> int:
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral) or not 1 <= int(v) <= 2**31 - 1:
+        raise (ValueError if isinstance(v, numbers.Integral) else TypeError)(
+            f"{name}: {v!r} (expected a whole number of pixels, 1 to 2147483647)")
+    return int(v)
+
+
+def _pair(name: str, v: Any, expected: str) -> Tuple[Any, Any]:
+    if isinstance(v, (str, bytes)) or np.ndim(v) != 1 or len(v) != 2:
+        raise (ValueError if np.ndim(v) == 1 and not isinstance(v, (str, bytes)) else TypeError)(
+            f"{name}: {v!r} (expected {expected})")
+    return v[0], v[1]
+
+
 def _format(cube_format: str) -> str:
     if cube_format not in ("horizon", "list", "dict", "dice"):
         raise ValueError(f"cube_format: {cube_format!r} (expected 'horizon', 'list', 'dict' or 'dice')")
@@ -68,7 +83,7 @@ def e2c(e_img: Any, face_w: int = ..., mode: InterpolationMode = ..., *,
 def e2c(e_img: Any, face_w: int = 256, mode: InterpolationMode = "bilinear",
         cube_format: CubeFormat = "dice") -> Union[Array, List[Array], Dict[str, Array]]:
     """An equirectangular image (H, W[, C]) as a cubemap of ``face_w``-pixel faces in ``cube_format``."""
-    fmt, interp = _format(cube_format), _interp(mode)
+    fmt, interp, face_w = _format(cube_format), _interp(mode), _pixels("face_w", face_w)
     layout = _LAYOUTS.get(fmt, _LAYOUTS["horizon"])
     cols, rows = (4, 3) if fmt == "dice" else (6, 1)
     cube = convert(e_img, "equirect", layout, size=(cols * face_w, rows * face_w), interp=interp)  # type: ignore
@@ -82,7 +97,7 @@ def e2c(e_img: Any, face_w: int = 256, mode: InterpolationMode = "bilinear",
 def c2e(cubemap: Any, h: int, w: int, mode: InterpolationMode = "bilinear",
         cube_format: CubeFormat = "dice") -> Array:
     """A cubemap in ``cube_format`` as an (h, w[, C]) equirectangular image."""
-    fmt, interp = _format(cube_format), _interp(mode)
+    fmt, interp, h, w = _format(cube_format), _interp(mode), _pixels("h", h), _pixels("w", w)
     if fmt == "list":
         if not isinstance(cubemap, (list, tuple)):
             raise TypeError(f"cubemap: {type(cubemap).__name__} (expected a list of six faces for cube_format='list')")
@@ -101,9 +116,10 @@ def e2p(e_img: Any, fov_deg: Union[float, Tuple[float, float]], u_deg: float, v_
     """A perspective view of an equirectangular image: ``fov_deg`` (or (h_fov, v_fov)) degrees,
     looking ``u_deg`` right and ``v_deg`` up, turned ``in_rot_deg`` in the image plane, of
     ``out_hw`` = (height, width) pixels."""
-    hfov, vfov = (fov_deg, fov_deg) if np.ndim(fov_deg) == 0 else tuple(fov_deg)  # type: ignore
-    out_h, out_w = out_hw
-    return convert(e_img, "equirect", Pinhole(hfov=float(hfov), vfov=float(vfov)), size=(int(out_w), int(out_h)),
+    hfov, vfov = (fov_deg, fov_deg) if np.ndim(fov_deg) == 0 else _pair("fov_deg", fov_deg, "degrees, or (h_fov, v_fov)")
+    out_h, out_w = _pair("out_hw", out_hw, "(height, width) in pixels")
+    out_h, out_w = _pixels("out_hw height", out_h), _pixels("out_hw width", out_w)
+    return convert(e_img, "equirect", Pinhole(hfov=float(hfov), vfov=float(vfov)), size=(out_w, out_h),
                    yaw=float(u_deg), pitch=float(v_deg), roll=float(in_rot_deg), interp=_interp(mode))  # type: ignore
 
 
@@ -111,7 +127,7 @@ def _faces(a: Any, layout: str, what: str) -> List[Array]:
     a = _arrays.as_array(a, what)
     cols, rows = (6, 1) if layout == "horizon" else (4, 3)
     if a.ndim not in (2, 3) or a.shape[0] * cols != a.shape[1] * rows:
-        raise ValueError(f"{what}: shape {a.shape} (expected {rows}w x {cols}w pixels, w the face size, for "
+        raise ValueError(f"{what}: shape {a.shape} (expected {rows if rows > 1 else ''}w x {cols}w pixels, w the face size, for "
                          f"cube_format='{layout}')")
     return split_faces(a, _LAYOUTS[layout])
 

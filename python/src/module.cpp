@@ -287,6 +287,8 @@ PYBIND11_MODULE(_core, m) {
         "The canonical text of a spec; raises ValueError naming a bad part.");
   m.def("simd_target", &simd_target);
   m.def("parse_memory_limit", [](const std::string& text) { return parse_memory_limit(text); }, py::arg("text"));
+  m.def("require_memory", &require_memory, py::arg("what"), py::arg("bytes"), py::arg("limit"),
+        "Raises MemoryError when `bytes` would not fit the budget (limit 0: the memory available now).");
 
   m.def(
       "convert",

@@ -93,7 +93,7 @@ def test_cube_helpers_agree_and_round_trip():
                                                                "not have; expected 'nearest', 'bilinear'"),
     (lambda: compat.e2c(PANO, 8, cube_format="cross"), ValueError, "cube_format: 'cross' (expected 'horizon'"),
     (lambda: compat.c2e(FACES[0], 8, 16, cube_format="list"), TypeError, "expected a list of six faces"),
-    (lambda: compat.cube_h2list(FACES[0]), ValueError, "cube_h: shape (1584, 1584, 3) (expected 1w x 6w"),
+    (lambda: compat.cube_h2list(FACES[0]), ValueError, "cube_h: shape (1584, 1584, 3) (expected w x 6w"),
     (lambda: compat.cube_list2h(FACES[:5]), ValueError, "cube_list: 5 faces"),
     (lambda: compat.cube_dict2h({"F": FACES[0]}), KeyError, "cube_dict: no face 'R'"),
 ])
