@@ -1,8 +1,8 @@
 """panoproj.compat against py360convert 1.0.4 on the Jordan Pond panorama: the same shapes,
-dtypes, formats and orientations; PSNR reported (pytest -s prints them). The geometry agrees to
-50+ dB once py360convert's sample positions are given to the engine (its face pixels span the
-face edge to edge: pinhole faces of fov 2 atan(w / (w - 1))), so what remains is those half-pixel
-positions and antialiasing."""
+dtypes, formats and orientations, and the same sample positions (its grids put the first and last
+samples on the edges), so the pictures agree to 40+ dB in every mode; PSNR reported (pytest -s
+prints them). The issue's bar is 30 dB; exact pixel centres (half a pixel off at the edges) give
+25-38 dB, so each test fails on that mistake."""
 
 import math
 import pathlib
@@ -36,12 +36,15 @@ def _same(a, b):
     return psnr(a, b)
 
 
+BAR = 40  # dB; the issue asks for 30
+
+
 @pytest.mark.parametrize("fmt", ["horizon", "dice", "list", "dict"])
 def test_e2c_in_every_format(fmt):
     ours, theirs = compat.e2c(PANO, 1024, cube_format=fmt), py360convert.e2c(PANO, 1024, cube_format=fmt)
     scores = np.ravel(_same(ours, theirs))
     print(f"e2c {fmt}: PSNR {' '.join(f'{s:.1f}' for s in scores)} dB")
-    assert min(scores) > 29
+    assert min(scores) > BAR
 
 
 @pytest.mark.parametrize("fmt", ["horizon", "dice", "list", "dict"])
@@ -51,7 +54,7 @@ def test_c2e_from_every_format(fmt):
     ours, theirs = compat.c2e(cube, 2048, 4096, cube_format=fmt), py360convert.c2e(cube, 2048, 4096, cube_format=fmt)
     score = _same(ours, theirs)
     print(f"c2e {fmt}: PSNR {score:.1f} dB")
-    assert score > 25
+    assert score > BAR
 
 
 @pytest.mark.parametrize("u,v,rot", [(0, 0, 0), (120, 23, 0), (-60, -40, 30), (170, 60, -45), (0, -90, 0),
@@ -61,19 +64,44 @@ def test_e2p_with_rotations(u, v, rot):
     theirs = py360convert.e2p(PANO, (90, 70), u, v, (480, 640), rot)
     score = _same(ours, theirs)
     print(f"e2p u={u} v={v} rot={rot}: PSNR {score:.1f} dB")
-    assert score > 25
+    assert score > BAR
     if rot:  # the deliberate mistake: the in-plane turn the other way
         assert psnr(compat.e2p(PANO, (90, 70), u, v, (480, 640), -rot), theirs) < score - 10
 
 
-@pytest.mark.parametrize("face,yaw,pitch", [(0, 0, 0), (1, 90, 0), (2, 180, 0), (3, -90, 0), (4, 0, 90), (5, 0, -90)])
-def test_orientation_agrees_at_their_sample_positions(face, yaw, pitch):
-    w = 256
-    theirs = py360convert.cube_h2list(py360convert.e2c(PANO, w, cube_format="horizon"))[face]
-    fov = 2 * math.degrees(math.atan(w / (w - 1)))
-    ours = pp.convert(PANO, "equirect", pp.Pinhole(hfov=fov), size=(w, w), yaw=yaw, pitch=pitch, interp="bilinear",
-                      antialias="off")
-    assert psnr(ours, theirs) > 50
+@pytest.mark.parametrize("mode", ["nearest", "bicubic"])
+def test_other_modes(mode):
+    scores = [_same(compat.e2c(PANO, 512, mode, "horizon"), py360convert.e2c(PANO, 512, mode, "horizon")),
+              _same(compat.c2e(FACES, 1024, 2048, mode, "list"), py360convert.c2e(FACES, 1024, 2048, mode, "list")),
+              _same(compat.e2p(PANO, 100, -60, -40, (300, 400), 30, mode),
+                    py360convert.e2p(PANO, 100, -60, -40, (300, 400), 30, mode))]
+    print(f"{mode}: e2c, c2e, e2p PSNR {' '.join(f'{s:.1f}' for s in scores)} dB")
+    assert min(scores) > BAR
+
+
+def test_antialias_on_request_keeps_faces_seamless():
+    # c2e's faces are padded by more than the widest footprint: a uniform cube stays uniform however
+    # far it shrinks (one pixel of padding leaves 100-200 values on the face edges at 300 -> 32x16)
+    for fw, h, w in [(300, 16, 32), (64, 32, 64), (64, 1000, 2000)]:
+        for mode in ("bilinear", "bicubic"):
+            out = compat.c2e([np.full((fw, fw, 3), 200, np.uint8)] * 6, h, w, mode, "list", antialias="auto")
+            assert out.shape == (h, w, 3) and np.unique(out).tolist() == [200], (fw, h, w, mode)
+    # and it averages: closer to the mean of a 4x shrink than point sampling is
+    sharp = compat.e2c(PANO, 1024, cube_format="list")
+    small, smooth = (compat.c2e(sharp, 256, 512, cube_format="list", antialias=a) for a in ("off", "auto"))
+    truth = pp.convert(PANO, "equirect", "equirect", size=(512, 256), interp="bilinear")
+    assert psnr(smooth, truth) > psnr(small, truth) + 3
+
+
+@pytest.mark.parametrize("h,w", [(1, 8), (2, 8), (3, 5), (7, 1), (9, 4095)])
+def test_c2e_takes_any_size(h, w):
+    # py360convert wants w a multiple of 8; the pole rows and the seam columns are strips of their own
+    faces = [np.full((16, 16), 10 * k, np.uint8) for k in range(6)]
+    out = compat.c2e(faces, h, w, "nearest", "list")
+    assert out.shape == (h, w) and out.dtype == np.uint8
+    assert (out[0] == 40).all()  # the first row is the zenith: face U
+    if h > 2:
+        assert out[h // 2, w // 2] == (20 if w == 1 else 0) and (out[-1] == 50).all()  # the centre looks at F (B on the seam), the last row at D
 
 
 def test_cube_helpers_agree_and_round_trip():
@@ -96,6 +124,12 @@ def test_cube_helpers_agree_and_round_trip():
     (lambda: compat.cube_h2list(FACES[0]), ValueError, "cube_h: shape (1584, 1584, 3) (expected w x 6w"),
     (lambda: compat.cube_list2h(FACES[:5]), ValueError, "cube_list: 5 faces"),
     (lambda: compat.cube_dict2h({"F": FACES[0]}), KeyError, "cube_dict: no face 'R'"),
+    (lambda: compat.c2e({"F": FACES[0]}, 8, 16, cube_format="dict"), KeyError, "cubemap: no face 'R'"),
+    (lambda: compat.c2e([FACES[0]] * 5 + [FACES[0][:8]], 8, 16, cube_format="list"), ValueError,
+     "cubemap: face D is (8, 1584, 3) uint8 (expected six square faces"),
+    (lambda: compat.e2p(PANO, 180, 0, 0, (8, 8)), ValueError, "fov_deg: 180 (expected degrees, 0 < fov < 180)"),
+    (lambda: compat.e2p(PANO, (90, float("nan")), 0, 0, (8, 8)), ValueError, "fov_deg: nan"),
+    (lambda: compat.e2p(PANO, "90", 0, 0, (8, 8)), TypeError, "fov_deg: '90'"),
 ])
 def test_bad_inputs(call, cls, text):
     with pytest.raises(cls) as e:

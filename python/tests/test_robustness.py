@@ -853,12 +853,16 @@ PY_CALLS = [
     ("compat_mode", "from panoproj import compat; compat.e2p(np.zeros((64, 128, 3), np.uint8), 90, 0, 0, (8, 8), mode='quintic')", "ValueError",
      "mode: 'quintic'", False),
     ("compat_fov_nan", "from panoproj import compat; compat.e2p(np.zeros((64, 128, 3), np.uint8), float('nan'), 0, 0, (8, 8))", "ValueError",
-     "hfov=nan", False),
+     "fov_deg: nan", False),
+    ("compat_fov_180", "from panoproj import compat; compat.e2p(np.zeros((64, 128, 3), np.uint8), (90, 180), 0, 0, (8, 8))", "ValueError",
+     "fov_deg: 180", False),
+    ("compat_c2e_faces", "from panoproj import compat; compat.c2e([np.zeros((8, 8, 3), np.uint8)] * 5 + [np.zeros((8, 8), np.uint8)], 8, 16, "
+     "cube_format='list')", "ValueError", "face D is (8, 8) uint8", False),
     ("compat_out_hw", "from panoproj import compat; compat.e2p(np.zeros((64, 128, 3), np.uint8), 90, 0, 0, '8x8')", "TypeError", "out_hw: '8x8'",
      False),
     ("compat_u_inf", "from panoproj import compat; compat.e2p(np.zeros((64, 128, 3), np.uint8), 90, float('inf'), 0, (8, 8))", "ValueError", "yaw: inf",
      False),
-    ("compat_dice_shape", "from panoproj import compat; compat.c2e(np.zeros((10, 10, 3), np.uint8), 8, 16)", "ValueError", "layout=cross", False),
+    ("compat_dice_shape", "from panoproj import compat; compat.c2e(np.zeros((10, 10, 3), np.uint8), 8, 16)", "ValueError", "cube_format='dice'", False),
 ]
 
 

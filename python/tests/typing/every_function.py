@@ -38,7 +38,7 @@ print(pp.simd_target(), pp.__version__)
 dice = compat.e2c(pano, face_w=16, mode="bilinear", cube_format="dice")
 listed = compat.e2c(pano, 16, cube_format="list")
 named = compat.e2c(pano, 16, cube_format="dict")
-back = compat.c2e(named, 32, 64, cube_format="dict")
+back = compat.c2e(named, 32, 64, cube_format="dict", antialias="auto")
 view = compat.e2p(pano, (90, 70), 10.0, 5.0, (24, 32), in_rot_deg=3, mode="bicubic")
 cube_h = compat.cube_dice2h(dice)
 print(compat.cube_h2dice(cube_h).shape, compat.cube_list2h(compat.cube_h2list(cube_h)).shape,
