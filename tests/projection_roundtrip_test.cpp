@@ -58,6 +58,10 @@ bool on_identity_set(const Projection& p, double lon0, double x, double y, const
   if (const auto* k = std::get_if<CalibratedLens>(&p)) {
     return k->theta_max() >= kPi * (1 - 1e-12) && std::atan2(std::hypot(d.x(), d.y()), d.z()) > kPi - 1e-6;
   }
+  // Transverse Mercator: Y = +-pi is one line, the equator's back half.
+  if (std::holds_alternative<TransverseMercator>(p)) {
+    return std::fabs(latitude(d)) < 1e-6 && std::cos(wrap_pi(longitude(d) - lon0)) < 0;
+  }
   // Cartographic: the outline meridian (180 degrees from lon0, drawn on both sides) and the
   // poles (a pole is one point; Aitoff and Hammer draw it as one, Bonne as a line or a point).
   const double lon_rel = wrap_pi(longitude(d) - lon0);

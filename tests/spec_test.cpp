@@ -65,14 +65,14 @@ TEST(Spec, ErrorsNameTheValueAndWhatWasExpected) {
   EXPECT_EQ(error_of("pinhole:hfov=180"), "pinhole: hfov=180 is out of range (expected 0 < hfov < 180)");
   EXPECT_EQ(error_of("fisheye:model=fish"),
             "fisheye: model=fish is not a valid value (expected one of "
-            "equidistant|equisolid|orthographic|stereographic)");
+            "equidistant|equisolid|orthographic|stereographic|thoby)");
   EXPECT_EQ(error_of("fisheye:fov"), "fisheye: 'fov' is not key=value");
   EXPECT_EQ(error_of("fisheye:zoom=2"),
-            "fisheye: unknown key 'zoom' (expected one of: fov, model, clip, aspect, radius, cx, cy)");
+            "fisheye: unknown key 'zoom' (expected one of: fov, model, k2, clip, aspect, radius, cx, cy)");
   EXPECT_EQ(error_of("fisheye:fov=100,fov=120"), "fisheye: fov given twice");
   EXPECT_EQ(error_of("cubemap:face=10.5"),
             "cubemap: face=10.5 is not a whole number (expected 1 <= face <= 1.07374e+09)");
-  EXPECT_EQ(error_of("aitoff:w=1"), "aitoff: unknown key 'w' (expected one of: lon0)");
+  EXPECT_EQ(error_of("aitoff:w=1"), "aitoff: unknown key 'w' (expected one of: lon0, aspect)");
   EXPECT_EQ(error_of("bonne:phi1=91"), "bonne: phi1=91 is out of range (expected -90 <= phi1 <= 90)");
 }
 

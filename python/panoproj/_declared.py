@@ -8,7 +8,7 @@ from typing import Dict, Literal, Optional, Type, TypedDict, Union
 from ._projection import Projection
 from ._types import FillLike, SizeLike
 
-ProjectionName = Literal['pinhole', 'brown-conrady', 'fisheye', 'dual-fisheye', 'kannala-brandt', 'double-sphere', 'unified', 'extended-unified', 'ptlens', 'equirect', 'cylindrical', 'cubemap', 'aitoff', 'hammer', 'eckert-greifendorff', 'bonne']
+ProjectionName = Literal['pinhole', 'brown-conrady', 'fisheye', 'dual-fisheye', 'kannala-brandt', 'double-sphere', 'unified', 'extended-unified', 'ptlens', 'equirect', 'cylindrical', 'cubemap', 'panini', 'compressed-rectilinear', 'aitoff', 'hammer', 'eckert-greifendorff', 'bonne', 'sinusoidal', 'mollweide', 'mercator', 'miller', 'cylindrical-equal-area', 'transverse-mercator']
 Interp = Literal['nearest', 'bilinear', 'bicubic', 'lanczos3', 'bicubic-dering', 'lanczos3-dering']
 Engine = Literal['simd', 'scalar', 'reference']
 Antialias = Literal['auto', 'off', 'mip']
@@ -87,7 +87,10 @@ class Fisheye(Projection):
 
     Parameters (degrees, pixels; None: the default):
     fov: full field of view across the image circle (default 180)
-    model: lens law (orthographic: fov <= 180; stereographic: fov < 360) (default equidistant)
+    model: lens law (orthographic: fov <= 180; stereographic: fov < 360; thoby: r ~ sin(k2
+        theta), fov < 180/k2) (default equidistant)
+    k2: model=thoby's k2 (r = k1 f sin(k2 theta); k1 f is set by the image circle) (default
+        0.713)
     clip: circle: pixels outside the image circle are invalid; none: keep rays past fov/2
         (default circle)
     aspect: keep: a circle of square pixels; stretch: an ellipse filling the frame (default
@@ -106,14 +109,15 @@ class Fisheye(Projection):
         self,
         *,
         fov: Optional[float] = None,
-        model: Optional[Literal['equidistant', 'equisolid', 'orthographic', 'stereographic']] = None,
+        model: Optional[Literal['equidistant', 'equisolid', 'orthographic', 'stereographic', 'thoby']] = None,
+        k2: Optional[float] = None,
         clip: Optional[Literal['circle', 'none']] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
         radius: Optional[float] = None,
         cx: Optional[float] = None,
         cy: Optional[float] = None,
     ) -> None:
-        self._set(fov=fov, model=model, clip=clip, aspect=aspect, radius=radius, cx=cx, cy=cy)
+        self._set(fov=fov, model=model, k2=k2, clip=clip, aspect=aspect, radius=radius, cx=cx, cy=cy)
 
 
 class DualFisheye(Projection):
@@ -408,11 +412,70 @@ class Cubemap(Projection):
         self._set(layout=layout, face=face)
 
 
+class Panini(Projection):
+    """Panini view: General Panini (Sharpless, Hugin, v360) or OpenCV's Panini warper.
+
+    Parameters (degrees, pixels; None: the default):
+    model: sharpless: x = (d + 1) sin(lon) / (d + cos(lon)); opencv: OpenCV's PaniniProjector
+        (a, b) (default sharpless)
+    d: sharpless: 0 rectilinear, 1 classic Panini, larger compresses more (default 1)
+    vc: sharpless: vertical compression (0: lines through the centre straight) (default 0)
+    a: opencv: u = a tan(lon / a) (default 2)
+    b: opencv: v = b u tan(lat) / sin(lon) (default 1)
+    hfov: horizontal field of view (deg) (default 120)
+    vfov: vertical field of view along the centre line (deg); default: square pixels at the
+        centre
+    """
+
+    name = 'panini'
+    summary = "Panini view: General Panini (Sharpless, Hugin, v360) or OpenCV's Panini warper"
+
+    def __init__(
+        self,
+        *,
+        model: Optional[Literal['sharpless', 'opencv']] = None,
+        d: Optional[float] = None,
+        vc: Optional[float] = None,
+        a: Optional[float] = None,
+        b: Optional[float] = None,
+        hfov: Optional[float] = None,
+        vfov: Optional[float] = None,
+    ) -> None:
+        self._set(model=model, d=d, vc=vc, a=a, b=b, hfov=hfov, vfov=vfov)
+
+
+class CompressedRectilinear(Projection):
+    """OpenCV's compressed rectilinear warper (compressedPlane).
+
+    Parameters (degrees, pixels; None: the default):
+    a: u = a tan(lon / a) (default 2)
+    b: v = b tan(lat) / cos(lon) (default 1)
+    hfov: horizontal field of view (deg) (default 120)
+    vfov: vertical field of view along the centre line (deg); default: square pixels at the
+        centre
+    """
+
+    name = 'compressed-rectilinear'
+    summary = "OpenCV's compressed rectilinear warper (compressedPlane)"
+
+    def __init__(
+        self,
+        *,
+        a: Optional[float] = None,
+        b: Optional[float] = None,
+        hfov: Optional[float] = None,
+        vfov: Optional[float] = None,
+    ) -> None:
+        self._set(a=a, b=b, hfov=hfov, vfov=vfov)
+
+
 class Aitoff(Projection):
     """Aitoff world map (2:1 ellipse).
 
     Parameters (degrees, pixels; None: the default):
     lon0: central longitude (deg) (default 0)
+    aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
+        the frame (default keep)
     """
 
     name = 'aitoff'
@@ -422,8 +485,9 @@ class Aitoff(Projection):
         self,
         *,
         lon0: Optional[float] = None,
+        aspect: Optional[Literal['keep', 'stretch']] = None,
     ) -> None:
-        self._set(lon0=lon0)
+        self._set(lon0=lon0, aspect=aspect)
 
 
 class Hammer(Projection):
@@ -432,6 +496,8 @@ class Hammer(Projection):
     Parameters (degrees, pixels; None: the default):
     w: Wagner's W (0.5: Hammer, 0.25: Eckert-Greifendorff) (default 0.5)
     lon0: central longitude (deg) (default 0)
+    aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
+        the frame (default keep)
     """
 
     name = 'hammer'
@@ -442,8 +508,9 @@ class Hammer(Projection):
         *,
         w: Optional[float] = None,
         lon0: Optional[float] = None,
+        aspect: Optional[Literal['keep', 'stretch']] = None,
     ) -> None:
-        self._set(w=w, lon0=lon0)
+        self._set(w=w, lon0=lon0, aspect=aspect)
 
 
 class EckertGreifendorff(Projection):
@@ -452,6 +519,8 @@ class EckertGreifendorff(Projection):
     Parameters (degrees, pixels; None: the default):
     w: Wagner's W (default 0.25)
     lon0: central longitude (deg) (default 0)
+    aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
+        the frame (default keep)
     """
 
     name = 'eckert-greifendorff'
@@ -462,8 +531,9 @@ class EckertGreifendorff(Projection):
         *,
         w: Optional[float] = None,
         lon0: Optional[float] = None,
+        aspect: Optional[Literal['keep', 'stretch']] = None,
     ) -> None:
-        self._set(w=w, lon0=lon0)
+        self._set(w=w, lon0=lon0, aspect=aspect)
 
 
 class Bonne(Projection):
@@ -472,6 +542,8 @@ class Bonne(Projection):
     Parameters (degrees, pixels; None: the default):
     phi1: standard parallel (deg) (default 45)
     lon0: central longitude (deg) (default 0)
+    aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
+        the frame (default keep)
     """
 
     name = 'bonne'
@@ -482,11 +554,149 @@ class Bonne(Projection):
         *,
         phi1: Optional[float] = None,
         lon0: Optional[float] = None,
+        aspect: Optional[Literal['keep', 'stretch']] = None,
     ) -> None:
-        self._set(phi1=phi1, lon0=lon0)
+        self._set(phi1=phi1, lon0=lon0, aspect=aspect)
 
 
-__all__ = ['ProjectionName', 'Interp', 'Engine', 'Antialias', 'Pinhole', 'BrownConrady', 'Fisheye', 'DualFisheye', 'KannalaBrandt', 'DoubleSphere', 'Unified', 'ExtendedUnified', 'Ptlens', 'Equirect', 'Cylindrical', 'Cubemap', 'Aitoff', 'Hammer', 'EckertGreifendorff', 'Bonne']
+class Sinusoidal(Projection):
+    """Sinusoidal equal-area map (Bonne with phi1 = 0).
+
+    Parameters (degrees, pixels; None: the default):
+    lon0: central longitude (deg) (default 0)
+    aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
+        the frame (default keep)
+    """
+
+    name = 'sinusoidal'
+    summary = 'sinusoidal equal-area map (Bonne with phi1 = 0)'
+
+    def __init__(
+        self,
+        *,
+        lon0: Optional[float] = None,
+        aspect: Optional[Literal['keep', 'stretch']] = None,
+    ) -> None:
+        self._set(lon0=lon0, aspect=aspect)
+
+
+class Mollweide(Projection):
+    """Mollweide equal-area world map (2:1 ellipse).
+
+    Parameters (degrees, pixels; None: the default):
+    lon0: central longitude (deg) (default 0)
+    aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
+        the frame (default keep)
+    """
+
+    name = 'mollweide'
+    summary = 'Mollweide equal-area world map (2:1 ellipse)'
+
+    def __init__(
+        self,
+        *,
+        lon0: Optional[float] = None,
+        aspect: Optional[Literal['keep', 'stretch']] = None,
+    ) -> None:
+        self._set(lon0=lon0, aspect=aspect)
+
+
+class Mercator(Projection):
+    """Mercator conformal world map (to lat_max; 85.0511: a square, as web maps).
+
+    Parameters (degrees, pixels; None: the default):
+    lat_max: the latitude the map ends at, north and south (deg) (default 85.0511287798066)
+    lon0: central longitude (deg) (default 0)
+    aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
+        the frame (default keep)
+    """
+
+    name = 'mercator'
+    summary = 'Mercator conformal world map (to lat_max; 85.0511: a square, as web maps)'
+
+    def __init__(
+        self,
+        *,
+        lat_max: Optional[float] = None,
+        lon0: Optional[float] = None,
+        aspect: Optional[Literal['keep', 'stretch']] = None,
+    ) -> None:
+        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect)
+
+
+class Miller(Projection):
+    """Miller cylindrical world map.
+
+    Parameters (degrees, pixels; None: the default):
+    lat_max: the latitude the map ends at, north and south (deg) (default 90)
+    lon0: central longitude (deg) (default 0)
+    aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
+        the frame (default keep)
+    """
+
+    name = 'miller'
+    summary = 'Miller cylindrical world map'
+
+    def __init__(
+        self,
+        *,
+        lat_max: Optional[float] = None,
+        lon0: Optional[float] = None,
+        aspect: Optional[Literal['keep', 'stretch']] = None,
+    ) -> None:
+        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect)
+
+
+class CylindricalEqualArea(Projection):
+    """Cylindrical equal-area world map (Lambert's at lat_ts=0, Gall-Peters at 45).
+
+    Parameters (degrees, pixels; None: the default):
+    lat_ts: standard parallel (deg): true scale there (default 0)
+    lat_max: the latitude the map ends at, north and south (deg) (default 90)
+    lon0: central longitude (deg) (default 0)
+    aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
+        the frame (default keep)
+    """
+
+    name = 'cylindrical-equal-area'
+    summary = "cylindrical equal-area world map (Lambert's at lat_ts=0, Gall-Peters at 45)"
+
+    def __init__(
+        self,
+        *,
+        lat_ts: Optional[float] = None,
+        lat_max: Optional[float] = None,
+        lon0: Optional[float] = None,
+        aspect: Optional[Literal['keep', 'stretch']] = None,
+    ) -> None:
+        self._set(lat_ts=lat_ts, lat_max=lat_max, lon0=lon0, aspect=aspect)
+
+
+class TransverseMercator(Projection):
+    """Transverse Mercator map (the central meridian straight; to x_max either side).
+
+    Parameters (degrees, pixels; None: the default):
+    x_max: the angle from the central meridian the map ends at (deg; 85.0511: a square) (default
+        85.0511287798066)
+    lon0: central longitude (deg) (default 0)
+    aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
+        the frame (default keep)
+    """
+
+    name = 'transverse-mercator'
+    summary = 'transverse Mercator map (the central meridian straight; to x_max either side)'
+
+    def __init__(
+        self,
+        *,
+        x_max: Optional[float] = None,
+        lon0: Optional[float] = None,
+        aspect: Optional[Literal['keep', 'stretch']] = None,
+    ) -> None:
+        self._set(x_max=x_max, lon0=lon0, aspect=aspect)
+
+
+__all__ = ['ProjectionName', 'Interp', 'Engine', 'Antialias', 'Pinhole', 'BrownConrady', 'Fisheye', 'DualFisheye', 'KannalaBrandt', 'DoubleSphere', 'Unified', 'ExtendedUnified', 'Ptlens', 'Equirect', 'Cylindrical', 'Cubemap', 'Panini', 'CompressedRectilinear', 'Aitoff', 'Hammer', 'EckertGreifendorff', 'Bonne', 'Sinusoidal', 'Mollweide', 'Mercator', 'Miller', 'CylindricalEqualArea', 'TransverseMercator']
 
 CLASSES: Dict[str, Type[Projection]] = {
     'pinhole': Pinhole,
@@ -501,10 +711,18 @@ CLASSES: Dict[str, Type[Projection]] = {
     'equirect': Equirect,
     'cylindrical': Cylindrical,
     'cubemap': Cubemap,
+    'panini': Panini,
+    'compressed-rectilinear': CompressedRectilinear,
     'aitoff': Aitoff,
     'hammer': Hammer,
     'eckert-greifendorff': EckertGreifendorff,
     'bonne': Bonne,
+    'sinusoidal': Sinusoidal,
+    'mollweide': Mollweide,
+    'mercator': Mercator,
+    'miller': Miller,
+    'cylindrical-equal-area': CylindricalEqualArea,
+    'transverse-mercator': TransverseMercator,
 }
 
 

@@ -44,7 +44,7 @@ def test_bad_options_are_value_errors(kw, what):
 
 
 @pytest.mark.parametrize("spec,what", [
-    ("mercator", "mercator"), ("fisheye:fov=400", "fov"), ("fisheye:fov=nan", "fov"), ("pinhole:hfov=180", "hfov"),
+    ("robinson", "robinson"), ("fisheye:fov=400", "fov"), ("fisheye:fov=nan", "fov"), ("pinhole:hfov=180", "hfov"),
     ("fisheye:model=fancy", "fancy"), ("equirect:tilt=3", "tilt"),
 ])
 def test_bad_specs_are_value_errors(spec, what):

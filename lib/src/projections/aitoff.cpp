@@ -6,20 +6,20 @@ namespace panoproj {
 namespace {
 using namespace spec_support;
 
-std::vector<ProjectionDef> catalog() { return {{"aitoff", "Aitoff world map (2:1 ellipse)", {lon0()}}}; }
+std::vector<ProjectionDef> catalog() { return {{"aitoff", "Aitoff world map (2:1 ellipse)", {lon0(), map_aspect()}}}; }
 
-Projection make(const ProjectionSpec& s, Size size) { return Aitoff(size, rad(s, "lon0")); }
+Projection make(const ProjectionSpec& s, Size size) { return map_framed(s, Aitoff(size, rad(s, "lon0"))); }
 
 // Unit scale at the centre: the frame in plane units.
 Size size_for(const ProjectionSpec& s, double density) {
   return map_size(s, Aitoff({1000, 1000}, rad(s, "lon0")).frame(), density);
 }
 
-Projection rescale(const Projection& p, Size size, double, double) { return Aitoff(size, std::get<Aitoff>(p).lon0()); }
+Projection rescale(const Projection& p, Size size, double, double) { return std::get<Aitoff>(p).resized(size); }
 
 // The Newton inverse from 1x1 to 40000 px; a turned central meridian.
 std::vector<ProjectionCase> cases() {
-  return {{"aitoff", {kTinyFrame, {512, 256}, kPhotoFrame, kHugeFrame}}, {"aitoff:lon0=45", {{1024, 512}}}};
+  return {{"aitoff:aspect=stretch", {kTinyFrame}}, {"aitoff", {{512, 256}, kPhotoFrame, kHugeFrame}}, {"aitoff:lon0=45", {{1024, 512}}}, {"aitoff", {{1024, 1024}, {2048, 512}}}};
 }
 
 }  // namespace

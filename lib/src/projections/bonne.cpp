@@ -49,20 +49,20 @@ using namespace spec_support;
 
 std::vector<ProjectionDef> catalog() {
   return {{"bonne", "Bonne equal-area map (phi1 = 0: sinusoidal; 90: Werner)",
-           {number("phi1", "45", -90, 90, false, false, "standard parallel (deg)"), lon0()}}};
+           {number("phi1", "45", -90, 90, false, false, "standard parallel (deg)"), lon0(), map_aspect()}},
+          {"sinusoidal", "sinusoidal equal-area map (Bonne with phi1 = 0)", {lon0(), map_aspect()}}};
 }
 
-Projection make(const ProjectionSpec& s, Size size) { return Bonne(size, rad(s, "phi1"), rad(s, "lon0")); }
+double phi1(const ProjectionSpec& s) { return s.name() == "sinusoidal" ? 0.0 : rad(s, "phi1"); }
+
+Projection make(const ProjectionSpec& s, Size size) { return map_framed(s, Bonne(size, phi1(s), rad(s, "lon0"))); }
 
 // Unit scale at the centre: the frame in plane units.
 Size size_for(const ProjectionSpec& s, double density) {
-  return map_size(s, Bonne({1000, 1000}, rad(s, "phi1"), rad(s, "lon0")).frame(), density);
+  return map_size(s, Bonne({1000, 1000}, phi1(s), rad(s, "lon0")).frame(), density);
 }
 
-Projection rescale(const Projection& p, Size size, double, double) {
-  const auto& q = std::get<Bonne>(p);
-  return Bonne(size, q.mirror() * q.abs_phi1(), q.lon0());
-}
+Projection rescale(const Projection& p, Size size, double, double) { return std::get<Bonne>(p).resized(size); }
 
 // phi1 at 0 (sinusoidal), 1e-9, around the series switch (kSmallPhi1, 5.72958 degrees), both
 // hemispheres, near and at the pole (Werner); the default; a turned central meridian.
@@ -72,6 +72,8 @@ std::vector<ProjectionCase> cases() {
     c.push_back({std::string("bonne:phi1=") + p, {{512, 256}, {2048, 2048}, kPhotoFrame, kHugeFrame}});
   c.push_back({"bonne", {{2784, 2643}}});
   c.push_back({"bonne:phi1=-30,lon0=10", {{2048, 2048}}});
+  c.push_back({"bonne:aspect=stretch", {{2048, 1024}}});
+  c.push_back({"sinusoidal", {{512, 256}, {1000, 1000}, kPhotoFrame, kHugeFrame}, 1e-9});
   return c;
 }
 

@@ -9,28 +9,25 @@ using namespace spec_support;
 
 std::vector<ProjectionDef> catalog() {
   return {{"hammer", "Hammer(-Wagner) equal-area world map",
-           {number("w", "0.5", 0, 1, true, true, "Wagner's W (0.5: Hammer, 0.25: Eckert-Greifendorff)"), lon0()}},
+           {number("w", "0.5", 0, 1, true, true, "Wagner's W (0.5: Hammer, 0.25: Eckert-Greifendorff)"), lon0(), map_aspect()}},
           {"eckert-greifendorff", "Eckert-Greifendorff equal-area map (Hammer W = 0.25)",
-           {number("w", "0.25", 0, 1, true, true, "Wagner's W"), lon0()}}};
+           {number("w", "0.25", 0, 1, true, true, "Wagner's W"), lon0(), map_aspect()}}};
 }
 
-Projection make(const ProjectionSpec& s, Size size) { return Hammer(size, *s.number("w"), rad(s, "lon0")); }
+Projection make(const ProjectionSpec& s, Size size) { return map_framed(s, Hammer(size, *s.number("w"), rad(s, "lon0"))); }
 
 // Unit scale at the centre: the frame in plane units.
 Size size_for(const ProjectionSpec& s, double density) {
   return map_size(s, Hammer({1000, 1000}, *s.number("w"), rad(s, "lon0")).frame(), density);
 }
 
-Projection rescale(const Projection& p, Size size, double, double) {
-  const auto& q = std::get<Hammer>(p);
-  return Hammer(size, q.w(), q.lon0());
-}
+Projection rescale(const Projection& p, Size size, double, double) { return std::get<Hammer>(p).resized(size); }
 
 // Hammer from 1x1 to 40000 px, Eckert-Greifendorff (W = 0.25), a W near 1.
 std::vector<ProjectionCase> cases() {
-  return {{"hammer", {kTinyFrame, {512, 256}, kPhotoFrame, kHugeFrame}},
+  return {{"hammer:aspect=stretch", {kTinyFrame}}, {"hammer", {{512, 256}, kPhotoFrame, kHugeFrame}},
           {"eckert-greifendorff", {{512, 256}, kPhotoFrame, {4096, 1892}}},
-          {"hammer:w=0.9", {{2048, 1024}}}};
+          {"hammer:w=0.9", {{2048, 1024}}}, {"hammer", {{1000, 1000}}}, {"eckert-greifendorff:aspect=stretch", {{1000, 1000}}}};
 }
 
 }  // namespace

@@ -26,6 +26,10 @@ ParamDef center(const char* key) {
                 "frame's centre");
 }
 ParamDef angle(const char* key, const char* def, const char* help) { return number(key, def, -360, 360, false, false, help); }
+ParamDef map_aspect() {
+  return choice("aspect", "keep", "keep|stretch",
+                "keep: square pixels, the outline inscribed and centred; stretch: the outline fills the frame");
+}
 
 void fail(const ProjectionSpec& s, const std::string& what) { throw Error(s.name() + ": " + what); }
 

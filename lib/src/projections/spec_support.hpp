@@ -21,6 +21,7 @@ ParamDef lon0();
 ParamDef lat0();
 ParamDef center(const char* key);  // cx or cy, OpenCV's convention
 ParamDef angle(const char* key, const char* def, const char* help);
+ParamDef map_aspect();  // a world map's aspect=keep|stretch
 
 // Throws Error("<name>: <what>").
 [[noreturn]] void fail(const ProjectionSpec& s, const std::string& what);
@@ -39,6 +40,12 @@ void check_latitude_span(const ProjectionSpec& s, bool open);
 Size framed_size(const ProjectionSpec& s, double w, double h);
 // A world map's default size: its plane frame (unit scale at the centre) at `density`.
 Size map_size(const ProjectionSpec& s, const MapFrame& frame, double density);
+// A world map as its aspect key says: square pixels (keep) or its outline filling the frame.
+template <class Map>
+Map map_framed(const ProjectionSpec& s, Map m) {
+  if (s.choice("aspect") == "keep") m.keep_square();
+  return m;
+}
 
 // Shared by the fisheye and dual-fisheye modules (defined in fisheye.cpp).
 FisheyeModel fisheye_model(const std::string& name);

@@ -27,6 +27,7 @@ void describe(const Fisheye& f, FisheyeRays<T>& l) {
     case FisheyeModel::Equisolid: law_max = 2.0; break;
     case FisheyeModel::Orthographic: law_max = 1.0; break;
     case FisheyeModel::Stereographic: law_max = 1e300; break;
+    case FisheyeModel::Thoby: break;  // no vector form (geometry.cpp)
   }
   l = {lane<T>(f.cx()),
        lane<T>(f.cy()),
@@ -65,7 +66,8 @@ bool describe(const Fisheye& f, FisheyeSource<T>& l) {
     case FisheyeModel::Equidistant: coarse_s = kPi * e; break;
     case FisheyeModel::Equisolid: coarse_npz = e; break;
     case FisheyeModel::Stereographic: coarse_npz = std::pow(2.0 * std::sqrt(2.0) * e, 2.0 / 3.0); break;
-    case FisheyeModel::Orthographic: break;
+    case FisheyeModel::Orthographic:
+    case FisheyeModel::Thoby: break;
   }
   l = {lane<T>(w),
        lane<T>(h),

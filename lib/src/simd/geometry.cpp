@@ -131,7 +131,7 @@ bool describe_source(const Projection& src, SimdGeometry& g) {
   } else if (const auto* ph = std::get_if<Pinhole>(&src)) {
     g.src = Src::Pinhole;
     g.use_float = set_lanes(g, [&](auto& l) { return simd::describe(*ph, l.source.pinhole); });
-  } else if (const auto* fs = std::get_if<Fisheye>(&src)) {
+  } else if (const auto* fs = std::get_if<Fisheye>(&src); fs && fs->model() != FisheyeModel::Thoby) {  // Thoby: tile maps
     g.src = Src::Fisheye;
     g.use_float = set_lanes(g, [&](auto& l) { return simd::describe(*fs, l.source.fisheye); });
   } else if (const auto* c = std::get_if<Cubemap>(&src)) {
@@ -167,7 +167,7 @@ bool describe_target(const Projection& dst, const Eigen::Matrix3d& rotation, con
     g.dst = Dst::Bonne;
     set_lanes(g, [&](auto& l) { simd::describe(*bo, l.target.bonne); });
     g.use_float = false;  // (simd/bonne.hpp)
-  } else if (const auto* fe = std::get_if<Fisheye>(&dst)) {
+  } else if (const auto* fe = std::get_if<Fisheye>(&dst); fe && fe->model() != FisheyeModel::Thoby) {
     g.dst = Dst::Fisheye;
     set_lanes(g, [&](auto& l) { simd::describe(*fe, l.target.fisheye); });
   } else {

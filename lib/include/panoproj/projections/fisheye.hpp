@@ -5,6 +5,10 @@
 //   equisolid     g = 2 sin(psi/2)    (psi <= pi)
 //   orthographic  g = sin(psi)        (psi <= pi/2)
 //   stereographic g = 2 tan(psi/2)    (psi <  pi)
+//   thoby         g = sin(k2 psi) / k2 (k2 psi < pi/2): Thoby's r = k1 f sin(k2 psi), whose k1 f
+//                                       the image circle sets (Thoby, "Nikkor 10.5 mm fisheye"
+//                                       measurements, 2006: k1 = 1.47, k2 = 0.713; as in Hugin
+//                                       and lensfun)
 // Normalized radius r = g(psi) / g(psi_max): r = 1 on the image circle (fov = 2 psi_max).
 // Pixel: (x, y) = (cx, cy) + r * (rx cos theta, ry sin theta); rx = ry keeps a circle ("keep"),
 // rx != ry draws an ellipse ("stretch"). Formulas: Kingslake, "A History of the Photographic
@@ -16,30 +20,35 @@
 
 namespace panoproj {
 
-enum class FisheyeModel { Equidistant, Equisolid, Orthographic, Stereographic };
+enum class FisheyeModel { Equidistant, Equisolid, Orthographic, Stereographic, Thoby };
+
+inline constexpr double kThobyK2 = 0.713;
 
 class Fisheye {
  public:
   // psi_max: half the field of view (radians). clip: pixels with r > 1 are invalid.
+  // k2: Thoby's (other laws ignore it).
   Fisheye(Size size, double psi_max, FisheyeModel model, bool clip, double cx, double cy,
-          double rx, double ry)
+          double rx, double ry, double k2 = kThobyK2)
       : size_(size), psi_max_(psi_max), model_(model), clip_(clip), cx_(cx), cy_(cy), rx_(rx),
-        ry_(ry), g_max_(law(psi_max)), psi_limit_(law_limit(model)) {}
+        ry_(ry), k2_(k2), g_max_(law(psi_max)), psi_limit_(law_limit(model, k2)) {}
 
-  static double law(FisheyeModel m, double psi) {
+  static double law(FisheyeModel m, double psi, double k2 = kThobyK2) {
     switch (m) {
       case FisheyeModel::Equidistant: return psi;
       case FisheyeModel::Equisolid: return 2.0 * std::sin(0.5 * psi);
       case FisheyeModel::Orthographic: return std::sin(psi);
       case FisheyeModel::Stereographic: return 2.0 * std::tan(0.5 * psi);
+      case FisheyeModel::Thoby: return std::sin(k2 * psi) / k2;
     }
     return psi;
   }
   // Largest psi for which the law is monotonic (and so invertible).
-  static double law_limit(FisheyeModel m) {
+  static double law_limit(FisheyeModel m, double k2 = kThobyK2) {
+    if (m == FisheyeModel::Thoby) return std::fmin(kPi, kHalfPi / k2);
     return m == FisheyeModel::Orthographic ? kHalfPi : kPi;
   }
-  double law(double psi) const { return law(model_, psi); }
+  double law(double psi) const { return law(model_, psi, k2_); }
 
   bool to_ray(double x, double y, Ray& d) const {
     const double u = (x - cx_) / rx_, v = (y - cy_) / ry_;
@@ -93,6 +102,7 @@ class Fisheye {
   double rx() const { return rx_; }
   double ry() const { return ry_; }
   double g_max() const { return g_max_; }
+  double k2() const { return k2_; }
   double psi_limit() const { return psi_limit_; }  // where the law stops being invertible
 
  private:
@@ -109,6 +119,10 @@ class Fisheye {
         psi = std::asin(std::fmin(g, 1.0));
         return true;
       case FisheyeModel::Stereographic: psi = 2.0 * std::atan(0.5 * g); return true;
+      case FisheyeModel::Thoby:
+        if (g * k2_ > 1.0 + kEdgeSlack) return false;
+        psi = std::asin(std::fmin(g * k2_, 1.0)) / k2_;
+        return true;
     }
     return false;
   }
@@ -117,7 +131,7 @@ class Fisheye {
   double psi_max_;
   FisheyeModel model_;
   bool clip_;
-  double cx_, cy_, rx_, ry_;
+  double cx_, cy_, rx_, ry_, k2_;
   double g_max_, psi_limit_;
 };
 

@@ -9,11 +9,15 @@
 #include "panoproj/projections/calibrated_lens.hpp"
 #include "panoproj/projections/cubemap.hpp"
 #include "panoproj/projections/cylindrical.hpp"
+#include "panoproj/projections/cylindrical_map.hpp"
 #include "panoproj/projections/dual_fisheye.hpp"
 #include "panoproj/projections/equirect.hpp"
 #include "panoproj/projections/fisheye.hpp"
 #include "panoproj/projections/hammer.hpp"
+#include "panoproj/projections/mollweide.hpp"
+#include "panoproj/projections/panini.hpp"
 #include "panoproj/projections/pinhole.hpp"
+#include "panoproj/projections/transverse_mercator.hpp"
 
 #define PANOPROJ_PROJECTIONS(X) \
   X(Pinhole)                    \
@@ -24,6 +28,10 @@
   X(Equirect)                   \
   X(Cylindrical)                \
   X(Cubemap)                    \
+  X(Panini)                     \
   X(Aitoff)                     \
   X(Hammer)                     \
-  X(Bonne)
+  X(Bonne)                      \
+  X(Mollweide)                  \
+  X(CylindricalMap)             \
+  X(TransverseMercator)

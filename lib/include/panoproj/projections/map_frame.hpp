@@ -1,6 +1,7 @@
 #pragma once
-// Cartographic plane <-> pixels: the map's bounding box [xmin, xmax] x [ymin, ymax] fills the
-// frame, north (+Y) up. Longitudes are taken relative to the central meridian lon0.
+// Cartographic plane <-> pixels: the box [xmin, xmax] x [ymin, ymax] fills the frame, north (+Y)
+// up. The box is the map's outline's bounding box (aspect=stretch), or that box widened about its
+// centre to the frame's aspect (aspect=keep: square pixels, the outline inscribed and centred). Longitudes are taken relative to the central meridian lon0.
 // MapProjection<Derived> turns a map's plane equations, Derived::forward(lambda, phi, X, Y) and
 // bool Derived::inverse(X, Y, lambda, phi) (false outside the outline) and a cheap
 // bool Derived::inside(X, Y) (the same outline test without the inverse), into a projection.
@@ -27,6 +28,21 @@ struct MapFrame {
   }
   // Pixels per plane unit horizontally (all forms here have unit scale at their centre).
   double density() const { return static_cast<double>(size.width) / (xmax - xmin); }
+
+  // The box widened about its centre so that a pixel spans as much of X as of Y.
+  void keep_square() {
+    const double w = static_cast<double>(size.width), h = static_cast<double>(size.height);
+    const double per_x = (xmax - xmin) / w, per_y = (ymax - ymin) / h;  // plane units per pixel
+    if (per_x > per_y) {
+      const double c = 0.5 * (ymin + ymax);
+      ymin = c - 0.5 * per_x * h;
+      ymax = c + 0.5 * per_x * h;
+    } else if (per_y > per_x) {
+      const double c = 0.5 * (xmin + xmax);
+      xmin = c - 0.5 * per_y * w;
+      xmax = c + 0.5 * per_y * w;
+    }
+  }
 };
 
 template <class Derived>
@@ -59,6 +75,17 @@ class MapProjection {
   }
   Size size() const { return frame_.size; }
   double center_density() const { return frame_.density(); }
+  // aspect=keep (MapFrame::keep_square).
+  Derived& keep_square() {
+    frame_.keep_square();
+    return static_cast<Derived&>(*this);
+  }
+  // The same box on a frame of `size`: positions scale with the frame.
+  Derived resized(Size size) const {
+    Derived q = self();
+    q.frame_.size = size;
+    return q;
+  }
   const MapFrame& frame() const { return frame_; }
   double lon0() const { return lon0_; }
 
