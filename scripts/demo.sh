@@ -25,12 +25,23 @@ run "$pano" "$out/jordan_cube_{index}_{face}.jpg" --to cubemap:layout=files,face
 run "$pano" "$out/jordan_aitoff.jpg" --to aitoff
 run "$pano" "$out/jordan_eckert_greifendorff.jpg" --to eckert-greifendorff
 run "$pano" "$out/jordan_bonne.jpg" --to bonne
+run "$pano" "$out/jordan_mollweide.jpg" --to mollweide
+run "$pano" "$out/jordan_panini.jpg" --to panini:hfov=150 --size 1920x1080 --yaw 75 --pitch -5
+run "$pano" "$out/jordan_panini_opencv.jpg" --to panini:model=opencv,a=1.5,hfov=150 --size 1920x1080 --yaw 75 --pitch -5
+run "$pano" "$out/jordan_compressed_rectilinear.jpg" --to compressed-rectilinear:hfov=150 --size 1920x1080 --yaw 75 --pitch -5
+run "$pano" "$out/jordan_fisheye_thoby.jpg" --to fisheye:fov=185,model=thoby --pitch -90 --size 1536x1536
 
 echo "== Earth (NASA Visible Earth) into the world maps"
 run "$earth" "$out/earth_aitoff.jpg" --to aitoff
 run "$earth" "$out/earth_eckert_greifendorff.jpg" --to eckert-greifendorff
 run "$earth" "$out/earth_bonne.jpg" --to bonne:phi1=45
 run "$earth" "$out/earth_hammer.jpg" --to hammer
+run "$earth" "$out/earth_mollweide.jpg" --to mollweide
+run "$earth" "$out/earth_sinusoidal.jpg" --to sinusoidal
+run "$earth" "$out/earth_mercator.jpg" --to mercator
+run "$earth" "$out/earth_transverse_mercator.jpg" --to transverse-mercator
+run "$earth" "$out/earth_miller.jpg" --to miller
+run "$earth" "$out/earth_gall_peters.jpg" --to cylindrical-equal-area:lat_ts=45
 
 echo "== Stellarium 210-degree fisheye (looking at the zenith, South at the top) -> equirect"
 # The lens looks up: pitch -90 levels the horizon; North (the image bottom) lands at the centre.

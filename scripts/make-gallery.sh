@@ -22,7 +22,9 @@ for name in ["jordan_fisheye180", "jordan_fisheye360", "jordan_fisheye180_down_e
              "earth_aitoff", "earth_eckert_greifendorff", "earth_bonne", "earth_hammer",
              "jordan_from_cubemap", "jordan_kannala_brandt220", "jordan_double_sphere_down",
              "jordan_brown_conrady_barrel", "jordan_dual_fisheye200", "jordan_from_dual_fisheye",
-             "jordan_dual_fisheye_top_bottom"]:
+             "jordan_dual_fisheye_top_bottom", "jordan_mollweide", "jordan_panini", "jordan_panini_opencv",
+             "jordan_compressed_rectilinear", "jordan_fisheye_thoby", "earth_mollweide", "earth_sinusoidal",
+             "earth_mercator", "earth_transverse_mercator", "earth_miller", "earth_gall_peters"]:
     items[name + ".jpg"] = src / (name + ".jpg")
 items["trees_equirect.jpg"] = src / "trees_equirect.png"
 for out, path in items.items():
