@@ -39,13 +39,21 @@ class Panini : public FramedBounds {
     return 0.0;
   }
   static double F(PaniniLaw law, double p1, double lam) {
-    if (law == PaniniLaw::Sharpless) return (p1 + 1.0) * std::sin(lam) / (p1 + std::cos(lam));
+    if (law == PaniniLaw::Sharpless) return (p1 + 1.0) * std::sin(lam) / sharpless_denominator(p1, lam);
     return p1 * std::tan(lam / p1);
+  }
+  // d + cos lambda; past 90 degrees as (d - 1) + 2 cos^2(lambda/2), which keeps its digits where
+  // cos lambda nears -1 (d = 1 towards 180 degrees).
+  static double sharpless_denominator(double d, double lam) {
+    const double c = std::cos(lam);
+    if (c >= 0) return d + c;
+    const double h = std::cos(0.5 * lam);
+    return (d - 1.0) + 2.0 * h * h;
   }
   double F(double lam) const { return F(law_, p1_, lam); }
   double K(double lam) const {
     switch (law_) {
-      case PaniniLaw::Sharpless: return (1.0 - p2_) * (p1_ + 1.0) / (p1_ + std::cos(lam)) + p2_;
+      case PaniniLaw::Sharpless: return (1.0 - p2_) * (p1_ + 1.0) / sharpless_denominator(p1_, lam) + p2_;
       case PaniniLaw::OpenCV: {
         // a tan(lambda/a) / sin(lambda) -> 1 + lambda^2 (1/(3 a^2) + 1/6) near 0
         if (std::fabs(lam) < 1e-5) return p2_ * (1.0 + lam * lam * (1.0 / (3.0 * p1_ * p1_) + 1.0 / 6.0));
