@@ -43,6 +43,7 @@ StabilityResult run_stability_case(const StabilityCase& c) {
   const Projection p = make_projection(parse_spec(c.spec), c.size);
   const auto W = static_cast<double>(c.size.width), H = static_cast<double>(c.size.height);
   const Aitoff* aitoff = std::get_if<Aitoff>(&p);
+  const bool mollweide = std::holds_alternative<Mollweide>(p);  // its forward Newton, per ray
   for (double y : positions(H))
     for (double x : positions(W)) {
       Ray d;
@@ -74,6 +75,11 @@ StabilityResult run_stability_case(const StabilityCase& c) {
       if (aitoff) {
         double lam, phi;
         r.max_newton = std::max(r.max_newton, aitoff->newton_inverse(aitoff->frame().plane_x(x), aitoff->frame().plane_y(y), lam, phi));
+      }
+      if (mollweide) {
+        int it = 0;
+        Mollweide::delta_of(std::hypot(d.x(), d.z()) / d.norm(), std::fabs(d.y()) / d.norm(), &it);
+        r.max_newton = std::max(r.max_newton, it);
       }
     }
   // Degenerate rays: to_pixel may refuse them, but what it accepts must be finite.
