@@ -48,23 +48,21 @@ void check(const ProjectionSpec& s) {
   }
 }
 
-// Pixels per plane unit: fx from hfov across the width, fy from vfov (else fx).
-Panini view(const ProjectionSpec& s, Size size) {
+// Pixels per plane unit: fx from hfov across the width, fy from vfov along the centre line (else fx).
+Projection make(const ProjectionSpec& s, Size size) {
   const PaniniLaw law = law_of(s);
   const double w = static_cast<double>(size.width), h = static_cast<double>(size.height);
   const double fx = 0.5 * w / Panini::F(law, p1(s), 0.5 * rad(s, "hfov"));
-  Panini unit(size, law, p1(s), p2(s), 1.0, 1.0, 0.5 * w, 0.5 * h);
-  const double fy = s.given("vfov") ? 0.5 * h / (std::tan(0.5 * rad(s, "vfov")) * unit.K(0.0)) : fx;
+  const double fy = s.given("vfov") ? 0.5 * h / (std::tan(0.5 * rad(s, "vfov")) * Panini::center_k(law, p2(s))) : fx;
   return Panini(size, law, p1(s), p2(s), fx, fy, 0.5 * w, 0.5 * h);
 }
 
-Projection make(const ProjectionSpec& s, Size size) { return view(s, size); }
-
 // `density` pixels per radian at the centre (F'(0) = 1); the height from vfov, else 3/4 of the width.
 Size size_for(const ProjectionSpec& s, double density) {
-  const Panini unit({1, 1}, law_of(s), p1(s), p2(s), 1.0, 1.0, 0.0, 0.0);
-  const double w = 2.0 * density * unit.F(0.5 * rad(s, "hfov"));
-  const double h = s.given("vfov") ? 2.0 * density * unit.K(0.0) * std::tan(0.5 * rad(s, "vfov")) : 0.75 * w;
+  const PaniniLaw law = law_of(s);
+  const double w = 2.0 * density * Panini::F(law, p1(s), 0.5 * rad(s, "hfov"));
+  const double h =
+      s.given("vfov") ? 2.0 * density * Panini::center_k(law, p2(s)) * std::tan(0.5 * rad(s, "vfov")) : 0.75 * w;
   return framed_size(s, w, h);
 }
 

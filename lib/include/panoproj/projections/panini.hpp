@@ -51,6 +51,8 @@ class Panini : public FramedBounds {
     return (d - 1.0) + 2.0 * h * h;
   }
   double F(double lam) const { return F(law_, p1_, lam); }
+  // K(0), the vertical scale on the centre line: 1 for Sharpless' (S(0) = 1), b for OpenCV's.
+  static double center_k(PaniniLaw law, double p2) { return law == PaniniLaw::Sharpless ? 1.0 : p2; }
   double K(double lam) const {
     switch (law_) {
       case PaniniLaw::Sharpless: return (1.0 - p2_) * (p1_ + 1.0) / sharpless_denominator(p1_, lam) + p2_;
