@@ -70,7 +70,8 @@ def projection_class(d: dict) -> str:
     args, sets, doc = [], [], [d["summary"][0].upper() + d["summary"][1:] + ".", "",
                                "Parameters (degrees, pixels; None: the default):"]
     for p in d["params"]:
-        kind = literal(p["choices"]) if p["type"] == "choice" else ("int" if p["type"] == "integer" else "float")
+        kind = (literal(p["choices"]) if p["type"] == "choice"
+                else {"integer": "int", "text": "str"}.get(p["type"], "float"))
         args.append(f"{p['key']}: Optional[{kind}] = None")
         sets.append(f"{p['key']}={p['key']}")
         doc.append(f"{p['key']}: {p['help']}" + (f" (default {p['default']})" if p["default"] else ""))

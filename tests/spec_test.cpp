@@ -21,6 +21,16 @@ std::string error_of(const char* text) {
   return "";
 }
 
+// The error of binding a spec to a frame (the module's checks).
+std::string make_error_of(const char* text, Size size) {
+  try {
+    make_projection(parse_spec(text), size);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
 TEST(Spec, ParsesNamesKeysAndDefaults) {
   const ProjectionSpec s = parse_spec("fisheye:fov=210, model=equisolid");
   EXPECT_EQ(s.kind(), Kind::Fisheye);
@@ -68,12 +78,21 @@ TEST(Spec, ErrorsNameTheValueAndWhatWasExpected) {
             "equidistant|equisolid|orthographic|stereographic|thoby)");
   EXPECT_EQ(error_of("fisheye:fov"), "fisheye: 'fov' is not key=value");
   EXPECT_EQ(error_of("fisheye:zoom=2"),
-            "fisheye: unknown key 'zoom' (expected one of: fov, model, k2, clip, aspect, radius, cx, cy)");
+            "fisheye: unknown key 'zoom' (expected one of: fov, model, k2, clip, aspect, radius, cx, cy, stereo, eye)");
   EXPECT_EQ(error_of("fisheye:fov=100,fov=120"), "fisheye: fov given twice");
   EXPECT_EQ(error_of("cubemap:face=10.5"),
             "cubemap: face=10.5 is not a whole number (expected 1 <= face <= 1.07374e+09)");
-  EXPECT_EQ(error_of("aitoff:w=1"), "aitoff: unknown key 'w' (expected one of: lon0, aspect)");
+  EXPECT_EQ(error_of("aitoff:w=1"), "aitoff: unknown key 'w' (expected one of: lon0, aspect, stereo, eye)");
   EXPECT_EQ(error_of("bonne:phi1=91"), "bonne: phi1=91 is out of range (expected -90 <= phi1 <= 90)");
+  EXPECT_EQ(make_error_of("cubemap:order=frblu", {6, 1}),
+            "cubemap: order=frblu is not six distinct letters of f r b l u d (front right back left up down), e.g. rludfb");
+  EXPECT_EQ(make_error_of("cubemap:order=ffblud", {6, 1}),
+            "cubemap: order=ffblud is not six distinct letters of f r b l u d (front right back left up down), e.g. rludfb");
+  EXPECT_EQ(make_error_of("cubemap:rot=000004", {6, 1}), "cubemap: rot=000004 is not six digits 0-3 (quarter turns clockwise per slot), e.g. 000313");
+  EXPECT_EQ(error_of("cubemap:pad=0.5"), "cubemap: pad=0.5 is out of range (expected 0 <= pad <= 0.4)");
+  EXPECT_EQ(make_error_of("cubemap:pad=0.1,pad_px=3", {6, 1}), "cubemap: pad and pad_px both given (give one: pad_px = pad x cell size)");
+  EXPECT_EQ(make_error_of("cubemap:border=ffmpeg", {6, 1}), "cubemap: border=ffmpeg needs layout=eac");
+  EXPECT_EQ(error_of("equirect:stereo=lr"), "equirect: stereo=lr is not a valid value (expected one of mono|tb|sbs)");
 }
 
 }  // namespace

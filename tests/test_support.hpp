@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the tests: analytic scenes (functions of ray direction) rendered directly
 // into any projection, PSNR, area downsampling, pixel access.
+#include <algorithm>
 #include <Eigen/Geometry>
 #include <Imath/half.h>
 
@@ -169,10 +170,10 @@ class TempDirTest : public ::testing::Test {
  protected:
   // A fresh folder per run (mkdtemp): runs of two checkouts at once must not share one.
   void SetUp() override {
-    std::string dir = (std::filesystem::temp_directory_path() /
-                       ("panoproj_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-                        "_XXXXXX"))
-                          .string();
+    // (A parameterized test's name holds '/': no folder of that name exists.)
+    std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    std::replace(name.begin(), name.end(), '/', '_');
+    std::string dir = (std::filesystem::temp_directory_path() / ("panoproj_" + name + "_XXXXXX")).string();
     ASSERT_NE(::mkdtemp(dir.data()), nullptr) << dir;
     dir_ = dir;
   }

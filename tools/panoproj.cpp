@@ -139,6 +139,8 @@ void print_info() {
       std::ostringstream range;
       if (p.type == ParamType::Choice) {
         range << p.choices;
+      } else if (p.type == ParamType::Text) {
+        range << "text";
       } else {
         range << (p.lo_open ? "(" : "[") << p.lo << ", " << p.hi << (p.hi_open ? ")" : "]");
       }
@@ -291,6 +293,7 @@ int main(int argc, char** argv) {
                                            throw Error("--decode-scale: " + std::string(t) +
                                                        " (expected memory, 1, 2, 4 or 8, comma-separated)");
                                          }));
+      require_mono(geometry, "accuracy");
       const Size fs = size_of(geometry.source), ts = size_of(geometry.target);
       const std::string about = std::string("scene ") + acc_scene + ", " + acc_from + " " + std::to_string(fs.width) + "x" +
                                 std::to_string(fs.height) + " -> " + acc_to + " " + std::to_string(ts.width) + "x" +
@@ -342,11 +345,12 @@ int main(int argc, char** argv) {
           const std::string decoded =
               r.source_format.empty() ? "" : " (" + r.source_format + (r.decode_scale > 1 ? " at 1/" + std::to_string(r.decode_scale) + " scale" : "") + ")";
           std::printf("\r%s (%s, %s) -> %s (%s, %s): %.3f s, %s, antialias %s, %s engine (%s), %d threads, "
-                      "decoded %.0f%% of the source%s\n",
+                      "decoded %.0f%% of the source%s%s\n",
                       r.input.c_str(), dims(r.input_size, r.input_faces).c_str(), r.from.c_str(),
                       r.output.c_str(), dims(r.output_size, r.output_faces).c_str(), r.to.c_str(),
                       r.seconds, name_of(job.options.interp), name_of(antialias_of(job.options)).c_str(), name_of(job.options.engine), simd_target(),
-                      resolve_threads(job.options.threads), 100 * r.read_fraction, decoded.c_str());
+                      resolve_threads(job.options.threads), 100 * r.read_fraction, decoded.c_str(),
+                      r.stereo.empty() ? "" : (", " + r.stereo).c_str());
           std::fflush(stdout);
         },
         [&](double f) { bar.update(f); });

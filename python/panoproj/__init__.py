@@ -59,7 +59,7 @@ __all__ += _declared.__all__  # the projection classes and the Literal aliases
 
 
 class ParameterInfo(NamedTuple):
-    """One key of a projection: ``kind`` is "number", "integer" or "choice"; ``default`` is text
+    """One key of a projection: ``kind`` is "number", "integer", "choice" or "text"; ``default`` is text
     ("" when derived from the image); ``lo``/``hi`` bound numbers; ``choices`` are a choice's names."""
 
     key: str
@@ -547,10 +547,11 @@ def to_pixel(proj: Union[str, Projection], size: SizeLike, rays: Any, *,
 
 @_one_line_type_errors
 def split_faces(image: Array, layout: Union[str, Projection] = "cubemap") -> List[Array]:
-    """The six faces (front, right, back, left, up, down) of a cubemap image, as views."""
+    """The six faces (front, right, back, left, up, down) of a cubemap image, as views, upright
+    (a face its layout turns, ``rot=``, turned back; a padded cell whole)."""
     spec = str(projection(layout))
     face, origins = _core.face_origins(spec, (image.shape[1], image.shape[0]))
-    return [image[y:y + face, x:x + face] for x, y in origins]
+    return [np.rot90(image[y:y + face, x:x + face], k=q) for x, y, q in origins]
 
 
 def simd_target() -> str:

@@ -274,7 +274,7 @@ def cube_h2dice(cube_h: Any) -> Array:
     w = faces[0].shape[0]
     dice = np.zeros((3 * w, 4 * w) + faces[0].shape[2:], faces[0].dtype)
     _, origins = _core.face_origins(_LAYOUTS["dice"], (4 * w, 3 * w))
-    for (x, y), face in zip(origins, faces):
+    for (x, y, _), face in zip(origins, faces):
         dice[y:y + w, x:x + w] = face
     return dice
 

@@ -177,7 +177,7 @@ class PyPlan {
     require_job_memory(geometry_, raw.channels(), raw.type(), options_, 0);
     if (out) {
       // Written in place: must be C-contiguous, writable, of the output's shape and dtype.
-      const Size s = size_of(geometry_.target);
+      const Size s = geometry_.target_frame();
       if (!(out->flags() & py::array::c_style) || !out->writeable() || out->dtype().not_equal(dtype_of(in.type())) ||
           out->shape(0) != s.height || out->shape(1) != s.width ||
           (out->ndim() == 3 ? out->shape(2) : 1) != in.channels())
@@ -276,6 +276,7 @@ PYBIND11_MODULE(_core, m) {
         params.append(py::dict(py::arg("key") = p.key,
                                py::arg("type") = p.type == ParamType::Number    ? "number"
                                                  : p.type == ParamType::Integer ? "integer"
+                                                 : p.type == ParamType::Text    ? "text"
                                                                                 : "choice",
                                py::arg("default") = p.default_text, py::arg("lo") = p.lo, py::arg("hi") = p.hi,
                                py::arg("choices") = p.choices ? p.choices : "", py::arg("help") = p.help));
@@ -317,6 +318,7 @@ PYBIND11_MODULE(_core, m) {
         o.interp = Interp::Bilinear;
         const ConversionGeometry geometry =
             make_geometry(size_pair(source_size), parse_spec(src), parse_spec(dst), o);
+        require_mono(geometry, "maps");
         // The 2-float map and the two arrays split from it.
         require_memory("map " + size_text(size_of(geometry.target)), image_bytes(size_of(geometry.target), 4, sizeof(float)),
                        o.memory_limit);
@@ -447,8 +449,13 @@ PYBIND11_MODULE(_core, m) {
         const Projection p = make_projection(parse_spec(spec), size_pair(size));
         const auto* c = std::get_if<Cubemap>(&p);
         if (!c) throw Error("spec: " + spec + " (expected a cubemap)");
+        if (!c->uniform()) throw Error("spec: " + spec + " (border=ffmpeg cells are not square faces)");
         py::list out;
-        for (int f = 0; f < 6; ++f) out.append(py::make_tuple(c->face_origin(f)[0], c->face_origin(f)[1]));
+        for (int f = 0; f < 6; ++f) {
+          int slot = 0;
+          while (c->format().order[slot] != f) ++slot;
+          out.append(py::make_tuple(c->face_origin(f)[0], c->face_origin(f)[1], c->format().rot[slot]));
+        }
         return py::make_tuple(c->face_size(), out);
       },
       py::arg("spec"), py::arg("size"));

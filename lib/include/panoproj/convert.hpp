@@ -15,6 +15,7 @@
 // Tiles are fixed by the image size, not the thread count, so any number of threads gives the
 // same bytes.
 #include <Eigen/Core>
+#include <array>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -28,6 +29,20 @@ namespace panoproj {
 
 // Bytes a cached map takes per output pixel (double x, y and a validity byte).
 inline constexpr int64_t kCachedMapBytesPerPixel = 2 * sizeof(double) + 1;
+
+// Stereo frames (every projection's stereo= key): two eyes, top and bottom (tb: the left eye on
+// top) or side by side (sbs: the left eye on the left), each a whole frame of the projection.
+enum class StereoLayout { Mono, TopBottom, SideBySide };
+struct Stereo {
+  StereoLayout source = StereoLayout::Mono, target = StereoLayout::Mono;
+  int eye = 0;  // the source eye (0 left, 1 right) a mono target takes (eye= on the source)
+  bool any() const { return source != StereoLayout::Mono || target != StereoLayout::Mono; }
+};
+// Both eyes' frame from one eye's, and one eye's from both (Error if the frame does not split
+// evenly); the pixels [x0, y0] of eye e.
+Size stereo_frame(Size eye, StereoLayout layout);
+Size stereo_eye(Size frame, StereoLayout layout, const char* what);
+std::array<int64_t, 2> stereo_origin(Size eye, StereoLayout layout, int e);
 
 struct EngineStats {
   int64_t tiles = 0;
@@ -51,8 +66,11 @@ class Converter {
   };
   // edges: what pixels without a source, or on the field's edge, get (EdgeFill, options.hpp; by default
   // 0, decided at pixel centres).
+  // stereo: src and out are frames of both eyes where it says so; each eye converts alone
+  // (source and target are one eye's projections), so no tap crosses between eyes.
   Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
-            Engine engine, int threads, bool cache_map = false, Antialias antialias = {}, EdgeFill edges = {});
+            Engine engine, int threads, bool cache_map = false, Antialias antialias = {}, EdgeFill edges = {},
+            Stereo stereo = {});
 
   // Throws panoproj::Error if src's size is not the source projection's. progress, if given,
   // is called from the calling thread with the fraction of tiles done.
@@ -83,6 +101,9 @@ class Converter {
 
   const Projection& source() const;
   const Projection& target() const;
+  const Stereo& stereo() const;
+  Size source_frame() const;  // the image run() takes (both eyes of a stereo source)
+  Size target_frame() const;  // the image run() makes
   const Antialias& antialias() const;
 
   ~Converter();
@@ -104,11 +125,18 @@ inline constexpr int64_t kMaxSide = 2147483647;
 // for one and it has none (in storage), else source itself (not copied).
 const Image& source_for(const Image& source, const ConvertOptions& options, Image& storage);
 
-// A conversion's geometry: both projections bound to their frames, and the rotation.
+// A conversion's geometry: both projections bound to their frames (one eye's where stereo), the
+// rotation, and the stereo frames.
 struct ConversionGeometry {
   Projection source, target;
   Eigen::Matrix3d rotation;
+  Stereo stereo = {};
+  Size source_frame() const { return stereo_frame(size_of(source), stereo.source); }
+  Size target_frame() const { return stereo_frame(size_of(target), stereo.target); }
 };
+
+// Throws Error naming `what` (maps, accuracy: one eye's work) where the geometry is stereo.
+void require_mono(const ConversionGeometry& geometry, const char* what);
 
 // options.antialias, or its default for options.engine.
 Antialias antialias_of(const ConvertOptions& options);

@@ -10,6 +10,7 @@
 // temporary is removed and an existing file is left as it was. An existing output (of any kind,
 // a dangling link too) is replaced only with overwrite = true; the caller refuses outputs that
 // are inputs.
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -109,13 +110,17 @@ void install_signal_cleanup();
 Image convert_pixels(const Image& image, PixelType type);
 
 // Six cube faces as separate files: a pattern containing {face} (front, right, back, left,
-// up, down) and/or {index} (0..5). In memory the faces form the 6x1 strip.
+// up, down) and/or {index} (0..5). In memory the faces form the 6x1 strip. File k (the strip's
+// slot k) holds face order[k] (the cubemap's order= key): {index} is k, {face} that face's name.
+using FaceOrder = std::array<int, 6>;
+inline constexpr FaceOrder kDefaultFaceOrder = {0, 1, 2, 3, 4, 5};
 bool is_face_pattern(std::string_view path);
-std::string face_path(std::string_view pattern, int face);
-Image read_cube_faces(const std::string& pattern, int64_t memory_limit = 0);
+std::string face_path(std::string_view pattern, int slot, const FaceOrder& order = kDefaultFaceOrder);
+Image read_cube_faces(const std::string& pattern, int64_t memory_limit = 0, const FaceOrder& order = kDefaultFaceOrder);
 // `strip` must be 6N x N. All six are written to temporary files first and renamed only when
 // every one succeeded (old files restored if a rename fails).
-void write_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options);
+void write_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options,
+                      const FaceOrder& order = kDefaultFaceOrder);
 
 extern const char* const kFaceNames[6];
 

@@ -46,6 +46,7 @@ struct ConvertReport {
   double read_fraction = 1;  // share of the source's pixels read (only what the view needs)
   std::string source_format;  // jpeg, png, pnm, tiff, openexr, hdr ("" for face sets)
   int decode_scale = 1;       // the source decoded at 1/decode_scale (JPEG DCT scaling)
+  std::string stereo;         // "" (mono), else how the eyes went, e.g. "stereo tb -> sbs, eyes 2048x1024 -> 1024x1024"
 };
 
 // Converts every input; on_frame (if given) is called after each one is written, progress with

@@ -23,6 +23,10 @@ struct PhotoSphere {
   // horizon turns counter-clockwise in the image as it grows): how the camera was tilted.
   // (PoseHeadingDegrees, the centre's compass heading, is not read: it turns nothing.)
   double pose_pitch = 0, pose_roll = 0;
+  // A stereo frame's layout (GPano has none): written as GSpherical:StereoMode (Google's Spherical
+  // Video RFC, namespace http://ns.google.com/videos/1.0/spherical/): "top-bottom" or
+  // "left-right"; "" for mono. The GPano fields then describe one eye.
+  std::string stereo_mode;
 };
 
 // The camera's tilt from its pose: camera ray -> level ray, rotation_from_ypr(0, pitch, roll)

@@ -18,7 +18,7 @@ namespace panoproj {
 enum class Kind { PANOPROJ_PROJECTIONS(PANOPROJ_KIND_) };
 #undef PANOPROJ_KIND_
 
-enum class ParamType { Number, Integer, Choice };
+enum class ParamType { Number, Integer, Choice, Text };  // Text: checked by its module
 
 struct ParamDef {
   const char* key;
@@ -50,7 +50,7 @@ class ProjectionSpec {
   bool given(std::string_view key) const { return values_.count(std::string(key)) > 0; }
   // The given value, else the table default, else nullopt (a derived default).
   std::optional<double> number(std::string_view key) const;
-  std::string choice(std::string_view key) const;
+  std::string choice(std::string_view key) const;  // a Choice or Text key
   // Canonical text: name and the given keys in table order.
   std::string str() const;
 

@@ -10,6 +10,50 @@
 
 namespace panoproj {
 
+namespace {
+
+StereoLayout stereo_layout(const ProjectionSpec& s) {
+  const std::string l = s.choice("stereo");
+  return l == "tb" ? StereoLayout::TopBottom : l == "sbs" ? StereoLayout::SideBySide : StereoLayout::Mono;
+}
+
+Stereo stereo_of(const ProjectionSpec& from, const ProjectionSpec& to) {
+  const Stereo s{stereo_layout(from), stereo_layout(to), from.choice("eye") == "right" ? 1 : 0};
+  if (from.given("eye") && s.source == StereoLayout::Mono)
+    throw Error(from.str() + ": eye=" + from.choice("eye") + " picks an eye of a stereo source (add stereo=tb or sbs)");
+  if (to.given("eye"))
+    throw Error(to.str() + ": eye= is for the source (a stereo target gets both eyes; a mono one the source's eye=)");
+  if (from.given("eye") && s.target != StereoLayout::Mono)
+    throw Error(from.str() + ": eye= with a stereo target (it gets both eyes; drop eye= or make the target mono)");
+  for (const ProjectionSpec* p : {&from, &to})
+    if (stereo_layout(*p) != StereoLayout::Mono && p->kind() == Kind::Cubemap && p->choice("layout") == "files")
+      throw Error(p->str() + ": stereo= with layout=files (stereo cubes are one image: use layout 6x1, 3x2, eac, ...)");
+  return s;
+}
+
+}  // namespace
+
+Size stereo_frame(Size eye, StereoLayout layout) {
+  if (layout == StereoLayout::TopBottom) return {eye.width, 2 * eye.height};
+  if (layout == StereoLayout::SideBySide) return {2 * eye.width, eye.height};
+  return eye;
+}
+
+Size stereo_eye(Size frame, StereoLayout layout, const char* what) {
+  if (layout == StereoLayout::Mono) return frame;
+  const bool tb = layout == StereoLayout::TopBottom;
+  if ((tb ? frame.height : frame.width) % 2 != 0)
+    throw Error(std::string(what) + ": " + size_text(frame) + " does not split into two eyes " +
+                (tb ? "top and bottom (stereo=tb needs an even height)" : "side by side (stereo=sbs needs an even width)"));
+  return tb ? Size{frame.width, frame.height / 2} : Size{frame.width / 2, frame.height};
+}
+
+std::array<int64_t, 2> stereo_origin(Size eye, StereoLayout layout, int e) {
+  if (layout == StereoLayout::TopBottom) return {0, e * eye.height};
+  if (layout == StereoLayout::SideBySide) return {e * eye.width, 0};
+  return {0, 0};
+}
+
 ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, const ProjectionSpec& to,
                                  const ConvertOptions& o) {
   for (const auto& [name, v] : {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"roll", o.roll}}) {
@@ -21,19 +65,29 @@ ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, c
     }
   }
   check_threads(o.threads);
-  Projection source = make_projection(from, source_size);
+  const Stereo stereo = stereo_of(from, to);
+  Projection source = make_projection(from, stereo_eye(source_size, stereo.source, "the source"));
   Size size;
   if (o.size) {
     size = *o.size;
     if (size.width < 1 || size.height < 1 || size.width > kMaxSide || size.height > kMaxSide)
       throw Error("size: " + size_text(size) + " (expected 1 to " + std::to_string(kMaxSide) + " pixels a side)");
+    size = stereo_eye(size, stereo.target, "size");
   } else {
     size = default_size(to, center_density(source));
   }
   Projection target = make_projection(to, size);
   // Absurd sizes stop here, before any per-tile work: the output alone, at one byte a pixel.
-  require_memory("output " + size_text(size_of(target)), image_bytes(size_of(target), 1, 1), o.memory_limit);
-  return {std::move(source), std::move(target), rotation_from_ypr(o.yaw, o.pitch, o.roll)};
+  const Size frame = stereo_frame(size_of(target), stereo.target);
+  if (frame.width > kMaxSide || frame.height > kMaxSide)
+    throw Error("size: both eyes' " + size_text(frame) + " (expected at most " + std::to_string(kMaxSide) + " pixels a side)");
+  require_memory("output " + size_text(frame), image_bytes(frame, 1, 1), o.memory_limit);
+  return {std::move(source), std::move(target), rotation_from_ypr(o.yaw, o.pitch, o.roll), stereo};
+}
+
+void require_mono(const ConversionGeometry& g, const char* what) {
+  if (g.stereo.any())
+    throw Error(std::string(what) + ": stereo= (they are one eye's: give one eye's specs and size without stereo=)");
 }
 
 Antialias antialias_of(const ConvertOptions& options) {
@@ -60,7 +114,7 @@ const Image& source_for(const Image& source, const ConvertOptions& options, Imag
 
 void require_job_memory(const ConversionGeometry& geometry, int channels, PixelType type,
                         const ConvertOptions& options, uint64_t more) {
-  const Size out = size_of(geometry.target);
+  const Size out = geometry.target_frame();
   const int out_channels = channels + (options.add_alpha && channels < 4 && channels != 2 ? 1 : 0);
   require_memory("output " + size_text(out) + " (" + std::to_string(out_channels) + " channels of " + name_of(type) + ")",
                  add_bytes(image_bytes(out, out_channels, bytes_of(type)), more), options.memory_limit);
@@ -76,7 +130,7 @@ Image convert(const Image& source, const ProjectionSpec& from, const ProjectionS
 
 Converter converter_for(const ConversionGeometry& geometry, const ConvertOptions& options, bool cache_map) {
   return Converter(geometry.source, geometry.target, geometry.rotation, options.interp, options.engine,
-                   options.threads, cache_map, antialias_of(options), options.edges);
+                   options.threads, cache_map, antialias_of(options), options.edges, geometry.stereo);
 }
 
 }  // namespace panoproj

@@ -6,10 +6,12 @@
 #include <mutex>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "engine/tile_sampling.hpp"
+#include "panoproj/limits.hpp"
 #include "engine/tile_strategies.hpp"
 #include "panoproj/error.hpp"
 #include "base/parallel.hpp"
@@ -51,14 +53,21 @@ int footprint_reach_beyond(Interp interp) { return std::max(0, kFootprintTaps / 
 // here), and the tiles.
 struct Converter::Impl {
   Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
-       int threads, bool cache_map, Antialias antialias, EdgeFill edges);
+       int threads, bool cache_map, Antialias antialias, EdgeFill edges, Stereo stereo);
   Region source_footprint() const;
   using Reader = std::function<void(const RowsArrived&)>;
   using Finished = std::function<void(const Region&)>;
   void run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress,
            const Reader* read, const Finished& finished = {}) const;
+  // One eye's frame (or a mono conversion's).
+  void run_frame(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress,
+                 const Reader* read, const Finished& finished) const;
+  // Each target eye from its source eye (or the mono source), on copies or views of the halves.
+  void run_stereo(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress,
+                  const Reader* read) const;
 
   Projection source_, target_;
+  Stereo stereo_;
   Antialias antialias_;
   EdgeFill edges_;
   std::vector<Projection> sub_targets_;  // [n]: the target at n times its size (sub-pixels)
@@ -86,15 +95,18 @@ struct Converter::Impl {
 };
 
 Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
-                     Engine engine, int threads, bool cache_map, Antialias antialias, EdgeFill edges)
+                     Engine engine, int threads, bool cache_map, Antialias antialias, EdgeFill edges, Stereo stereo)
     : impl_(std::make_unique<Impl>(std::move(source), std::move(target), rotation, interp, engine, threads, cache_map,
-                                   antialias, edges)) {}
+                                   antialias, edges, stereo)) {}
 Converter::~Converter() = default;
 Converter::Converter(Converter&&) noexcept = default;
 Converter& Converter::operator=(Converter&&) noexcept = default;
 const Projection& Converter::source() const { return impl_->source_; }
 const Projection& Converter::target() const { return impl_->target_; }
 const Antialias& Converter::antialias() const { return impl_->antialias_; }
+const Stereo& Converter::stereo() const { return impl_->stereo_; }
+Size Converter::source_frame() const { return stereo_frame(size_of(impl_->source_), impl_->stereo_.source); }
+Size Converter::target_frame() const { return stereo_frame(size_of(impl_->target_), impl_->stereo_.target); }
 Converter::Region Converter::source_footprint() const { return impl_->source_footprint(); }
 void Converter::run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress) const {
   impl_->run(src, out, stats, progress, nullptr);
@@ -106,8 +118,8 @@ void Converter::run_reading(const Image& src, Image& out, const std::function<vo
 }
 
 Converter::Impl::Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
-                      int threads, bool cache_map, Antialias antialias, EdgeFill edges)
-    : source_(std::move(source)), target_(std::move(target)), antialias_(antialias), edges_(edges),
+                      int threads, bool cache_map, Antialias antialias, EdgeFill edges, Stereo stereo)
+    : source_(std::move(source)), target_(std::move(target)), stereo_(stereo), antialias_(antialias), edges_(edges),
       rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), cache_map_(cache_map) {
   if (antialias_.mode != Antialias::Mode::Off && engine_ == Engine::Reference)
     throw Error("antialias " + name_of(antialias_) + " needs the simd or scalar engine (or --antialias off)");
@@ -167,6 +179,10 @@ const TileMap* Converter::Impl::cached(int64_t t) const {
 Converter::Region Converter::Impl::source_footprint() const {
   const Size frame = size_of(source_);
   const Region all{0, 0, frame.width, frame.height};
+  if (stereo_.any()) {  // both eyes' frame, read whole
+    const Size both = stereo_frame(frame, stereo_.source);
+    return {0, 0, both.width, both.height};
+  }
   // A cube source is read whole, a dual fisheye's too (its blend reads both lenses, beyond either
   // one's map); a target showing the whole sphere needs no mapping to know.
   if (std::holds_alternative<Cubemap>(source_) || std::holds_alternative<DualFisheye>(source_) || shows_whole_sphere(target_))
@@ -264,6 +280,63 @@ Image Converter::run(const Image& src, EngineStats* stats,
 void Converter::Impl::run(const Image& src, Image& out, EngineStats* stats,
                           const std::function<void(double)>& progress, const Reader* read,
                           const Finished& finished) const {
+  if (stereo_.any()) return run_stereo(src, out, stats, progress, read);
+  run_frame(src, out, stats, progress, read, finished);
+}
+
+namespace {
+
+// Eye e of a stereo frame (whole in memory): a view of its rows (tb), or a copy of its half (sbs).
+Image eye_of(const Image& frame, Size eye, StereoLayout layout, int e) {
+  const auto o = stereo_origin(eye, layout, e);
+  if (layout == StereoLayout::TopBottom)
+    return Image::view(const_cast<unsigned char*>(frame.row(o[1])), eye, frame.channels(), frame.type(),
+                       frame.alpha_channel());
+  Image copy(eye, frame.channels(), frame.type(), frame.alpha_channel(), Image::Unfilled{});
+  for (int64_t y = 0; y < eye.height; ++y) std::memcpy(copy.row(y), frame.pixel(o[0], y), copy.row_bytes());
+  return copy;
+}
+
+}  // namespace
+
+void Converter::Impl::run_stereo(const Image& src, Image& out, EngineStats* stats,
+                                 const std::function<void(double)>& progress, const Reader* read) const {
+  const Size se = size_of(source_), te = size_of(target_);
+  const Size sf = stereo_frame(se, stereo_.source), tf = stereo_frame(te, stereo_.target);
+  if (src.frame_size() != sf)
+    throw Error("image size " + size_text(src.frame_size()) + " does not match the source's " + size_text(sf) +
+                (stereo_.source == StereoLayout::Mono ? "" : " (two eyes of " + size_text(se) + ")"));
+  if (read) (*read)([](int64_t) {});  // each eye reads its own half: the whole frame first
+  if (src.size() != sf) throw InternalError("a stereo source is read whole");
+  if (out.size() != tf || out.channels() != src.channels() || out.type() != src.type() ||
+      out.alpha_channel() != src.alpha_channel())
+    out = Image(tf, src.channels(), src.type(), src.alpha_channel(), Image::Unfilled{});
+  const int eyes = stereo_.target == StereoLayout::Mono ? 1 : 2;
+  EngineStats sum;
+  for (int e = 0; e < eyes; ++e) {
+    const int from = stereo_.target == StereoLayout::Mono ? stereo_.eye : e;
+    Image half;
+    if (stereo_.source != StereoLayout::Mono) half = eye_of(src, se, stereo_.source, from);
+    const Image& in = stereo_.source == StereoLayout::Mono ? src : half;
+    // A tb or mono target's eye is a view of out's rows (unless an engine hands back its own
+    // image); an sbs eye is made apart and copied in.
+    const auto o = stereo_origin(te, stereo_.target, e);
+    unsigned char* at = stereo_.target != StereoLayout::SideBySide ? out.pixel(o[0], o[1]) : nullptr;
+    Image eye = at ? Image::view(at, te, out.channels(), out.type(), out.alpha_channel()) : Image();
+    EngineStats one;
+    run_frame(in, eye, &one, progress ? [&](double f) { progress((e + f) / eyes); } : std::function<void(double)>{},
+              nullptr, {});
+    if (eye.data() != at)
+      for (int64_t y = 0; y < te.height; ++y) std::memcpy(out.pixel(o[0], o[1] + y), eye.row(y), eye.row_bytes());
+    sum = {sum.tiles + one.tiles, sum.fused_tiles + one.fused_tiles, sum.simd_misses + one.simd_misses,
+           sum.interpolated_cells + one.interpolated_cells, sum.exact_cells + one.exact_cells};
+  }
+  if (stats) *stats = sum;
+}
+
+void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats,
+                                const std::function<void(double)>& progress, const Reader* read,
+                                const Finished& finished) const {
   const Size expected = size_of(source_);
   if (src.frame_size() != expected)
     throw Error("image size " + std::to_string(src.frame_size().width) + "x" + std::to_string(src.frame_size().height) +

@@ -10,10 +10,13 @@ namespace panoproj {
 
 SimdSource simd_source(const Image& src, const Projection& sp) {
   int64_t cw = 0, ch = 0;
-  if (const auto* c = std::get_if<Cubemap>(&sp)) cw = ch = c->face_size();
+  const Cubemap* c = std::get_if<Cubemap>(&sp);
+  if (c && c->uniform()) cw = ch = c->face_size();
   if (const auto* d = std::get_if<DualFisheye>(&sp)) cw = d->cell_width(), ch = d->cell_height();
-  return {src.data(), static_cast<int64_t>(src.row_bytes()), src.channels(), src.alpha_channel(), src.type(),
-          src.origin_x(), src.origin_y(), src.origin_x() + src.width(), src.origin_y() + src.height(), cw, ch};
+  SimdSource s{src.data(), static_cast<int64_t>(src.row_bytes()), src.channels(), src.alpha_channel(), src.type(),
+               src.origin_x(), src.origin_y(), src.origin_x() + src.width(), src.origin_y() + src.height(), cw, ch};
+  if (c && !c->uniform()) s.cells_x = &c->x_axis(), s.cells_y = &c->y_axis();
+  return s;
 }
 
 std::vector<LensSource> lens_sources(const DualFisheye& d, const Eigen::Matrix3d& rotation) {

@@ -44,32 +44,21 @@ int SourceTaps::resolve(int64_t ix, int64_t iy, int face, Part* parts) const {
       break;
     case Mode::Cube: {
       if (face < 0) break;
-      const int64_t f = cube_->face_size();
-      const auto o = cube_->face_origin(face);
-      const int64_t lx = ix - o[0], ly = iy - o[1];
-      if (lx >= 0 && ly >= 0 && lx < f && ly < f) break;
-      // The tap's centre on the extended face plane, re-projected onto the cube.
-      const double fd = static_cast<double>(f);
-      const Ray d = Cubemap::face_ray(face, 2.0 * (static_cast<double>(lx) + 0.5) / fd - 1.0,
-                                      2.0 * (static_cast<double>(ly) + 0.5) / fd - 1.0);
-      const int nf = cube_face_of(d);
-      const CubeFace& c = cube_faces()[nf];
-      const double depth = d.dot(c.fwd);
-      // Continuous position on the neighbour face, pixel centres at integers.
-      const double u = 0.5 * (d.dot(c.right) / depth + 1.0) * fd - 0.5;
-      const double v = 0.5 * (d.dot(c.down) / depth + 1.0) * fd - 0.5;
-      const double u0 = std::floor(u), v0 = std::floor(v);
+      const auto b = cube_->cell_box(face);
+      if (ix >= b[0] && iy >= b[1] && ix < b[2] && iy < b[3]) break;
+      // The tap's centre on the face's cell continued past its edges, re-projected onto the cube:
+      // a continuous position on the cell holding that ray, pixel centres at integers.
+      double x, y;
+      cube_->to_pixel(cube_->cell_ray(face, static_cast<double>(ix) + 0.5, static_cast<double>(iy) + 0.5), x, y);
+      const auto nb = cube_->cell_box(cube_->face_at(x, y));
+      const double u = x - 0.5, v = y - 0.5, u0 = std::floor(u), v0 = std::floor(v);
       const double fu = u - u0, fv = v - v0;
-      const auto no = cube_->face_origin(nf);
-      auto clampf = [f](double t) {
-        return std::clamp<int64_t>(static_cast<int64_t>(t), 0, f - 1);
-      };
-      const int64_t x0 = no[0] + clampf(u0), x1 = no[0] + clampf(u0 + 1);
-      const int64_t y0 = no[1] + clampf(v0), y1 = no[1] + clampf(v0 + 1);
-      parts[0] = {x0, y0, (1 - fu) * (1 - fv)};
-      parts[1] = {x1, y0, fu * (1 - fv)};
-      parts[2] = {x0, y1, (1 - fu) * fv};
-      parts[3] = {x1, y1, fu * fv};
+      auto cx = [&](double t) { return std::clamp<int64_t>(static_cast<int64_t>(t), nb[0], nb[2] - 1); };
+      auto cy = [&](double t) { return std::clamp<int64_t>(static_cast<int64_t>(t), nb[1], nb[3] - 1); };
+      parts[0] = {cx(u0), cy(v0), (1 - fu) * (1 - fv)};
+      parts[1] = {cx(u0 + 1), cy(v0), fu * (1 - fv)};
+      parts[2] = {cx(u0), cy(v0 + 1), (1 - fu) * fv};
+      parts[3] = {cx(u0 + 1), cy(v0 + 1), fu * fv};
       return 4;
     }
     case Mode::Cells: {

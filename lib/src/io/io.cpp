@@ -310,19 +310,19 @@ bool is_face_pattern(std::string_view path) {
          path.find("{index}") != std::string_view::npos;
 }
 
-std::string face_path(std::string_view pattern, int face) {
+std::string face_path(std::string_view pattern, int slot, const FaceOrder& order) {
   std::string s(pattern);
-  for (const auto& [key, value] : {std::pair<std::string, std::string>{"{face}", kFaceNames[face]},
-                                   {"{index}", std::to_string(face)}}) {
+  for (const auto& [key, value] : {std::pair<std::string, std::string>{"{face}", kFaceNames[order[slot]]},
+                                   {"{index}", std::to_string(slot)}}) {
     for (size_t at; (at = s.find(key)) != std::string::npos;) s.replace(at, key.size(), value);
   }
   return s;
 }
 
-Image read_cube_faces(const std::string& pattern, int64_t memory_limit) {
+Image read_cube_faces(const std::string& pattern, int64_t memory_limit, const FaceOrder& order) {
   Image strip;
   for (int f = 0; f < 6; ++f) {
-    const std::string path = face_path(pattern, f);
+    const std::string path = face_path(pattern, f, order);
     const Image face = read_image(path, memory_limit);
     if (face.width() != face.height())
       throw Error("cube face " + path + " is " + std::to_string(face.width()) + "x" +
@@ -334,7 +334,7 @@ Image read_cube_faces(const std::string& pattern, int64_t memory_limit) {
                face.type() != strip.type()) {
       throw Error("cube face " + path + " is " + std::to_string(face.width()) + "x" +
                   std::to_string(face.height()) + " " + std::to_string(face.channels()) + "ch " +
-                  name_of(face.type()) + ", but " + face_path(pattern, 0) + " is " +
+                  name_of(face.type()) + ", but " + face_path(pattern, 0, order) + " is " +
                   std::to_string(strip.height()) + "x" + std::to_string(strip.height()) + " " +
                   std::to_string(strip.channels()) + "ch " + name_of(strip.type()) +
                   " (all six faces must match)");
@@ -345,17 +345,18 @@ Image read_cube_faces(const std::string& pattern, int64_t memory_limit) {
   return strip;
 }
 
-void write_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options) {
+void write_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options,
+                      const FaceOrder& order) {
   if (strip.width() != 6 * strip.height())
     throw Error("cube faces: a " + size_text(strip.size()) + " image (expected the 6x1 strip of six square faces, " +
                 "6N x N pixels)");
   const int64_t f = strip.height();
-  for (int i = 0; i < 6; ++i) check_output_path(face_path(pattern, i), options.overwrite);
+  for (int i = 0; i < 6; ++i) check_output_path(face_path(pattern, i, order), options.overwrite);
   OutputSet set(options.overwrite);
   for (int i = 0; i < 6; ++i) {
     Image face({f, f}, strip.channels(), strip.type(), strip.alpha_channel(), Image::Unfilled{});
     for (int64_t y = 0; y < f; ++y) std::memcpy(face.row(y), strip.pixel(i * f, y), face.row_bytes());
-    const std::string path = face_path(pattern, i);
+    const std::string path = face_path(pattern, i, order);
     set.add(path, encode(face, path, options).pieces());
   }
   set.commit();

@@ -266,6 +266,8 @@ std::string photo_sphere_xmp(const PhotoSphere& ps) {
     << ps.crop_top << "\"";
   if (ps.pose_pitch != 0 || ps.pose_roll != 0)
     o << " GPano:PosePitchDegrees=\"" << ps.pose_pitch << "\" GPano:PoseRollDegrees=\"" << ps.pose_roll << "\"";
+  if (!ps.stereo_mode.empty())
+    o << " xmlns:GSpherical=\"http://ns.google.com/videos/1.0/spherical/\" GSpherical:StereoMode=\"" << ps.stereo_mode << "\"";
   o << "/></rdf:RDF></x:xmpmeta><?xpacket end=\"w\"?>";
   return o.str();
 }

@@ -22,10 +22,11 @@ bool is_cube_files(const ProjectionSpec& s) {
   return s.kind() == Kind::Cubemap && s.choice("layout") == "files";
 }
 
-std::vector<std::string> expand(const std::string& path, bool faces) {
+// A path, or the six of a face pattern in this face order.
+std::vector<std::string> expand(const std::string& path, const FaceOrder* order) {
   std::vector<std::string> out;
-  if (!faces) return {path};
-  for (int f = 0; f < 6; ++f) out.push_back(face_path(path, f));
+  if (!order) return {path};
+  for (int f = 0; f < 6; ++f) out.push_back(face_path(path, f, *order));
   return out;
 }
 
@@ -92,6 +93,20 @@ void carry_metadata(const std::string& input, const std::string& format, WriteOp
   else if (format != "pnm") write.metadata = carried_metadata(input);
 }
 
+const char* layout_name(StereoLayout l) {
+  return l == StereoLayout::TopBottom ? "tb" : l == StereoLayout::SideBySide ? "sbs" : "mono";
+}
+
+// The report's stereo words: the layouts, the eye taken, each eye's size.
+std::string stereo_note(const ConversionGeometry& g) {
+  if (!g.stereo.any()) return "";
+  std::string s = std::string("stereo ") + layout_name(g.stereo.source) + " -> " + layout_name(g.stereo.target);
+  if (g.stereo.source != StereoLayout::Mono && g.stereo.target == StereoLayout::Mono)
+    s += g.stereo.eye ? " (right eye)" : " (left eye)";
+  if (g.stereo.source == StereoLayout::Mono) s += " (both eyes from the one image)";
+  return s + ", eyes " + size_text(size_of(g.source)) + " -> " + size_text(size_of(g.target));
+}
+
 }  // namespace
 
 std::vector<ConvertReport> run_convert(const ConvertJob& job,
@@ -99,6 +114,8 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
                                        const std::function<void(double)>& progress) {
   if (job.inputs.empty()) throw Error("no input given (expected one or more images)");
   const ProjectionSpec to = parse_spec(job.to);
+  std::optional<ProjectionSpec> from;
+  if (job.from) from = parse_spec(*job.from);  // early: a bad spec fails before any reading
   const bool batch = job.inputs.size() > 1;
   const bool in_faces = !batch && is_face_pattern(job.inputs[0]), out_faces = is_cube_files(to);
   if (out_faces != is_face_pattern(job.output))
@@ -118,10 +135,12 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   std::vector<std::string> outputs;
   for (size_t n = 0; n < job.inputs.size(); ++n) outputs.push_back(batch ? batch_output(job.output, job.inputs[n], n) : job.output);
   std::vector<std::string> all_outputs, all_inputs;
+  const FaceOrder out_order = out_faces ? cube_face_order(to) : kDefaultFaceOrder;
+  const FaceOrder in_order = from && is_cube_files(*from) ? cube_face_order(*from) : kDefaultFaceOrder;
   for (const auto& o : outputs)
-    for (const auto& f : expand(o, out_faces)) all_outputs.push_back(f);
+    for (const auto& f : expand(o, out_faces ? &out_order : nullptr)) all_outputs.push_back(f);
   for (const auto& i : job.inputs)
-    for (const auto& f : expand(i, in_faces)) all_inputs.push_back(f);
+    for (const auto& f : expand(i, in_faces ? &in_order : nullptr)) all_inputs.push_back(f);
   for (size_t a = 0; a < all_outputs.size(); ++a) {
     for (size_t b = 0; b < a; ++b)
       if (all_outputs[a] == all_outputs[b])
@@ -132,8 +151,6 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     check_output_path(all_outputs[a], job.write.overwrite);
   }
 
-  std::optional<ProjectionSpec> from;
-  if (job.from) from = parse_spec(*job.from);  // early: a bad spec fails before any reading
   if (from && is_cube_files(*from) != in_faces)
     throw Error(in_faces ? "input " + job.inputs[0] + " is a face pattern but " + option_text("from") +
                                " is not cubemap:layout=files"
@@ -167,7 +184,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const ImageInfo info = in_faces ? ImageInfo{} : infos[0];
   const Size frame = info.size;
   std::optional<Image> faces;
-  if (in_faces) faces = read_cube_faces(job.inputs[0], options.memory_limit);
+  if (in_faces) faces = read_cube_faces(job.inputs[0], options.memory_limit, in_order);
   const Size source_size = in_faces ? faces->size() : frame;
   const int channels = in_faces ? faces->channels() : info.channels;
   const PixelType type = in_faces ? faces->type() : info.type;
@@ -193,10 +210,12 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   if (scale > 1 && (frame.width % scale != 0 || frame.height % scale != 0))
     throw Error(option_text("decode-scale") + " " + std::to_string(scale) + ": the source's " + size_text(frame) +
                 " is not a multiple of " + std::to_string(scale) + " (use auto or a divisor)");
-  if (scale == 0) scale = scalable ? coarsest_decode_scale(geometry, finest_source_step(geometry, 4)) : 1;
+  if (scale > 1 && geometry.stereo.any())
+    throw Error(option_text("decode-scale") + " " + std::to_string(scale) + ": stereo sources decode whole (use auto or 1)");
+  if (scale == 0) scale = scalable && !geometry.stereo.any() ? coarsest_decode_scale(geometry, finest_source_step(geometry, 4)) : 1;
   if (scale > 1) geometry.source = rescaled(geometry.source, {frame.width / scale, frame.height / scale});
   // Sizes the output formats cannot hold, and jobs over the memory budget, stop before any work.
-  const Size out_size = size_of(geometry.target);
+  const Size out_size = geometry.target_frame();
   for (const auto& o : all_outputs) check_writable_size(o, out_faces ? Size{out_size.height, out_size.height} : out_size);
   // The map is kept (built once for the footprint, the first image and the rest of a batch)
   // while it fits kMapCacheBudget; beyond, memory stays source + output + tile buffers and the
@@ -236,8 +255,13 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     write.threads = options.threads;
     if (job.keep_metadata && !in_faces) carry_metadata(job.inputs[n], infos[n].format, write);
     // Equirect outputs say where they sit in the sphere (Photo Sphere XMP, read by viewers).
-    if (const auto* e = std::get_if<Equirect>(&geometry.target); e && job.keep_metadata)
-      write.xmp = photo_sphere_xmp(photo_sphere_of(*e));
+    // (A stereo frame: one eye's fields and GSpherical:StereoMode.)
+    if (const auto* e = std::get_if<Equirect>(&geometry.target); e && job.keep_metadata) {
+      PhotoSphere ps = photo_sphere_of(*e);
+      if (geometry.stereo.target != StereoLayout::Mono)
+        ps.stereo_mode = geometry.stereo.target == StereoLayout::TopBottom ? "top-bottom" : "left-right";
+      write.xmp = photo_sphere_xmp(ps);
+    }
     // A single JPEG output encodes its parts as they are done, while the source is still read.
     std::optional<StreamedOutput> single;
     if (!out_faces) single.emplace(outputs[n], write, out_size, out_channels, type);
@@ -249,14 +273,14 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +
                            (n == 0 ? map_seconds : 0.0);  // the map is built once, for the first
     if (single) single->write(out);
-    else write_cube_faces(out, outputs[n], write);
+    else write_cube_faces(out, outputs[n], write, out_order);
     auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };
     const double read = static_cast<double>(source.width() * source.height()) /
                         static_cast<double>(source.frame_size().width * source.frame_size().height);
     reports.push_back({job.inputs[n], outputs[n], from_text, to.str(),
                        in_faces ? face_size(source.size()) : frame,
                        out_faces ? face_size(out.size()) : out.size(), in_faces, out_faces, seconds, read,
-                       in_faces ? "" : infos[n].format, scale});
+                       in_faces ? "" : infos[n].format, scale, stereo_note(geometry)});
     if (on_frame) on_frame(reports.back());
   }
   return reports;
@@ -269,6 +293,7 @@ Size run_maps(const MapsJob& job) {
   check_output_path(job.output, job.write.overwrite);
   const ConversionGeometry geometry =
       make_geometry(job.source_size, parse_spec(job.from), parse_spec(job.to), job.options);
+  require_mono(geometry, "maps");
   // The map (2 floats a pixel) and its encoded copy.
   const Size out = size_of(geometry.target);
   check_writable_size(job.output, out);

@@ -132,6 +132,8 @@ HWY_INLINE void StoreSample(unsigned char* p, float v) {
 template <class DP, class VP = hn::Vec<DP>>
 struct Bounds {
   VP cw, ch, inv_cw, inv_ch, x0, x1, y0, y1, tail;
+  VP ex[7], ey[7];
+  int nx = 0, ny = 0;  // uneven cells: edges ex[0..nx], ey[0..ny]
   bool cells;
   bool whole;  // every byte of the window within int32 offsets of its start
   explicit Bounds(const SimdSource& s)
@@ -148,6 +150,11 @@ struct Bounds {
     inv_ch = hn::Set(dp, static_cast<P>(cells ? 1.0 / static_cast<double>(s.cell_h) : 0.0));
     x0 = hn::Set(dp, static_cast<P>(s.x0)), x1 = hn::Set(dp, static_cast<P>(s.x1));
     y0 = hn::Set(dp, static_cast<P>(s.y0)), y1 = hn::Set(dp, static_cast<P>(s.y1));
+    if (s.cells_x) {
+      nx = s.cells_x->n, ny = s.cells_y->n;
+      for (int k = 0; k <= nx; ++k) ex[k] = hn::Set(dp, static_cast<P>(s.cells_x->edge[k]));
+      for (int k = 0; k <= ny; ++k) ey[k] = hn::Set(dp, static_cast<P>(s.cells_y->edge[k]));
+    }
   }
 };
 
@@ -226,6 +233,19 @@ HWY_INLINE void PlanLanes(const SimdSource& s, int K, const Bounds<DP>& b, VP sx
     const VP cx = hn::Mul(hn::Floor(hn::Mul(sx, b.inv_cw)), b.cw), cy = hn::Mul(hn::Floor(hn::Mul(sy, b.inv_ch)), b.ch);
     lo_x = hn::Max(cx, b.x0), hi_x = hn::Sub(hn::Min(hn::Add(cx, b.cw), b.x1), k);
     lo_y = hn::Max(cy, b.y0), hi_y = hn::Sub(hn::Min(hn::Add(cy, b.ch), b.y1), k);
+  } else if (b.nx > 0) {
+    // Uneven cells: the edges around the sample (a position at an edge belongs to the next cell).
+    VP cx0 = b.ex[0], cx1 = b.ex[1], cy0 = b.ey[0], cy1 = b.ey[1];
+    for (int e = 1; e < b.nx; ++e) {
+      const MP past = hn::Ge(sx, b.ex[e]);
+      cx0 = hn::IfThenElse(past, b.ex[e], cx0), cx1 = hn::IfThenElse(past, b.ex[e + 1], cx1);
+    }
+    for (int e = 1; e < b.ny; ++e) {
+      const MP past = hn::Ge(sy, b.ey[e]);
+      cy0 = hn::IfThenElse(past, b.ey[e], cy0), cy1 = hn::IfThenElse(past, b.ey[e + 1], cy1);
+    }
+    lo_x = hn::Max(cx0, b.x0), hi_x = hn::Sub(hn::Min(cx1, b.x1), k);
+    lo_y = hn::Max(cy0, b.y0), hi_y = hn::Sub(hn::Min(cy1, b.y1), k);
   }
   MP inside = hn::And(hn::And(ok, hn::And(hn::Ge(fx, lo_x), hn::Le(fx, hi_x))),
                       hn::And(hn::Ge(fy, lo_y), hn::Le(fy, hi_y)));

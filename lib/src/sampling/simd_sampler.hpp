@@ -25,6 +25,8 @@ struct SimdSource {
   PixelType type;
   int64_t x0, y0, x1, y1;     // the frame pixels [x0, x1) x [y0, y1) held in memory
   int64_t cell_w, cell_h;     // taps must stay in one aligned cell of this size; 0: the frame
+  const CubeAxis* cells_x = nullptr;  // uneven cells (FFmpeg's EAC frame) instead: taps stay in
+  const CubeAxis* cells_y = nullptr;  // the sample's cell of these edges
   bool dering = false;        // clamp to the central 2x2 taps (set from the Interp by the kernels)
   const FootprintField* footprint = nullptr;  // the footprint kernel's widths (set by the entry points)
 };

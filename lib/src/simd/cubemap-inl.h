@@ -20,8 +20,8 @@ namespace hn = hwy::HWY_NAMESPACE;
 // The rotated ray fwd + a right + b down of pixel centres (px, py) on the face.
 template <class D, class T, class V = hn::Vec<D>, class M = hn::Mask<D>>
 HWY_INLINE void TargetRay(D d, const simd::CubeFaceRays<T>& p, V px, V py, V& x, V& y, V& z, M&, M&) {
-  const V a = hn::MulSub(hn::Sub(px, hn::Set(d, p.ox)), hn::Set(d, p.two_over_f), hn::Set(d, T(1)));
-  const V b = hn::MulSub(hn::Sub(py, hn::Set(d, p.oy)), hn::Set(d, p.two_over_f), hn::Set(d, T(1)));
+  const V a = hn::MulSub(hn::Sub(px, hn::Set(d, p.ox)), hn::Set(d, p.kx), hn::Set(d, p.mx));
+  const V b = hn::MulSub(hn::Sub(py, hn::Set(d, p.oy)), hn::Set(d, p.ky), hn::Set(d, p.my));
   x = hn::MulAdd(b, hn::Set(d, p.down[0]), hn::MulAdd(a, hn::Set(d, p.right[0]), hn::Set(d, p.fwd[0])));
   y = hn::MulAdd(b, hn::Set(d, p.down[1]), hn::MulAdd(a, hn::Set(d, p.right[1]), hn::Set(d, p.fwd[1])));
   z = hn::MulAdd(b, hn::Set(d, p.down[2]), hn::MulAdd(a, hn::Set(d, p.right[2]), hn::Set(d, p.fwd[2])));
@@ -51,12 +51,20 @@ HWY_INLINE void SourcePixel(D d, const simd::CubemapSource<T>& s, V x, V y, V z,
   const V ox = origin(s.ox), oy = origin(s.oy);
   // Within the face's cell [o, o + F): the far edge becomes the largest value below o + F in the
   // lane type.
-  const V half_f = hn::Set(d, s.half_face), f = hn::Set(d, s.face);
   const hn::RebindToSigned<D> di;
   auto below = [&](V v) { return hn::BitCast(d, hn::Sub(hn::BitCast(di, v), hn::Set(di, 1))); };
-  sx = hn::Min(hn::Add(ox, hn::Max(hn::MulAdd(a, half_f, half_f), zero)), below(hn::Add(ox, f)));
-  sy = hn::Min(hn::Add(oy, hn::Max(hn::MulAdd(b, half_f, half_f), zero)), below(hn::Add(oy, f)));
   ok = hn::Gt(depth, zero);
+  if (s.plain) {
+    const V half_f = hn::Set(d, s.half_face), f = hn::Set(d, s.face);
+    sx = hn::Min(hn::Add(ox, hn::Max(hn::MulAdd(a, half_f, half_f), zero)), below(hn::Add(ox, f)));
+    sy = hn::Min(hn::Add(oy, hn::Max(hn::MulAdd(b, half_f, half_f), zero)), below(hn::Add(oy, f)));
+    return;
+  }
+  // Turned or padded cells: the cell's position from (a, b) by its face's coefficients.
+  const V cx = hn::MulAdd(b, origin(s.kx[2]), hn::MulAdd(a, origin(s.kx[1]), origin(s.kx[0])));
+  const V cy = hn::MulAdd(b, origin(s.ky[2]), hn::MulAdd(a, origin(s.ky[1]), origin(s.ky[0])));
+  sx = hn::Min(hn::Max(cx, ox), below(origin(s.x1)));
+  sy = hn::Min(hn::Max(cy, oy), below(origin(s.y1)));
 }
 
 }  // namespace HWY_NAMESPACE

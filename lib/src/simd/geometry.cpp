@@ -134,7 +134,7 @@ bool describe_source(const Projection& src, SimdGeometry& g) {
   } else if (const auto* fs = std::get_if<Fisheye>(&src); fs && fs->model() != FisheyeModel::Thoby) {  // Thoby: tile maps
     g.src = Src::Fisheye;
     g.use_float = set_lanes(g, [&](auto& l) { return simd::describe(*fs, l.source.fisheye); });
-  } else if (const auto* c = std::get_if<Cubemap>(&src)) {
+  } else if (const auto* c = std::get_if<Cubemap>(&src); c && !c->format().angular) {  // eac: tile maps
     g.src = Src::Cubemap;
     g.use_float = set_lanes(g, [&](auto& l) { return simd::describe(*c, l.source.cubemap); });
   } else {

@@ -170,8 +170,8 @@ class TileRows {
       VD x, z, y;
       if (g.dst == SimdGeometry::Dst::CubeFace) {
         const auto& c = g.ld.target.cube_face;
-        const VD a = hn::MulSub(hn::Sub(px, hn::Set(dd, c.ox)), hn::Set(dd, c.two_over_f), hn::Set(dd, 1.0));
-        const VD b = hn::MulSub(hn::Sub(py, hn::Set(dd, c.oy)), hn::Set(dd, c.two_over_f), hn::Set(dd, 1.0));
+        const VD a = hn::MulSub(hn::Sub(px, hn::Set(dd, c.ox)), hn::Set(dd, c.kx), hn::Set(dd, c.mx));
+        const VD b = hn::MulSub(hn::Sub(py, hn::Set(dd, c.oy)), hn::Set(dd, c.ky), hn::Set(dd, c.my));
         x = hn::MulAdd(a, hn::Set(dd, c.right[0]), hn::Set(dd, c.fwd[0]));
         z = hn::MulAdd(a, hn::Set(dd, c.right[2]), hn::Set(dd, c.fwd[2]));
         y = hn::Mul(b, hn::Set(dd, c.down[1]));

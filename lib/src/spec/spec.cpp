@@ -66,6 +66,7 @@ std::string list_names() {
 std::string range_text(const ParamDef& p) {
   std::ostringstream o;
   if (p.type == ParamType::Choice) return std::string("one of ") + p.choices;
+  if (p.type == ParamType::Text) return "text";
   if (std::isfinite(p.lo)) o << p.lo << (p.lo_open ? " < " : " <= ");
   o << p.key;
   if (std::isfinite(p.hi)) o << (p.hi_open ? " < " : " <= ") << p.hi;
@@ -81,6 +82,12 @@ std::string validate(const ProjectionDef& d, const ParamDef& p, const std::strin
     if (text.empty() || text.find('|') != std::string::npos ||
         choices.find("|" + text + "|") == std::string::npos)
       throw Error(where + " is not a valid value (expected " + range_text(p) + ")");
+    return text;
+  }
+  // Text: its module's check reads it; here only what no value may hold.
+  if (p.type == ParamType::Text) {
+    if (text.empty() || text.size() > 64 || text.find_first_of("|\"") != std::string::npos)
+      throw Error(where + " is not a valid value (expected up to 64 characters)");
     return text;
   }
   char* end = nullptr;
@@ -111,6 +118,12 @@ const std::vector<ProjectionDef>& projection_catalog() {
     for (size_t k = 0; k < std::variant_size_v<Projection>; ++k)
       for (ProjectionDef d : module_of(static_cast<Kind>(k)).catalog()) {
         d.kind = static_cast<Kind>(k);
+        // Every form as a stereo frame (convert.hpp: Stereo).
+        d.params.push_back({"stereo", ParamType::Choice, "mono", 0, 0, false, false, "mono|tb|sbs",
+                            "two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye "
+                            "converts within its half"});
+        d.params.push_back({"eye", ParamType::Choice, "left", 0, 0, false, false, "left|right",
+                            "a stereo source's eye a mono target takes"});
         all.push_back(std::move(d));
       }
     return all;
