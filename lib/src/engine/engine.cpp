@@ -154,7 +154,7 @@ int64_t Converter::Impl::tile_count() const {
 }
 
 bool Converter::Impl::fused(const TileRect& rect, SimdGeometry& g) const {
-  return engine_ == Engine::Simd && simd_geometry_for(source_, target_, rotation_, rect, g);
+  return engine_ == Engine::Simd && simd_geometry_for(source_, target_, rotation_, rect, g) && exact_for(interp_, g);
 }
 
 
@@ -165,7 +165,7 @@ void Converter::Impl::build_cache() const {
   parallel_tasks(tile_count(), threads_, [&](int64_t t, int) {
     SimdGeometry g;
     const TileRect rect = tile(t);
-    if (!fused(rect, g)) map_tile(source_, target_, rotation_, rect, maps[static_cast<size_t>(t)]);
+    if (!fused(rect, g)) map_tile(source_, target_, rotation_, rect, maps[static_cast<size_t>(t)], interp_ == Interp::Nearest);
   });
   cache_ = std::move(maps);
 }

@@ -40,7 +40,7 @@ void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Pr
 
 bool TileSampling::fused(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
                          SimdGeometry& g) const {
-  return simd_ && simd_geometry_for(sp, t, r, rect, g);
+  return simd_ && simd_geometry_for(sp, t, r, rect, g) && exact_for(interp_, g);
 }
 
 void TileSampling::resolve_misses(const Image& im, const SourceTaps& taps, const TileRect& r, unsigned char* out,
@@ -88,7 +88,7 @@ void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Pr
                         const FootprintField* fp) const {
   SimdGeometry g;
   const bool in_registers = !tm && fused(sp, r, t, rect, g);
-  if (!tm && !in_registers) map_tile(sp, t, r, rect, wk.map), tm = &wk.map;
+  if (!tm && !in_registers) map_tile(sp, t, r, rect, wk.map, interp_ == Interp::Nearest), tm = &wk.map;
   if (tm) wk.stats.interpolated_cells += tm->interpolated_cells, wk.stats.exact_cells += tm->exact_cells;
   wk.stats.fused_tiles += in_registers;
   if (!in_registers) return map(src_, taps_, simd_src_, *tm, out, stride, wk, fp);

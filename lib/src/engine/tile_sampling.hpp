@@ -37,6 +37,13 @@ struct TileScratch {
 
 // The source as the SIMD kernels see it: the window held, and the cell taps must stay in (a cube
 // face: cube layouts put faces on a grid of face-sized cells; else the whole frame).
+// Nearest takes exact positions (double lanes, no grid; exact tile maps): it copies the pixels
+// the reference engine picks. Returns true.
+inline bool exact_for(Interp interp, SimdGeometry& g) {
+  if (interp == Interp::Nearest) g.use_float = g.grid = false;
+  return true;
+}
+
 SimdSource simd_source(const Image& src, const Projection& sp);
 
 // One lens of a dual-fisheye source alone: its fisheye on the whole frame (its circle inside its

@@ -116,7 +116,7 @@ class Mip final : public TileStrategy {
       if (job_.sampling.fused(job_.target, rect, g))
         simd_map_tile(g, rect, wk.map, grid_suits(job_.sampling.image().type()));  // the fused path's positions
       else
-        map_tile(job_.source, job_.target, job_.rotation, rect, wk.map);
+        map_tile(job_.source, job_.target, job_.rotation, rect, wk.map, job_.sampling.interp() == Interp::Nearest);
       tm = &wk.map;
     }
     const bool cube_source = std::holds_alternative<Cubemap>(job_.source);

@@ -20,7 +20,7 @@ const Lagrange kLagrange;
 }  // namespace
 
 void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
-              TileRect rect, TileMap& out) {
+              TileRect rect, TileMap& out, bool exact) {
   const auto n = static_cast<size_t>(rect.w * rect.h);
   out.rect = rect;
   out.xs.resize(n);
@@ -50,7 +50,7 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
       const int64_t px0 = rect.x0 + cx * kCell, py0 = rect.y0 + cy * kCell;
       // The cell's 4x4 stencil starts at node (cx, cy), one cell up and left.
       auto node = [&](int a, int b) { return static_cast<size_t>((cy + b) * nx + cx + a); };
-      bool accept = true;
+      bool accept = !exact;
       for (int b = 0; b < 4; ++b)
         for (int a = 0; a < 4; ++a) accept = accept && nok[node(a, b)];
       // Separable: along y per stencil column (for row j), then along x (for column i).

@@ -42,7 +42,8 @@ struct TileMap {
   int64_t exact_cells = 0, interpolated_cells = 0;
 };
 
+// exact: every pixel exact (nearest picks the reference's pixels bit for bit).
 void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
-              TileRect rect, TileMap& out);
+              TileRect rect, TileMap& out, bool exact = false);
 
 }  // namespace panoproj
