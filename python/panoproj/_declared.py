@@ -25,6 +25,9 @@ class Pinhole(Projection):
         centre
     cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
         centre
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'pinhole'
@@ -38,8 +41,10 @@ class Pinhole(Projection):
         focal: Optional[float] = None,
         cx: Optional[float] = None,
         cy: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(hfov=hfov, vfov=vfov, focal=focal, cx=cx, cy=cy)
+        self._set(hfov=hfov, vfov=vfov, focal=focal, cx=cx, cy=cy, stereo=stereo, eye=eye)
 
 
 class BrownConrady(Projection):
@@ -60,6 +65,9 @@ class BrownConrady(Projection):
     p1: distortion coefficient (OpenCV's, theta in radians) (default 0)
     p2: distortion coefficient (OpenCV's, theta in radians) (default 0)
     k3: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'brown-conrady'
@@ -78,8 +86,10 @@ class BrownConrady(Projection):
         p1: Optional[float] = None,
         p2: Optional[float] = None,
         k3: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, stereo=stereo, eye=eye)
 
 
 class Fisheye(Projection):
@@ -100,6 +110,9 @@ class Fisheye(Projection):
         centre
     cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
         centre
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'fisheye'
@@ -116,8 +129,10 @@ class Fisheye(Projection):
         radius: Optional[float] = None,
         cx: Optional[float] = None,
         cy: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(fov=fov, model=model, k2=k2, clip=clip, aspect=aspect, radius=radius, cx=cx, cy=cy)
+        self._set(fov=fov, model=model, k2=k2, clip=clip, aspect=aspect, radius=radius, cx=cx, cy=cy, stereo=stereo, eye=eye)
 
 
 class DualFisheye(Projection):
@@ -147,6 +162,9 @@ class DualFisheye(Projection):
     roll2: lens 1's roll (deg) (default 0)
     feather: width of the blend across the overlap (deg, centred on its midline); default: the
         whole overlap; 0: a hard cut
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'dual-fisheye'
@@ -172,8 +190,10 @@ class DualFisheye(Projection):
         pitch2: Optional[float] = None,
         roll2: Optional[float] = None,
         feather: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(fov=fov, fov2=fov2, model=model, layout=layout, radius=radius, radius2=radius2, cx=cx, cy=cy, cx2=cx2, cy2=cy2, yaw=yaw, pitch=pitch, roll=roll, yaw2=yaw2, pitch2=pitch2, roll2=roll2, feather=feather)
+        self._set(fov=fov, fov2=fov2, model=model, layout=layout, radius=radius, radius2=radius2, cx=cx, cy=cy, cx2=cx2, cy2=cy2, yaw=yaw, pitch=pitch, roll=roll, yaw2=yaw2, pitch2=pitch2, roll2=roll2, feather=feather, stereo=stereo, eye=eye)
 
 
 class KannalaBrandt(Projection):
@@ -192,6 +212,9 @@ class KannalaBrandt(Projection):
     k2: distortion coefficient (OpenCV's, theta in radians) (default 0)
     k3: distortion coefficient (OpenCV's, theta in radians) (default 0)
     k4: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'kannala-brandt'
@@ -209,8 +232,10 @@ class KannalaBrandt(Projection):
         k2: Optional[float] = None,
         k3: Optional[float] = None,
         k4: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, k3=k3, k4=k4)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, k3=k3, k4=k4, stereo=stereo, eye=eye)
 
 
 class DoubleSphere(Projection):
@@ -227,6 +252,9 @@ class DoubleSphere(Projection):
         centre
     xi: xi: the second sphere's offset (default 0)
     alpha: alpha (default 0.5)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'double-sphere'
@@ -242,8 +270,10 @@ class DoubleSphere(Projection):
         cy: Optional[float] = None,
         xi: Optional[float] = None,
         alpha: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, alpha=alpha)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, alpha=alpha, stereo=stereo, eye=eye)
 
 
 class Unified(Projection):
@@ -259,6 +289,9 @@ class Unified(Projection):
     cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
         centre
     xi: xi: the sphere's offset (0: pinhole, 1: stereographic) (default 1)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'unified'
@@ -273,8 +306,10 @@ class Unified(Projection):
         cx: Optional[float] = None,
         cy: Optional[float] = None,
         xi: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, stereo=stereo, eye=eye)
 
 
 class ExtendedUnified(Projection):
@@ -291,6 +326,9 @@ class ExtendedUnified(Projection):
         centre
     alpha: alpha (default 0.5)
     beta: beta (1: the unified model) (default 1)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'extended-unified'
@@ -306,8 +344,10 @@ class ExtendedUnified(Projection):
         cy: Optional[float] = None,
         alpha: Optional[float] = None,
         beta: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, alpha=alpha, beta=beta)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, alpha=alpha, beta=beta, stereo=stereo, eye=eye)
 
 
 class Ptlens(Projection):
@@ -324,6 +364,9 @@ class Ptlens(Projection):
         centre
     cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
         centre
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'ptlens'
@@ -339,8 +382,10 @@ class Ptlens(Projection):
         c: Optional[float] = None,
         cx: Optional[float] = None,
         cy: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(hfov=hfov, fov=fov, a=a, b=b, c=c, cx=cx, cy=cy)
+        self._set(hfov=hfov, fov=fov, a=a, b=b, c=c, cx=cx, cy=cy, stereo=stereo, eye=eye)
 
 
 class Equirect(Projection):
@@ -351,6 +396,9 @@ class Equirect(Projection):
     vfov: latitude span (deg) (default 180)
     lon0: central longitude (deg) (default 0)
     lat0: central latitude (deg) (default 0)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'equirect'
@@ -363,8 +411,10 @@ class Equirect(Projection):
         vfov: Optional[float] = None,
         lon0: Optional[float] = None,
         lat0: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(hfov=hfov, vfov=vfov, lon0=lon0, lat0=lat0)
+        self._set(hfov=hfov, vfov=vfov, lon0=lon0, lat0=lat0, stereo=stereo, eye=eye)
 
 
 class Cylindrical(Projection):
@@ -375,6 +425,9 @@ class Cylindrical(Projection):
     vfov: vertical span (deg), linear in tan(latitude) (default 100)
     lon0: central longitude (deg) (default 0)
     lat0: central latitude (deg) (default 0)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'cylindrical'
@@ -387,17 +440,32 @@ class Cylindrical(Projection):
         vfov: Optional[float] = None,
         lon0: Optional[float] = None,
         lat0: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(hfov=hfov, vfov=vfov, lon0=lon0, lat0=lat0)
+        self._set(hfov=hfov, vfov=vfov, lon0=lon0, lat0=lat0, stereo=stereo, eye=eye)
 
 
 class Cubemap(Projection):
     """Six 90-degree faces: front right back left up down.
 
     Parameters (degrees, pixels; None: the default):
-    layout: files: six images (path pattern with {face} and/or {index}); cross is 4x3 (default
+    layout: files: six images (path pattern with {face} and/or {index}); cross is 4x3; eac:
+        YouTube's equi-angular 3x2 (equal angles per pixel; order lfrdbu, rot 000313) (default
         6x1)
     face: face size in pixels; default: from the source's resolution
+    order: the faces in the layout's slots, six letters of f r b l u d (FFmpeg's forder);
+        default frblud, eac lfrdbu
+    rot: each slot's face turned 0-3 quarter turns clockwise, six digits (FFmpeg's frot);
+        default 000000, eac 000313
+    pad: extra field per face: a cell spans 1 / (1 - pad) of the face's 90 degrees (FFmpeg's
+        in_pad) (default 0)
+    pad_px: the same in pixels of a cell (FFmpeg's fin_pad): pad = pad_px / cell size
+    border: eac only: ffmpeg = FFmpeg's EAC frame, a 2-px border around each row of faces
+        (default none)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'cubemap'
@@ -406,10 +474,17 @@ class Cubemap(Projection):
     def __init__(
         self,
         *,
-        layout: Optional[Literal['files', '6x1', '1x6', '3x2', 'cross']] = None,
+        layout: Optional[Literal['files', '6x1', '1x6', '3x2', 'cross', 'eac']] = None,
         face: Optional[int] = None,
+        order: Optional[str] = None,
+        rot: Optional[str] = None,
+        pad: Optional[float] = None,
+        pad_px: Optional[int] = None,
+        border: Optional[Literal['none', 'ffmpeg']] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(layout=layout, face=face)
+        self._set(layout=layout, face=face, order=order, rot=rot, pad=pad, pad_px=pad_px, border=border, stereo=stereo, eye=eye)
 
 
 class Panini(Projection):
@@ -425,6 +500,9 @@ class Panini(Projection):
     hfov: horizontal field of view (deg) (default 120)
     vfov: vertical field of view along the centre line (deg); default: square pixels at the
         centre
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'panini'
@@ -440,8 +518,10 @@ class Panini(Projection):
         b: Optional[float] = None,
         hfov: Optional[float] = None,
         vfov: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(model=model, d=d, vc=vc, a=a, b=b, hfov=hfov, vfov=vfov)
+        self._set(model=model, d=d, vc=vc, a=a, b=b, hfov=hfov, vfov=vfov, stereo=stereo, eye=eye)
 
 
 class CompressedRectilinear(Projection):
@@ -453,6 +533,9 @@ class CompressedRectilinear(Projection):
     hfov: horizontal field of view (deg) (default 120)
     vfov: vertical field of view along the centre line (deg); default: square pixels at the
         centre
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'compressed-rectilinear'
@@ -465,8 +548,10 @@ class CompressedRectilinear(Projection):
         b: Optional[float] = None,
         hfov: Optional[float] = None,
         vfov: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(a=a, b=b, hfov=hfov, vfov=vfov)
+        self._set(a=a, b=b, hfov=hfov, vfov=vfov, stereo=stereo, eye=eye)
 
 
 class Aitoff(Projection):
@@ -476,6 +561,9 @@ class Aitoff(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'aitoff'
@@ -486,8 +574,10 @@ class Aitoff(Projection):
         *,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(lon0=lon0, aspect=aspect)
+        self._set(lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
 
 
 class Hammer(Projection):
@@ -498,6 +588,9 @@ class Hammer(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'hammer'
@@ -509,8 +602,10 @@ class Hammer(Projection):
         w: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(w=w, lon0=lon0, aspect=aspect)
+        self._set(w=w, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
 
 
 class EckertGreifendorff(Projection):
@@ -521,6 +616,9 @@ class EckertGreifendorff(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'eckert-greifendorff'
@@ -532,8 +630,10 @@ class EckertGreifendorff(Projection):
         w: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(w=w, lon0=lon0, aspect=aspect)
+        self._set(w=w, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
 
 
 class Bonne(Projection):
@@ -544,6 +644,9 @@ class Bonne(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'bonne'
@@ -555,8 +658,10 @@ class Bonne(Projection):
         phi1: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(phi1=phi1, lon0=lon0, aspect=aspect)
+        self._set(phi1=phi1, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
 
 
 class Sinusoidal(Projection):
@@ -566,6 +671,9 @@ class Sinusoidal(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'sinusoidal'
@@ -576,8 +684,10 @@ class Sinusoidal(Projection):
         *,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(lon0=lon0, aspect=aspect)
+        self._set(lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
 
 
 class Mollweide(Projection):
@@ -587,6 +697,9 @@ class Mollweide(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'mollweide'
@@ -597,8 +710,10 @@ class Mollweide(Projection):
         *,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(lon0=lon0, aspect=aspect)
+        self._set(lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
 
 
 class Mercator(Projection):
@@ -609,6 +724,9 @@ class Mercator(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'mercator'
@@ -620,8 +738,10 @@ class Mercator(Projection):
         lat_max: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect)
+        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
 
 
 class Miller(Projection):
@@ -632,6 +752,9 @@ class Miller(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'miller'
@@ -643,8 +766,10 @@ class Miller(Projection):
         lat_max: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect)
+        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
 
 
 class CylindricalEqualArea(Projection):
@@ -656,6 +781,9 @@ class CylindricalEqualArea(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'cylindrical-equal-area'
@@ -668,8 +796,10 @@ class CylindricalEqualArea(Projection):
         lat_max: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(lat_ts=lat_ts, lat_max=lat_max, lon0=lon0, aspect=aspect)
+        self._set(lat_ts=lat_ts, lat_max=lat_max, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
 
 
 class TransverseMercator(Projection):
@@ -681,6 +811,9 @@ class TransverseMercator(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
     """
 
     name = 'transverse-mercator'
@@ -692,8 +825,10 @@ class TransverseMercator(Projection):
         x_max: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(x_max=x_max, lon0=lon0, aspect=aspect)
+        self._set(x_max=x_max, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
 
 
 __all__ = ['ProjectionName', 'Interp', 'Engine', 'Antialias', 'Pinhole', 'BrownConrady', 'Fisheye', 'DualFisheye', 'KannalaBrandt', 'DoubleSphere', 'Unified', 'ExtendedUnified', 'Ptlens', 'Equirect', 'Cylindrical', 'Cubemap', 'Panini', 'CompressedRectilinear', 'Aitoff', 'Hammer', 'EckertGreifendorff', 'Bonne', 'Sinusoidal', 'Mollweide', 'Mercator', 'Miller', 'CylindricalEqualArea', 'TransverseMercator']
