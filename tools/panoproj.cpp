@@ -169,7 +169,7 @@ int main(int argc, char** argv) {
   auto* convert = app.add_subcommand("convert", "convert one image (or cube-face set) to another projection");
   std::vector<std::string> files;
   convert->add_option("files", files,
-                      "IN... OUT: an input image (or a cube-face pattern with {face}/{index}) and the "
+                      "IN... OUT: an input image (or a cube-face pattern with {face}/{index}/{axis}) and the "
                       "output; several inputs (same size) need an output pattern with {stem} or {n}")
       ->required()
       ->expected(2, -1);

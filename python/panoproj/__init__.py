@@ -493,16 +493,17 @@ def read(path: PathLike, *, metadata: Literal[True],
 def read(path: PathLike, *, metadata: bool = False,
          memory_limit: Union[int, str, None] = None) -> Union[Array, Tuple[Array, Dict[str, Any]]]:
     """Reads an image file (JPEG, PNG, TIFF, EXR or HDR, by its magic bytes) as an array of the
-    file's sample type (other types become float32). A path with ``{face}`` or ``{index}`` reads
-    six cube face files as one 6x1 cubemap. With ``metadata=True`` returns ``(array, dict)``, the
+    file's sample type (other types become float32). A path with ``{face}``, ``{index}`` or
+    ``{axis}`` reads six cube face files as one 6x1 cubemap in panoproj's order (``{axis}`` in its
+    frame: front ``pz``, right ``px``, up ``ny``). With ``metadata=True`` returns ``(array, dict)``, the
     dict holding the file's attributes by OpenImageIO's names (EXIF, XMP, ICC profile ...)."""
     path = os.fspath(path)
     if not isinstance(path, str):
         raise TypeError(f"path: {path!r} (expected a str or os.PathLike path)")
     limit = _memory_limit(memory_limit)
-    array = _core.read_faces(path, limit) if re.search(r"\{(face|index)\}", path) else _core.read(path, limit)
+    array = _core.read_faces(path, limit) if re.search(r"\{(face|index|axis)\}", path) else _core.read(path, limit)
     if metadata:
-        return array, _core.read_metadata(path.replace("{face}", "front").replace("{index}", "0"))
+        return array, _core.read_metadata(path.replace("{face}", "front").replace("{index}", "0").replace("{axis}", "pz"))
     return array
 
 
@@ -513,8 +514,8 @@ def write(path: PathLike, array: Array, *, overwrite: bool = False, dtype: Optio
     """Writes an array atomically (a temporary file, then a rename): the format follows the
     extension. An existing file is replaced only with ``overwrite=True``. ``dtype`` converts the
     samples first (e.g. ``"uint8"`` for a JPEG of a float image); ``metadata`` attributes are
-    written where the format has a place for them. A path with ``{face}``/``{index}`` writes a
-    6x1 cubemap (6N x N) as six files, all replaced or none. On any error (a full disk, no
+    written where the format has a place for them. A path with ``{face}``, ``{index}`` or
+    ``{axis}`` writes a 6x1 cubemap (6N x N) as six files, all replaced or none. On any error (a full disk, no
     permission) the old file is intact and no temporary is left. JPEG: ``quality`` 1 to 100,
     ``subsampling`` of the chroma "420" (half width and height), "422" (half width) or "444"."""
     a = _arrays.as_array(array, "array")

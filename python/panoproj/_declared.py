@@ -450,9 +450,9 @@ class Cubemap(Projection):
     """Six 90-degree faces: front right back left up down.
 
     Parameters (degrees, pixels; None: the default):
-    layout: files: six images (path pattern with {face} and/or {index}); cross is 4x3; eac:
-        YouTube's equi-angular 3x2 (equal angles per pixel; order lfrdbu, rot 000313) (default
-        6x1)
+    layout: files: six images (path pattern with {face}, {index} and/or {axis}); cross is 4x3;
+        eac: YouTube's equi-angular 3x2 (equal angles per pixel; order lfrdbu, rot 000313)
+        (default 6x1)
     face: face size in pixels; default: from the source's resolution
     order: the faces in the layout's slots, six letters of f r b l u d (FFmpeg's forder);
         default frblud, eac lfrdbu
@@ -463,6 +463,9 @@ class Cubemap(Projection):
     pad_px: the same in pixels of a cell (FFmpeg's fin_pad): pad = pad_px / cell size
     border: eac only: ffmpeg = FFmpeg's EAC frame, a 2-px border around each row of faces
         (default none)
+    preset: an engine's cube map: slots in its targets' order +X -X +Y -Y +Z -Z ({axis} px..nz),
+        each face turned as it shows them, front where its equirect texture's centre is (default
+        none)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -481,10 +484,11 @@ class Cubemap(Projection):
         pad: Optional[float] = None,
         pad_px: Optional[int] = None,
         border: Optional[Literal['none', 'ffmpeg']] = None,
+        preset: Optional[Literal['none', 'threejs', 'unity']] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(layout=layout, face=face, order=order, rot=rot, pad=pad, pad_px=pad_px, border=border, stereo=stereo, eye=eye)
+        self._set(layout=layout, face=face, order=order, rot=rot, pad=pad, pad_px=pad_px, border=border, preset=preset, stereo=stereo, eye=eye)
 
 
 class Panini(Projection):

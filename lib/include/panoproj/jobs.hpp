@@ -1,7 +1,7 @@
 #pragma once
 // The CLI's file jobs (and later Python's): convert (read, infer the source projection, plan,
 // remap, write atomically) and maps (plan, build the source-coordinate map, write). Rules:
-//   - no --from: an input path with {face}/{index} is a cubemap in files; a 2:1 image is a
+//   - no --from: an input path with {face}/{index}/{axis} is a cubemap in files; a 2:1 image is a
 //     full equirect; anything else is an error asking for --from.
 //   - the output must not be an input (same file by path or inode), and an existing output is
 //     replaced only with overwrite; nothing is written when anything fails.

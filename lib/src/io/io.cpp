@@ -31,6 +31,7 @@
 namespace panoproj {
 
 const char* const kFaceNames[6] = {"front", "right", "back", "left", "up", "down"};
+const char* const kAxisNames[6] = {"px", "nx", "py", "ny", "pz", "nz"};
 
 namespace fs = std::filesystem;
 namespace {
@@ -307,13 +308,14 @@ Image convert_pixels(const Image& in, PixelType type) {
 
 bool is_face_pattern(std::string_view path) {
   return path.find("{face}") != std::string_view::npos ||
-         path.find("{index}") != std::string_view::npos;
+         path.find("{index}") != std::string_view::npos || path.find("{axis}") != std::string_view::npos;
 }
 
 std::string face_path(std::string_view pattern, int slot, const FaceOrder& order) {
   std::string s(pattern);
-  for (const auto& [key, value] : {std::pair<std::string, std::string>{"{face}", kFaceNames[order[slot]]},
-                                   {"{index}", std::to_string(slot)}}) {
+  for (const auto& [key, value] : {std::pair<std::string, std::string>{"{face}", kFaceNames[order.face[slot]]},
+                                   {"{index}", std::to_string(slot)},
+                                   {"{axis}", kAxisNames[order.axis[slot]]}}) {
     for (size_t at; (at = s.find(key)) != std::string::npos;) s.replace(at, key.size(), value);
   }
   return s;

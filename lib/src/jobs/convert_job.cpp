@@ -120,9 +120,9 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const bool in_faces = !batch && is_face_pattern(job.inputs[0]), out_faces = is_cube_files(to);
   if (out_faces != is_face_pattern(job.output))
     throw Error(out_faces ? "output " + job.output +
-                                " needs {face} or {index} for cubemap:layout=files"
+                                " needs {face}, {index} or {axis} for cubemap:layout=files"
                           : "output " + job.output +
-                                " has {face}/{index} but " + option_text("to") + " is not cubemap:layout=files");
+                                " has {face}/{index}/{axis} but " + option_text("to") + " is not cubemap:layout=files");
   if (batch) {
     if (job.output.find("{stem}") == std::string::npos && job.output.find("{n}") == std::string::npos)
       throw Error("output " + job.output + " names one file for " + std::to_string(job.inputs.size()) +
@@ -154,7 +154,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   if (from && is_cube_files(*from) != in_faces)
     throw Error(in_faces ? "input " + job.inputs[0] + " is a face pattern but " + option_text("from") +
                                " is not cubemap:layout=files"
-                         : option_text("from") + " cubemap:layout=files needs an input pattern with {face} or {index}");
+                         : option_text("from") + " cubemap:layout=files needs an input pattern with {face}, {index} or {axis}");
   // Every header, read once before any work (a batch shares one geometry); a face set's come with
   // its pixels.
   std::vector<ImageInfo> infos;

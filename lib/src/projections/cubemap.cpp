@@ -4,6 +4,7 @@
 
 #include "projections/module.hpp"
 #include "panoproj/error.hpp"
+#include "panoproj/io.hpp"
 #include "projections/spec_support.hpp"
 
 namespace panoproj {
@@ -133,7 +134,7 @@ using namespace spec_support;
 std::vector<ProjectionDef> catalog() {
   return {{"cubemap", "six 90-degree faces: front right back left up down",
            {choice("layout", "6x1", "files|6x1|1x6|3x2|cross|eac",
-                   "files: six images (path pattern with {face} and/or {index}); cross is 4x3; eac: YouTube's "
+                   "files: six images (path pattern with {face}, {index} and/or {axis}); cross is 4x3; eac: YouTube's "
                    "equi-angular 3x2 (equal angles per pixel; order lfrdbu, rot 000313)"),
             {"face", ParamType::Integer, "", 1, 1 << 30, false, false, "", "face size in pixels; default: from the source's resolution"},
             {"order", ParamType::Text, "", 0, 0, false, false, "",
@@ -145,7 +146,10 @@ std::vector<ProjectionDef> catalog() {
             {"pad_px", ParamType::Integer, "", 0, 1 << 30, false, false, "",
              "the same in pixels of a cell (FFmpeg's fin_pad): pad = pad_px / cell size"},
             choice("border", "none", "none|ffmpeg",
-                   "eac only: ffmpeg = FFmpeg's EAC frame, a 2-px border around each row of faces")}}};
+                   "eac only: ffmpeg = FFmpeg's EAC frame, a 2-px border around each row of faces"),
+            choice("preset", "none", "none|threejs|unity",
+                   "an engine's cube map: slots in its targets' order +X -X +Y -Y +Z -Z ({axis} px..nz), each "
+                   "face turned as it shows them, front where its equirect texture's centre is")}}};
 }
 
 CubeLayout cube_layout(const std::string& l) {
@@ -157,9 +161,23 @@ CubeLayout cube_layout(const std::string& l) {
   return CubeLayout::Row6x1;
 }
 
+// An engine's cube map (slots +X -X +Y -Y +Z -Z) in panoproj's faces, derived from the cube-map
+// face table (OpenGL 4.6 table 8.19, D3D the same) and, for the front, the engine's equirect
+// lookup, which centres the image on +X in both:
+//   three.js: right-handed, y up; a CubeTexture is looked up at (-x, y, z) (flipEnvMap, "px is
+//     the face towards -X"); equirectUv: u = atan2(z, x) / 2pi + 1/2.
+//   unity: left-handed, y up; looked up as is; Skybox/Panoramic: u = 1/2 - atan2(z, x) / 2pi.
+// Checked by python/tests/test_cube_presets.py against that table and those lookups.
+CubeFormat cube_preset(const std::string& name) {
+  CubeFormat f;
+  if (name == "threejs") f.order = {2, 0, 4, 5, 1, 3}, f.rot = {0, 0, 1, 3, 0, 0};  // b f u d r l
+  if (name == "unity") f.order = {0, 2, 4, 5, 3, 1}, f.rot = {0, 0, 3, 1, 0, 0};    // f b u d l r
+  return f;
+}
+
 // The format the keys give (pad_px needs the cell size).
 CubeFormat cube_format(const ProjectionSpec& s, int64_t cell) {
-  CubeFormat f = s.choice("layout") == "eac" ? CubeFormat::eac() : CubeFormat{};
+  CubeFormat f = s.choice("layout") == "eac" ? CubeFormat::eac() : cube_preset(s.choice("preset"));
   if (s.given("order")) {
     const std::string o = s.choice("order");
     for (int k = 0; k < 6; ++k) f.order[k] = static_cast<int>(std::string(kFaceLetters).find(o[k]));
@@ -185,13 +203,21 @@ void check(const ProjectionSpec& s) {
   }
   if (s.given("pad") && s.given("pad_px")) fail(s, "pad and pad_px both given (give one: pad_px = pad x cell size)");
   if (s.choice("border") == "ffmpeg" && s.choice("layout") != "eac") fail(s, "border=ffmpeg needs layout=eac");
+  if (s.choice("preset") != "none" && (s.given("order") || s.given("rot") || s.choice("layout") == "eac"))
+    fail(s, "preset=" + s.choice("preset") + " sets the order and turns (drop " +
+                (s.choice("layout") == "eac" ? std::string("layout=eac") : std::string("order and rot")) + ")");
   if (s.choice("border") == "ffmpeg" && (s.given("pad") || s.given("pad_px")))
     fail(s, "border=ffmpeg has FFmpeg's own 2-px border (drop pad or pad_px)");
 }
 
 }  // namespace
 
-std::array<int, 6> cube_face_order(const ProjectionSpec& s) { return cube_format(s, 1).order; }
+FaceOrder cube_face_order(const ProjectionSpec& s) {
+  FaceOrder o;
+  o.face = cube_format(s, 1).order;
+  for (int k = 0; k < 6; ++k) o.axis[k] = s.choice("preset") != "none" ? k : kDefaultFaceOrder.axis[o.face[k]];
+  return o;
+}
 
 namespace {
 
@@ -242,18 +268,22 @@ Projection rescale(const Projection& p, Size size, double sx, double sy) {
   return Cubemap(size.width / g[0], q.layout(), q.format());
 }
 
-// Faces of 1 to 40000 px, every layout; orders, turns, padding, EAC and FFmpeg's EAC frame.
+// Faces of 1 to 40000 px, every layout; orders, turns, padding, presets, EAC and FFmpeg's EAC frame.
 std::vector<ProjectionCase> cases() {
-  return {{"cubemap", {{6, 1}, {12, 2}, {6 * 256, 256}, {6 * 512, 512}, {6 * 1024, 1024}, {6 * 40000, 40000}}},
+  std::vector<ProjectionCase> rows = {{"cubemap", {{6, 1}, {12, 2}, {6 * 256, 256}, {6 * 512, 512}, {6 * 1024, 1024}, {6 * 40000, 40000}}},
           {"cubemap:layout=1x6", {{512, 6 * 512}}},
           {"cubemap:layout=3x2", {{3 * 512, 2 * 512}}},
           {"cubemap:layout=cross", {{4 * 512, 3 * 512}, {4 * 1024, 3 * 1024}}},
           {"cubemap:layout=3x2,order=rludfb,rot=123012", {{3, 2}, {3 * 512, 2 * 512}}},
           {"cubemap:layout=6x1,order=udfblr,rot=302103,pad=0.1", {{6 * 256, 256}, {6 * 40000, 40000}}},
           {"cubemap:layout=cross,pad_px=3", {{4 * 512, 3 * 512}}},
+          {"cubemap:preset=threejs", {{6 * 256, 256}}},
+          {"cubemap:layout=3x2,preset=unity", {{3 * 256, 2 * 256}}},
           {"cubemap:layout=eac", {{3, 2}, {3 * 512, 2 * 512}, {3 * 40000, 2 * 40000}}},
           {"cubemap:layout=eac,pad=0.05", {{3 * 512, 2 * 512}}},
           {"cubemap:layout=eac,border=ffmpeg", {{15, 10}, {3 * 512, 2 * 512}, {3072, 2048}, {3 * 40000, 2 * 40000}}}};
+  for (auto& row : rows) row.bound_px = 1e-9;  // measured: at most 3e-11 px
+  return rows;
 }
 
 }  // namespace

@@ -20,7 +20,8 @@
 //   files six images, slot k the k-th file; in memory they are held as the 6x1 strip.
 // Slot k holds face order[k], turned rot[k] quarter turns clockwise in its cell (v360's
 // forder/frot). Default orders: f r b l u d (0..5), unturned; eac: l f r / d b u with the bottom
-// row turned 3, 1, 3 (vf_v360.c prepare_eac_out).
+// row turned 3, 1, 3 (vf_v360.c prepare_eac_out). Presets put the slots in the cube-map targets'
+// order +X -X +Y -Y +Z -Z, each target's image as the engine shows it (see cube_preset).
 //
 // Within a cell the position p maps to the cell coordinate s = (p - centre) / half, +-1 at the
 // face's 90-degree edges, and s to the tangent a on the face:
@@ -93,8 +94,10 @@ struct CubeAxis {
 };
 
 class ProjectionSpec;
-// The face in each slot by a cubemap spec's layout and order keys.
-std::array<int, 6> cube_face_order(const ProjectionSpec& spec);
+struct FaceOrder;
+// The face in each slot and the axis it looks along (io.hpp) by a cubemap spec's layout, order
+// and preset keys.
+FaceOrder cube_face_order(const ProjectionSpec& spec);
 
 class Cubemap {
  public:
