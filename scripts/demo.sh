@@ -22,6 +22,8 @@ run "$pano" "$out/jordan_cylindrical.jpg" --to cylindrical:vfov=100
 run "$pano" "$out/jordan_pinhole.jpg" --to pinhole:hfov=90 --size 1920x1080 --yaw 75 --pitch -5
 run "$pano" "$out/jordan_cubemap_cross.jpg" --to cubemap:layout=cross,face=1024
 run "$pano" "$out/jordan_cube_{index}_{face}.jpg" --to cubemap:layout=files,face=1024
+run "$pano" "$out/jordan_cubemap_eac.jpg" --to cubemap:layout=eac,face=1024
+run "$pano" "$out/jordan_threejs_{axis}.jpg" --to cubemap:layout=files,preset=threejs,face=1024
 run "$pano" "$out/jordan_aitoff.jpg" --to aitoff
 run "$pano" "$out/jordan_eckert_greifendorff.jpg" --to eckert-greifendorff
 run "$pano" "$out/jordan_bonne.jpg" --to bonne
@@ -58,6 +60,11 @@ echo "   20-degree overlap); a top/bottom pair whose back lens is turned a quart
 run "$pano" "$out/jordan_dual_fisheye200.jpg" --to dual-fisheye:fov=200 --size 4096x2048
 run "$out/jordan_dual_fisheye200.jpg" "$out/jordan_from_dual_fisheye.jpg" --from dual-fisheye:fov=200 --to equirect --size 4096x2048
 run "$pano" "$out/jordan_dual_fisheye_top_bottom.jpg" --to dual-fisheye:fov=190,layout=top-bottom,roll2=90 --size 1024x2048
+
+echo "== Stereo 360: a top-bottom frame (both eyes from the one mono panorama), then to YouTube's"
+echo "   EAC side by side, each eye within its half"
+run "$pano" "$out/jordan_stereo_tb.jpg" --to equirect:stereo=tb --size 2048x2048
+run "$out/jordan_stereo_tb.jpg" "$out/jordan_stereo_eac_sbs.jpg" --from equirect:stereo=tb --to cubemap:layout=eac,stereo=sbs --size 3072x1024
 
 echo "== Real cubemap (six files) -> equirect"
 run "$img/cubemap_jordan_pond/face{index}_{face}.jpg" "$out/jordan_from_cubemap.jpg" --to equirect --size 4096x2048

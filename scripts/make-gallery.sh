@@ -24,7 +24,8 @@ for name in ["jordan_fisheye180", "jordan_fisheye360", "jordan_fisheye180_down_e
              "jordan_brown_conrady_barrel", "jordan_dual_fisheye200", "jordan_from_dual_fisheye",
              "jordan_dual_fisheye_top_bottom", "jordan_mollweide", "jordan_panini", "jordan_panini_opencv",
              "jordan_compressed_rectilinear", "jordan_fisheye_thoby", "earth_mollweide", "earth_sinusoidal",
-             "earth_mercator", "earth_transverse_mercator", "earth_miller", "earth_gall_peters"]:
+             "earth_mercator", "earth_transverse_mercator", "earth_miller", "earth_gall_peters",
+             "jordan_cubemap_eac", "jordan_stereo_tb", "jordan_stereo_eac_sbs"]:
     items[name + ".jpg"] = src / (name + ".jpg")
 items["trees_equirect.jpg"] = src / "trees_equirect.png"
 for out, path in items.items():

@@ -183,6 +183,24 @@ TEST_F(Cli, TiltedPhotoSpheresAreLevelledByTheirPose) {
   expect_refused("convert " + p("wild.jpg") + " " + p("o.png") + " --to equirect", "GPano:PosePitchDegrees=120");
 }
 
+TEST_F(Cli, StereoPhotoSpheresReadTheirLayout) {
+  // A top-bottom frame written with one eye's GPano fields and GSpherical:StereoMode converts
+  // without --from as it does with --from equirect:stereo=tb; a wrong mode is refused by name.
+  ASSERT_EQ(run("convert " + p("pano.png") + " " + p("tb.jpg") + " --to equirect:stereo=tb --size 128x128 -q").code, 0);
+  const CliRun a = run("convert " + p("tb.jpg") + " " + p("a.png") + " --to fisheye:fov=180 --size 48x48");
+  ASSERT_EQ(a.code, 0) << a.err;
+  EXPECT_NE(a.out.find("stereo=tb"), std::string::npos) << a.out;
+  ASSERT_EQ(run("convert " + p("tb.jpg") + " " + p("b.png") + " --to fisheye:fov=180 --size 48x48 -q --from equirect:stereo=tb").code, 0);
+  EXPECT_EQ(read_image(p("a.png")), read_image(p("b.png")));
+  std::ifstream in(p("tb.jpg"), std::ios::binary);
+  std::string bytes{std::istreambuf_iterator<char>(in), {}};
+  const size_t at = bytes.find("top-bottom");
+  ASSERT_NE(at, std::string::npos);
+  bytes.replace(at, 10, "bottom-top");
+  write_bytes(bytes, p("bad.jpg"), false);
+  expect_refused("convert " + p("bad.jpg") + " " + p("o.png") + " --to fisheye", "GSpherical:StereoMode is \"bottom-top\"");
+}
+
 TEST_F(Cli, BatchBuildsOneMapAndMatchesSingleConversions) {
   for (int k = 0; k < 3; ++k) {
     Image e({64, 32}, 3, PixelType::U8);

@@ -120,5 +120,21 @@ TEST(PhotoSphere, CropsArePartialEquirects) {
   EXPECT_NEAR(*back.number("lat0"), 10, 180.0 / 1800 / 2);
 }
 
+TEST(PhotoSphere, StereoFramesDescribeOneEye) {
+  // GSpherical:StereoMode read back; the GPano fields are one eye's, the spec says the layout.
+  PhotoSphere ps{"equirectangular", 4096, 2048, 4096, 2048, 0, 0, 0, 0};
+  for (const auto& [mode, size, stereo] : {std::tuple{"top-bottom", Size{4096, 4096}, "stereo=tb"},
+                                           std::tuple{"left-right", Size{8192, 2048}, "stereo=sbs"}}) {
+    ps.stereo_mode = mode;
+    const ProjectionSpec s = parse_spec(photo_sphere_spec(ps, size));
+    EXPECT_EQ(s.choice("stereo"), std::string(stereo).substr(7)) << mode;
+    EXPECT_DOUBLE_EQ(*s.number("hfov"), 360) << mode;
+    // The whole frame's size as one eye's would not fit the fields.
+    EXPECT_THROW(photo_sphere_spec(ps, {size.width + 1, size.height + 1}), Error) << mode;
+  }
+  ps.stereo_mode = "";
+  EXPECT_THROW(photo_sphere_spec(ps, {4096, 4096}), Error);  // a tb frame's size without its mode
+}
+
 }  // namespace
 }  // namespace panoproj

@@ -189,15 +189,19 @@ def files(tmp_path_factory):
     return paths
 
 
-def gpano_jpeg(folder, field, value, base):
-    """The sample JPEG with Photo Sphere XMP in which `field` reads `value`."""
+def gpano_jpeg(folder, field, value, base, stereo_mode=None):
+    """The sample JPEG with Photo Sphere XMP in which `field` reads `value` (and, if given,
+    GSpherical:StereoMode)."""
     fields = dict(ProjectionType="equirectangular", FullPanoWidthPixels="256", FullPanoHeightPixels="128",
                   CroppedAreaImageWidthPixels="256", CroppedAreaImageHeightPixels="128", CroppedAreaLeftPixels="0",
                   CroppedAreaTopPixels="0", PosePitchDegrees="0")
     fields[field] = value
     xmp = ('<x:xmpmeta xmlns:x="adobe:ns:meta/"><rdf:RDF xmlns:rdf="http://www.w3.org/1999/02/22-rdf-syntax-ns#">'
            '<rdf:Description xmlns:GPano="http://ns.google.com/photos/1.0/panorama/" '
-           + " ".join(f'GPano:{k}="{v}"' for k, v in fields.items()) + "/></rdf:RDF></x:xmpmeta>").encode()
+           + " ".join(f'GPano:{k}="{v}"' for k, v in fields.items())
+           + ("" if stereo_mode is None else
+              f' xmlns:GSpherical="http://ns.google.com/videos/1.0/spherical/" GSpherical:StereoMode="{stereo_mode}"')
+           + "/></rdf:RDF></x:xmpmeta>").encode()
     payload = b"http://ns.adobe.com/xap/1.0/\0" + xmp
     data = base.read_bytes()
     seg = b"\xff\xe1" + struct.pack(">H", len(payload) + 2) + payload
@@ -355,6 +359,20 @@ def test_bad_spec_files(cli, files, tmp_path, which):
     before = snapshot(tmp_path)
     r = run(cli, ["convert", files["png"], "o.png", "--to", spec], tmp_path, timeout=20)
     expect_refused(r, needle)
+    assert snapshot(tmp_path) == before
+
+
+@pytest.mark.parametrize("mode,needle", [("sideways", 'GSpherical:StereoMode is "sideways"'),
+                                         ("top-bottom\x01", "GSpherical:StereoMode is"),
+                                         ("top-bottom", "an eye is 256x64 but its cropped area is 256x128")])
+@pytest.mark.why
+def test_stereo_modes_that_do_not_fit_are_refused(cli, files, tmp_path, mode, needle):
+    """An unknown GSpherical:StereoMode, or top-bottom on a frame whose GPano fields describe the
+    whole frame rather than one eye, is refused by name with --from as the way round it."""
+    src = gpano_jpeg(tmp_path, "FullPanoHeightPixels", "128", files["jpg"], mode)
+    before = snapshot(tmp_path)
+    r = run(cli, ["convert", src, "o.png", "--to", "pinhole", "--size", "32x32"], tmp_path)
+    expect_refused(r, needle, "--from")
     assert snapshot(tmp_path) == before
 
 

@@ -34,8 +34,9 @@ struct PhotoSphere {
 // A conversion levels the panorama with its transpose before the view's own rotation.
 Eigen::Matrix3d photo_sphere_pose(const PhotoSphere& ps);
 
-// The GPano fields of a JPEG's or PNG's XMP; none if the file has no XMP packet with the
-// equirect's fields (other files: none). Throws panoproj::Error if the file cannot be read.
+// The GPano fields of a JPEG's or PNG's XMP (and GSpherical:StereoMode); none if the file has no
+// XMP packet with the equirect's fields (other files: none). Throws panoproj::Error if the file
+// cannot be read or a field is not of its type.
 std::optional<PhotoSphere> read_photo_sphere(const std::string& path);
 
 // The GPano fields of an XMP packet as attributes "GPano:Name", by the spec's types: Integer and
@@ -44,7 +45,8 @@ std::optional<PhotoSphere> read_photo_sphere(const std::string& path);
 Metadata photo_sphere_attributes(const std::string& xmp);
 
 // The spec of an image of `size` carrying `ps`: its crop as a partial equirect (the crop may be
-// stored scaled; its fields are in full-panorama pixels). Throws panoproj::Error naming the bad
+// stored scaled; its fields are in full-panorama pixels); a stereo frame's (stereo=tb|sbs) fields
+// describe one eye. Throws panoproj::Error naming the bad
 // field for a projection type other than equirectangular or fields that do not fit.
 std::string photo_sphere_spec(const PhotoSphere& ps, Size size);
 

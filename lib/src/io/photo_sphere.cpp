@@ -93,9 +93,10 @@ std::string be32_bytes(uint32_t v) {
           static_cast<char>(v & 0xFF)};
 }
 
-// GPano:name as an attribute (GPano:name="v") or an element (<GPano:name>v</GPano:name>).
-std::optional<std::string> field(const std::string& xmp, const std::string& name) {
-  const std::string key = "GPano:" + name;
+// ns:name (GPano by default) as an attribute (GPano:name="v") or an element
+// (<GPano:name>v</GPano:name>).
+std::optional<std::string> field(const std::string& xmp, const std::string& name, const char* ns = "GPano:") {
+  const std::string key = ns + name;
   for (size_t at = xmp.find(key); at != std::string::npos; at = xmp.find(key, at + 1)) {
     size_t i = at + key.size();
     if (i < xmp.size() && (xmp[i] == '=' || (i + 1 < xmp.size() && xmp[i] == ' ' && xmp[i + 1] == '='))) {
@@ -197,6 +198,12 @@ std::optional<PhotoSphere> read_photo_sphere(const std::string& path) {
   ps.crop_top = integer(xmp, "CroppedAreaTopPixels", 0, path);
   ps.pose_pitch = number(xmp, "PosePitchDegrees", 0.0, path);
   ps.pose_roll = number(xmp, "PoseRollDegrees", 0.0, path);
+  if (const auto mode = field(xmp, "StereoMode", "GSpherical:"); mode && *mode != "mono") {
+    if (*mode != "top-bottom" && *mode != "left-right")
+      throw Error("Photo Sphere metadata of " + path + ": GSpherical:StereoMode is \"" + one_line(mode->substr(0, 40)) +
+                  "\" (expected mono, top-bottom or left-right; give " + option_text("from") + " SPEC to override it)");
+    ps.stereo_mode = *mode;
+  }
   return ps;
 }
 
@@ -221,12 +228,19 @@ std::string photo_sphere_spec(const PhotoSphere& ps, Size size) {
     fail("the cropped area " + std::to_string(ps.crop_width) + "x" + std::to_string(ps.crop_height) + "+" +
          std::to_string(ps.crop_left) + "+" + std::to_string(ps.crop_top) + " does not fit the full panorama " +
          std::to_string(ps.full_width) + "x" + std::to_string(ps.full_height));
+  // A stereo frame's fields describe one eye.
+  const bool tb = ps.stereo_mode == "top-bottom", sbs = ps.stereo_mode == "left-right";
+  if ((tb && size.height % 2) || (sbs && size.width % 2))
+    fail("GSpherical:StereoMode=" + ps.stereo_mode + " but the image is " + std::to_string(size.width) + "x" +
+         std::to_string(size.height) + " (odd: no two equal eyes)");
+  if (tb) size.height /= 2;
+  if (sbs) size.width /= 2;
   // The stored image may be the crop scaled; both axes by the same factor.
   const double sx = static_cast<double>(size.width) / static_cast<double>(ps.crop_width);
   const double sy = static_cast<double>(size.height) / static_cast<double>(ps.crop_height);
   if (std::fabs(sx / sy - 1.0) > 0.01)
-    fail("the image is " + std::to_string(size.width) + "x" + std::to_string(size.height) +
-         " but its cropped area is " + std::to_string(ps.crop_width) + "x" + std::to_string(ps.crop_height));
+    fail(std::string(tb || sbs ? "an eye" : "the image") + " is " + std::to_string(size.width) + "x" +
+         std::to_string(size.height) + " but its cropped area is " + std::to_string(ps.crop_width) + "x" + std::to_string(ps.crop_height));
   const double fw = static_cast<double>(ps.full_width), fh = static_cast<double>(ps.full_height);
   const double hfov = 360.0 * static_cast<double>(ps.crop_width) / fw;
   const double vfov = 180.0 * static_cast<double>(ps.crop_height) / fh;
@@ -234,7 +248,8 @@ std::string photo_sphere_spec(const PhotoSphere& ps, Size size) {
   lon0 = std::remainder(lon0, 360.0);  // a crop past the seam's right wraps
   const double lat0 = (0.5 - (static_cast<double>(ps.crop_top) + 0.5 * static_cast<double>(ps.crop_height)) / fh) * 180.0;
   char text[200];
-  std::snprintf(text, sizeof text, "equirect:hfov=%.17g,vfov=%.17g,lon0=%.17g,lat0=%.17g", hfov, vfov, lon0, lat0);
+  std::snprintf(text, sizeof text, "equirect:hfov=%.17g,vfov=%.17g,lon0=%.17g,lat0=%.17g%s", hfov, vfov, lon0, lat0,
+                tb ? ",stereo=tb" : sbs ? ",stereo=sbs" : "");
   return text;
 }
 
