@@ -184,10 +184,10 @@ bool vector_fisheye(const Projection& p) {
   const auto* f = std::get_if<Fisheye>(&p);
   return f && f->model() != FisheyeModel::Thoby;
 }
-// A cube but EAC (tangents of angles: tile maps).
+// A cube but FFmpeg's EAC frame (uneven cells: tile maps).
 bool vector_cube(const Projection& p) {
   const auto* c = std::get_if<Cubemap>(&p);
-  return c && !c->format().angular;
+  return c && c->uniform();
 }
 bool has_vector_source(const Projection& p) {
   return std::holds_alternative<Pinhole>(p) || vector_fisheye(p) || std::holds_alternative<Equirect>(p) ||

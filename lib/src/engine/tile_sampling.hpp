@@ -37,10 +37,10 @@ struct TileScratch {
 
 // The source as the SIMD kernels see it: the window held, and the cell taps must stay in (a cube
 // face: cube layouts put faces on a grid of face-sized cells; else the whole frame).
-// Nearest takes exact positions (double lanes, no grid; exact tile maps): it copies the pixels
-// the reference engine picks. Returns true.
+// Nearest takes exact positions near pixel edges (float lanes recomputed in double there, no
+// grid; tile maps likewise): it copies the pixels the reference engine picks. Returns true.
 inline bool exact_for(Interp interp, SimdGeometry& g) {
-  if (interp == Interp::Nearest) g.use_float = g.grid = false;
+  if (interp == Interp::Nearest) g.grid = false, g.edge_exact = true;
   return true;
 }
 

@@ -50,7 +50,7 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
       const int64_t px0 = rect.x0 + cx * kCell, py0 = rect.y0 + cy * kCell;
       // The cell's 4x4 stencil starts at node (cx, cy), one cell up and left.
       auto node = [&](int a, int b) { return static_cast<size_t>((cy + b) * nx + cx + a); };
-      bool accept = !exact;
+      bool accept = true;
       for (int b = 0; b < 4; ++b)
         for (int a = 0; a < 4; ++a) accept = accept && nok[node(a, b)];
       // Separable: along y per stencil column (for row j), then along x (for column i).
@@ -119,8 +119,15 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
                 const size_t row = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell);
                 for (int64_t i = 0; i < w; ++i) {
                   const double* wi = kLagrange.w[i];
-                  const double sx = wi[0] * cx4[0] + wi[1] * cx4[1] + wi[2] * cx4[2] + wi[3] * cx4[3];
-                  const double sy = wi[0] * cy4[0] + wi[1] * cy4[1] + wi[2] * cy4[2] + wi[3] * cy4[3];
+                  double sx = wi[0] * cx4[0] + wi[1] * cx4[1] + wi[2] * cx4[2] + wi[3] * cx4[3];
+                  double sy = wi[0] * cy4[0] + wi[1] * cy4[1] + wi[2] * cy4[2] + wi[3] * cy4[3];
+                  auto near = [](double v) { return std::fabs(v - std::round(v)) < kMapEdgeGuard; };
+                  if (exact && (near(sx) || near(sy))) {
+                    double ex, ey;
+                    if (source_pixel(src, dst, rotation, static_cast<double>(px0 + i) + 0.5,
+                                     static_cast<double>(py0 + j) + 0.5, ex, ey))
+                      sx = ex, sy = ey;
+                  }
                   out.xs[row + i] = sx;
                   out.ys[row + i] = sy;
                   bx0 = std::min(bx0, sx), bx1 = std::max(bx1, sx);

@@ -42,7 +42,10 @@ struct TileMap {
   int64_t exact_cells = 0, interpolated_cells = 0;
 };
 
-// exact: every pixel exact (nearest picks the reference's pixels bit for bit).
+// exact: positions within kMapEdgeGuard of a pixel edge (a whole number) computed exactly, so
+// nearest picks the reference's pixels bit for bit (a 16x margin over kMapTolerance).
+inline constexpr double kMapEdgeGuard = 1.0 / 64;
+
 void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
               TileRect rect, TileMap& out, bool exact = false);
 

@@ -17,11 +17,26 @@ namespace panoproj {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
+// A face's tangent at cell coordinate s: s, or eac's tan(pi/4 s).
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE V CubeTangent(D d, bool angular, V s) {
+  if (!angular) return s;
+  const V t = hn::Mul(s, hn::Set(d, hn::TFromD<D>(0.25 * kPi)));
+  return hn::Div(hn::Sin(d, t), hn::Cos(d, t));
+}
+
+// The tangents (a, b) of pixel centres (px, py) on the face.
+template <class D, class T, class V = hn::Vec<D>>
+HWY_INLINE void CubeFaceTangents(D d, const simd::CubeFaceRays<T>& p, V px, V py, V& a, V& b) {
+  a = CubeTangent(d, p.angular, hn::MulSub(hn::Sub(px, hn::Set(d, p.ox)), hn::Set(d, p.kx), hn::Set(d, p.mx)));
+  b = CubeTangent(d, p.angular, hn::MulSub(hn::Sub(py, hn::Set(d, p.oy)), hn::Set(d, p.ky), hn::Set(d, p.my)));
+}
+
 // The rotated ray fwd + a right + b down of pixel centres (px, py) on the face.
 template <class D, class T, class V = hn::Vec<D>, class M = hn::Mask<D>>
 HWY_INLINE void TargetRay(D d, const simd::CubeFaceRays<T>& p, V px, V py, V& x, V& y, V& z, M&, M&) {
-  const V a = hn::MulSub(hn::Sub(px, hn::Set(d, p.ox)), hn::Set(d, p.kx), hn::Set(d, p.mx));
-  const V b = hn::MulSub(hn::Sub(py, hn::Set(d, p.oy)), hn::Set(d, p.ky), hn::Set(d, p.my));
+  V a, b;
+  CubeFaceTangents(d, p, px, py, a, b);
   x = hn::MulAdd(b, hn::Set(d, p.down[0]), hn::MulAdd(a, hn::Set(d, p.right[0]), hn::Set(d, p.fwd[0])));
   y = hn::MulAdd(b, hn::Set(d, p.down[1]), hn::MulAdd(a, hn::Set(d, p.right[1]), hn::Set(d, p.fwd[1])));
   z = hn::MulAdd(b, hn::Set(d, p.down[2]), hn::MulAdd(a, hn::Set(d, p.right[2]), hn::Set(d, p.fwd[2])));
@@ -46,8 +61,14 @@ HWY_INLINE void SourcePixel(D d, const simd::CubemapSource<T>& s, V x, V y, V z,
                           hn::IfThenElse(yf, hn::IfThenElse(yp, hn::Set(d, o[5]), hn::Set(d, o[4])),
                                          hn::IfThenElse(zp, hn::Set(d, o[0]), hn::Set(d, o[2]))));
   };
-  const V inv = hn::Div(hn::Set(d, T(1)), depth);
-  const V a = hn::Mul(an, inv), b = hn::Mul(bn, inv);
+  V a, b;
+  if (s.angular) {  // 4/pi atan(an / depth)
+    const V k = hn::Set(d, T(4 / kPi));
+    a = hn::Mul(Atan2<true>(d, an, depth), k), b = hn::Mul(Atan2<true>(d, bn, depth), k);
+  } else {
+    const V inv = hn::Div(hn::Set(d, T(1)), depth);
+    a = hn::Mul(an, inv), b = hn::Mul(bn, inv);
+  }
   const V ox = origin(s.ox), oy = origin(s.oy);
   // Within the face's cell [o, o + F): the far edge becomes the largest value below o + F in the
   // lane type.

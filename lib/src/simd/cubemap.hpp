@@ -10,11 +10,13 @@
 
 namespace panoproj::simd {
 
-// As a target, one face's cell: A = (x - ox) kx - mx, B = (y - oy) ky - my (the cell's tangents,
-// kx = 1 / half, mx = (centre - ox) / half: 2 / F and 1 without pad) and the ray fwd + A right +
-// B down, the cell's basis rotated (the rays come rotated). Tangent-law cells only (eac: tile maps).
+// As a target, one face's cell: A = (x - ox) kx - mx, B = (y - oy) ky - my (the cell's
+// coordinates, kx = 1 / half, mx = (centre - ox) / half: 2 / F and 1 without pad), the tangents
+// a = A, b = B (eac: a = tan(pi/4 A)) and the ray fwd + a right + b down, the cell's basis rotated
+// (the rays come rotated). Even cells only (FFmpeg's EAC frame: tile maps).
 template <class T>
 struct CubeFaceRays {
+  bool angular;
   T ox, oy, kx, ky, mx, my;
   T fwd[3], right[3], down[3];
 };
@@ -22,7 +24,8 @@ struct CubeFaceRays {
 // Returns false unless the whole tile lies inside one face's cell.
 template <class T>
 bool describe(const Cubemap& c, const TileRect& rect, const Eigen::Matrix3d& rotation, CubeFaceRays<T>& l) {
-  if (c.format().angular) return false;
+  if (!c.uniform()) return false;
+  l.angular = c.format().angular;
   const int f = c.face_at(static_cast<double>(rect.x0) + 0.5, static_cast<double>(rect.y0) + 0.5);
   if (f < 0) return false;
   const auto box = c.cell_box(f);
@@ -46,25 +49,27 @@ bool describe(const Cubemap& c, const TileRect& rect, const Eigen::Matrix3d& rot
   return true;
 }
 
-// As a source: the face of the ray's largest component and its face coordinates (a, b). Plain
-// cubes (unturned faces, no pad): the cell's origin (ox, oy)[face] and position half_face (a +
-// 1) within it, F = face. Others: x = kx[0] + kx[1] a + kx[2] b, y likewise, per face (its
-// turn and pad), kept in its cell [x0, x1) x [y0, y1).
+// As a source: the face of the ray's largest component and its tangents (a, b) (eac: the
+// cell coordinates 4/pi atan a, 4/pi atan b). Plain cubes (unturned faces, no pad, tangent law):
+// the cell's origin (ox, oy)[face] and position half_face (a + 1) within it, F = face. Others:
+// x = kx[0] + kx[1] a + kx[2] b, y likewise, per face (its turn and pad), kept in its cell
+// [x0, x1) x [y0, y1). Even cells only (FFmpeg's EAC frame: tile maps).
 template <class T>
 struct CubemapSource {
-  bool plain;
+  bool plain, angular;
   T face, half_face;
   T ox[6], oy[6];
   T kx[3][6], ky[3][6], x1[6], y1[6];
 };
 
 // Returns whether float lanes serve: a = an / depth, both with the ray's error (depth >= |ray| /
-// sqrt(3)), plus rounding. False lanes for eac (tile maps).
+// sqrt(3)), plus rounding; eac: atan's slope is at most 1, its polynomial within 3 ulp, times 4/pi.
 template <class T>
 bool describe(const Cubemap& c, CubemapSource<T>& l) {
   const double f = static_cast<double>(c.face_size());
   const CubeFormat& fm = c.format();
-  l.plain = fm.pad == 0 && fm.rot == std::array<int, 6>{};
+  l.angular = fm.angular;
+  l.plain = fm.pad == 0 && fm.rot == std::array<int, 6>{} && !fm.angular;
   l.face = lane<T>(f);
   l.half_face = lane<T>(0.5 * f);
   for (int i = 0; i < 6; ++i) {
@@ -85,8 +90,9 @@ bool describe(const Cubemap& c, CubemapSource<T>& l) {
     l.y1[i] = lane<T>(box[3]);
   }
   const Size frame = c.size();
+  const double law = fm.angular ? 4 / kPi : 1, atan_error = fm.angular ? 6 * kHalfUlp : 0;
   return static_cast<double>(std::max(frame.width, frame.height)) * kHalfUlp +
-             0.5 * f * 2 * std::sqrt(3.0) * kFloatRayError <=
+             0.5 * f * law * (2 * std::sqrt(3.0) * kFloatRayError + atan_error) <=
          kFloatTolerance;
 }
 

@@ -134,7 +134,7 @@ bool describe_source(const Projection& src, SimdGeometry& g) {
   } else if (const auto* fs = std::get_if<Fisheye>(&src); fs && fs->model() != FisheyeModel::Thoby) {  // Thoby: tile maps
     g.src = Src::Fisheye;
     g.use_float = set_lanes(g, [&](auto& l) { return simd::describe(*fs, l.source.fisheye); });
-  } else if (const auto* c = std::get_if<Cubemap>(&src); c && !c->format().angular) {  // eac: tile maps
+  } else if (const auto* c = std::get_if<Cubemap>(&src); c && c->uniform()) {  // FFmpeg's EAC frame: tile maps
     g.src = Src::Cubemap;
     g.use_float = set_lanes(g, [&](auto& l) { return simd::describe(*c, l.source.cubemap); });
   } else {
@@ -160,6 +160,9 @@ bool describe_target(const Projection& dst, const Eigen::Matrix3d& rotation, con
     g.dst = Dst::CubeFace;
     if (!set_lanes(g, [&](auto& l) { return simd::describe(*c, rect, rotation, l.target.cube_face); })) return false;
     g.rotated_rays = true;
+    // eac: a = tan(pi/4 A) in float is within the ray's error budget for slopes up to pi/2
+    // (pad 0); a padded cell's edges are steeper.
+    if (c->format().angular && c->format().pad > 0) g.use_float = false;
   } else if (const auto* hm = std::get_if<Hammer>(&dst)) {
     g.dst = Dst::Hammer;
     set_lanes(g, [&](auto& l) { simd::describe(*hm, l.target.hammer); });

@@ -51,6 +51,10 @@ struct SimdGeometry {
   // set (pinhole, cube face, fisheye), so a cell whose nodes are all valid is valid throughout.
   bool grid;
   double grid_tolerance;
+  // Nearest: float vectors with a position within kEdgeGuard of a pixel edge (a whole number)
+  // are computed in double, so the pixel picked is the exact position's.
+  bool edge_exact = false;
+  static constexpr double kEdgeGuard = 2 * kFloatTolerance;
   // The lanes of the pair in one lane type: the target's of kind dst and the source's of kind
   // src (the others stay zero), and the rotation.
   template <class T>

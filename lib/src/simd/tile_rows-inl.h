@@ -170,8 +170,8 @@ class TileRows {
       VD x, z, y;
       if (g.dst == SimdGeometry::Dst::CubeFace) {
         const auto& c = g.ld.target.cube_face;
-        const VD a = hn::MulSub(hn::Sub(px, hn::Set(dd, c.ox)), hn::Set(dd, c.kx), hn::Set(dd, c.mx));
-        const VD b = hn::MulSub(hn::Sub(py, hn::Set(dd, c.oy)), hn::Set(dd, c.ky), hn::Set(dd, c.my));
+        VD a, b;
+        CubeFaceTangents(dd, c, px, py, a, b);
         x = hn::MulAdd(a, hn::Set(dd, c.right[0]), hn::Set(dd, c.fwd[0]));
         z = hn::MulAdd(a, hn::Set(dd, c.right[2]), hn::Set(dd, c.fwd[2]));
         y = hn::Mul(b, hn::Set(dd, c.down[1]));
@@ -196,7 +196,8 @@ class TileRows {
 
   // Calls sink(sx, sy, ok, i, m) for output pixels (x0 + i .. x0 + i + m - 1, y), i from 0 to n
   // in steps of the vector: float vectors (twice the lanes) where g.use_float and every lane is
-  // accurate enough, else double vectors. Lanes beyond n have ok false.
+  // accurate enough (and, with g.edge_exact, none near a pixel edge), else double vectors. Lanes
+  // beyond n have ok false.
   template <class Sink>
   HWY_INLINE void Row(int64_t y, Sink&& sink) const {
     const DD dd;
@@ -233,6 +234,11 @@ class TileRows {
         Positions(df, hn::Iota(df, static_cast<float>(x0_ + i) + 0.5f), py, i, static_cast<float>(ra),
                   static_cast<float>(rb), sx, sy, ok, coarse);
         ok = hn::And(ok, hn::FirstN(df, static_cast<size_t>(m)));
+        if (g_.edge_exact) {
+          const auto guard = hn::Set(df, static_cast<float>(SimdGeometry::kEdgeGuard));
+          auto near = [&](hn::Vec<DF32> v) { return hn::Lt(hn::Abs(hn::Sub(v, hn::Round(v))), guard); };
+          coarse = hn::Or(coarse, hn::Or(near(sx), near(sy)));
+        }
         if (HWY_UNLIKELY(!hn::AllFalse(df, hn::And(coarse, ok)))) {
           doubles(i, i + m);
           continue;
