@@ -26,6 +26,16 @@ class PhotoSphereTest : public test::TempDirTest {
   }
 };
 
+// A packet's fields; the pose and the stereo mode default.
+PhotoSphere sphere(const char* type, int64_t full_w, int64_t full_h, int64_t crop_w, int64_t crop_h, int64_t left,
+                   int64_t top, double pitch = 0, double roll = 0) {
+  PhotoSphere ps;
+  ps.projection_type = type;
+  ps.full_width = full_w, ps.full_height = full_h, ps.crop_width = crop_w, ps.crop_height = crop_h;
+  ps.crop_left = left, ps.crop_top = top, ps.pose_pitch = pitch, ps.pose_roll = roll;
+  return ps;
+}
+
 bool same(const PhotoSphere& a, const PhotoSphere& b) {
   return a.projection_type == b.projection_type && a.full_width == b.full_width && a.full_height == b.full_height &&
          a.crop_width == b.crop_width && a.crop_height == b.crop_height && a.crop_left == b.crop_left &&
@@ -33,7 +43,7 @@ bool same(const PhotoSphere& a, const PhotoSphere& b) {
 }
 
 TEST_F(PhotoSphereTest, WrittenFieldsReadBack) {
-  const PhotoSphere ps{"equirectangular", 8000, 4000, 3000, 1500, 7000, 1200, -12.5, 3.25};
+  const PhotoSphere ps = sphere("equirectangular", 8000, 4000, 3000, 1500, 7000, 1200, -12.5, 3.25);
   const auto back = read_photo_sphere(file("a.jpg", photo_sphere_xmp(ps)));
   ASSERT_TRUE(back.has_value());
   EXPECT_TRUE(same(*back, ps));
@@ -57,7 +67,7 @@ TEST_F(PhotoSphereTest, WrittenFieldsReadBack) {
 TEST_F(PhotoSphereTest, PacketsAfterLargeSegmentsAndCutFiles) {
   // The reader takes 64 kB first, and up to 4 MB where the segments or chunks before the packet
   // run past them: 150 kB of APP2 segments (JPEG) or a private chunk (PNG) before it.
-  const PhotoSphere ps{"equirectangular", 8000, 4000, 3000, 1500, 7000, 1200, 5, 0};
+  const PhotoSphere ps = sphere("equirectangular", 8000, 4000, 3000, 1500, 7000, 1200, 5, 0);
   auto bytes = [](const std::string& f) {
     std::ifstream in(f, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
@@ -89,27 +99,27 @@ TEST_F(PhotoSphereTest, ElementFormAndDefaults) {
       "</rdf:Description></rdf:RDF></x:xmpmeta>";
   const auto ps = read_photo_sphere(file("e.jpg", xmp));
   ASSERT_TRUE(ps.has_value());
-  EXPECT_TRUE(same(*ps, PhotoSphere{"equirectangular", 4096, 2048, 4096, 2048, 0, 0}));
+  EXPECT_TRUE(same(*ps, sphere("equirectangular", 4096, 2048, 4096, 2048, 0, 0)));
   EXPECT_EQ(parse_spec(photo_sphere_spec(*ps, {4096, 2048})).str(), parse_spec("equirect:hfov=360,vfov=180,lon0=0,lat0=0").str());
 }
 
 TEST(PhotoSphere, CropsArePartialEquirects) {
   // A quarter of the longitudes right of the centre, the upper half of the latitudes, stored at
   // half size: hfov 90, vfov 90, centred at lon 45, lat 45.
-  const PhotoSphere ps{"equirectangular", 8000, 4000, 2000, 2000, 4000, 0};
+  const PhotoSphere ps = sphere("equirectangular", 8000, 4000, 2000, 2000, 4000, 0);
   const ProjectionSpec s = parse_spec(photo_sphere_spec(ps, {1000, 1000}));
   EXPECT_DOUBLE_EQ(*s.number("hfov"), 90);
   EXPECT_DOUBLE_EQ(*s.number("vfov"), 90);
   EXPECT_DOUBLE_EQ(*s.number("lon0"), 45);
   EXPECT_DOUBLE_EQ(*s.number("lat0"), 45);
   // Past the seam: the crop 7000..9000 of 8000 is centred at lon 180 - 0 = -180 / 180.
-  EXPECT_NEAR(std::fabs(*parse_spec(photo_sphere_spec({"equirectangular", 8000, 4000, 2000, 1000, 7000, 1500}, {2000, 1000}))
+  EXPECT_NEAR(std::fabs(*parse_spec(photo_sphere_spec(sphere("equirectangular", 8000, 4000, 2000, 1000, 7000, 1500), {2000, 1000}))
                              .number("lon0")),
               180.0, 1e-9);
   // What does not fit.
-  EXPECT_THROW(photo_sphere_spec({"cylindrical", 8000, 4000, 8000, 2000, 0, 1000}, {8000, 2000}), Error);
+  EXPECT_THROW(photo_sphere_spec(sphere("cylindrical", 8000, 4000, 8000, 2000, 0, 1000), {8000, 2000}), Error);
   EXPECT_THROW(photo_sphere_spec(ps, {1000, 700}), Error);  // not the crop's aspect
-  EXPECT_THROW(photo_sphere_spec({"equirectangular", 8000, 4000, 2000, 3000, 0, 2000}, {2000, 3000}), Error);
+  EXPECT_THROW(photo_sphere_spec(sphere("equirectangular", 8000, 4000, 2000, 3000, 0, 2000), {2000, 3000}), Error);
   // An equirect's own fields give its spec back (within half a pixel of the full panorama: the
   // fields are whole pixels).
   const Projection e = make_projection(parse_spec("equirect:hfov=120,vfov=60,lon0=-30,lat0=10"), {1200, 600});
@@ -122,7 +132,7 @@ TEST(PhotoSphere, CropsArePartialEquirects) {
 
 TEST(PhotoSphere, StereoFramesDescribeOneEye) {
   // GSpherical:StereoMode read back; the GPano fields are one eye's, the spec says the layout.
-  PhotoSphere ps{"equirectangular", 4096, 2048, 4096, 2048, 0, 0, 0, 0};
+  PhotoSphere ps = sphere("equirectangular", 4096, 2048, 4096, 2048, 0, 0, 0, 0);
   for (const auto& [mode, size, stereo] : {std::tuple{"top-bottom", Size{4096, 4096}, "stereo=tb"},
                                            std::tuple{"left-right", Size{8192, 2048}, "stereo=sbs"}}) {
     ps.stereo_mode = mode;

@@ -48,7 +48,7 @@ int SourceTaps::resolve(int64_t ix, int64_t iy, int face, Part* parts) const {
       if (ix >= b[0] && iy >= b[1] && ix < b[2] && iy < b[3]) break;
       // The tap's centre on the face's cell continued past its edges, re-projected onto the cube:
       // a continuous position on the cell holding that ray, pixel centres at integers.
-      double x, y;
+      double x = 0, y = 0;  // (every ray has a cube pixel)
       cube_->to_pixel(cube_->cell_ray(face, static_cast<double>(ix) + 0.5, static_cast<double>(iy) + 0.5), x, y);
       const auto nb = cube_->cell_box(cube_->face_at(x, y));
       const double u = x - 0.5, v = y - 0.5, u0 = std::floor(u), v0 = std::floor(v);
