@@ -4,11 +4,14 @@
 # "python" first, the Python module against py360convert (bench/bench_python.py); with "plot"
 # first, bench_remap then its chart in docs/bench_remap.png (bench/plot_remap.py, matplotlib); with
 # "io" first, the file boundary's figures: start-up, JPEG and PPM whole processes against the codec
-# floor and FFmpeg's v360, a 32768x16384 JPEG's views (bench/bench_io.py; hyperfine, ffmpeg).
+# floor and FFmpeg's v360, a 32768x16384 JPEG's views (bench/bench_io.py; hyperfine, ffmpeg); with
+# "cv" first, cv2.remap of pip's OpenCV 4.14 and 5.0 in one process with panoproj's convert and
+# Plan.run (bench/bench_cv_lines.py).
 # Installs what is missing, builds in build-bench/, runs.
 # Usage: scripts/bench.sh [--threads N] [--runs N]  |  scripts/bench.sh big [--threads N]
 #        scripts/bench.sh python [--runs N]  |  scripts/bench.sh plot [--runs N]
 #        scripts/bench.sh io [--rounds N] [--runs N] [--only startup,jpeg,ppm,big]
+#        scripts/bench.sh cv [--runs N] [--rounds N]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [[ ${1:-} == io ]]; then
@@ -17,6 +20,25 @@ if [[ ${1:-} == io ]]; then
   read -ra py_args < <(bash "$root/scripts/python-env.sh" --cmake-args)
   bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF "${py_args[@]}"
   exec "$root/.venv/bin/python" "$root/bench/bench_io.py" "$@"
+fi
+if [[ ${1:-} == cv ]]; then
+  # One environment per OpenCV line (pip's wheels; two cv2 cannot share a process), panoproj's
+  # module the same build in both; then the faster line per pair and kernel.
+  shift
+  bash "$root/scripts/install-deps.sh"
+  read -ra py_args < <(bash "$root/scripts/python-env.sh" --cmake-args)
+  bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF "${py_args[@]}"
+  out="$root/build-bench/cv"
+  mkdir -p "$out"
+  for line in 4.14.0.94 5.0.0.93; do
+    venv="$root/.venv-cv${line%%.*}"
+    [[ -x $venv/bin/python ]] || "$root/.venv/bin/python" -m venv "$venv"
+    "$venv/bin/python" -c "import cv2, sys; sys.exit(cv2.__version__ != '${line%.*}')" 2>/dev/null ||
+      "$venv/bin/python" -m pip install -q "numpy>=1.22" "opencv-python-headless==$line"
+    echo "== cv2 $line"
+    PYTHONPATH="$root/build-bench/python" "$venv/bin/python" "$root/bench/bench_cv_lines.py" --json "$out/$line.json" "$@"
+  done
+  exec "$root/.venv/bin/python" "$root/bench/bench_cv_lines.py" --combine "$out"/*.json
 fi
 if [[ ${1:-} == python ]]; then
   shift
