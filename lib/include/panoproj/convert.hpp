@@ -49,6 +49,11 @@ struct EngineStats {
   int64_t fused_tiles = 0;   // geometry in registers, no map (simd engine, the common pairs)
   int64_t simd_misses = 0;  // samples the SIMD kernels left to the reference's tap rules
   int64_t interpolated_cells = 0, exact_cells = 0;  // tile_map.hpp cells of the other tiles
+  EngineStats& operator+=(const EngineStats& o) {
+    tiles += o.tiles, fused_tiles += o.fused_tiles, simd_misses += o.simd_misses;
+    interpolated_cells += o.interpolated_cells, exact_cells += o.exact_cells;
+    return *this;
+  }
 };
 
 // One geometry (projections, rotation, kernel), applied to any number of images of the source's

@@ -328,8 +328,7 @@ void Converter::Impl::run_stereo(const Image& src, Image& out, EngineStats* stat
               nullptr, {});
     if (eye.data() != at)
       for (int64_t y = 0; y < te.height; ++y) std::memcpy(out.pixel(o[0], o[1] + y), eye.row(y), eye.row_bytes());
-    sum = {sum.tiles + one.tiles, sum.fused_tiles + one.fused_tiles, sum.simd_misses + one.simd_misses,
-           sum.interpolated_cells + one.interpolated_cells, sum.exact_cells + one.exact_cells};
+    sum += one;
   }
   if (stats) *stats = sum;
 }
@@ -397,13 +396,9 @@ void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats
   finish_edges(src, source_, target_, rotation_, interp_, edges_, threads_, out);
   if (progress) progress(1.0);
   if (stats) {
-    *stats = {n_tiles, 0, 0, 0, 0};
-    for (const TileScratch& wk : workers) {
-      stats->fused_tiles += wk.stats.fused_tiles;
-      stats->simd_misses += wk.stats.simd_misses;
-      stats->interpolated_cells += wk.stats.interpolated_cells;
-      stats->exact_cells += wk.stats.exact_cells;
-    }
+    *stats = {};
+    for (const TileScratch& wk : workers) *stats += wk.stats;  // (workers count no tiles)
+    stats->tiles = n_tiles;
   }
 }
 

@@ -10,6 +10,7 @@
 
 
 #include "panoproj/error.hpp"
+#include "panoproj/limits.hpp"
 #include "panoproj/rotation.hpp"
 #include "base/input_check.hpp"
 
@@ -231,16 +232,15 @@ std::string photo_sphere_spec(const PhotoSphere& ps, Size size) {
   // A stereo frame's fields describe one eye.
   const bool tb = ps.stereo_mode == "top-bottom", sbs = ps.stereo_mode == "left-right";
   if ((tb && size.height % 2) || (sbs && size.width % 2))
-    fail("GSpherical:StereoMode=" + ps.stereo_mode + " but the image is " + std::to_string(size.width) + "x" +
-         std::to_string(size.height) + " (odd: no two equal eyes)");
+    fail("GSpherical:StereoMode=" + ps.stereo_mode + " but the image is " + size_text(size) + " (odd: no two equal eyes)");
   if (tb) size.height /= 2;
   if (sbs) size.width /= 2;
   // The stored image may be the crop scaled; both axes by the same factor.
   const double sx = static_cast<double>(size.width) / static_cast<double>(ps.crop_width);
   const double sy = static_cast<double>(size.height) / static_cast<double>(ps.crop_height);
   if (std::fabs(sx / sy - 1.0) > 0.01)
-    fail(std::string(tb || sbs ? "an eye" : "the image") + " is " + std::to_string(size.width) + "x" +
-         std::to_string(size.height) + " but its cropped area is " + std::to_string(ps.crop_width) + "x" + std::to_string(ps.crop_height));
+    fail(std::string(tb || sbs ? "an eye" : "the image") + " is " + size_text(size) + " but its cropped area is " +
+         size_text({ps.crop_width, ps.crop_height}));
   const double fw = static_cast<double>(ps.full_width), fh = static_cast<double>(ps.full_height);
   const double hfov = 360.0 * static_cast<double>(ps.crop_width) / fw;
   const double vfov = 180.0 * static_cast<double>(ps.crop_height) / fh;
