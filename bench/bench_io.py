@@ -1,6 +1,6 @@
 """panoproj's file boundary, whole processes (issue 17's figures):
 
-    scripts/bench.sh io [--rounds N] [--runs N] [--only startup,jpeg,ppm,big]
+    scripts/bench.sh io [--rounds N] [--runs N] [--batch-runs N] [--only startup,jpeg,ppm,batch,big]
 
 - startup: `panoproj --help` and `panoproj info` (hyperfine), their peak RSS; `import panoproj`
   against `import numpy` (hyperfine, both in fresh interpreters).
@@ -10,6 +10,10 @@
   on the same files.
   Inputs: the Jordan Pond sample (progressive 4:4:4) and a baseline 4:2:0 copy (OpenCV's writer).
 - ppm: the same with uncompressed PPM in and out, against v360.
+- batch: 20 JPEG frames 4096x2048 (Jordan Pond turned by 18 degrees a frame: columns rolled;
+  baseline 4:2:0 and progressive, OpenCV's writer) -> cube 6x1024 JPEG: one panoproj batch
+  process against a loop of 20 panoproj processes and against one v360 process over the
+  sequence; frames per second and the ratios (--batch-runs runs a round: a run is 20 frames).
 - big: a 32768x16384 baseline 4:2:0 JPEG (Jordan Pond enlarged, made once in the data folder):
   a 90-degree 1920x1080 pinhole view and a 2048x1024 equirect overview, peak RSS against the
   decoded size (1.6 GB), the overview's time against cv2.imread(IMREAD_REDUCED_COLOR_8) in this
@@ -157,6 +161,57 @@ def ppm(src, rounds, runs):
           f"panoproj/v360 {spread(ratios, '{:.3f}')} (target <= 0.2)")
 
 
+def ensure_frames():
+    """20 frames a kind, made once: the pond turned about the vertical (an equirect's columns rolled)."""
+    pond = cv2.imread(str(ROOT / "samples" / "images" / "jordan_pond_4096x2048.jpg"))
+    kinds = {"baseline 4:2:0": (DATA / "frames_420", [cv2.IMWRITE_JPEG_SAMPLING_FACTOR, cv2.IMWRITE_JPEG_SAMPLING_FACTOR_420]),
+             "progressive 4:2:0": (DATA / "frames_progressive", [cv2.IMWRITE_JPEG_SAMPLING_FACTOR,
+                                                                 cv2.IMWRITE_JPEG_SAMPLING_FACTOR_420, cv2.IMWRITE_JPEG_PROGRESSIVE, 1])}
+    for folder, flags in kinds.values():
+        if len(list(folder.glob("f*.jpg"))) != 20:
+            folder.mkdir(parents=True, exist_ok=True)
+            for i in range(20):
+                frame = np.roll(pond, i * pond.shape[1] // 20, axis=1)
+                cv2.imwrite(str(folder / f"f{i:02d}.jpg"), frame, [cv2.IMWRITE_JPEG_QUALITY, 95] + flags)
+    return {name: folder for name, (folder, _) in kinds.items()}
+
+
+def batch(rounds, runs):
+    cube = ["--to", "cubemap", "--size", "6144x1024", "--interp", "bilinear", "-q"]
+    for name, folder in ensure_frames().items():
+        frames = sorted(folder.glob("f*.jpg"))
+        out = DATA / "batch_out"
+
+        def fresh():  # untimed: no outputs left (none is overwritten), written back, the pause
+            shutil.rmtree(out, ignore_errors=True)
+            out.mkdir()
+            settle()
+
+        loop = " && ".join(f"{CLI} convert {f} {out / f.name} {' '.join(cube)}" for f in frames)
+        subjects = {
+            "batch": lambda: run([str(CLI), "convert"] + [str(f) for f in frames] + [str(out / "{stem}.jpg")] + cube),
+            "loop": lambda: run(["bash", "-c", loop]),
+            "v360": lambda: run(["ffmpeg", "-v", "error", "-i", str(folder / "f%02d.jpg"), "-vf",
+                                 "v360=input=e:output=c6x1:interp=linear:w=6144:h=1024", "-q:v", "2", str(out / "f%02d.jpg")]),
+        }
+        per = {k: [] for k in subjects}
+        loop_ratio, v360_ratio = [], []
+        for _ in range(rounds):
+            times = {k: [] for k in subjects}
+            for _ in range(runs):
+                for k, f in subjects.items():
+                    fresh()
+                    times[k].append(f())
+            m = {k: statistics.median(v) for k, v in times.items()}
+            for k in subjects:
+                per[k].append(len(frames) / m[k])
+            loop_ratio.append(m["loop"] / m["batch"]), v360_ratio.append(m["v360"] / m["batch"])
+        print(f"batch of {len(frames)} {name} 4096x2048 -> cube 6x1024 JPEG, frames/s: panoproj batch "
+              f"{spread(per['batch'], '{:.1f}')}, loop of processes {spread(per['loop'], '{:.1f}')}, v360 "
+              f"{spread(per['v360'], '{:.1f}')}; batch/loop {spread(loop_ratio, '{:.2f}')} (target >= 1.6), batch/v360 "
+              f"{spread(v360_ratio, '{:.2f}')} (target >= 2)", flush=True)
+
+
 def psnr(a, b):
     mse = np.mean((cv2.imread(str(a)).astype(np.float64) - cv2.imread(str(b)).astype(np.float64)) ** 2)
     return 10 * np.log10(255.0 ** 2 / mse)
@@ -202,7 +257,8 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--runs", type=int, default=11)
-    ap.add_argument("--only", default="startup,jpeg,ppm,big")
+    ap.add_argument("--batch-runs", type=int, default=5)
+    ap.add_argument("--only", default="startup,jpeg,ppm,batch,big")
     a = ap.parse_args()
     only = a.only.split(",")
     files, ppm_file = ensure_inputs()
@@ -214,6 +270,8 @@ def main():
         jpeg(files, a.rounds, a.runs)
     if "ppm" in only:
         ppm(ppm_file, a.rounds, a.runs)
+    if "batch" in only:
+        batch(a.rounds, a.batch_runs)
     if "big" in only:
         big(files, a.rounds, a.runs)
 

@@ -222,6 +222,82 @@ TEST_F(Cli, BatchBuildsOneMapAndMatchesSingleConversions) {
   }
 }
 
+// A batch of files goes through the pipeline (frames decoded ahead, written behind): its files
+// are the bytes of single runs, for a JPEG encoded as it is made, a PPM written from the image's
+// rows and six face files encoded at once; one thread (one frame after another) gives the same.
+TEST_F(Cli, PipelinedBatchWritesTheBytesOfSingleRuns) {
+  auto bytes = [](const std::string& f) {
+    std::ifstream in(f, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  std::string frames;
+  for (int k = 0; k < 5; ++k) {
+    Image e({256, 128}, 3, PixelType::U8);
+    for (int64_t y = 0; y < 128; ++y)
+      for (int64_t x = 0; x < 256; ++x)
+        for (int c = 0; c < 3; ++c) e.pixel(x, y)[c] = static_cast<unsigned char>((x * (k + 2) + y * 3 + c * 80) % 256);
+    write_image(e, p("f" + std::to_string(k) + ".jpg"), {});
+    frames += p("f" + std::to_string(k) + ".jpg") + " ";
+  }
+  const std::vector<std::pair<std::string, std::string>> outputs = {
+      {"{stem}.jpg", " --to cubemap --size 384x64"},
+      {"{stem}.ppm", " --to pinhole:hfov=100 --size 96x64 --yaw 30"},
+      {"{stem}_{face}.png", " --to cubemap:layout=files --size 32x32"}};
+  for (const auto& [pattern, args] : outputs)
+    for (const char* threads : {"2", "1"}) {
+      fs::remove_all(p("out")), fs::remove_all(p("one"));
+      mkdir(p("out").c_str(), 0755), mkdir(p("one").c_str(), 0755);
+      const CliRun r = run("convert " + frames + "'" + p("out/" + pattern) + "'" + args + " --threads " + threads);
+      ASSERT_EQ(r.code, 0) << r.err;
+      EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 5) << r.out;
+      for (int k = 0; k < 5; ++k) {
+        const std::string f = "f" + std::to_string(k), one = p("one/" + f + pattern.substr(6));
+        ASSERT_EQ(run("convert " + p(f + ".jpg") + " '" + one + "'" + args + " -q").code, 0);
+        for (const auto& [name, size] : snapshot())
+          if (name.rfind("one/" + f, 0) == 0) {
+            ASSERT_TRUE(fs::exists(p("out/" + name.substr(4)))) << name;
+            EXPECT_EQ(bytes(p("out/" + name.substr(4))), bytes(p(name))) << name << " " << threads << " threads";
+          }
+      }
+      size_t files = 0;
+      for (const auto& [name, size] : snapshot()) files += name.rfind("out/", 0) == 0 || name.rfind("one/", 0) == 0;
+      EXPECT_EQ(files, 2 * 5 * (pattern.find("{face}") != std::string::npos ? 6u : 1u)) << "no temporaries left";
+    }
+}
+
+// A frame that fails to decode in the middle of a pipelined batch: the frames before it are
+// written whole (the bytes of single runs), none after it, no temporaries; one line names it.
+TEST_F(Cli, ABatchStopsAtADamagedFrame) {
+  std::string frames;
+  for (int k = 0; k < 6; ++k) {
+    Image e({256, 128}, 3, PixelType::U8);
+    for (size_t i = 0; i < e.byte_size(); ++i) e.data()[i] = static_cast<unsigned char>((i * (k + 5)) % 253);
+    write_image(e, p("f" + std::to_string(k) + ".jpg"), {});
+    frames += p("f" + std::to_string(k) + ".jpg") + " ";
+  }
+  // Frame 3's entropy-coded data overwritten (its header intact: the batch starts).
+  std::fstream f3(p("f3.jpg"), std::ios::in | std::ios::out | std::ios::binary);
+  f3.seekg(0, std::ios::end);
+  const std::streamoff size = f3.tellg();
+  f3.seekp(size / 2);
+  for (int i = 0; i < 200; ++i) f3.put(i % 2 ? '\xD9' : '\xFF');
+  f3.close();
+  mkdir(p("out").c_str(), 0755);
+  const CliRun r = run("convert " + frames + "'" + p("out/{stem}.jpg") + "' --to cubemap --size 384x64 --threads 2");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("cannot read " + p("f3.jpg")), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  std::map<std::string, uintmax_t> written;
+  for (const auto& [name, size] : snapshot())
+    if (name.rfind("out/", 0) == 0) written[name] = size;
+  ASSERT_EQ(written.size(), 3u) << "frames 0 to 2, nothing else";
+  for (int k = 0; k < 3; ++k) {
+    const std::string f = "f" + std::to_string(k);
+    ASSERT_EQ(run("convert " + p(f + ".jpg") + " " + p(f + "_one.jpg") + " --to cubemap --size 384x64 -q").code, 0);
+    EXPECT_TRUE(read_image(p("out/" + f + ".jpg")) == read_image(p(f + "_one.jpg"))) << f;
+  }
+}
+
 TEST_F(Cli, BatchIsCheckedBeforeAnythingIsWritten) {
   write_image(Image({64, 32}, 3, PixelType::U8), p("a.png"), {});
   expect_refused("convert " + p("a.png") + " " + p("pano.png") + " " + p("out.png") + " --to equirect",

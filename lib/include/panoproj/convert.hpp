@@ -82,9 +82,10 @@ class Converter {
   Image run(const Image& src, EngineStats* stats = nullptr,
             const std::function<void(double)>& progress = {}) const;
   // The same into out, reusing its buffer when it already has the output's size and layout
-  // (video frames, batches: no new memory per frame).
+  // (video frames, batches: no new memory per frame). finished: as run_reading's, below.
   void run(const Image& src, Image& out, EngineStats* stats = nullptr,
-           const std::function<void(double)>& progress = {}) const;
+           const std::function<void(double)>& progress = {},
+           const std::function<void(const Region&)>& finished = {}) const;
   // The same while src is read: read(arrived) runs once, first, on one of the run's threads; it
   // fills src (its buffer already the window's size) from the top, calling arrived as its rows
   // come in (RowsArrived, image.hpp). Tiles go in the order their source rows come, each once

@@ -108,8 +108,9 @@ const Stereo& Converter::stereo() const { return impl_->stereo_; }
 Size Converter::source_frame() const { return stereo_frame(size_of(impl_->source_), impl_->stereo_.source); }
 Size Converter::target_frame() const { return stereo_frame(size_of(impl_->target_), impl_->stereo_.target); }
 Converter::Region Converter::source_footprint() const { return impl_->source_footprint(); }
-void Converter::run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress) const {
-  impl_->run(src, out, stats, progress, nullptr);
+void Converter::run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress,
+                    const std::function<void(const Region&)>& finished) const {
+  impl_->run(src, out, stats, progress, nullptr, finished);
 }
 void Converter::run_reading(const Image& src, Image& out, const std::function<void(const RowsArrived&)>& read,
                             EngineStats* stats, const std::function<void(double)>& progress,

@@ -9,11 +9,13 @@
 
 namespace panoproj {
 
-Image window_buffer(const std::string& path, const Decoder& d, PixelRect window, int scale) {
+Image window_buffer(const std::string& path, const Decoder& d, PixelRect window, int scale, Image spare) {
   const ImageHeader& h = d.header();
   const Size size = window.size();
   try {
-    Image img(size, h.channels, h.type, h.alpha_channel, Image::Unfilled{});
+    const bool fits = spare.size() == size && spare.channels() == h.channels && spare.type() == h.type &&
+                      spare.alpha_channel() == h.alpha_channel;
+    Image img = fits ? std::move(spare) : Image(size, h.channels, h.type, h.alpha_channel, Image::Unfilled{});
     img.set_window(window.x0, window.y0, d.scaled_size(scale));
     return img;
   } catch (const std::bad_alloc&) {

@@ -120,8 +120,9 @@ inline void rows_in(const RowsArrived& arrived, int64_t k, int64_t rows) {
 }
 
 // The buffer for window of the frame decoded at 1/scale, unfilled (read_into writes every pixel),
-// its frame set (a one-line Error when it cannot be allocated).
-Image window_buffer(const std::string& path, const Decoder& d, PixelRect window, int scale);
+// its frame set (a one-line Error when it cannot be allocated); spare's when it has the window's
+// size and layout (a batch's frames: no new memory, which the system would zero, per frame).
+Image window_buffer(const std::string& path, const Decoder& d, PixelRect window, int scale, Image spare = {});
 // "cannot read PATH: WHY (the file is damaged or truncated)"
 [[noreturn]] void throw_damaged(const std::string& path, const std::string& why);
 

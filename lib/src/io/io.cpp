@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <new>
+#include <optional>
 #include <string_view>
 #include <system_error>
 #include <variant>
@@ -27,6 +28,7 @@
 #include "io/exif.hpp"
 #include "io/oiio_plugin.hpp"
 #include "base/input_check.hpp"
+#include "base/parallel.hpp"
 
 namespace panoproj {
 
@@ -177,6 +179,29 @@ Opened open_input(const std::string& path) {
 
 }  // namespace
 
+// EncodedOutput's files (and the faces a PPM's pieces point into).
+struct EncodedOutput::Files {
+  explicit Files(bool o) : overwrite(o) {}
+  void add(std::string path, Encoded e) { files.emplace_back(std::move(path), std::move(e)); }
+  bool overwrite;
+  std::vector<std::pair<std::string, Encoded>> files;
+  std::vector<Image> faces;
+};
+
+EncodedOutput::EncodedOutput() = default;
+EncodedOutput::~EncodedOutput() = default;
+EncodedOutput::EncodedOutput(EncodedOutput&&) noexcept = default;
+EncodedOutput& EncodedOutput::operator=(EncodedOutput&&) noexcept = default;
+EncodedOutput::EncodedOutput(std::unique_ptr<Files> files) : files_(std::move(files)) {}
+
+void EncodedOutput::write() const {
+  if (!files_) throw InternalError("an empty EncodedOutput written");
+  OutputSet set(files_->overwrite);
+  for (const auto& [path, e] : files_->files) set.add(path, e.pieces());
+  set.commit();
+}
+
+
 void write_bytes(std::string_view bytes, const std::string& path, bool overwrite) {
   OutputSet set(overwrite);
   set.add(path, bytes);
@@ -222,7 +247,7 @@ Metadata built_in_attributes(const EmbeddedMetadata& blocks) {
 }
 
 RegionRead::RegionRead(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1,
-                       int64_t memory_limit, uint64_t other_bytes, int scale)
+                       int64_t memory_limit, uint64_t other_bytes, int scale, Image spare)
     : path_(path), scale_(scale) {
   Opened o = open_input(path);
   const ImageHeader& h = o.header();
@@ -240,7 +265,7 @@ RegionRead::RegionRead(const std::string& path, int64_t x0, int64_t y0, int64_t 
   check_plausible(path, o.file, h.size, h.channels, h.sample_bits, h.compression, stored,
                   add_bytes(image_bytes(window_.size(), h.channels, bytes_of(h.type)), other_bytes), memory_limit);
   decoder_ = std::move(o.decoder);
-  image_ = window_buffer(path, *decoder_, window_, scale);
+  image_ = window_buffer(path, *decoder_, window_, scale, std::move(spare));
 }
 
 void RegionRead::read(const RowsArrived& arrived) { decoder_->read_into(window_, scale_, image_, arrived); }
@@ -272,9 +297,11 @@ void StreamedOutput::done(const Image& image, const PixelRect& r) {
   if (jpeg_) jpeg_->done(image, r);
 }
 
-void StreamedOutput::write(const Image& image) {
+EncodedOutput StreamedOutput::finish(const Image& image) {
   check_output_path(path_, options_.overwrite);
-  write_encoded(jpeg_ ? Encoded(jpeg_->finish(image)) : encode(image, path_, options_), path_, options_.overwrite);
+  auto files = std::make_unique<EncodedOutput::Files>(options_.overwrite);
+  files->add(path_, jpeg_ ? Encoded(jpeg_->finish(image)) : encode(image, path_, options_));
+  return EncodedOutput(std::move(files));
 }
 
 Image convert_pixels(const Image& in, PixelType type) {
@@ -347,21 +374,30 @@ Image read_cube_faces(const std::string& pattern, int64_t memory_limit, const Fa
   return strip;
 }
 
-void write_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options,
-                      const FaceOrder& order) {
+EncodedOutput encode_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options,
+                                const FaceOrder& order) {
   if (strip.width() != 6 * strip.height())
     throw Error("cube faces: a " + size_text(strip.size()) + " image (expected the 6x1 strip of six square faces, " +
                 "6N x N pixels)");
   const int64_t f = strip.height();
   for (int i = 0; i < 6; ++i) check_output_path(face_path(pattern, i, order), options.overwrite);
-  OutputSet set(options.overwrite);
-  for (int i = 0; i < 6; ++i) {
-    Image face({f, f}, strip.channels(), strip.type(), strip.alpha_channel(), Image::Unfilled{});
+  auto files = std::make_unique<EncodedOutput::Files>(options.overwrite);
+  files->faces.resize(6);
+  std::vector<std::optional<Encoded>> encoded(6);
+  // The faces at once (PNG and OpenImageIO's formats encode on one thread each).
+  parallel_tasks(6, options.threads, [&](int64_t i, int) {
+    Image& face = files->faces[static_cast<size_t>(i)];
+    face = Image({f, f}, strip.channels(), strip.type(), strip.alpha_channel(), Image::Unfilled{});
     for (int64_t y = 0; y < f; ++y) std::memcpy(face.row(y), strip.pixel(i * f, y), face.row_bytes());
-    const std::string path = face_path(pattern, i, order);
-    set.add(path, encode(face, path, options).pieces());
-  }
-  set.commit();
+    encoded[static_cast<size_t>(i)] = encode(face, face_path(pattern, static_cast<int>(i), order), options);
+  });
+  for (int i = 0; i < 6; ++i) files->add(face_path(pattern, i, order), std::move(*encoded[static_cast<size_t>(i)]));
+  return EncodedOutput(std::move(files));
+}
+
+void write_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options,
+                      const FaceOrder& order) {
+  encode_cube_faces(strip, pattern, options, order).write();
 }
 
 }  // namespace panoproj

@@ -13,7 +13,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <exception>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -146,24 +145,18 @@ class JpegDecoder final : public Decoder {
     const int64_t mid = split ? std::clamp<int64_t>(static_cast<int64_t>((static_cast<double>(r.y1) + (1 - kSkipCost) * static_cast<double>(r.y0)) / (2 - kSkipCost)), r.y0 + 16, r.y1 - 16)
                               : r.y1;
     std::string lower_error;
-    std::exception_ptr lower_failed;
-    std::thread lower;
-    if (split)
-      lower = std::thread([&] {
-        try {
-          JpegDecoder other(path_);
-          std::vector<unsigned char> buffer;
-          if (!guarded(other.fail_, [&] { other.decode({r.x0, mid, r.x1, r.y1}, scale, img, r.y0, buffer, {}); }))
-            lower_error = other.fail_.message;
-        } catch (...) {
-          lower_failed = std::current_exception();
-        }
-      });
-    std::vector<unsigned char> buffer;
-    const bool ok = guarded(fail_, [&] { decode({r.x0, r.y0, r.x1, mid}, scale, img, r.y0, buffer, arrived); });
-    if (lower.joinable()) lower.join();
+    bool ok = true;
+    parallel_tasks(split ? 2 : 1, 2, [&](int64_t band, int) {
+      std::vector<unsigned char> buffer;
+      if (band == 0) {
+        ok = guarded(fail_, [&] { decode({r.x0, r.y0, r.x1, mid}, scale, img, r.y0, buffer, arrived); });
+        return;
+      }
+      JpegDecoder other(path_);
+      if (!guarded(other.fail_, [&] { other.decode({r.x0, mid, r.x1, r.y1}, scale, img, r.y0, buffer, {}); }))
+        lower_error = other.fail_.message;
+    });
     if (!ok) throw_damaged(path_, fail_.message);
-    if (lower_failed) std::rethrow_exception(lower_failed);
     if (!lower_error.empty()) throw_damaged(path_, lower_error);
   }
 

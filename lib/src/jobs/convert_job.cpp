@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "panoproj/photo_sphere.hpp"
 #include "io/region_read.hpp"
 #include "io/streamed_output.hpp"
+#include "jobs/frame_pipeline.hpp"
 
 namespace panoproj {
 namespace fs = std::filesystem;
@@ -234,22 +236,29 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const uint64_t job_bytes =
       add_bytes(add_bytes(cache ? map_bytes : 0, written), image_bytes(out_size, out_channels, bytes_of(type)));
   const double map_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count();
-  Image out;  // one buffer for every frame of a batch
-  for (size_t n = 0; n < job.inputs.size(); ++n) {
-    Image face_set;
+  // A frame: its source (a file's window, or the face set), its output's encoded files, its report.
+  struct Frame {
     std::optional<RegionRead> file;
-    if (in_faces) face_set = std::move(*faces);
-    else file.emplace(job.inputs[n], need.x0, need.y0, need.x1, need.y1, options.memory_limit, job_bytes, scale);
-    // The conversion starts on the source's rows as they are decoded, unless an alpha channel is
-    // first added to a copy of it.
-    const bool reading = file && !(options.add_alpha && file->image().alpha_channel() < 0);
-    if (file && !reading) file->read();
+    Image face_set;
+    EncodedOutput encoded;
+    ConvertReport report;
+  };
+  // (spare: a source buffer the frame before is done with)
+  auto open = [&](size_t n, Frame& f, uint64_t other_bytes, Image spare) {
+    if (in_faces) f.face_set = std::move(*faces);
+    else f.file.emplace(job.inputs[n], need.x0, need.y0, need.x1, need.y1, options.memory_limit, other_bytes, scale, std::move(spare));
+  };
+  // Converts frame n into out and encodes it; `reading`: decodes the file meanwhile, the tiles
+  // taking its rows as they come (else it has been read).
+  auto convert = [&](size_t n, Frame& f, Image& out, bool reading) {
+    // The rows are waited for unless an alpha channel is first added to a copy of the source.
+    if (reading && f.file && options.add_alpha && f.file->image().alpha_channel() < 0) f.file->read(), reading = false;
     Image with_alpha;
-    const Image& source = source_for(file ? file->image() : face_set, options, with_alpha);
+    const Image& source = source_for(f.file ? f.file->image() : f.face_set, options, with_alpha);
     const auto t0 = std::chrono::steady_clock::now();
     const double frames = static_cast<double>(job.inputs.size());
-    const auto report = [&](double f) {
-      if (progress) progress((static_cast<double>(n) + f) / frames);
+    const auto report = [&](double x) {
+      if (progress) progress((static_cast<double>(n) + x) / frames);
     };
     WriteOptions write = job.write;
     write.threads = options.threads;
@@ -262,27 +271,84 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
         ps.stereo_mode = geometry.stereo.target == StereoLayout::TopBottom ? "top-bottom" : "left-right";
       write.xmp = photo_sphere_xmp(ps);
     }
-    // A single JPEG output encodes its parts as they are done, while the source is still read.
+    // A single JPEG output encodes its parts as they are done (while the source is still read).
     std::optional<StreamedOutput> single;
     if (!out_faces) single.emplace(outputs[n], write, out_size, out_channels, type);
     std::function<void(const Converter::Region&)> finished;
     if (single && single->streams())
       finished = [&](const Converter::Region& r) { single->done(out, {r.x0, r.y0, r.x1, r.y1}); };
-    if (reading) converter.run_reading(source, out, [&](const RowsArrived& arrived) { file->read(arrived); }, nullptr, report, finished);
-    else converter.run(source, out, nullptr, report);
+    if (reading) converter.run_reading(source, out, [&](const RowsArrived& arrived) { f.file->read(arrived); }, nullptr, report, finished);
+    else converter.run(source, out, nullptr, report, finished);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +
                            (n == 0 ? map_seconds : 0.0);  // the map is built once, for the first
-    if (single) single->write(out);
-    else write_cube_faces(out, outputs[n], write, out_order);
+    f.encoded = single ? single->finish(out) : encode_cube_faces(out, outputs[n], write, out_order);
     auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };
     const double read = static_cast<double>(source.width() * source.height()) /
                         static_cast<double>(source.frame_size().width * source.frame_size().height);
-    reports.push_back({job.inputs[n], outputs[n], from_text, to.str(),
-                       in_faces ? face_size(source.size()) : frame,
-                       out_faces ? face_size(out.size()) : out.size(), in_faces, out_faces, seconds, read,
-                       in_faces ? "" : infos[n].format, scale, stereo_note(geometry)});
+    f.report = {job.inputs[n], outputs[n], from_text, to.str(),
+                in_faces ? face_size(source.size()) : frame,
+                out_faces ? face_size(out.size()) : out.size(), in_faces, out_faces, seconds, read,
+                in_faces ? "" : infos[n].format, scale, stereo_note(geometry)};
+  };
+  auto done = [&](Frame& f) {
+    reports.push_back(std::move(f.report));
     if (on_frame) on_frame(reports.back());
+  };
+
+  // A batch of files goes through a pipeline (frame_pipeline.hpp) where its memory allows: two
+  // frames decode at once, each on one thread, while the one before converts (on every thread)
+  // and the one before that is written; so 3 source windows, 2 outputs and 3 encoded outputs
+  // (counted at their decoded size) at most. Otherwise one frame after another, each decoded
+  // while it converts.
+  const int readers = std::min(2, resolve_threads(options.threads));
+  const uint64_t window_bytes = image_bytes({need.x1 - need.x0, need.y1 - need.y0}, channels, bytes_of(type));
+  const uint64_t out_bytes = image_bytes(out_size, out_channels, bytes_of(out_type));
+  uint64_t pipeline_bytes = job_bytes;
+  for (int i = 0; i < readers; ++i) pipeline_bytes = add_bytes(pipeline_bytes, window_bytes);
+  for (int i = 0; i < 4; ++i) pipeline_bytes = add_bytes(pipeline_bytes, out_bytes);
+  const bool pipelined = batch && readers > 1 && add_bytes(pipeline_bytes, window_bytes) <= memory_budget(options.memory_limit);
+  if (!pipelined) {
+    Image out, source;  // one buffer each for every frame
+    for (size_t n = 0; n < job.inputs.size(); ++n) {
+      Frame f;
+      open(n, f, job_bytes, std::move(source));
+      convert(n, f, out, f.file.has_value());
+      if (f.file) source = std::move(f.file->image());
+      f.encoded.write();
+      done(f);
+    }
+    return reports;
   }
+  std::vector<Frame> frames(job.inputs.size());
+  std::vector<Image> outs(2);  // frame n's in outs[n % 2]
+  std::mutex spare_mutex;
+  std::vector<Image> spare;  // source buffers converted frames are done with
+  run_frame_pipeline(job.inputs.size(), readers,
+                     {.read =
+                          [&](size_t n) {
+                            Image buffer;
+                            {
+                              std::lock_guard<std::mutex> lock(spare_mutex);
+                              if (!spare.empty()) buffer = std::move(spare.back()), spare.pop_back();
+                            }
+                            open(n, frames[n], pipeline_bytes, std::move(buffer));
+                            // (no arrived: one decoder a frame; a second for its lower band would
+                            // decode the rows it skips again, and the readers fill the cores)
+                            frames[n].file->read([](int64_t) {});
+                          },
+                      .convert =
+                          [&](size_t n) {
+                            convert(n, frames[n], outs[n % 2], false);
+                            std::lock_guard<std::mutex> lock(spare_mutex);
+                            spare.push_back(std::move(frames[n].file->image()));
+                            frames[n].file.reset();
+                          },
+                      .write =
+                          [&](size_t n) {
+                            frames[n].encoded.write();
+                            frames[n].encoded = {};
+                          },
+                      .written = [&](size_t n) { done(frames[n]); }});
   return reports;
 }
 
