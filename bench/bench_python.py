@@ -1,7 +1,7 @@
 """panoproj's Python module against py360convert (with opencv-python-headless: its cv2.remap path),
 in one process, on the Jordan Pond equirect (4096x2048 uint8 RGB), bilinear, compute only.
 
-    scripts/bench.sh python [--runs N]
+    scripts/bench.sh python [--runs N] [--only keep]
 
 - cold: nothing cached. py360convert's lru caches are cleared before each call; panoproj.convert
   builds its geometry each time (it keeps nothing).
@@ -11,6 +11,10 @@ in one process, on the Jordan Pond equirect (4096x2048 uint8 RGB), bilinear, com
 - two threads: 8 warm conversions, split over two Python threads at once, each library limited
   to one core (panoproj threads=1; cv2.setNumThreads(1)), against the 8 on one thread. The
   speed-up shows whether the GIL is released while converting.
+- keep: panoproj.convert 20 times in a fresh process, keeping every output (a list, as
+  `outs = [pp.convert(f, ...) for f in frames]` does: each call's output is new memory) against
+  freeing each (the next call reuses its memory): per-call median, the ratio per round, e->cube
+  6x1024 and e->pinhole 1920x1080 (target: keeping within 1.3x of freeing).
 Each library uses its defaults otherwise (panoproj: every core; OpenCV: its own pool).
 """
 import argparse
@@ -96,10 +100,57 @@ def batch_table(e, runs):
         print(f"| {name} | {statistics.median(t):.1f} | {min(t):.1f}-{max(t):.1f} |")
 
 
+KEEP_PAIRS = {"e->cube": ("cubemap", (6 * FACE, FACE)), "e->pinhole": (f"pinhole:hfov={HFOV}", (OUT_W, OUT_H))}
+
+
+def keep_child(pair, keep):
+    """(In a fresh process) per-call ms of 20 converts of turned frames, kept or freed."""
+    e = pp.read(str(ROOT / "samples/images/jordan_pond_4096x2048.jpg"))
+    frames = [np.roll(e, 200 * i, axis=1) for i in range(4)]
+    spec, size = KEEP_PAIRS[pair]
+    kept, times = [], []
+    for i in range(20):
+        t = time.perf_counter()
+        out = pp.convert(frames[i % 4], "equirect", spec, size=size, interp="bilinear")
+        times.append((time.perf_counter() - t) * 1e3)
+        if keep:
+            kept.append(out)
+        del out
+    print(statistics.median(times))
+
+
+def keep_table(rounds):
+    import subprocess
+    print("| 20 converts, one process | keeping ms/call | freeing ms/call | keeping / freeing |")
+    print("|---|---|---|---|")
+    for pair in KEEP_PAIRS:
+        ms = {True: [], False: []}
+        ratios = []
+        for _ in range(rounds):
+            for keep in (True, False):
+                time.sleep(0.3)
+                r = subprocess.run([sys.executable, __file__, "--keep-child", pair] + (["--kept"] if keep else []),
+                                   check=True, capture_output=True, text=True)
+                ms[keep].append(float(r.stdout.split()[-1]))
+            ratios.append(ms[True][-1] / ms[False][-1])
+        fmt = lambda v: f"{statistics.median(v):.1f} ({min(v):.1f}-{max(v):.1f})"
+        print(f"| {pair} | {fmt(ms[True])} | {fmt(ms[False])} | {statistics.median(ratios):.2f} "
+              f"({min(ratios):.2f}-{max(ratios):.2f}) |")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--only", choices=["all", "keep"], default="all")
+    ap.add_argument("--keep-child", help=argparse.SUPPRESS)
+    ap.add_argument("--kept", action="store_true", help=argparse.SUPPRESS)
     a = ap.parse_args()
+    if a.keep_child:
+        return keep_child(a.keep_child, a.kept)
+    keep_table(max(a.runs, 5))
+    if a.only == "keep":
+        return
+    print()
     e = pp.read(str(ROOT / "samples/images/jordan_pond_4096x2048.jpg"))
     h, w = e.shape[:2]
     cube = pp.convert(e, "equirect", "cubemap", size=(6 * FACE, FACE), interp="bilinear")

@@ -9,7 +9,7 @@
 # Plan.run (bench/bench_cv_lines.py).
 # Installs what is missing, builds in build-bench/, runs.
 # Usage: scripts/bench.sh [--threads N] [--runs N]  |  scripts/bench.sh big [--threads N]
-#        scripts/bench.sh python [--runs N]  |  scripts/bench.sh plot [--runs N]
+#        scripts/bench.sh python [--runs N] [--only keep]  |  scripts/bench.sh plot [--runs N]
 #        scripts/bench.sh io [--rounds N] [--runs N] [--batch-runs N] [--only startup,jpeg,ppm,batch,big]
 #        scripts/bench.sh cv [--runs N] [--rounds N]
 set -euo pipefail

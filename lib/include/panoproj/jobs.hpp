@@ -42,7 +42,8 @@ struct ConvertReport {
   Size input_size, output_size;  // one face's size where input/output_faces
   bool input_faces = false, output_faces = false;
   double seconds = 0;    // map (first input of a batch) and remap, with the source's decoding and the
-                         // JPEG blocks encoded as they are made (which they overlap); not the rest of the write
+                         // JPEG blocks encoded as they are made (which they overlap); not the rest of the write,
+                         // nor in a pipelined batch the decoding (done ahead, on other threads)
   double read_fraction = 1;  // share of the source's pixels read (only what the view needs)
   std::string source_format;  // jpeg, png, pnm, tiff, openexr, hdr ("" for face sets)
   int decode_scale = 1;       // the source decoded at 1/decode_scale (JPEG DCT scaling)
