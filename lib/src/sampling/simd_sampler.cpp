@@ -299,7 +299,11 @@ HWY_INLINE void PlanLanes(const SimdSource& s, int K, const Bounds<DP>& b, VP sx
   }
   if (any) {
     // The first and last lanes' taps, row by row: the lanes in between lie mostly between them.
-    const int32_t first = blk.off[0] >= 0 ? blk.off[0] : 0, last = blk.off[m - 1] >= 0 ? blk.off[m - 1] : first;
+    // (From the register where the block is full: a scalar read of the vector just stored
+    // waited for it, ~12% of the planning's samples on Zen 3.)
+    constexpr size_t kLast = hn::MaxLanes(DI()) - 1;
+    const int32_t lane0 = hn::GetLane(ioff), lane_m = m == kLast + 1 ? hn::ExtractLane(ioff, kLast) : blk.off[m - 1];
+    const int32_t first = lane0 >= 0 ? lane0 : 0, last = lane_m >= 0 ? lane_m : first;
     for (int r = 0; r < K; ++r) {
       hwy::Prefetch(blk.base + first + r * s.stride);
       hwy::Prefetch(blk.base + last + r * s.stride + (K - 1) * pb);
@@ -340,7 +344,24 @@ HWY_INLINE void StorePixels(DU du, VU word, int64_t m, int pb, unsigned char* p)
     static_assert(HWY_MAX_BYTES <= 64);
     const VU packed = hn::BitCast(du, hn::TableLookupBytes(hn::BitCast(d8, word), hn::Load(d8, kPack)));
     const VU dense = hn::TableLookupLanes(packed, hn::SetTableIndices(du, kGather.data()));
+#if HWY_TARGET <= HWY_AVX3
     return hn::BlendedStore(dense, hn::FirstN(du, static_cast<size_t>(3 * N / 4)), du, reinterpret_cast<uint32_t*>(p));
+#else
+    // Plain stores of the lower half and the upper half's first quarter: AVX2's masked store
+    // (vpmaskmovd) is microcoded on Zen 2/3, ~1/3 of e->pinhole bilinear's time there (perf).
+    const hn::Half<DU> dh;
+    hn::StoreU(hn::LowerHalf(dh, dense), dh, reinterpret_cast<uint32_t*>(p));
+    const hn::Repartition<uint64_t, decltype(dh)> d64;
+    if constexpr (kN == 8) {
+      const uint64_t rest = hn::GetLane(hn::BitCast(d64, hn::UpperHalf(dh, dense)));
+      std::memcpy(p + 16, &rest, 8);
+    } else {
+      static_assert(kN == 4);
+      const uint32_t rest = hn::GetLane(hn::UpperHalf(dh, dense));
+      std::memcpy(p + 8, &rest, 4);
+    }
+    return;
+#endif
   }
 #endif
   HWY_ALIGN uint32_t w32[kMaxLanes];
@@ -359,7 +380,7 @@ class TapPairs {
 
   TapPairs(const SimdSource& s, const TapBlock& blk)
       : pb_(s.channels), base_(reinterpret_cast<const uint64_t*>(blk.base)), blk_(blk) {
-#if HWY_TARGET <= HWY_AVX3
+#if HWY_TARGET <= HWY_AVX2
     // Lanes not sampled read the base. (Clamped once here, read per lane from memory by Fetch:
     // the compiler moved each offset through vector registers and back, ~6 instructions a read.)
     const hn::RebindToSigned<DU> di;
@@ -407,9 +428,10 @@ class TapPairs {
   // The 8 bytes at each lane's first tap + bytes[r]: lanes [0, N/2) in lo[r], [N/2, N) in hi[r].
   template <int R>
   void Fetch(const int64_t (&bytes)[R], V64 (&lo)[R], V64 (&hi)[R]) const {
-#if HWY_TARGET <= HWY_AVX3
-    // AVX-512: 64-bit loads into 128-bit halves, then inserts: on Zen 4 two 8-lane gathers take
-    // ~10 ns per 16 lanes in L1, these loads ~6 ns (a micro-benchmark); e->cube bilinear ~7% less.
+#if HWY_TARGET <= HWY_AVX2
+    // 64-bit loads into 128-bit halves, then inserts: on Zen 4 two 8-lane gathers take ~10 ns per
+    // 16 lanes in L1, these loads ~6 ns (a micro-benchmark; e->cube bilinear ~7% less); on Zen 3
+    // (AVX2) the 4-lane vpgatherqq were the wait behind ~40% of GatherBlocks' samples (perf).
     const unsigned char* p = reinterpret_cast<const unsigned char*>(base_);
     // (A volatile read: else gcc keeps the stored vector and extracts each lane through vector
     // registers again.)
@@ -421,6 +443,7 @@ class TapPairs {
         out[r] = _mm_castpd_si128(_mm_loadh_pd(_mm_castsi128_pd(v), reinterpret_cast<const double*>(b + bytes[r])));
       }
     };
+#if HWY_TARGET <= HWY_AVX3
     auto eight = [&](int l, V64 (&out)[R]) {
       __m128i q[4][R];
       for (int k = 0; k < 4; ++k) two(l + 2 * k, q[k]);
@@ -436,6 +459,14 @@ class TapPairs {
     };
     eight(0, lo), eight(8, hi);
 #else
+    auto four = [&](int l, V64 (&out)[R]) {
+      __m128i q[2][R];
+      two(l, q[0]), two(l + 2, q[1]);
+      for (int r = 0; r < R; ++r) out[r] = V64{_mm256_set_m128i(q[1][r], q[0][r])};
+    };
+    four(0, lo), four(4, hi);
+#endif
+#else
     const D64 d64;
     for (int r = 0; r < R; ++r) {
       const auto at = hn::Set(DI64(), bytes[r]);
@@ -447,7 +478,7 @@ class TapPairs {
   int pb_;
   const uint64_t* base_;
   const TapBlock& blk_;
-#if HWY_TARGET <= HWY_AVX3
+#if HWY_TARGET <= HWY_AVX2
   HWY_ALIGN int32_t at_[kMaxLanes];  // first-tap offsets, 0 for lanes not sampled
 #else
   hn::Vec<DI64> lo_, hi_;  // 64-bit first-tap offsets of lanes [0, N/2) and [N/2, N)
