@@ -6,12 +6,13 @@
 # "io" first, the file boundary's figures: start-up, JPEG and PPM whole processes against the codec
 # floor and FFmpeg's v360, a 32768x16384 JPEG's views (bench/bench_io.py; hyperfine, ffmpeg); with
 # "cv" first, cv2.remap of pip's OpenCV 4.14 and 5.0 in one process with panoproj's convert and
-# Plan.run (bench/bench_cv_lines.py).
+# Plan.run (bench/bench_cv_lines.py); with "profile" first, where bilinear's time goes by engine
+# phase (bench/profile_phases.py, perf).
 # Installs what is missing, builds in build-bench/, runs.
 # Usage: scripts/bench.sh [--threads N] [--runs N]  |  scripts/bench.sh big [--threads N]
 #        scripts/bench.sh python [--runs N] [--only keep]  |  scripts/bench.sh plot [--runs N]
 #        scripts/bench.sh io [--rounds N] [--runs N] [--batch-runs N] [--only startup,jpeg,ppm,batch,big]
-#        scripts/bench.sh cv [--runs N] [--rounds N]
+#        scripts/bench.sh cv [--runs N] [--rounds N]  |  scripts/bench.sh profile [--runs N]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [[ ${1:-} == io ]]; then
@@ -39,6 +40,12 @@ if [[ ${1:-} == cv ]]; then
     PYTHONPATH="$root/build-bench/python" "$venv/bin/python" "$root/bench/bench_cv_lines.py" --json "$out/$line.json" "$@"
   done
   exec "$root/.venv/bin/python" "$root/bench/bench_cv_lines.py" --combine "$out"/*.json
+fi
+if [[ ${1:-} == profile ]]; then
+  shift
+  bash "$root/scripts/install-deps.sh" linux-perf
+  bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF
+  exec python3 "$root/bench/profile_phases.py" "$@"
 fi
 if [[ ${1:-} == python ]]; then
   shift
