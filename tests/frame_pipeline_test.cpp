@@ -65,6 +65,11 @@ std::string run(size_t n, int readers, Log& log, std::vector<Failure> failures =
     const int now = ++log.busy_readers;
     for (int m = log.most_readers; now > m && !log.most_readers.compare_exchange_weak(m, now);) {
     }
+    // The first `readers` frames may all decode at once: each waits (at most 5 s) until all have
+    // been busy together, so that the overlap checked below does not hang on the scheduler.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    while (i < static_cast<size_t>(readers) && log.most_readers < readers && std::chrono::steady_clock::now() < until)
+      std::this_thread::sleep_for(std::chrono::microseconds(100));
     // Reuse: frame i's read slot was frame i - slots's, whose convert must have returned.
     const size_t slots = static_cast<size_t>(readers) + 1;
     if (i >= slots && log.count(log.converted_done) < i - slots + 1) ADD_FAILURE() << "read " << i << " before convert " << i - slots;

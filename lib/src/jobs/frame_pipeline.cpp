@@ -67,9 +67,10 @@ void run_frame_pipeline(size_t n, int readers, const FrameStages& stages) {
 
   std::vector<std::thread> threads;
   size_t reported = 0;
-  // Reports the frames written so far (the lock held on entry and on return).
+  // Reports the frames written so far, none at or past the limit: after a report has thrown, a
+  // frame the writer had already finished is not reported (the lock held on entry and on return).
   auto report = [&](std::unique_lock<std::mutex>& lock) {
-    while (reported < written) {
+    while (reported < written && reported < limit) {
       const size_t i = reported++;
       lock.unlock();
       try {
