@@ -28,7 +28,7 @@ Projection make(const char* spec, Size size) { return make_projection(parse_spec
 
 Image convert(const Image& im, const Projection& s, const Projection& d, Interp k, Antialias aa,
               Engine e = Engine::Simd, const Eigen::Matrix3d& r = Eigen::Matrix3d::Identity()) {
-  return Converter(s, d, r, k, e, 2, false, aa).run(im);
+  return Converter(s, d, r, k, e, 2, Keep::Nothing, aa).run(im);
 }
 
 const Antialias kOff{}, kAuto{Antialias::Mode::Auto, 1}, kMip{Antialias::Mode::Mip, 1};
@@ -48,7 +48,7 @@ TEST(Antialias, ParsesAndNames) {
     }
   }
   EXPECT_THROW(Converter(make("equirect", {64, 32}), make("pinhole", {16, 16}), Eigen::Matrix3d::Identity(),
-                         Interp::Bilinear, Engine::Reference, 1, false, kAuto),
+                         Interp::Bilinear, Engine::Reference, 1, Keep::Nothing, kAuto),
                Error);
 }
 
@@ -295,7 +295,7 @@ TEST(Antialias, FootprintHoldsWhatItReads) {
   const Image im = render_scene(Scene::Chart, s, PixelType::U8, 1, 2);
   const Eigen::Matrix3d r = rotation_from_ypr(70, 20, 0);
   for (Antialias aa : {kAuto, kMip, Antialias{Antialias::Mode::Supersample, 3}}) {
-    const Converter c(s, d, r, Interp::Lanczos3, Engine::Simd, 2, false, aa);
+    const Converter c(s, d, r, Interp::Lanczos3, Engine::Simd, 2, Keep::Nothing, aa);
     const Converter::Region g = c.source_footprint();
     ASSERT_LT((g.x1 - g.x0) * (g.y1 - g.y0), 2048 * 1024 / 4) << "a small part of the source";
     Image win({g.x1 - g.x0, g.y1 - g.y0}, 3, PixelType::U8);
@@ -314,7 +314,7 @@ TEST(Antialias, FootprintHoldsWhatItReads) {
                         View{"pinhole:hfov=90", {16, 16}, 0, -89, 0}, View{"fisheye:fov=180", {24, 24}, 0, -70, 0}})
     for (Antialias aa : {kAuto, kMip, Antialias{Antialias::Mode::Supersample, 8}}) {
       const Converter c(s, make(v.to, v.size), rotation_from_ypr(v.yaw, v.pitch, v.roll), Interp::Bilinear, Engine::Simd, 2,
-                        false, aa);
+                        Keep::Nothing, aa);
       const Converter::Region g = c.source_footprint();
       Image win({g.x1 - g.x0, g.y1 - g.y0}, 3, PixelType::U8);
       for (int64_t y = 0; y < win.height(); ++y) std::memcpy(win.row(y), im.pixel(g.x0, g.y0 + y), win.row_bytes());

@@ -226,7 +226,7 @@ TEST(DualFisheye, BadSpecsAndFramesAreOneLineErrors) {
   const Projection e = make_projection(parse_spec("equirect"), {64, 32});
   const Projection d = make_projection(parse_spec("dual-fisheye:fov=200"), {64, 32});
   EXPECT_THROW(Converter(d, e, kIdentity, Interp::Bilinear, Engine::Reference, 1), Error);
-  EXPECT_THROW(Converter(d, e, kIdentity, Interp::Bilinear, Engine::Simd, 1, false, parse_antialias("mip")), Error);
+  EXPECT_THROW(Converter(d, e, kIdentity, Interp::Bilinear, Engine::Simd, 1, Keep::Nothing, parse_antialias("mip")), Error);
 }
 
 }  // namespace

@@ -200,7 +200,7 @@ TEST(Engine, CachedMapGivesTheSameBytesAndChecksSizes) {
   const Projection src = make("equirect", {600, 300});
   const Projection dst = make("cubemap:layout=cross", {4 * 100, 3 * 100});
   const Eigen::Matrix3d r = rotation_from_ypr(10, 5, 0);
-  const Converter cached(src, dst, r, Interp::Bicubic, Engine::Simd, 2, true);
+  const Converter cached(src, dst, r, Interp::Bicubic, Engine::Simd, 2, Keep::Maps);
   for (uint32_t seed : {1u, 2u}) {  // two frames through one cached map
     const Image im = test::render(src, test::band_limited_scene(0.1, 600, seed), PixelType::U8);
     EXPECT_TRUE(cached.run(im) == test::fast_remap(im, src, dst, r, Interp::Bicubic, Engine::Simd, 1));
@@ -216,8 +216,8 @@ TEST(Engine, FootprintIsTheSameWithOrWithoutAKeptMap) {
                              {"fisheye:fov=100", -30.0}}) {
     const Projection dst = make(spec, {400, 300});
     const Eigen::Matrix3d r = rotation_from_ypr(40, pitch, 0);
-    const Converter kept(src, dst, r, Interp::Bicubic, Engine::Simd, 2, true);
-    const Converter lean(src, dst, r, Interp::Bicubic, Engine::Simd, 2, false);
+    const Converter kept(src, dst, r, Interp::Bicubic, Engine::Simd, 2, Keep::Maps);
+    const Converter lean(src, dst, r, Interp::Bicubic, Engine::Simd, 2, Keep::Nothing);
     const auto a = kept.source_footprint(), b = lean.source_footprint();
     EXPECT_EQ(a.x0, b.x0);
     EXPECT_EQ(a.y0, b.y0);

@@ -205,11 +205,11 @@ TEST(FootprintKernel, SimdMatchesTheReferenceOnEveryTarget) {
       }
       for (const Case& c : cases) {
         const Projection d = make(c.to, c.size);
-        const Image want = Converter(s, d, r, Interp::Bilinear, Engine::Scalar, 2, false, kAuto).run(im);
+        const Image want = Converter(s, d, r, Interp::Bilinear, Engine::Scalar, 2, Keep::Nothing, kAuto).run(im);
         const double bound = t == PixelType::U8 || t == PixelType::U16 ? 1.0 : t == PixelType::F16 ? 2e-3 : 1e-5;
         for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
           hwy::SetSupportedTargetsForTest(target);
-          const Image got = Converter(s, d, r, Interp::Bilinear, Engine::Simd, 2, false, kAuto).run(im);
+          const Image got = Converter(s, d, r, Interp::Bilinear, Engine::Simd, 2, Keep::Nothing, kAuto).run(im);
           double worst = 0;
           for (int64_t y = 0; y < c.size.height; ++y)
             for (int64_t x = 0; x < c.size.width; ++x)

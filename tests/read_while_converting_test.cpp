@@ -114,7 +114,7 @@ TEST(ReadWhileConverting, EqualsTheConversionOfTheWholeSource) {
       rendered[c.from] = test::render(src, test::band_limited_scene(0.1, c.from_size.width), PixelType::U8);
     const Image& whole = rendered[c.from];
     for (int threads : {1, 2, 3}) {
-      const Converter conv(src, dst, r, c.interp, Engine::Simd, threads, false, c.antialias);
+      const Converter conv(src, dst, r, c.interp, Engine::Simd, threads, Keep::Nothing, c.antialias);
       const Image from = window_of(whole, conv);
       const Image expected = conv.run(from);
       Image arriving(from.size(), from.channels(), from.type(), from.alpha_channel(), Image::Unfilled{});
@@ -123,6 +123,18 @@ TEST(ReadWhileConverting, EqualsTheConversionOfTheWholeSource) {
       Image out;
       conv.run_reading(arriving, out, [&](const RowsArrived& arrived) { trickle(from, arriving, arrived); });
       EXPECT_TRUE(out == expected) << what << ", " << threads << " threads";
+    }
+    // A batch's converter: later frames wait for the rows kept from the first and replay its taps.
+    const Converter kept(src, dst, r, c.interp, Engine::Simd, 2, Keep::MapsAndTaps, c.antialias);
+    const Image from = window_of(whole, kept);
+    const Image expected = kept.run(from);
+    for (int frame = 0; frame < 2; ++frame) {
+      Image arriving(from.size(), from.channels(), from.type(), from.alpha_channel(), Image::Unfilled{});
+      std::memset(arriving.data(), 0xA5, arriving.row_bytes() * static_cast<size_t>(arriving.height()));
+      arriving.set_window(from.origin_x(), from.origin_y(), from.frame_size());
+      Image out;
+      kept.run_reading(arriving, out, [&](const RowsArrived& arrived) { trickle(from, arriving, arrived); });
+      EXPECT_TRUE(out == expected) << what << ", kept, frame " << frame;
     }
   }
   // The reference engine reads first, then converts.
@@ -147,7 +159,7 @@ TEST(ReadWhileConverting, FinishedPartsAreFinalWhenReportedAndCoverTheOutputOnce
         const Projection dst = make(to, std::string(to) == "cubemap" ? Size{6 * 128, 128} : Size{300, 200});
         EdgeFill edges;
         edges.soft = fill;
-        const Converter conv(src, dst, rotation_from_ypr(10, 20, 0), Interp::Bicubic, Engine::Simd, threads, false,
+        const Converter conv(src, dst, rotation_from_ypr(10, 20, 0), Interp::Bicubic, Engine::Simd, threads, Keep::Nothing,
                              {Antialias::Mode::Auto, 1}, edges);
         const Image expected = conv.run(whole);
         Image arriving(whole.size(), 3, PixelType::U8), out;

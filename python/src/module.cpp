@@ -22,6 +22,7 @@
 #include "panoproj/options.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
+#include "panoproj/jobs.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/maps.hpp"
 #include "attribute_values.hpp"
@@ -157,15 +158,21 @@ Size size_pair(std::pair<int64_t, int64_t> s) {
   return {s.first, s.second};
 }
 
-// A conversion bound to one source size: the map of non-fused tiles is built once and reused
-// (panoproj.Plan wraps it and pickles its parameters). run() may be called from several threads.
+// A conversion bound to one source size: the map of non-fused tiles and the taps of fused ones
+// are kept by the first run for the others, while they fit the file jobs' budget (jobs.hpp), and
+// counted against memory_limit (panoproj.Plan wraps it and pickles its parameters). run() may be
+// called from several threads.
 class PyPlan {
  public:
   PyPlan(const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size, const py::dict& options)
       : src_(src),
         options_(options_from(options, kUseConvert)),
         geometry_(make_geometry(size_pair(source_size), parse_spec(src), parse_spec(dst), options_)),
-        converter_(converter_for(geometry_, options_, true)) {}
+        kept_bytes_(image_bytes(geometry_.target_frame(), 1, kCachedMapBytesPerPixel)),
+        converter_(converter_for(geometry_, options_,
+                                 kept_bytes_ <= static_cast<uint64_t>(kMapCacheBudget) ? Keep::MapsAndTaps : Keep::Nothing)) {
+    if (kept_bytes_ > static_cast<uint64_t>(kMapCacheBudget)) kept_bytes_ = 0;
+  }
   const ConversionGeometry& geometry() const { return geometry_; }
 
   py::array run(const py::object& src, std::optional<py::array> out, bool has_alpha) const {
@@ -174,7 +181,8 @@ class PyPlan {
     Image with_alpha;
     const Image& in = source_for(raw, options_, with_alpha);
     const bool flat = py::isinstance<py::array>(src) && src.cast<py::array>().ndim() == 2 && in.channels() == 1;
-    require_job_memory(geometry_, raw.channels(), raw.type(), options_, 0);
+    require_job_memory(geometry_, raw.channels(), raw.type(), options_, kept_bytes_,
+                       "the maps and taps the plan keeps (up to " + std::to_string(kCachedMapBytesPerPixel) + " bytes a pixel)");
     if (out) {
       // Written in place: must be C-contiguous, writable, of the output's shape and dtype.
       const Size s = geometry_.target_frame();
@@ -210,6 +218,7 @@ class PyPlan {
   std::string src_;
   ConvertOptions options_;
   ConversionGeometry geometry_;
+  uint64_t kept_bytes_;  // what converter_ keeps, at most
   Converter converter_;
 };
 

@@ -111,6 +111,17 @@ def test_plan_equals_convert_and_survives_pickling():
     assert np.array_equal(clone(img), expected)
 
 
+def test_plan_runs_after_the_first_equal_convert_on_every_frame_and_layout():
+    # uint8 bilinear: the first run keeps its planned taps, later runs of that layout replay them.
+    frames = [smooth_equirect(512, 256), np.ascontiguousarray(smooth_equirect(512, 256)[:, ::-1])]
+    frames += [frames[0][..., 0], np.dstack([frames[1], frames[0][..., :1]]), frames[1], frames[0]]
+    for dst, kw in [("cubemap:layout=cross", dict(size=(384, 288), interp="bilinear", antialias="off")),
+                    ("pinhole:hfov=150", dict(size=(256, 192), interp="bilinear", pitch=60))]:
+        plan = pp.Plan("equirect", dst, (512, 256), **kw)
+        for img in frames:  # RGB, RGB, gray, RGBX without alpha, then RGB again
+            assert np.array_equal(plan(img), pp.convert(img, "equirect", dst, **kw))
+
+
 def test_build_map_panoproj_convention_is_the_opencv_one_shifted():
     mx, my = pp.build_map("equirect", "pinhole", (512, 256), size=(64, 48))
     px, py = pp.build_map("equirect", "pinhole", (512, 256), size=(64, 48), convention="panoproj")

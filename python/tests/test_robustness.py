@@ -847,6 +847,9 @@ PY_CALLS = [
     ("build_map_huge", "pp.build_map('equirect', 'fisheye', (64, 32), size=(100000, 100000))", "MemoryError",
      "map 100000x100000 needs 160 GB", False),
     ("plan_huge", "pp.Plan('equirect', 'fisheye', (64, 32), size=(1 << 30, 1 << 30))", "MemoryError", "needs", False),
+    # convert fits 12 MB; a plan also keeps up to 17 bytes a pixel for its later runs (issue 22)
+    ("plan_kept_limit", f"pp.Plan('equirect', 'pinhole', (64, 32), size=(1000, 1000), memory_limit='12M')({PY_IMG})",
+     "MemoryError", "with the maps and taps the plan keeps", False),
     ("size_2e70", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', size=(2**70, 1))", "ValueError",
      "size: 1180591620717411303424x1", True),
     ("threads_2e70", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', threads=2**70)", "ValueError",

@@ -18,6 +18,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <string>
 #include <optional>
 #include <string_view>
 
@@ -47,20 +48,32 @@ std::array<int64_t, 2> stereo_origin(Size eye, StereoLayout layout, int e);
 struct EngineStats {
   int64_t tiles = 0;
   int64_t fused_tiles = 0;   // geometry in registers, no map (simd engine, the common pairs)
+  int64_t replayed_tiles = 0;  // fused tiles whose taps an earlier run planned (Keep::MapsAndTaps)
   int64_t simd_misses = 0;  // samples the SIMD kernels left to the reference's tap rules
   int64_t interpolated_cells = 0, exact_cells = 0;  // tile_map.hpp cells of the other tiles
   EngineStats& operator+=(const EngineStats& o) {
-    tiles += o.tiles, fused_tiles += o.fused_tiles, simd_misses += o.simd_misses;
+    tiles += o.tiles, fused_tiles += o.fused_tiles, replayed_tiles += o.replayed_tiles, simd_misses += o.simd_misses;
     interpolated_cells += o.interpolated_cells, exact_cells += o.exact_cells;
     return *this;
   }
 };
 
+// What a Converter keeps for its later runs (at most kCachedMapBytesPerPixel per output pixel).
+enum class Keep {
+  Nothing,
+  // The tile maps of the tiles that are not fused, built on first use: batches and video frames
+  // pay for that geometry once. Fused tiles recompute theirs: in registers it costs less than
+  // reading a stored map.
+  Maps,
+  // Also the taps each fused tile plans on the run that first samples it (8 bytes a pixel for
+  // uint8 bilinear without alpha, else 12; not tiles on sub-pixels or mip levels): later runs on
+  // sources of the same layout (window, channels, type) only gather and blend, to the same bytes.
+  // For many runs of one plan (Python's Plan, batches).
+  MapsAndTaps,
+};
+
 // One geometry (projections, rotation, kernel), applied to any number of images of the source's
-// size. With cache_map, the tile maps of the tiles that are not fused (kCachedMapBytesPerPixel
-// per output pixel at most) are built once, on the first run, and reused: batches and video
-// frames pay for that geometry once. Fused tiles recompute theirs: in registers it costs less
-// than reading a stored map. run() may be called from several threads at once. antialias
+// size, keeping what `keep` says for later runs. run() may be called from several threads at once. antialias
 // (options.hpp: Antialias; off by default here, auto in the command and the Python module) needs the
 // simd or scalar engine; mip builds the source's levels on each run, as far as they are read.
 class Converter {
@@ -74,7 +87,7 @@ class Converter {
   // stereo: src and out are frames of both eyes where it says so; each eye converts alone
   // (source and target are one eye's projections), so no tap crosses between eyes.
   Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
-            Engine engine, int threads, bool cache_map = false, Antialias antialias = {}, EdgeFill edges = {},
+            Engine engine, int threads, Keep keep = Keep::Nothing, Antialias antialias = {}, EdgeFill edges = {},
             Stereo stereo = {});
 
   // Throws panoproj::Error if src's size is not the source projection's. progress, if given,
@@ -101,7 +114,7 @@ class Converter {
   // The source pixels [x0, x1) x [y0, y1) that run() reads (with the kernel's taps and the
   // tap rules: a seam or pole crossing widens it to the full width; cubemap sources and targets
   // showing the whole sphere (cubemap, full equirect, the world maps) read all). Read
-  // only this part of a large source. With cache_map it builds and keeps the tile maps (run()
+  // only this part of a large source. With Keep::Maps or more it builds and keeps the tile maps (run()
   // then reuses them); without, it maps tile by tile and keeps nothing.
   Region source_footprint() const;
 
@@ -152,9 +165,10 @@ Antialias antialias_of(const ConvertOptions& options);
 ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, const ProjectionSpec& to,
                                  const ConvertOptions& options);
 // Throws ErrorKind::Memory unless the geometry's output of `channels` x `type` (one more channel with
-// add_alpha) and `more` bytes fit options.memory_limit.
+// add_alpha) and `more` bytes (named by more_what in the message) fit options.memory_limit.
 void require_job_memory(const ConversionGeometry& geometry, int channels, PixelType type,
-                        const ConvertOptions& options, uint64_t more);
+                        const ConvertOptions& options, uint64_t more,
+                        const std::string& more_what = "the job's maps and buffers");
 Image convert(const Image& source, const ProjectionSpec& from, const ProjectionSpec& to,
               const ConvertOptions& options);
 // The smallest step, in source pixels, from an output pixel's source position to its neighbours'
@@ -169,8 +183,8 @@ double finest_source_step(const ConversionGeometry& geometry, double stop_below 
 int coarsest_decode_scale(const ConversionGeometry& geometry, double finest_step);
 
 // The geometry's Converter with the options' kernel, engine, threads, antialiasing and edge
-// fill (cache_map: keep the tile maps for many runs).
+// fill, keeping what keep says for many runs.
 Converter converter_for(const ConversionGeometry& geometry, const ConvertOptions& options,
-                        bool cache_map = false);
+                        Keep keep = Keep::Nothing);
 
 }  // namespace panoproj

@@ -160,7 +160,7 @@ std::vector<SweepResult> run_sweep(const Projection& sp, const Projection& dp, c
     const Projection from = s > 1 ? rescaled(sp, {size.width / s, size.height / s}) : sp;
     for (int r = 0; r < setup.runs; ++r) {
       const auto t0 = std::chrono::steady_clock::now();
-      const Converter c(from, dp, rotation, o.interp, o.engine, setup.threads, false, o.antialias);
+      const Converter c(from, dp, rotation, o.interp, o.engine, setup.threads, Keep::Nothing, o.antialias);
       if (o.decode_scale > 0) c.run(read_image_region(jpeg->path(), 0, 0, INT64_MAX, INT64_MAX, 0, 0, s), out);
       else c.run(source, out);
       ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());

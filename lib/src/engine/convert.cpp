@@ -113,10 +113,11 @@ const Image& source_for(const Image& source, const ConvertOptions& options, Imag
 }
 
 void require_job_memory(const ConversionGeometry& geometry, int channels, PixelType type,
-                        const ConvertOptions& options, uint64_t more) {
+                        const ConvertOptions& options, uint64_t more, const std::string& more_what) {
   const Size out = geometry.target_frame();
   const int out_channels = channels + (options.add_alpha && channels < 4 && channels != 2 ? 1 : 0);
-  require_memory("output " + size_text(out) + " (" + std::to_string(out_channels) + " channels of " + name_of(type) + ")",
+  require_memory("output " + size_text(out) + " (" + std::to_string(out_channels) + " channels of " + name_of(type) + ")" +
+                     (more > 0 ? " with " + more_what : ""),
                  add_bytes(image_bytes(out, out_channels, bytes_of(type)), more), options.memory_limit);
 }
 
@@ -128,9 +129,9 @@ Image convert(const Image& source, const ProjectionSpec& from, const ProjectionS
   return converter_for(geometry, options).run(source_for(source, options, storage));
 }
 
-Converter converter_for(const ConversionGeometry& geometry, const ConvertOptions& options, bool cache_map) {
+Converter converter_for(const ConversionGeometry& geometry, const ConvertOptions& options, Keep keep) {
   return Converter(geometry.source, geometry.target, geometry.rotation, options.interp, options.engine,
-                   options.threads, cache_map, antialias_of(options), options.edges, geometry.stereo);
+                   options.threads, keep, antialias_of(options), options.edges, geometry.stereo);
 }
 
 }  // namespace panoproj

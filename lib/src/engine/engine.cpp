@@ -4,6 +4,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -53,7 +54,7 @@ int footprint_reach_beyond(Interp interp) { return std::max(0, kFootprintTaps / 
 // here), and the tiles.
 struct Converter::Impl {
   Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
-       int threads, bool cache_map, Antialias antialias, EdgeFill edges, Stereo stereo);
+       int threads, Keep keep, Antialias antialias, EdgeFill edges, Stereo stereo);
   Region source_footprint() const;
   using Reader = std::function<void(const RowsArrived&)>;
   using Finished = std::function<void(const Region&)>;
@@ -75,12 +76,20 @@ struct Converter::Impl {
   Interp interp_;
   Engine engine_;
   int threads_;
-  bool cache_map_;
+  bool cache_map_;                      // keep_ != Keep::Nothing
+  Keep keep_;
   std::vector<LensSource> lenses_;      // a dual-fisheye source's lenses alone (blended per tile), else empty
   mutable std::vector<TileMap> cache_;  // one per tile (empty for fused tiles), built on first use
+  mutable std::unique_ptr<PlannedTaps[]> planned_;  // one per tile (Keep::MapsAndTaps), with cache_
   mutable std::once_flag cache_once_;   // so that threads sharing a Converter build it once
+  mutable std::mutex layout_mutex_;
+  mutable std::optional<SimdSource> planned_layout_;  // the source layout planned_ holds taps for
+  mutable std::unique_ptr<std::atomic<int64_t>[]> rows_kept_;  // rows_read per tile (-1: not yet), with cache_
 
   void build_cache() const;
+  // planned_ where src's taps may be kept (keeps_taps) and src has the layout of the first
+  // such source run, else null.
+  PlannedTaps* planned_for(const Image& src) const;
   TileRect tile(int64_t t) const;  // tiles in row-major order
   int64_t tile_count() const;
   // True (and g filled) where the tile's geometry runs in registers fused with the sampling.
@@ -90,13 +99,14 @@ struct Converter::Impl {
   bool streams() const;
   // Tiles in the order their source rows come in: by the source row of their centre.
   std::vector<int64_t> tiles_by_source_row() const;
-  // The frame rows [0, k) a tile reads through strategy s (0 if it has no source).
-  int64_t rows_read(const TileStrategy& s, const TileRect& rect, TileScratch& wk) const;
+  // The frame rows [0, k) tile t reads through strategy s (0 if it has no source); kept per tile
+  // with the maps (it runs the tile's geometry).
+  int64_t rows_read(const TileStrategy& s, int64_t t, TileScratch& wk) const;
 };
 
 Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
-                     Engine engine, int threads, bool cache_map, Antialias antialias, EdgeFill edges, Stereo stereo)
-    : impl_(std::make_unique<Impl>(std::move(source), std::move(target), rotation, interp, engine, threads, cache_map,
+                     Engine engine, int threads, Keep keep, Antialias antialias, EdgeFill edges, Stereo stereo)
+    : impl_(std::make_unique<Impl>(std::move(source), std::move(target), rotation, interp, engine, threads, keep,
                                    antialias, edges, stereo)) {}
 Converter::~Converter() = default;
 Converter::Converter(Converter&&) noexcept = default;
@@ -119,9 +129,10 @@ void Converter::run_reading(const Image& src, Image& out, const std::function<vo
 }
 
 Converter::Impl::Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
-                      int threads, bool cache_map, Antialias antialias, EdgeFill edges, Stereo stereo)
+                      int threads, Keep keep, Antialias antialias, EdgeFill edges, Stereo stereo)
     : source_(std::move(source)), target_(std::move(target)), stereo_(stereo), antialias_(antialias), edges_(edges),
-      rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), cache_map_(cache_map) {
+      rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), cache_map_(keep != Keep::Nothing),
+      keep_(keep) {
   if (antialias_.mode != Antialias::Mode::Off && engine_ == Engine::Reference)
     throw Error("antialias " + name_of(antialias_) + " needs the simd or scalar engine (or --antialias off)");
   if (const auto* d = std::get_if<DualFisheye>(&source_)) {
@@ -132,7 +143,7 @@ Converter::Impl::Impl(Projection source, Projection target, const Eigen::Matrix3
     if (d->feather() > 0 && antialias_.mode == Antialias::Mode::Mip)
       throw Error("dual-fisheye: antialias mip does not blend the lenses (use --antialias auto or supersample, or feather=0)");
     lenses_ = lens_sources(*d, rotation_);
-    cache_map_ = false;
+    cache_map_ = false, keep_ = Keep::Nothing;
   }
   const int most = antialias_.mode == Antialias::Mode::Supersample ? antialias_.n
                   : antialias_.mode == Antialias::Mode::Auto      ? Antialias::kMaxAuto
@@ -169,6 +180,19 @@ void Converter::Impl::build_cache() const {
     if (!fused(rect, g)) map_tile(source_, target_, rotation_, rect, maps[static_cast<size_t>(t)], interp_ == Interp::Nearest);
   });
   cache_ = std::move(maps);
+  static_assert(PlannedTaps::kBytesPerPixel <= kCachedMapBytesPerPixel);  // a tile keeps its map or its taps
+  if (keep_ == Keep::MapsAndTaps && engine_ == Engine::Simd) planned_ = std::make_unique<PlannedTaps[]>(static_cast<size_t>(tile_count()));
+  rows_kept_ = std::make_unique<std::atomic<int64_t>[]>(static_cast<size_t>(tile_count()));
+  for (int64_t t = 0; t < tile_count(); ++t) rows_kept_[static_cast<size_t>(t)].store(-1, std::memory_order_relaxed);
+}
+
+PlannedTaps* Converter::Impl::planned_for(const Image& src) const {
+  if (!planned_) return nullptr;
+  const SimdSource s = simd_source(src, source_);
+  if (!keeps_taps(s)) return nullptr;
+  const std::lock_guard<std::mutex> lock(layout_mutex_);
+  if (!planned_layout_) planned_layout_ = s;
+  return same_layout(*planned_layout_, s) ? planned_.get() : nullptr;
 }
 
 const TileMap* Converter::Impl::cached(int64_t t) const {
@@ -259,16 +283,23 @@ std::vector<int64_t> Converter::Impl::tiles_by_source_row() const {
   return order;
 }
 
-int64_t Converter::Impl::rows_read(const TileStrategy& s, const TileRect& rect, TileScratch& wk) const {
+int64_t Converter::Impl::rows_read(const TileStrategy& s, int64_t t, TileScratch& wk) const {
+  // (Kept: every run has the same strategy, the Converter's antialiasing.)
+  std::atomic<int64_t>* kept = rows_kept_ ? &rows_kept_[static_cast<size_t>(t)] : nullptr;
+  if (kept && kept->load(std::memory_order_relaxed) >= 0) return kept->load(std::memory_order_relaxed);
   const int64_t all = size_of(source_).height;
   std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  if (!s.widen_to_samples(rect, wk, b)) return all;
-  if (b[1] > b[3]) return 0;
-  // The taps below the lowest sample (one row more for the 1/256 px map tolerance), and the
-  // footprint kernel's reach beyond them.
-  int64_t k = first_tap(interp_, b[3]) + support(interp_) + 1;
-  if (antialias_.mode == Antialias::Mode::Auto) k += footprint_reach_beyond(interp_);
-  return std::min(k, all);
+  int64_t k = all;  // where the strategy cannot tell
+  if (s.widen_to_samples(tile(t), wk, b) && b[1] > b[3]) k = 0;
+  else if (b[1] <= b[3]) {
+    // The taps below the lowest sample (one row more for the 1/256 px map tolerance), and the
+    // footprint kernel's reach beyond them.
+    k = first_tap(interp_, b[3]) + support(interp_) + 1;
+    if (antialias_.mode == Antialias::Mode::Auto) k += footprint_reach_beyond(interp_);
+    k = std::min(k, all);
+  }
+  if (kept) kept->store(k, std::memory_order_relaxed);
+  return k;
 }
 
 Image Converter::run(const Image& src, EngineStats* stats,
@@ -356,6 +387,7 @@ void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats
   const int64_t n_tiles = tile_count();
   if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });
   const TileSampling sampling(src, source_, lenses_, rotation_, interp_, engine_ == Engine::Simd);
+  PlannedTaps* const planned = planned_for(src);
   // Where x wraps, footprints measure steps across the seam the short way.
   const double wrap = sampling.taps().wraps_x() ? static_cast<double>(size_of(source_).width) : 0.0;
   const auto strategy = tile_strategy(antialias_, {sampling, source_, target_, sub_targets_, rotation_, wrap});
@@ -383,10 +415,10 @@ void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats
     const TileRect rect = tile(t);
     // (A tile waits for the rows its positions reach; they come in the order taken.)
     if (read && !feed.has(all_rows) &&
-        !feed.wait(stream ? std::min(all_rows, rows_read(*strategy, rect, workers[static_cast<size_t>(w)])) : all_rows))
+        !feed.wait(stream ? std::min(all_rows, rows_read(*strategy, t, workers[static_cast<size_t>(w)])) : all_rows))
       return;  // the read failed: its error ends the run
-    strategy->tile(rect, cached(t), out.pixel(rect.x0, rect.y0), static_cast<int64_t>(out.row_bytes()),
-                   workers[static_cast<size_t>(w)]);
+    strategy->tile(rect, {cached(t), planned ? &planned[t] : nullptr}, out.pixel(rect.x0, rect.y0),
+                   static_cast<int64_t>(out.row_bytes()), workers[static_cast<size_t>(w)]);
     if (finished && !edges_.active()) finished({rect.x0, rect.y0, rect.x0 + rect.w, rect.y0 + rect.h});
     const int64_t d = ++done;
     if (w == 0 && progress && d * 100 / n_tiles != last_percent) {

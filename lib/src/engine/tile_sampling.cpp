@@ -43,11 +43,10 @@ bool TileSampling::fused(const Projection& sp, const Eigen::Matrix3d& r, const P
   return simd_ && simd_geometry_for(sp, t, r, rect, g) && exact_for(interp_, g);
 }
 
-void TileSampling::resolve_misses(const Image& im, const SourceTaps& taps, const TileRect& r, unsigned char* out,
-                                  int64_t stride, TileScratch& wk, const FootprintField* fp) const {
+void TileSampling::resolve_misses(const Image& im, const SourceTaps& taps, const TileRect& r, const SimdMisses& m,
+                                  unsigned char* out, int64_t stride, TileScratch& wk, const FootprintField* fp) const {
   const uint8_t one = 1;
   const auto pb = static_cast<int64_t>(im.pixel_bytes());
-  const SimdMisses& m = wk.misses;
   for (size_t q = 0; q < m.index.size(); ++q) {
     const int64_t i = m.index[q] % r.w, j = m.index[q] / r.w;
     unsigned char* o = out + j * stride + i * pb;
@@ -80,12 +79,19 @@ void TileSampling::map(const Image& im, const SourceTaps& taps, const SimdSource
   }
   wk.misses.clear();
   simd_sample(ss, interp_, m, out, stride, wk.misses, fp);
-  resolve_misses(im, taps, m.rect, out, stride, wk, fp);
+  resolve_misses(im, taps, m.rect, wk.misses, out, stride, wk, fp);
 }
 
 void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
-                        const TileMap* tm, unsigned char* out, int64_t stride, TileScratch& wk,
+                        const KeptTile& kept, unsigned char* out, int64_t stride, TileScratch& wk,
                         const FootprintField* fp) const {
+  PlannedTaps* const planned = kept.taps;
+  if (planned && planned->ready()) {  // the geometry and planning of an earlier run
+    wk.stats.fused_tiles++, wk.stats.replayed_tiles++;
+    simd_replay(*planned, rect, simd_src_, interp_, fp, out, stride);
+    return resolve_misses(src_, taps_, rect, planned->misses, out, stride, wk, fp);
+  }
+  const TileMap* tm = kept.map;
   SimdGeometry g;
   const bool in_registers = !tm && fused(sp, r, t, rect, g);
   if (!tm && !in_registers) map_tile(sp, t, r, rect, wk.map, interp_ == Interp::Nearest), tm = &wk.map;
@@ -93,22 +99,31 @@ void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Pr
   wk.stats.fused_tiles += in_registers;
   if (!in_registers) return map(src_, taps_, simd_src_, *tm, out, stride, wk, fp);
   wk.misses.clear();
-  simd_convert(g, rect, simd_src_, interp_, out, stride, wk.misses, fp);
-  resolve_misses(src_, taps_, rect, out, stride, wk, fp);
+  PlannedTaps* const record = planned && planned->claim() ? planned : nullptr;
+  if (record) record->allocate(rect.w * rect.h, keeps_compact_taps(simd_src_, interp_, fp));
+  simd_convert(g, rect, simd_src_, interp_, out, stride, wk.misses, fp, record);
+  resolve_misses(src_, taps_, rect, wk.misses, out, stride, wk, fp);
+  if (!record) return;
+  if (static_cast<double>(wk.misses.index.size()) > PlannedTaps::kMostMisses * static_cast<double>(rect.w * rect.h)) {
+    record->release();
+    return record->decline();
+  }
+  record->misses = wk.misses;
+  record->publish();
 }
 
-void TileSampling::rect(const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out,
+void TileSampling::rect(const Projection& t, const TileRect& rect, const KeptTile& kept, unsigned char* out,
                         int64_t stride, TileScratch& wk, const FootprintField* fp) const {
-  if (lenses_.empty()) return from(source_, rotation_, t, rect, tm, out, stride, wk, fp);
+  if (lenses_.empty()) return from(source_, rotation_, t, rect, kept, out, stride, wk, fp);
   const int side = dual_weights(std::get<DualFisheye>(source_), t, rotation_, rect, wk.weights);
   if (side >= 0) {
     const LensSource& l = lenses_[static_cast<size_t>(side)];
-    return from(l.lens, l.rotation, t, rect, nullptr, out, stride, wk, fp);
+    return from(l.lens, l.rotation, t, rect, {}, out, stride, wk, fp);
   }
   const auto pb = static_cast<int64_t>(src_.pixel_bytes());
   wk.other.resize(static_cast<size_t>(rect.w * rect.h * pb));
-  from(lenses_[0].lens, lenses_[0].rotation, t, rect, nullptr, out, stride, wk, fp);
-  from(lenses_[1].lens, lenses_[1].rotation, t, rect, nullptr, wk.other.data(), rect.w * pb, wk, fp);
+  from(lenses_[0].lens, lenses_[0].rotation, t, rect, {}, out, stride, wk, fp);
+  from(lenses_[1].lens, lenses_[1].rotation, t, rect, {}, wk.other.data(), rect.w * pb, wk, fp);
   blend_lenses(wk.weights.data(), rect, src_.type(), src_.channels(), src_.alpha_channel(), out, stride,
                wk.other.data(), rect.w * pb);
 }

@@ -16,9 +16,17 @@
 #include "geometry/tile_map.hpp"
 #include "sampling/footprint_kernel.hpp"
 #include "sampling/mip_sampler.hpp"
+#include "sampling/planned_taps.hpp"
 #include "sampling/simd_sampler.hpp"
 
 namespace panoproj {
+
+// What a Converter keeps of one tile for its later runs (Keep, convert.hpp): its map (a tile not
+// fused), or the taps it plans (a fused one, where they fit the source: planned_taps.hpp).
+struct KeptTile {
+  const TileMap* map = nullptr;
+  PlannedTaps* taps = nullptr;
+};
 
 // One worker thread's buffers and counts.
 struct TileScratch {
@@ -68,9 +76,9 @@ class TileSampling {
   TileSampling(const Image& src, const Projection& source, const std::vector<LensSource>& lenses,
                const Eigen::Matrix3d& rotation, Interp interp, bool simd);
 
-  // rect of target t into out (rows of stride bytes); tm: its kept map, or null. fp: the
-  // footprint kernel and its widths over the rect, else the interpolator.
-  void rect(const Projection& t, const TileRect& rect, const TileMap* tm, unsigned char* out, int64_t stride,
+  // rect of target t into out (rows of stride bytes); kept: what is kept of it. fp: the
+  // footprint kernel and its widths over the rect, else the interpolator (kept taps are of that).
+  void rect(const Projection& t, const TileRect& rect, const KeptTile& kept, unsigned char* out, int64_t stride,
             TileScratch& wk, const FootprintField* fp = nullptr) const;
   // Positions m of image im (its taps, SIMD view ss: the source or one of its mip levels).
   void map(const Image& im, const SourceTaps& taps, const SimdSource& ss, const TileMap& m, unsigned char* out,
@@ -92,12 +100,12 @@ class TileSampling {
  private:
   // From source projection sp through rotation r (the source, or one lens).
   void from(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
-            const TileMap* tm, unsigned char* out, int64_t stride, TileScratch& wk, const FootprintField* fp) const;
+            const KeptTile& kept, unsigned char* out, int64_t stride, TileScratch& wk, const FootprintField* fp) const;
   bool fused(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
              SimdGeometry& g) const;
-  // The samples the SIMD kernels left in wk.misses (rect's pixel indices), by the tap rules.
-  void resolve_misses(const Image& im, const SourceTaps& taps, const TileRect& rect, unsigned char* out, int64_t stride,
-                      TileScratch& wk, const FootprintField* fp) const;
+  // The samples the SIMD kernels left in m (rect's pixel indices), by the tap rules.
+  void resolve_misses(const Image& im, const SourceTaps& taps, const TileRect& rect, const SimdMisses& m,
+                      unsigned char* out, int64_t stride, TileScratch& wk, const FootprintField* fp) const;
 
   const Image& src_;
   const Projection& source_;

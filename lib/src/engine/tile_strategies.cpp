@@ -24,7 +24,7 @@ void subpixels(const TileJob& job, int n, const TileRect& rect, unsigned char* c
     for (int64_t x = 0; x < sub.w; x += kTile) {
       const TileRect part{sub.x0 + x, sub.y0 + y, std::min(kTile, sub.w - x), std::min(kTile, sub.h - y)};
       const FootprintField part_fp = fp ? fp->for_rect(rect, part, n) : FootprintField{};
-      job.sampling.rect(sub_target, part, nullptr, wk.sub.data() + y * sub_stride + x * pb, sub_stride, wk,
+      job.sampling.rect(sub_target, part, {}, wk.sub.data() + y * sub_stride + x * pb, sub_stride, wk,
                         fp ? &part_fp : nullptr);
     }
   average_subpixels(src, wk.sub.data(), sub_stride, rect, n, corner, stride);
@@ -39,7 +39,7 @@ void widen_to_subpixels(const TileJob& job, int n, const TileRect& rect, TileScr
 class Plain final : public TileStrategy {
  public:
   explicit Plain(const TileJob& job) : job_(job) {}
-  void tile(const TileRect& rect, const TileMap* kept, unsigned char* corner, int64_t stride,
+  void tile(const TileRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
     job_.sampling.rect(job_.target, rect, kept, corner, stride, wk);
   }
@@ -55,7 +55,7 @@ class Plain final : public TileStrategy {
 class Supersample final : public TileStrategy {
  public:
   Supersample(const TileJob& job, int n) : job_(job), n_(n) {}
-  void tile(const TileRect& rect, const TileMap*, unsigned char* corner, int64_t stride, TileScratch& wk) const override {
+  void tile(const TileRect& rect, const KeptTile&, unsigned char* corner, int64_t stride, TileScratch& wk) const override {
     subpixels(job_, n_, rect, corner, stride, wk, nullptr);
   }
   bool widen_to_samples(const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const override {
@@ -74,7 +74,7 @@ class Supersample final : public TileStrategy {
 class Footprint final : public TileStrategy {
  public:
   explicit Footprint(const TileJob& job) : job_(job) {}
-  void tile(const TileRect& rect, const TileMap* kept, unsigned char* corner, int64_t stride,
+  void tile(const TileRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
     const int n = sub_pixels(rect, wk);
     if (n == 0) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk);
@@ -108,9 +108,9 @@ class Footprint final : public TileStrategy {
 class Mip final : public TileStrategy {
  public:
   explicit Mip(const TileJob& job) : job_(job), pyramid_(job.sampling.image(), job.source) {}
-  void tile(const TileRect& rect, const TileMap* kept, unsigned char* corner, int64_t stride,
+  void tile(const TileRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
-    const TileMap* tm = kept;
+    const TileMap* tm = kept.map;
     SimdGeometry g;
     if (!tm) {
       if (job_.sampling.fused(job_.target, rect, g))

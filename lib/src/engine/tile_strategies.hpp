@@ -27,8 +27,8 @@ struct TileJob {
 class TileStrategy {
  public:
   virtual ~TileStrategy() = default;
-  // Writes tile rect of the target at corner (rows of stride bytes); kept: its kept map, or null.
-  virtual void tile(const TileRect& rect, const TileMap* kept, unsigned char* corner, int64_t stride,
+  // Writes tile rect of the target at corner (rows of stride bytes); kept: what is kept of it.
+  virtual void tile(const TileRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
                     TileScratch& wk) const = 0;
   // Widens box {x0, y0, x1, y1} to the source positions tile() samples there (pixel centres or
   // sub-pixels; the kernels' taps reach around them); false where it cannot tell (mip).

@@ -220,15 +220,17 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const Size out_size = geometry.target_frame();
   for (const auto& o : all_outputs) check_writable_size(o, out_faces ? Size{out_size.height, out_size.height} : out_size);
   // The map is kept (built once for the footprint, the first image and the rest of a batch)
-  // while it fits kMapCacheBudget; beyond, memory stays source + output + tile buffers and the
-  // map is made twice (footprint, then conversion) and again per frame.
+  // while it fits kMapCacheBudget, and a batch keeps the taps the first frame plans too;
+  // beyond, memory stays source + output + tile buffers and the map is made twice (footprint,
+  // then conversion) and again per frame.
   const uint64_t map_bytes = image_bytes(out_size, 1, kCachedMapBytesPerPixel);
   const bool cache = map_bytes <= static_cast<uint64_t>(kMapCacheBudget);
   const PixelType out_type = job.write.type.value_or(type);
   const uint64_t written = out_type == type ? 0 : image_bytes(out_size, channels + 1, bytes_of(out_type));
   require_job_memory(geometry, channels, type, options, add_bytes(cache ? map_bytes : 0, written));
   const auto t_map = std::chrono::steady_clock::now();
-  const Converter converter = converter_for(geometry, options, cache);
+  const Converter converter =
+      converter_for(geometry, options, !cache ? Keep::Nothing : job.inputs.size() > 1 ? Keep::MapsAndTaps : Keep::Maps);
   const Converter::Region need = converter.source_footprint();
   // The output and maps, counted with the source's needed part when it is read (from its header,
   // before any pixel is decoded; a forged header is refused by the file's size first).

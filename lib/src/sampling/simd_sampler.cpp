@@ -19,6 +19,7 @@
 
 #include "panoproj/error.hpp"
 #include "simd/tile_rows-inl.h"
+#include "sampling/planned_taps.hpp"
 #include "sampling/simd_sampler.hpp"
 
 HWY_BEFORE_NAMESPACE();
@@ -378,19 +379,20 @@ class TapPairs {
   using DU = hn::RebindToUnsigned<hn::ScalableTag<float>>;
   using VU = hn::Vec<DU>;
 
-  TapPairs(const SimdSource& s, const TapBlock& blk)
-      : pb_(s.channels), base_(reinterpret_cast<const uint64_t*>(blk.base)), blk_(blk) {
+  // off: a vector's first-tap byte offsets from base (-1: not sampled here), m of them in use.
+  TapPairs(const SimdSource& s, const unsigned char* base, const int32_t* off, int64_t m)
+      : pb_(s.channels), base_(reinterpret_cast<const uint64_t*>(base)), off_(off), m_(m) {
 #if HWY_TARGET <= HWY_AVX2
     // Lanes not sampled read the base. (Clamped once here, read per lane from memory by Fetch:
     // the compiler moved each offset through vector registers and back, ~6 instructions a read.)
     const hn::RebindToSigned<DU> di;
-    hn::Store(hn::Max(hn::Load(di, blk.off), hn::Zero(di)), di, at_);
+    hn::Store(hn::Max(hn::LoadU(di, off), hn::Zero(di)), di, at_);
 #else
     const hn::RebindToSigned<DU> di;
     const hn::Half<decltype(di)> dih;
-    const auto off = hn::Max(hn::Load(di, blk.off), hn::Zero(di));
-    lo_ = hn::PromoteTo(DI64(), hn::LowerHalf(dih, off));
-    hi_ = hn::PromoteTo(DI64(), hn::UpperHalf(dih, off));
+    const auto off_v = hn::Max(hn::LoadU(di, off), hn::Zero(di));
+    lo_ = hn::PromoteTo(DI64(), hn::LowerHalf(dih, off_v));
+    hi_ = hn::PromoteTo(DI64(), hn::UpperHalf(dih, off_v));
 #endif
   }
 
@@ -412,12 +414,12 @@ class TapPairs {
     first = f[0], second = s[0];
   }
 
-  // Stores the block's pixels from one packed word per lane; lanes not sampled here are 0.
-  void Store(VU word, unsigned char* out) const {
+  // Stores the m pixels from one packed word per lane at o; lanes not sampled here are 0.
+  void Store(VU word, unsigned char* o) const {
     const DU du;
     const hn::RebindToSigned<DU> di;
-    word = hn::IfThenElseZero(hn::RebindMask(du, hn::Gt(hn::Load(di, blk_.off), hn::Set(di, -1))), word);
-    StorePixels(du, word, blk_.m, pb_, out + blk_.index * pb_);
+    word = hn::IfThenElseZero(hn::RebindMask(du, hn::Gt(hn::LoadU(di, off_), hn::Set(di, -1))), word);
+    StorePixels(du, word, m_, pb_, o);
   }
 
  private:
@@ -477,7 +479,8 @@ class TapPairs {
 
   int pb_;
   const uint64_t* base_;
-  const TapBlock& blk_;
+  const int32_t* off_;
+  int64_t m_;
 #if HWY_TARGET <= HWY_AVX2
   HWY_ALIGN int32_t at_[kMaxLanes];  // first-tap offsets, 0 for lanes not sampled
 #else
@@ -485,27 +488,36 @@ class TapPairs {
 #endif
 };
 
+// The bilinear uint8 weights of a block's lanes, w = round(t 65535) along x in the low 16 bits
+// and along y in the high ones (lanes not sampled: any value). Phase 2's input, and what a kept
+// plan stores (planned_taps.hpp).
+HWY_INLINE TapPairs::VU PackedWeightsU8(const TapBlock& blk) {
+  using DF = hn::ScalableTag<float>;
+  const DF df;
+  const TapPairs::DU du;
+  auto weight = [&](const float* t) {
+    return hn::BitCast(du, hn::NearestInt(hn::Mul(hn::Load(df, t), hn::Set(df, 65535.0f))));
+  };
+  return hn::Or(hn::And(weight(blk.tx), hn::Set(du, 0xFFFFu)), hn::ShiftLeft<16>(weight(blk.ty)));
+}
+
 // Phase 2 for bilinear uint8 without alpha (the common photo case), all channels at once in
 // 16-bit fixed point: one 8-byte read per pixel and row (TapPairs) fetches both taps (8 bytes from the
 // first; the second starts pb bytes in). Channels 0, 2 and 1, 3 of each RGBx word sit in the
-// two 16-bit halves of a lane, scaled by 256; weights w = round(t 65535) and 65535 - w (1/65536
+// two 16-bit halves of a lane, scaled by 256; weights w (PackedWeightsU8) and 65535 - w (1/65536
 // px steps); each product keeps its high 16 bits. The truncations lower the result by < 0.02 LSB
-// before the final rounding, so it stays within 1 LSB of the exact blend.
-HWY_INLINE void BilinearU8(const SimdSource& s, const TapBlock& blk, unsigned char* o) {
-  using DF = hn::ScalableTag<float>;
+// before the final rounding, so it stays within 1 LSB of the exact blend. Writes the taps' pixels at o.
+HWY_INLINE void BilinearU8(const SimdSource& s, const TapPairs& taps, TapPairs::VU packed, unsigned char* o) {
   using DU = TapPairs::DU;
   using VU = TapPairs::VU;
   using D16 = hn::Repartition<uint16_t, DU>;
   using V16 = hn::Vec<D16>;
-  const DF df;
   const DU du;
   const D16 d16;
-  const TapPairs taps(s, blk);
-  auto weight = [&](const float* t) {
-    const VU w = hn::BitCast(du, hn::NearestInt(hn::Mul(hn::Load(df, t), hn::Set(df, 65535.0f))));
-    return hn::BitCast(d16, hn::Or(w, hn::ShiftLeft<16>(w)));
-  };
-  const V16 wx1 = weight(blk.tx), wy1 = weight(blk.ty);
+  const VU low = hn::Set(du, 0xFFFFu), high = hn::Set(du, 0xFFFF0000u);
+  // Each weight in both 16-bit halves of its lane.
+  const V16 wx1 = hn::BitCast(d16, hn::Or(hn::And(packed, low), hn::ShiftLeft<16>(packed)));
+  const V16 wy1 = hn::BitCast(d16, hn::Or(hn::ShiftRight<16>(packed), hn::And(packed, high)));
   const V16 wx0 = hn::Not(wx1), wy0 = hn::Not(wy1);  // 65535 - w in each half
   const VU high_bytes = hn::Set(du, 0xFF00FF00u);
   V16 even[2], odd[2];  // horizontal blends of rows 0 and 1: channels 0, 2 and 1, 3, x 256
@@ -542,7 +554,7 @@ HWY_INLINE void SeparableU8(const SimdSource& s, const TapBlock& blk, unsigned c
   const DU du;
   const D16 d16;
   const int pb = s.channels;
-  const TapPairs taps(s, blk);
+  const TapPairs taps(s, blk.base, blk.off, blk.m);
   auto q15 = [&](hn::Vec<DF> w) {  // both 16-bit halves of each lane
     const auto q = hn::BitCast(du, hn::NearestInt(hn::Min(hn::Mul(w, hn::Set(df, 32768.0f)), hn::Set(df, 32767.0f))));
     return hn::BitCast(d16, hn::Or(hn::And(q, hn::Set(du, 0xFFFFu)), hn::ShiftLeft<16>(q)));
@@ -573,7 +585,7 @@ HWY_INLINE void SeparableU8(const SimdSource& s, const TapBlock& blk, unsigned c
   const V16 lo = hn::Zero(d16), top = hn::Set(d16, int16_t{255 * 64}), half = hn::Set(d16, int16_t{32});
   ve = hn::ShiftRight<6>(hn::Add(hn::Min(hn::Max(ve, lo), top), half));
   vo = hn::ShiftRight<6>(hn::Add(hn::Min(hn::Max(vo, lo), top), half));
-  taps.Store(hn::Or(hn::BitCast(du, ve), hn::ShiftLeft<8>(hn::BitCast(du, vo))), o);
+  taps.Store(hn::Or(hn::BitCast(du, ve), hn::ShiftLeft<8>(hn::BitCast(du, vo))), o + blk.index * pb);
 }
 #endif
 
@@ -597,7 +609,7 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
   }
 #if HWY_TARGET != HWY_SCALAR
   if constexpr (PT == PixelType::U8 && K == 2) {
-    if (alpha < 0) return BilinearU8(s, blk, out);
+    if (alpha < 0) return BilinearU8(s, TapPairs(s, blk.base, blk.off, blk.m), PackedWeightsU8(blk), out + blk.index * pb);
   } else if constexpr (PT == PixelType::U8 && K > 2) {
     if (alpha < 0 && !s.dering) return SeparableU8<K>(s, blk, out);
   }
@@ -834,8 +846,88 @@ void SampleMap(const SimdSource& source, Interp interp, const TileMap& tm, unsig
   });
 }
 
+// Copies n planned blocks' taps and weights (compact) or fractions into record (PlannedTaps' layout).
+HWY_NOINLINE void RecordBlocks(const TapBlock* blocks, int n, PlannedTaps& record) {
+  for (int q = 0; q < n; ++q) {
+    const TapBlock& b = blocks[q];
+    const auto at = static_cast<size_t>(b.index), bytes = static_cast<size_t>(b.m) * 4;
+    std::memcpy(record.off.data() + at, b.off, bytes);
+#if HWY_TARGET != HWY_SCALAR
+    if (record.compact) {
+      HWY_ALIGN uint32_t w[kMaxLanes];
+      hn::Store(PackedWeightsU8(b), TapPairs::DU(), w);
+      std::memcpy(record.weights.data() + at, w, bytes);
+      continue;
+    }
+#endif
+    std::memcpy(record.tx.data() + at, b.tx, bytes);
+    std::memcpy(record.ty.data() + at, b.ty, bytes);
+  }
+}
+
+// The pixels of rect from kept fractions: chunks of blocks filled from the record (the
+// footprint kernel's widths from its field, as phase 1), their taps prefetched, then phase 2.
+template <PixelType PT, class T, int K>
+struct ReplayF {
+  static void run(const PlannedTaps& p, const TileRect& rect, const SimdSource& s, unsigned char* out,
+                  int64_t out_stride) {
+    const auto N = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>()));
+    const int64_t pb = s.channels * static_cast<int64_t>(sizeof(T));
+    TapBlock blocks[kChunkBlocks];
+    int n = 0;
+    for (int64_t j = 0; j < rect.h; ++j)
+      for (int64_t i = 0; i < rect.w; i += N) {
+        const int64_t at = j * rect.w + i, m = std::min(N, rect.w - i);
+        TapBlock& b = blocks[n++];
+        b.base = s.base, b.index = at, b.m = m;
+        std::memcpy(b.off, p.off.data() + at, static_cast<size_t>(N) * 4);  // (lanes past m: unused)
+        std::memcpy(b.tx, p.tx.data() + at, static_cast<size_t>(N) * 4);
+        std::memcpy(b.ty, p.ty.data() + at, static_cast<size_t>(N) * 4);
+        if (s.footprint) FieldLanes(*s.footprint, i, j, b);
+        b.any = false;
+        int32_t first = -1, last = -1;
+        for (int64_t l = 0; l < m; ++l)
+          if (b.off[l] >= 0) b.any = true, last = b.off[l], first = first < 0 ? last : first;
+        for (int r = 0; b.any && r < K; ++r) {
+          hwy::Prefetch(s.base + first + r * s.stride);
+          hwy::Prefetch(s.base + last + r * s.stride + (K - 1) * pb);
+        }
+        if (n == kChunkBlocks || (j == rect.h - 1 && i + N >= rect.w)) {
+          GatherBlocks<PT, T, K>(s, blocks, n, rect.w, out, out_stride);
+          n = 0;
+        }
+      }
+  }
+};
+
+#if HWY_TARGET != HWY_SCALAR
+// The pixels of rect from kept compact taps: phase 2 alone, each vector's taps prefetched a few
+// rows ahead (the planning's prefetches did that before).
+HWY_NOINLINE void ReplayCompact(const PlannedTaps& p, const TileRect& rect, const SimdSource& s, unsigned char* out,
+                         int64_t out_stride) {
+  const TapPairs::DU du;
+  const auto N = static_cast<int64_t>(hn::Lanes(du));
+  const int64_t pb = s.channels, total = rect.w * rect.h;
+  constexpr int64_t kAhead = 4 * kTile;  // pixels
+  static_assert(kMaxLanes <= PlannedTaps::kPad);
+  const int32_t* off = p.off.data();
+  for (int64_t j = 0; j < rect.h; ++j) {
+    unsigned char* row = out + j * out_stride;
+    for (int64_t i = 0; i < rect.w; i += N) {
+      const int64_t at = j * rect.w + i, m = std::min(N, rect.w - i);
+      if (at + kAhead + N <= total) {
+        const int32_t first = off[at + kAhead], last = off[at + kAhead + N - 1];
+        if (first >= 0) hwy::Prefetch(s.base + first), hwy::Prefetch(s.base + first + s.stride);
+        if (last >= 0) hwy::Prefetch(s.base + last + pb), hwy::Prefetch(s.base + last + pb + s.stride);
+      }
+      BilinearU8(s, TapPairs(s, s.base, off + at, m), hn::LoadU(du, p.weights.data() + at), row + i * pb);
+    }
+  }
+}
+#endif
+
 void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& source, Interp interp, unsigned char* out,
-             int64_t out_stride, SimdMisses& misses, const FootprintField* footprint) {
+             int64_t out_stride, SimdMisses& misses, const FootprintField* footprint, PlannedTaps* record) {
   SimdSource s = source;
   s.dering = derings(interp) && !footprint, s.footprint = footprint;
   const Interp k = KernelFor(interp, footprint);
@@ -843,8 +935,28 @@ void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& sour
   const TileRows rows(g, rect, grid_suits(s.type));
   // A coarse float vector becomes NF / ND double blocks.
   Chunked(s, k, rect, (rect.w + NF - 1) / NF * ((NF + ND - 1) / ND), out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
-    return PlanFusedRows(s, support(k), rows, rect, j0, j1, blk, misses);
+    const int n = PlanFusedRows(s, support(k), rows, rect, j0, j1, blk, misses);
+    if (record) RecordBlocks(blk, n, *record);
+    return n;
   });
+}
+
+bool KeepsTaps(const SimdSource& s) { return Bounds<DD>(s).whole; }
+
+bool KeepsCompactTaps(const SimdSource& s, Interp interp, const FootprintField* footprint) {
+  // (The scalar target has no fixed-point bilinear kernel.)
+  return HWY_TARGET != HWY_SCALAR && s.type == PixelType::U8 && s.alpha < 0 && interp == Interp::Bilinear && !footprint;
+}
+
+void ReplayTaps(const PlannedTaps& p, const TileRect& rect, const SimdSource& source, Interp interp,
+                const FootprintField* footprint, unsigned char* out, int64_t out_stride) {
+  SimdSource s = source;
+  s.dering = derings(interp) && !footprint, s.footprint = footprint;
+#if HWY_TARGET != HWY_SCALAR
+  if (p.compact) return ReplayCompact(p, rect, s, out, out_stride);
+#endif
+  if (p.compact) throw InternalError("compact planned taps replayed on the scalar target");
+  Dispatch<ReplayF>(s.type, KernelFor(interp, footprint), p, rect, static_cast<const SimdSource&>(s), out, out_stride);
 }
 
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
@@ -858,6 +970,9 @@ namespace panoproj {
 HWY_EXPORT(SampleMap);
 HWY_EXPORT(Convert);
 HWY_EXPORT(TargetName);
+HWY_EXPORT(KeepsTaps);
+HWY_EXPORT(KeepsCompactTaps);
+HWY_EXPORT(ReplayTaps);
 
 void simd_sample(const SimdSource& src, Interp interp, const TileMap& tm, unsigned char* out, int64_t out_stride,
                  SimdMisses& misses, const FootprintField* footprint) {
@@ -865,8 +980,20 @@ void simd_sample(const SimdSource& src, Interp interp, const TileMap& tm, unsign
 }
 
 void simd_convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& src, Interp interp,
-                  unsigned char* out, int64_t out_stride, SimdMisses& misses, const FootprintField* footprint) {
-  HWY_DYNAMIC_DISPATCH(Convert)(g, rect, src, interp, out, out_stride, misses, footprint);
+                  unsigned char* out, int64_t out_stride, SimdMisses& misses, const FootprintField* footprint,
+                  PlannedTaps* record) {
+  HWY_DYNAMIC_DISPATCH(Convert)(g, rect, src, interp, out, out_stride, misses, footprint, record);
+}
+
+bool keeps_taps(const SimdSource& src) { return HWY_DYNAMIC_DISPATCH(KeepsTaps)(src); }
+
+bool keeps_compact_taps(const SimdSource& src, Interp interp, const FootprintField* footprint) {
+  return HWY_DYNAMIC_DISPATCH(KeepsCompactTaps)(src, interp, footprint);
+}
+
+void simd_replay(const PlannedTaps& taps, const TileRect& rect, const SimdSource& src, Interp interp,
+                 const FootprintField* footprint, unsigned char* out, int64_t out_stride) {
+  HWY_DYNAMIC_DISPATCH(ReplayTaps)(taps, rect, src, interp, footprint, out, out_stride);
 }
 
 const char* simd_target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }
