@@ -6,7 +6,8 @@
 // A sample whose taps all lie inside its cell (one cube face, else the frame) and inside the
 // window of the source held in memory is computed here; any other valid sample (a seam, a pole,
 // a face edge, a window edge) is listed in SimdMisses for the reference sampler's tap rules.
-// Two entry points: positions from a map, or fused with the vector geometry (no map at all).
+// Three entry points: positions from a map; fused with the vector geometry (no map at all); or
+// the taps a fused run kept (planned_taps.hpp), phase 2 alone.
 #include <cstdint>
 #include <vector>
 
