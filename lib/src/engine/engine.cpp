@@ -76,7 +76,6 @@ struct Converter::Impl {
   Interp interp_;
   Engine engine_;
   int threads_;
-  bool cache_map_;                      // keep_ != Keep::Nothing
   Keep keep_;
   std::vector<LensSource> lenses_;      // a dual-fisheye source's lenses alone (blended per tile), else empty
   mutable std::vector<TileMap> cache_;  // one per tile (empty for fused tiles), built on first use
@@ -131,19 +130,18 @@ void Converter::run_reading(const Image& src, Image& out, const std::function<vo
 Converter::Impl::Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
                       int threads, Keep keep, Antialias antialias, EdgeFill edges, Stereo stereo)
     : source_(std::move(source)), target_(std::move(target)), stereo_(stereo), antialias_(antialias), edges_(edges),
-      rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), cache_map_(keep != Keep::Nothing),
-      keep_(keep) {
+      rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), keep_(keep) {
   if (antialias_.mode != Antialias::Mode::Off && engine_ == Engine::Reference)
     throw Error("antialias " + name_of(antialias_) + " needs the simd or scalar engine (or --antialias off)");
   if (const auto* d = std::get_if<DualFisheye>(&source_)) {
-    // Each lens alone, blended (or cut) per tile; their maps are not kept (cache_map keeps those
+    // Each lens alone, blended (or cut) per tile; their maps are not kept (Keep keeps those
     // of source_, which the lenses do not use).
     if (d->feather() > 0 && engine_ == Engine::Reference)
       throw Error("dual-fisheye: the feathered blend needs the simd or scalar engine (or feather=0)");
     if (d->feather() > 0 && antialias_.mode == Antialias::Mode::Mip)
       throw Error("dual-fisheye: antialias mip does not blend the lenses (use --antialias auto or supersample, or feather=0)");
     lenses_ = lens_sources(*d, rotation_);
-    cache_map_ = false, keep_ = Keep::Nothing;
+    keep_ = Keep::Nothing;
   }
   const int most = antialias_.mode == Antialias::Mode::Supersample ? antialias_.n
                   : antialias_.mode == Antialias::Mode::Auto      ? Antialias::kMaxAuto
@@ -196,7 +194,7 @@ PlannedTaps* Converter::Impl::planned_for(const Image& src) const {
 }
 
 const TileMap* Converter::Impl::cached(int64_t t) const {
-  if (!cache_map_) return nullptr;
+  if (keep_ == Keep::Nothing) return nullptr;
   const TileMap& tm = cache_[static_cast<size_t>(t)];
   return tm.rect.w > 0 ? &tm : nullptr;
 }
@@ -214,7 +212,7 @@ Converter::Region Converter::Impl::source_footprint() const {
     return all;
   // Bounding box of the valid positions: over the kept maps, the fused tiles' vector geometry
   // (reduced in registers, nothing stored), or maps made one tile at a time.
-  if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });
+  if (keep_ != Keep::Nothing) std::call_once(cache_once_, [this] { build_cache(); });
   const int64_t n_tiles = tile_count();
   const int n_workers = workers_for(n_tiles, threads_);
   std::vector<std::array<double, 4>> box(static_cast<size_t>(n_workers), {HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL});
@@ -290,12 +288,11 @@ int64_t Converter::Impl::rows_read(const TileStrategy& s, int64_t t, TileScratch
   const int64_t all = size_of(source_).height;
   std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   int64_t k = all;  // where the strategy cannot tell
-  if (s.widen_to_samples(tile(t), wk, b) && b[1] > b[3]) k = 0;
-  else if (b[1] <= b[3]) {
-    // The taps below the lowest sample (one row more for the 1/256 px map tolerance), and the
-    // footprint kernel's reach beyond them.
-    k = first_tap(interp_, b[3]) + support(interp_) + 1;
-    if (antialias_.mode == Antialias::Mode::Auto) k += footprint_reach_beyond(interp_);
+  if (s.widen_to_samples(tile(t), wk, b)) {
+    // None (no sample), else the taps below the lowest sample (one row more for the 1/256 px map
+    // tolerance) and the footprint kernel's reach beyond them.
+    k = b[1] > b[3] ? 0 : first_tap(interp_, b[3]) + support(interp_) + 1;
+    if (k > 0 && antialias_.mode == Antialias::Mode::Auto) k += footprint_reach_beyond(interp_);
     k = std::min(k, all);
   }
   if (kept) kept->store(k, std::memory_order_relaxed);
@@ -385,7 +382,7 @@ void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats
       out.alpha_channel() != src.alpha_channel())
     out = Image(size_of(target_), src.channels(), src.type(), src.alpha_channel(), Image::Unfilled{});
   const int64_t n_tiles = tile_count();
-  if (cache_map_) std::call_once(cache_once_, [this] { build_cache(); });
+  if (keep_ != Keep::Nothing) std::call_once(cache_once_, [this] { build_cache(); });
   const TileSampling sampling(src, source_, lenses_, rotation_, interp_, engine_ == Engine::Simd);
   PlannedTaps* const planned = planned_for(src);
   // Where x wraps, footprints measure steps across the seam the short way.
