@@ -12,6 +12,9 @@ if [[ ! -f "$build/build.ninja" || "$(cat "$stamp" 2>/dev/null)" != "$*" ]]; the
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
   echo "$*" >"$stamp"
 fi
+# ccache (when installed) keys on paths relative to the tree: another clone or the wheel's
+# build (scripts/wheel.sh) reuses what this one compiled.
+export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$root}
 # Two cores here; Ninja's default (cores + 2) is right.
 ninja -C "$build" | grep -v '^ninja: no work to do' || true
 test -x "$build/tools/panoproj"

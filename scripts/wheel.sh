@@ -18,8 +18,14 @@ trap 'rm -rf "$work"' EXIT
 "$py" -m build -q --sdist --no-isolation -o "$work/sdist" "$root" >/dev/null
 sdist=$(echo "$work"/sdist/panoproj-*.tar.gz)
 mkdir -p "$out" && cp "$sdist" "$out/"
-"$py" -m pip wheel -q --no-deps --no-build-isolation -w "$work/raw" \
-  -C cmake.define.PANOPROJ_PORTABLE=ON -C build-dir="$work/build" "$sdist"
+# Built from the unpacked archive, in its build/ as scripts/build.sh builds in the tree's: with
+# ccache's base_dir at each tree's root the library's compile commands are the same, so a wheel
+# built after the test build (CI) compiles only what differs (the link options, Python's paths).
+tar -xzf "$sdist" -C "$work"
+src=$(echo "$work"/panoproj-*/)
+src=${src%/}
+CCACHE_BASEDIR="$src" "$py" -m pip wheel -q --no-deps --no-build-isolation -w "$work/raw" \
+  -C cmake.define.PANOPROJ_PORTABLE=ON -C build-dir="$src/build" "$src"
 # The plugin's OpenImageIO (about 260 libraries with its own dependencies) is the system's or
 # none: excluded, it is looked for at run time.
 "$py" -m auditwheel repair -w "$out" --plat manylinux_2_34_x86_64 \
