@@ -63,7 +63,7 @@ enum class Keep {
   Nothing,
   // The tile maps of the tiles that are not fused, built on first use: batches and video frames
   // pay for that geometry once. Fused tiles recompute theirs: in registers it costs less than
-  // reading a stored map.
+  // reading a stored map. With auto antialiasing, also each tile's footprint measure.
   Maps,
   // Also the taps each fused tile plans on the run that first samples it (8 bytes a pixel for
   // uint8 bilinear without alpha, else 12; not tiles on sub-pixels or mip levels): later runs on

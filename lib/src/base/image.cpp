@@ -1,11 +1,7 @@
 #include "panoproj/image.hpp"
 
-#include <sys/mman.h>
-
 #include <algorithm>
-#include <cstdlib>
 #include <cstring>
-#include <new>
 
 #include "panoproj/error.hpp"
 #include "base/sample_io.hpp"
@@ -29,25 +25,6 @@ double unit_of(PixelType t) {
     default: return 1.0;
   }
 }
-
-namespace {
-constexpr size_t kHugePage = size_t{2} << 20;
-constexpr size_t kHugeFrom = size_t{2} << 20;
-}  // namespace
-
-void* allocate_pixels(size_t bytes) {
-  if (bytes < kHugeFrom) {
-    if (void* p = std::malloc(bytes ? bytes : 1)) return p;
-    throw std::bad_alloc();
-  }
-  const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-  void* p = std::aligned_alloc(kHugePage, rounded);
-  if (!p) throw std::bad_alloc();
-  madvise(p, rounded, MADV_HUGEPAGE);  // a hint: without THP the pages stay 4 KB
-  return p;
-}
-
-void free_pixels(void* p, size_t) noexcept { std::free(p); }
 
 Image::Image(Size size, int channels, PixelType type, int alpha_channel)
     : Image(size, channels, type, alpha_channel, Unfilled{}) {

@@ -84,6 +84,7 @@ struct Converter::Impl {
   mutable std::mutex layout_mutex_;
   mutable std::optional<SimdSource> planned_layout_;  // the source layout planned_ holds taps for
   mutable std::unique_ptr<std::atomic<int64_t>[]> rows_kept_;  // rows_read per tile (-1: not yet), with cache_
+  mutable std::unique_ptr<KeptFootprint[]> footprints_;  // one per tile (auto antialiasing), with cache_
 
   void build_cache() const;
   // planned_ where src's taps may be kept (keeps_taps) and src has the layout of the first
@@ -182,6 +183,7 @@ void Converter::Impl::build_cache() const {
   if (keep_ == Keep::MapsAndTaps && engine_ == Engine::Simd) planned_ = std::make_unique<PlannedTaps[]>(static_cast<size_t>(tile_count()));
   rows_kept_ = std::make_unique<std::atomic<int64_t>[]>(static_cast<size_t>(tile_count()));
   for (int64_t t = 0; t < tile_count(); ++t) rows_kept_[static_cast<size_t>(t)].store(-1, std::memory_order_relaxed);
+  if (antialias_.mode == Antialias::Mode::Auto) footprints_ = std::make_unique<KeptFootprint[]>(static_cast<size_t>(tile_count()));
 }
 
 PlannedTaps* Converter::Impl::planned_for(const Image& src) const {
@@ -414,7 +416,8 @@ void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats
     if (read && !feed.has(all_rows) &&
         !feed.wait(stream ? std::min(all_rows, rows_read(*strategy, t, workers[static_cast<size_t>(w)])) : all_rows))
       return;  // the read failed: its error ends the run
-    strategy->tile(rect, {cached(t), planned ? &planned[t] : nullptr}, out.pixel(rect.x0, rect.y0),
+    strategy->tile(rect, {cached(t), planned ? &planned[t] : nullptr, footprints_ ? &footprints_[t] : nullptr},
+                   out.pixel(rect.x0, rect.y0),
                    static_cast<int64_t>(out.row_bytes()), workers[static_cast<size_t>(w)]);
     if (finished && !edges_.active()) finished({rect.x0, rect.y0, rect.x0 + rect.w, rect.y0 + rect.h});
     const int64_t d = ++done;

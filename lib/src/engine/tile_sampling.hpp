@@ -12,6 +12,7 @@
 
 #include "panoproj/convert.hpp"
 #include "panoproj/image.hpp"
+#include "base/kept_once.hpp"
 #include "geometry/source_taps.hpp"
 #include "geometry/tile_map.hpp"
 #include "sampling/footprint_kernel.hpp"
@@ -21,11 +22,20 @@
 
 namespace panoproj {
 
+// Auto antialiasing's measure of a tile (tile_strategies.cpp: its sub-pixels per axis and the
+// footprint kernel's widths), which the geometry alone sets.
+struct KeptFootprint : KeptOnce {
+  FootprintField field;
+  int n = 0;
+};
+
 // What a Converter keeps of one tile for its later runs (Keep, convert.hpp): its map (a tile not
-// fused), or the taps it plans (a fused one, where they fit the source: planned_taps.hpp).
+// fused), or the taps it plans (a fused one, where they fit the source: planned_taps.hpp); with
+// auto antialiasing its footprint measure.
 struct KeptTile {
   const TileMap* map = nullptr;
   PlannedTaps* taps = nullptr;
+  KeptFootprint* footprint = nullptr;
 };
 
 // One worker thread's buffers and counts.

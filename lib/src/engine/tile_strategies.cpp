@@ -76,10 +76,14 @@ class Footprint final : public TileStrategy {
   explicit Footprint(const TileJob& job) : job_(job) {}
   void tile(const TileRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
-    const int n = sub_pixels(rect, wk);
+    KeptFootprint* const k = kept.footprint;
+    const bool known = k && k->ready();
+    const int n = known ? k->n : sub_pixels(rect, wk);
+    const FootprintField* field = known ? &k->field : &wk.field;
+    if (!known && k && k->claim()) k->field = wk.field, k->n = n, k->publish();
     if (n == 0) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk);
-    else if (n == 1) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk, &wk.field);
-    else subpixels(job_, n, rect, corner, stride, wk, &wk.field);
+    else if (n == 1) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk, field);
+    else subpixels(job_, n, rect, corner, stride, wk, field);
   }
   bool widen_to_samples(const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const override {
     widen_to_subpixels(job_, std::max(1, sub_pixels(rect, wk)), rect, wk, b);

@@ -12,6 +12,7 @@
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/photo_sphere.hpp"
+#include "base/pixel_buffers.hpp"
 #include "io/region_read.hpp"
 #include "io/streamed_output.hpp"
 #include "jobs/frame_pipeline.hpp"
@@ -308,7 +309,8 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   uint64_t pipeline_bytes = job_bytes;
   for (int i = 0; i < readers; ++i) pipeline_bytes = add_bytes(pipeline_bytes, window_bytes);
   for (int i = 0; i < 4; ++i) pipeline_bytes = add_bytes(pipeline_bytes, out_bytes);
-  const bool pipelined = batch && readers > 1 && add_bytes(pipeline_bytes, window_bytes) <= memory_budget(options.memory_limit);
+  const uint64_t budget = memory_budget(options.memory_limit), counted = add_bytes(pipeline_bytes, window_bytes);
+  const bool pipelined = batch && readers > 1 && counted <= budget;
   if (!pipelined) {
     Image out, source;  // one buffer each for every frame
     for (size_t n = 0; n < job.inputs.size(); ++n) {
@@ -321,6 +323,8 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     }
     return reports;
   }
+  // The encoders' buffers freed with each frame serve the next ones, within the budget's rest.
+  const ReuseFreedBuffers reuse(static_cast<size_t>(std::min<uint64_t>(budget - counted, ReuseFreedBuffers::kMostBytes)));
   std::vector<Frame> frames(job.inputs.size());
   std::vector<Image> outs(2);  // frame n's in outs[n % 2]
   std::mutex spare_mutex;

@@ -4,17 +4,17 @@
 // the same layout only gathers and blends: its bytes are those of the run that planned them.
 // Two forms: compact for uint8 bilinear without alpha (the fixed-point weights, 8 bytes a pixel),
 // else the fractions (12 bytes; the footprint kernel's widths are made again from the tile's
-// field, as phase 1 makes them). Recorded by the first run that samples the tile (a run that
-// finds it being recorded plans it as usual). Internal.
-#include <atomic>
+// field, as phase 1 makes them). Recorded by the first run that samples the tile (kept_once.hpp).
+// Internal.
 #include <cstdint>
 #include <vector>
 
+#include "base/kept_once.hpp"
 #include "sampling/simd_sampler.hpp"
 
 namespace panoproj {
 
-struct PlannedTaps {
+struct PlannedTaps : KeptOnce {  // claim() to record, publish() or decline() (too many misses)
   // Bytes a kept tile may hold per output pixel: 12 for its taps, at most 3 for its misses (24
   // bytes each; a tile with more than kMostMisses of its pixels missed is not kept).
   static constexpr int kBytesPerPixel = 15;
@@ -38,19 +38,6 @@ struct PlannedTaps {
     else tx.assign(all, 0.0f), ty.assign(all, 0.0f);
   }
   void release() { off = {}, weights = {}, tx = {}, ty = {}; }
-
-  // The first caller gets true and records (then publish() or decline()); the others false.
-  bool claim() {
-    int none = kNone;
-    return state_.compare_exchange_strong(none, kRecording, std::memory_order_acquire);
-  }
-  void publish() { state_.store(kReady, std::memory_order_release); }
-  void decline() { state_.store(kDeclined, std::memory_order_release); }  // too many misses
-  bool ready() const { return state_.load(std::memory_order_acquire) == kReady; }
-
- private:
-  enum { kNone, kRecording, kReady, kDeclined };
-  std::atomic<int> state_{kNone};
 };
 
 // Whether taps planned on source a hold for source b: the same window of the frame, row stride
