@@ -24,7 +24,9 @@ mkdir -p "$out" && cp "$sdist" "$out/"
 tar -xzf "$sdist" -C "$work"
 src=$(echo "$work"/panoproj-*/)
 src=${src%/}
-CCACHE_BASEDIR="$src" "$py" -m pip wheel -q --no-deps --no-build-isolation -w "$work/raw" \
+# (CXX: CMake's default name, c++, as in the test build; scikit-build-core would take Python's g++,
+# and ccache keys on the name.)
+CXX=${CXX:-c++} CCACHE_BASEDIR="$src" "$py" -m pip wheel -q --no-deps --no-build-isolation -w "$work/raw" \
   -C cmake.define.PANOPROJ_PORTABLE=ON -C build-dir="$src/build" "$src"
 # The plugin's OpenImageIO (about 260 libraries with its own dependencies) is the system's or
 # none: excluded, it is looked for at run time.
