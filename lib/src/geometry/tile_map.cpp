@@ -103,51 +103,58 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
             gx[b][a] = nxs[node(a, b)];
             gy[b][a] = nys[node(a, b)];
           }
-        // One dispatch per cell; the pixel loop sees the concrete projection types. Per-pixel
-        // validity tests run only where the cell's rectangle (output) or its positions' bounding
-        // box (source) is not covered as a whole.
+        double bx0 = HUGE_VAL, by0 = HUGE_VAL, bx1 = -HUGE_VAL, by1 = -HUGE_VAL;
+        for (int64_t j = 0; j < h; ++j) {
+          const double* wj = kLagrange.w[j];
+          double cx4[4], cy4[4];
+          for (int a = 0; a < 4; ++a) {
+            cx4[a] = wj[0] * gx[0][a] + wj[1] * gx[1][a] + wj[2] * gx[2][a] + wj[3] * gx[3][a];
+            cy4[a] = wj[0] * gy[0][a] + wj[1] * gy[1][a] + wj[2] * gy[2][a] + wj[3] * gy[3][a];
+          }
+          const size_t row = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell);
+          for (int64_t i = 0; i < w; ++i) {
+            const double* wi = kLagrange.w[i];
+            double sx = wi[0] * cx4[0] + wi[1] * cx4[1] + wi[2] * cx4[2] + wi[3] * cx4[3];
+            double sy = wi[0] * cy4[0] + wi[1] * cy4[1] + wi[2] * cy4[2] + wi[3] * cy4[3];
+            auto near = [](double v) { return std::fabs(v - std::round(v)) < kMapEdgeGuard; };
+            if (exact && (near(sx) || near(sy))) {
+              double ex, ey;
+              if (source_pixel(src, dst, rotation, static_cast<double>(px0 + i) + 0.5,
+                               static_cast<double>(py0 + j) + 0.5, ex, ey))
+                sx = ex, sy = ey;
+            }
+            out.xs[row + i] = sx;
+            out.ys[row + i] = sy;
+            bx0 = std::min(bx0, sx), bx1 = std::max(bx1, sx);
+            by0 = std::min(by0, sy), by1 = std::max(by1, sy);
+          }
+        }
+        // Validity: one dispatch per cell and side, the pixel loops seeing the concrete
+        // projection type (one visit over both would instantiate every pair: 225 bodies that took
+        // minutes to compile under ASan). Per-pixel tests run only where the cell's rectangle
+        // (output) or its positions' bounding box (source) is not covered as a whole.
         std::visit(
-            [&](const auto& d, const auto& sp) {
-              double bx0 = HUGE_VAL, by0 = HUGE_VAL, bx1 = -HUGE_VAL, by1 = -HUGE_VAL;
-              for (int64_t j = 0; j < h; ++j) {
-                const double* wj = kLagrange.w[j];
-                double cx4[4], cy4[4];
-                for (int a = 0; a < 4; ++a) {
-                  cx4[a] = wj[0] * gx[0][a] + wj[1] * gx[1][a] + wj[2] * gx[2][a] + wj[3] * gx[3][a];
-                  cy4[a] = wj[0] * gy[0][a] + wj[1] * gy[1][a] + wj[2] * gy[2][a] + wj[3] * gy[3][a];
-                }
-                const size_t row = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell);
-                for (int64_t i = 0; i < w; ++i) {
-                  const double* wi = kLagrange.w[i];
-                  double sx = wi[0] * cx4[0] + wi[1] * cx4[1] + wi[2] * cx4[2] + wi[3] * cx4[3];
-                  double sy = wi[0] * cy4[0] + wi[1] * cy4[1] + wi[2] * cy4[2] + wi[3] * cy4[3];
-                  auto near = [](double v) { return std::fabs(v - std::round(v)) < kMapEdgeGuard; };
-                  if (exact && (near(sx) || near(sy))) {
-                    double ex, ey;
-                    if (source_pixel(src, dst, rotation, static_cast<double>(px0 + i) + 0.5,
-                                     static_cast<double>(py0 + j) + 0.5, ex, ey))
-                      sx = ex, sy = ey;
-                  }
-                  out.xs[row + i] = sx;
-                  out.ys[row + i] = sy;
-                  bx0 = std::min(bx0, sx), bx1 = std::max(bx1, sx);
-                  by0 = std::min(by0, sy), by1 = std::max(by1, sy);
-                }
-              }
-              const bool all_dst = d.covers(static_cast<double>(px0) + 0.5, static_cast<double>(py0) + 0.5,
-                                            static_cast<double>(px0 + w) - 0.5, static_cast<double>(py0 + h) - 0.5);
-              const bool all_src = sp.covers(bx0, by0, bx1, by1);
+            [&](const auto& d) {
+              const bool all = d.covers(static_cast<double>(px0) + 0.5, static_cast<double>(py0) + 0.5,
+                                        static_cast<double>(px0 + w) - 0.5, static_cast<double>(py0 + h) - 0.5);
               for (int64_t j = 0; j < h; ++j) {
                 const size_t row = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell);
                 const double py = static_cast<double>(py0 + j) + 0.5;
-                for (int64_t i = 0; i < w; ++i) {
-                  out.ok[row + i] =
-                      (all_dst || d.contains(static_cast<double>(px0 + i) + 0.5, py)) &&
-                      (all_src || sp.contains(out.xs[row + i], out.ys[row + i]));
-                }
+                for (int64_t i = 0; i < w; ++i)
+                  out.ok[row + i] = all || d.contains(static_cast<double>(px0 + i) + 0.5, py);
               }
             },
-            dst, src);
+            dst);
+        std::visit(
+            [&](const auto& sp) {
+              if (sp.covers(bx0, by0, bx1, by1)) return;
+              for (int64_t j = 0; j < h; ++j) {
+                const size_t row = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell);
+                for (int64_t i = 0; i < w; ++i)
+                  out.ok[row + i] = out.ok[row + i] && sp.contains(out.xs[row + i], out.ys[row + i]);
+              }
+            },
+            src);
       } else {
         ++out.exact_cells;
         for (int64_t j = 0; j < h; ++j) {
