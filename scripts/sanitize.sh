@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The ctest suite under AddressSanitizer + UndefinedBehaviorSanitizer (gcc's; nothing extra to
-# install), in build-asan/. A CI stage; ~5 min to build and ~6 min to run on 2 cores.
+# install), in build-asan/. A CI stage; ~9 min to build and ~4 min to run on 2 cores.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bash "$root/scripts/install-deps.sh"
