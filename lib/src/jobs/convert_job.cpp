@@ -324,7 +324,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     return reports;
   }
   // The encoders' buffers freed with each frame serve the next ones, within the budget's rest.
-  const ReuseFreedBuffers reuse(static_cast<size_t>(std::min<uint64_t>(budget - counted, ReuseFreedBuffers::kMostBytes)));
+  const ReuseFreedBuffers reuse(static_cast<size_t>(budget - counted));  // (at most kMostBytes)
   std::vector<Frame> frames(job.inputs.size());
   std::vector<Image> outs(2);  // frame n's in outs[n % 2]
   std::mutex spare_mutex;
