@@ -27,7 +27,7 @@ cd "$work"  # away from the source tree
 "$work/venv/bin/panoproj" --version
 "$work/venv/bin/panoproj" info >/dev/null
 "$work/venv/bin/panoproj" convert "$root/samples/images/jordan_pond_4096x2048.jpg" "$work/cube.jpg" --to cubemap --size 1536x256
-env -u PANOPROJ_CLI "$py" -m pytest -q -p no:cacheprovider "$root/python/tests"
+env -u PANOPROJ_CLI "$py" -m pytest -q -n 2 -p no:cacheprovider "$root/python/tests"
 # OpenImageIO gone: its libraries covered by empty files in a private mount namespace.
 if unshare -m true 2>/dev/null; then
   unshare -m bash -c '

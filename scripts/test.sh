@@ -12,4 +12,4 @@ bash "$root/scripts/install-deps.sh" libimage-exiftool-perl strace ffmpeg
 read -ra py_args < <(bash "$root/scripts/python-env.sh" --cmake-args)
 bash "$root/scripts/build.sh" "$build" "${py_args[@]}"
 ctest --test-dir "$build" --output-on-failure -j 2
-PYTHONPATH="$build/python" PANOPROJ_CLI="$build/tools/panoproj" "$root/.venv/bin/python" -m pytest -q "$root/python/tests"
+PYTHONPATH="$build/python" PANOPROJ_CLI="$build/tools/panoproj" "$root/.venv/bin/python" -m pytest -q -n 2 "$root/python/tests"
