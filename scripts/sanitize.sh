@@ -13,4 +13,14 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS="suppressions=$root/.ci/lsan.supp:print_suppressions=0"
 # Not the real-photo figures (RealCubemap, the dual fisheye's Jordan Pond): they run the same code
 # as the synthetic tests, on 8-Mpx photos, and took 3 of the stage's 6 minutes.
-ctest --test-dir "$root/build-sanitized" -j 2 --timeout 900 --output-on-failure -E 'RealCubemap\.|DualFisheye\.JordanPond'
+tests=(--test-dir "$root/build-sanitized" --timeout 900 --output-on-failure)
+log="$root/build-sanitized/ctest.log"
+ctest "${tests[@]}" -j 2 -E 'RealCubemap\.|DualFisheye\.JordanPond' 2>&1 | tee "$log" && exit 0
+# LeakSanitizer's own stop-the-world tracer now and then crashes at a test's exit, after the test
+# passed ("Tracer caught signal 11", google/sanitizers#1353; once in 546 tests here). When every
+# failed test shows that crash, those tests run once more; any other failure fails the stage.
+failed=$(grep -c '^[0-9/ ]*Test *#[0-9]*: .*\*\*\*' "$log" || true)
+crashed=$(grep -c '^Tracer caught signal' "$log" || true)
+if (( failed == 0 || crashed < failed )); then exit 1; fi
+echo "sanitize: $failed test(s) failed on LeakSanitizer's tracer crash alone: run again"
+ctest "${tests[@]}" --rerun-failed
