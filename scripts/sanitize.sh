@@ -13,12 +13,15 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS="suppressions=$root/.ci/lsan.supp:print_suppressions=0"
 # Not the real-photo figures (RealCubemap, the dual fisheye's Jordan Pond): they run the same code
 # as the synthetic tests, on 8-Mpx photos, and took 3 of the stage's 6 minutes.
-tests=(--test-dir "$root/build-sanitized" --timeout 900 --output-on-failure)
+# (The rerun below takes the same selection: ctest numbers the selected tests, and --rerun-failed
+# goes by those numbers.)
+tests=(--test-dir "$root/build-sanitized" --timeout 900 --output-on-failure -E 'RealCubemap\.|DualFisheye\.JordanPond')
 log="$root/build-sanitized/ctest.log"
-ctest "${tests[@]}" -j 2 -E 'RealCubemap\.|DualFisheye\.JordanPond' 2>&1 | tee "$log" && exit 0
+ctest "${tests[@]}" -j 2 2>&1 | tee "$log" && exit 0
 # LeakSanitizer's own stop-the-world tracer now and then crashes at a test's exit, after the test
-# passed ("Tracer caught signal 11", google/sanitizers#1353; once in 546 tests here). When every
-# failed test shows that crash, those tests run once more; any other failure fails the stage.
+# passed ("Tracer caught signal 11", google/sanitizers#1353; here tiff_header_only's, in 2 of 2
+# CI runs, never when run alone). When every failed test shows that crash, those tests run once
+# more; any other failure fails the stage.
 failed=$(grep -c '^[0-9/ ]*Test *#[0-9]*: .*\*\*\*' "$log" || true)
 crashed=$(grep -c '^Tracer caught signal' "$log" || true)
 if (( failed == 0 || crashed < failed )); then exit 1; fi
