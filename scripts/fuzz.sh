@@ -18,10 +18,11 @@ for t in ${TARGETS:-spec read xmp convert}; do
   cp "$root/fuzz/corpus/$t/"* "$work/"
   echo "fuzz: ${t}_fuzz for ${seconds} s"
   # A single allocation over 2 GB ends the run as out-of-memory (the targets read and convert under
-  # a 64 MB panoproj memory limit). .ci/lsan.supp: OpenImageIO's own leak on damaged PNGs (see there).
+  # a 64 MB panoproj memory limit). .ci/lsan.supp: OpenImageIO's own leak on damaged PNGs (see there);
+  # intercept_tls_get_addr=0: see scripts/sanitize.sh.
   # The whole log is kept; on a failure its report (from the first ERROR line) is shown.
   log="$build/${t}_fuzz.log"
-  if (cd "$build" && UBSAN_OPTIONS=halt_on_error=1 ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
+  if (cd "$build" && UBSAN_OPTIONS=halt_on_error=1 ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1:intercept_tls_get_addr=0 \
     LSAN_OPTIONS=suppressions="$root/.ci/lsan.supp" \
     "./fuzz/${t}_fuzz" -seed="${SEED:-1}" -max_total_time="$seconds" -max_len=4096 -malloc_limit_mb=2048 -rss_limit_mb=4096 \
     -print_final_stats=1 "$work" >"$log" 2>&1); then
