@@ -15,8 +15,9 @@ flags+=" -fsanitize-coverage-ignorelist=$root/fuzz/coverage-ignorelist.txt"
 flags+=" -msse4.2 -DHWY_COMPILE_ONLY_STATIC"
 # -g1 (line tables: reports keep file:line) instead of -g: full variable tracking made the two
 # Highway files take 2.2x as long to compile.
-[[ -f "$build/build.ninja" ]] ||
-  CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPANOPROJ_BUILD_FUZZ=ON \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS="$flags" \
-    -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+# (Configured on every call, so that a change of these flags reaches an existing build; unchanged,
+# it rebuilds nothing.)
+CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPANOPROJ_BUILD_FUZZ=ON \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS="$flags" \
+  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
 ninja -C "$build" "$@" | grep -v '^ninja: no work to do' || true
