@@ -20,6 +20,7 @@
 #include "panoproj/diagnostics/stability.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/spec.hpp"
+#include "panoproj/tiles.hpp"
 
 namespace {
 
@@ -204,6 +205,28 @@ int main(int argc, char** argv) {
                    "panoproj (centres at i + 0.5, NaN where no source)");
   maps->add_flag("--overwrite", maps_job.write.overwrite, "replace an existing output");
 
+  TilesJob tiles_job;
+  std::string tiles_viewer = "pannellum", tiles_from;
+  bool tiles_quiet = false;
+  auto* tiles = app.add_subcommand("tiles", "write a multires cube tile pyramid for a web viewer (Pannellum, Marzipano)");
+  tiles->add_option("input", tiles_job.input, "the panorama (default projection as for convert: 2:1 = equirect, Photo Sphere metadata)")->required();
+  tiles->add_option("output", tiles_job.output, "the folder to make (tiles, config.json, index.html, preview)")->required();
+  tiles->add_option("--viewer", tiles_viewer, "pannellum (default) | marzipano: directory layout, names, config and page");
+  tiles->add_option("--from", tiles_from, "source projection spec (default as convert infers it)");
+  tiles->add_option("--tile", tiles_job.tile, "tile size in pixels (default 512)");
+  tiles->add_option("--levels", tiles_job.levels, "levels to keep from the top (default: all, down to one tile a face)");
+  tiles->add_option("--cube-size", tiles_job.cube_size,
+                    "the top level's face size (default: the source's resolution; marzipano: tile x 2^k)");
+  tiles->add_option("--format", tiles_job.format, "jpg (default) | png");
+  tiles->add_option("--quality", tiles_job.write.quality, "JPEG quality, 1 to 100 (default 95)");
+  tiles->add_option("--preview", tiles_job.preview,
+                    "fallback face size (pannellum, default 1024) or preview face size (marzipano, default <= 256)");
+  tiles->add_option("--script-url", tiles_job.script_url,
+                    "folder index.html loads the viewer's script from (default: the npm package on jsDelivr)");
+  const TableOptions tiles_options(tiles, kUseTiles);
+  tiles->add_flag("--overwrite", tiles_job.write.overwrite, "replace an existing output folder");
+  tiles->add_flag("-q,--quiet", tiles_quiet, "print nothing on success");
+
   SweepSetup sweep;
   std::string acc_scene = "chart", acc_from = "equirect", acc_from_size = "4096x2048", acc_to,
               acc_type = "uint8", acc_interp = "nearest,bilinear,bicubic,lanczos3", acc_antialias = "off,auto,mip,4",
@@ -311,6 +334,25 @@ int main(int argc, char** argv) {
         w.overwrite = acc_overwrite;
         write_image(plot_sweep(results, about), acc_plot, w);
       }
+      return 0;
+    }
+    if (tiles->parsed()) {
+      tiles_job.viewer = parse_viewer(tiles_viewer);
+      if (!tiles_from.empty()) tiles_job.from = tiles_from;
+      tiles_options.apply(tiles_job.options);
+      QuietStderr hold(true);
+      ProgressBar bar(hold.fd(), !tiles_quiet);
+      const TilesReport r = run_tiles(tiles_job, [&](double f) { bar.update(f); });
+      if (tiles_quiet) return 0;
+      std::string sizes;
+      for (const TileLevel& l : r.pyramid.levels) sizes += (sizes.empty() ? "" : ", ") + std::to_string(l.size);
+      std::printf("\r%s (%s, %s) -> %s: %s, %zu levels (faces %s px), %lld tiles of %lld px written",
+                  tiles_job.input.c_str(), size_text(r.source_size).c_str(), r.from.c_str(), tiles_job.output.c_str(),
+                  name_of(r.pyramid.viewer), r.pyramid.levels.size(), sizes.c_str(), static_cast<long long>(r.written),
+                  static_cast<long long>(r.pyramid.tile));
+      if (r.empty) std::printf(" (%lld empty, not written)", static_cast<long long>(r.empty));
+      std::printf(", %.3f s\n", r.seconds);
+      for (const std::string& n : r.notes) std::printf("  %s\n", n.c_str());
       return 0;
     }
     if (maps->parsed()) {

@@ -36,9 +36,9 @@ from typing import TYPE_CHECKING, Any, Callable, Dict, List, NamedTuple, Optiona
 
 import numpy as np
 
-from . import _arrays, _coordinates, _core, _declared
+from . import _arrays, _coordinates, _core, _declared, _tiles
 from ._declared import *  # noqa: F401,F403 (the projection classes and Literal aliases)
-from ._declared import CLASSES, ConvertOptions, MapOptions, ProjectionName
+from ._declared import CLASSES, ConvertOptions, MapOptions, ProjectionName, TilesOptions
 from ._projection import _CLASSES, Projection, projection
 from ._types import Array, FillLike, ImageLike, Mask, PathLike, SizeLike
 
@@ -52,7 +52,8 @@ __version__: str = _core.__version__  # the project's version (`panoproj --versi
 _CLASSES.update(CLASSES)
 __all__ = [
     "Projection", "projection", "projections", "ProjectionInfo", "ParameterInfo", "convert", "build_map", "Plan",
-    "read", "write", "to_ray", "to_pixel", "split_faces", "simd_target", "ConvertOptions", "MapOptions",
+    "read", "write", "to_ray", "to_pixel", "split_faces", "simd_target", "tiles", "ConvertOptions", "MapOptions",
+    "TilesOptions",
     "SizeLike", "FillLike", "ImageLike", "PathLike",
 ]
 __all__ += _declared.__all__  # the projection classes and the Literal aliases
@@ -508,6 +509,31 @@ def read(path: PathLike, *, metadata: bool = False,
     if metadata:
         return array, _core.read_metadata(path.replace("{face}", "front").replace("{index}", "0").replace("{axis}", "pz"))
     return array
+
+
+@_takes_options("tiles")
+def tiles(image: PathLike, out_dir: PathLike, *, viewer: Literal["pannellum", "marzipano"] = "pannellum",
+          src: Union[str, Projection, None] = None, tile: int = 512, levels: Optional[int] = None,
+          cube_size: Optional[int] = None, format: Literal["jpg", "png"] = "jpg", quality: int = 95,
+          preview: Optional[int] = None, script_url: Optional[str] = None, overwrite: bool = False,
+          client: Any = None, **options: Unpack[TilesOptions]) -> Dict[str, Any]:
+    """Writes a multires cube tile pyramid of the panorama file ``image`` for a web viewer into the
+    new folder ``out_dir`` (as ``panoproj tiles``): Pannellum's ``<level>/<face><row>_<col>`` with
+    ``config.json`` and fallback faces, or Marzipano's ``tiles/<z>/<face>/<row>/<col>`` with its
+    preview; ``index.html`` opens it, loading the viewer's script from ``script_url`` (default:
+    the npm package on jsDelivr). Every tile is rendered from the source, antialiased at its
+    level; tiles of a partial panorama without any source pixel are not written. The folder lands
+    whole (replaced only with ``overwrite``).
+
+    ``client``: a ``dask.distributed`` Client; the tiles are then rendered as tasks (bands of tile
+    rows, each reading only the source region and scale it needs; the workers must see
+    ``image`` and the output's parent folder at the same paths), with the same bytes as a local
+    run. Returns a report: levels, tile counts, the source spec, seconds.
+    """
+    job = _tiles.job_of(image, out_dir, viewer=viewer, src=_spec(src), tile=tile, levels=levels,
+                        cube_size=cube_size, format=format, quality=quality, preview=preview,
+                        script_url=script_url, overwrite=overwrite)
+    return _tiles.run(job, _core_options(options), client)
 
 
 @_one_line_type_errors

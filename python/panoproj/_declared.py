@@ -12,6 +12,7 @@ ProjectionName = Literal['pinhole', 'brown-conrady', 'fisheye', 'dual-fisheye', 
 Interp = Literal['nearest', 'bilinear', 'bicubic', 'lanczos3', 'bicubic-dering', 'lanczos3-dering']
 Engine = Literal['simd', 'scalar', 'reference']
 Antialias = Literal['auto', 'off', 'mip']
+DecodeScale = Literal['auto', '1', '2', '4', '8']
 
 
 class Pinhole(Projection):
@@ -835,7 +836,7 @@ class TransverseMercator(Projection):
         self._set(x_max=x_max, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
 
 
-__all__ = ['ProjectionName', 'Interp', 'Engine', 'Antialias', 'Pinhole', 'BrownConrady', 'Fisheye', 'DualFisheye', 'KannalaBrandt', 'DoubleSphere', 'Unified', 'ExtendedUnified', 'Ptlens', 'Equirect', 'Cylindrical', 'Cubemap', 'Panini', 'CompressedRectilinear', 'Aitoff', 'Hammer', 'EckertGreifendorff', 'Bonne', 'Sinusoidal', 'Mollweide', 'Mercator', 'Miller', 'CylindricalEqualArea', 'TransverseMercator']
+__all__ = ['ProjectionName', 'Interp', 'Engine', 'Antialias', 'DecodeScale', 'Pinhole', 'BrownConrady', 'Fisheye', 'DualFisheye', 'KannalaBrandt', 'DoubleSphere', 'Unified', 'ExtendedUnified', 'Ptlens', 'Equirect', 'Cylindrical', 'Cubemap', 'Panini', 'CompressedRectilinear', 'Aitoff', 'Hammer', 'EckertGreifendorff', 'Bonne', 'Sinusoidal', 'Mollweide', 'Mercator', 'Miller', 'CylindricalEqualArea', 'TransverseMercator']
 
 CLASSES: Dict[str, Type[Projection]] = {
     'pinhole': Pinhole,
@@ -889,4 +890,18 @@ class MapOptions(TypedDict, total=False):
     pitch: float
     roll: float
     threads: int
+    memory_limit: Union[int, str, None]
+
+
+class TilesOptions(TypedDict, total=False):
+    """The keyword options of the calls that take 'tiles' rows (the command's flags)."""
+
+    yaw: float
+    pitch: float
+    roll: float
+    interp: Interp
+    threads: int
+    engine: Engine
+    antialias: Union[Antialias, int, None]
+    decode_scale: DecodeScale
     memory_limit: Union[int, str, None]

@@ -25,6 +25,7 @@
 #include "panoproj/jobs.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/maps.hpp"
+#include "panoproj/tiles.hpp"
 #include "attribute_values.hpp"
 #include "oiio_package.hpp"
 
@@ -152,6 +153,37 @@ ConvertOptions options_from(const py::dict& given, unsigned use) {
   return o;
 }
 
+// A tile job from Python's arguments (panoproj/_tiles.py hands them over checked for type).
+TilesJob tiles_job(const py::dict& job, const py::dict& options) {
+  TilesJob j;
+  j.input = job["input"].cast<std::string>();
+  j.output = job["output"].cast<std::string>();
+  if (!job["src"].is_none()) j.from = job["src"].cast<std::string>();
+  j.viewer = parse_viewer(job["viewer"].cast<std::string>());
+  j.tile = job["tile"].cast<int>();
+  j.levels = job["levels"].cast<int>();
+  j.cube_size = job["cube_size"].cast<int64_t>();
+  j.format = job["format"].cast<std::string>();
+  j.preview = job["preview"].cast<int>();
+  j.script_url = job["script_url"].cast<std::string>();
+  j.write.quality = job["quality"].cast<int>();
+  j.write.overwrite = job["overwrite"].cast<bool>();
+  j.options = options_from(options, kUseTiles);
+  return j;
+}
+
+py::dict tiles_report(const TilesReport& r) {
+  py::list levels;
+  for (const TileLevel& l : r.pyramid.levels)
+    levels.append(py::dict(py::arg("name") = l.name, py::arg("size") = l.size, py::arg("tiles") = l.tiles));
+  return py::dict(py::arg("viewer") = name_of(r.pyramid.viewer), py::arg("tile") = r.pyramid.tile,
+                  py::arg("levels") = levels, py::arg("preview") = r.pyramid.preview,
+                  py::arg("tile_count") = r.pyramid.tile_count(), py::arg("written") = r.written,
+                  py::arg("empty") = r.empty, py::arg("src") = r.from,
+                  py::arg("source_size") = py::make_tuple(r.source_size.width, r.source_size.height),
+                  py::arg("seconds") = r.seconds, py::arg("notes") = r.notes);
+}
+
 Size size_pair(std::pair<int64_t, int64_t> s) {
   if (s.first < 1 || s.second < 1)
     throw Error("size: " + std::to_string(s.first) + "x" + std::to_string(s.second) + " (expected at least 1x1)");
@@ -268,7 +300,7 @@ PYBIND11_MODULE(_core, m) {
     py::list out;
     for (const OptionDef& d : conversion_options()) {
       py::list use;
-      for (auto [bit, name] : {std::pair{kUseConvert, "convert"}, {kUseMaps, "maps"}, {kUseAccuracy, "accuracy"}})
+      for (auto [bit, name] : {std::pair{kUseConvert, "convert"}, {kUseMaps, "maps"}, {kUseAccuracy, "accuracy"}, {kUseTiles, "tiles"}})
         if (d.use & bit) use.append(name);
       const char* types[] = {"angle", "integer", "flag", "text"};
       out.append(py::dict(py::arg("name") = d.name, py::arg("type") = types[static_cast<int>(d.type)],
@@ -318,6 +350,47 @@ PYBIND11_MODULE(_core, m) {
         return array_of(std::move(out), flat);
       },
       py::arg("image"), py::arg("src"), py::arg("dst"), py::arg("options"), py::arg("has_alpha") = true);
+
+  // Tile pyramids (tiles.hpp): whole, or begun, rendered in parts (any process) and finished.
+  m.def("tiles", [](const py::dict& job, const py::dict& options) {
+    const TilesJob j = tiles_job(job, options);
+    TilesReport r;
+    {
+      py::gil_scoped_release unlocked;
+      r = run_tiles(j);
+    }
+    return tiles_report(r);
+  });
+  m.def("tiles_begin", [](const py::dict& job, const py::dict& options, int64_t band_pixels) {
+    const TilesJob j = tiles_job(job, options);
+    TilesStaging s;
+    {
+      py::gil_scoped_release unlocked;
+      s = begin_tiles(j, band_pixels);
+    }
+    py::list work;
+    for (const TileRows& r : s.work) work.append(py::make_tuple(r.level, r.face, r.row0, r.row1));
+    return py::make_tuple(s.folder, work);
+  });
+  m.def("tiles_render", [](const py::dict& job, const py::dict& options, const std::string& folder,
+                           const std::vector<std::tuple<size_t, int, int64_t, int64_t>>& rows) {
+    const TilesJob j = tiles_job(job, options);
+    std::vector<TileRows> work;
+    for (const auto& [level, face, row0, row1] : rows) work.push_back({level, face, row0, row1});
+    py::gil_scoped_release unlocked;
+    return render_tiles(j, folder, work);
+  });
+  m.def("tiles_finish", [](const py::dict& job, const py::dict& options, const std::string& folder,
+                           std::array<int64_t, 2> counts) {
+    const TilesJob j = tiles_job(job, options);
+    TilesReport r;
+    {
+      py::gil_scoped_release unlocked;
+      r = finish_tiles(j, folder, counts);
+    }
+    return tiles_report(r);
+  });
+  m.def("tiles_abandon", &abandon_tiles);
 
   m.def(
       "build_map",

@@ -73,4 +73,8 @@ Size run_maps(const MapsJob& job);
 ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const std::string& input, Size size,
                                  const std::optional<PhotoSphere>& photo_sphere);
 
+// A Photo Sphere taken tilted is levelled by its pose (read_photo_sphere; none when --from
+// overrides the metadata): geometry's rotation turned; returns from_text with the pose named.
+std::string level_by_pose(ConversionGeometry& geometry, const std::optional<PhotoSphere>& ps, std::string from_text);
+
 }  // namespace panoproj

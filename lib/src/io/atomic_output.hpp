@@ -35,4 +35,36 @@ class OutputSet {
   std::vector<Staged> staged_;
 };
 
+// A folder of many files that lands whole (tile pyramids): its files are written into a
+// temporary folder beside `path` (made exclusively, random name), each write checked but not
+// synced one by one; commit() syncs the file system once (syncfs) and renames the temporary
+// folder onto `path` (an existing folder, only with overwrite, is moved aside first, restored if
+// the rename fails, removed after). Not committed, the temporary folder is removed with all it
+// holds: by the destructor, and on SIGINT / SIGTERM / SIGHUP once install_signal_cleanup() ran.
+class OutputFolder {
+ public:
+  OutputFolder(std::string path, bool overwrite);
+  // Adopts a temporary folder another OutputFolder made and kept (keep(): a scheduler's client
+  // made it, workers filled it).
+  OutputFolder(std::string path, bool overwrite, std::string staged);
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+  const std::string& staged() const { return staged_; }
+  // Leaves the temporary folder in place (to be adopted or removed by remove_staged).
+  void keep();
+  void commit();
+  // Writes a new file at `relative` (subfolders made) in a temporary folder; thread-safe; throws
+  // Error naming the file and the system's reason.
+  static void write_file(const std::string& staged, const std::string& relative, std::string_view bytes);
+  // Removes a kept temporary folder and all it holds.
+  static void remove_staged(const std::string& staged);
+
+ private:
+  std::string path_, staged_;
+  bool overwrite_;
+  int slot_ = -1;
+  bool done_ = false;
+};
+
 }  // namespace panoproj

@@ -58,6 +58,14 @@ ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const s
               std::to_string(size.height) + " is not a 2:1 equirect): give " + option_text("from") + " SPEC");
 }
 
+std::string level_by_pose(ConversionGeometry& geometry, const std::optional<PhotoSphere>& ps, std::string from_text) {
+  if (!ps || (ps->pose_pitch == 0 && ps->pose_roll == 0)) return from_text;
+  geometry.rotation = photo_sphere_pose(*ps).transpose() * geometry.rotation;
+  std::ostringstream o;
+  o << from_text << ", levelled by its Photo Sphere pose: pitch " << ps->pose_pitch << ", roll " << ps->pose_roll;
+  return o.str();
+}
+
 namespace {
 
 std::string batch_output(const std::string& pattern, const std::string& input, size_t n) {
@@ -195,14 +203,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const auto ps = job.from || in_faces ? std::nullopt : read_photo_sphere(job.inputs[0]);
   if (!from) from = infer_source_spec(std::nullopt, job.inputs[0], source_size, ps);
   ConversionGeometry geometry = make_geometry(source_size, *from, to, options);
-  // A Photo Sphere taken tilted is levelled by its pose (unless --from overrides the metadata).
-  std::string from_text = from->str();
-  if (ps && (ps->pose_pitch != 0 || ps->pose_roll != 0)) {
-    geometry.rotation = photo_sphere_pose(*ps).transpose() * geometry.rotation;
-    std::ostringstream o;
-    o << from_text << ", levelled by its Photo Sphere pose: pitch " << ps->pose_pitch << ", roll " << ps->pose_roll;
-    from_text = o.str();
-  }
+  const std::string from_text = level_by_pose(geometry, ps, from->str());
   // A JPEG source the view samples at under half its resolution everywhere decodes at 1/2, 1/4
   // or 1/8 (DCT scaling); the conversion, its antialiasing and its footprint are planned on that
   // frame (the same field: the scale divides the sides).

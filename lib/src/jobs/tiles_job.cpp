@@ -1,0 +1,352 @@
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <mutex>
+
+#include "panoproj/convert.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/jobs.hpp"
+#include "panoproj/limits.hpp"
+#include "panoproj/rotation.hpp"
+#include "panoproj/tiles.hpp"
+#include "base/parallel.hpp"
+#include "base/sample_io.hpp"
+#include "geometry/tile_map.hpp"
+#include "io/atomic_output.hpp"
+#include "io/codec.hpp"
+#include "jobs/tile_layouts.hpp"
+
+namespace panoproj {
+namespace {
+
+// The source as every part of the job sees it.
+struct Source {
+  ImageInfo info;
+  ConversionGeometry base;  // the source on its frame; rotation: the options' (and a Photo Sphere's pose)
+  std::string from_text;
+  bool partial = false;     // not the whole sphere: alpha, empty tiles, a limited view
+  TilePyramid pyramid;
+};
+
+Source open_source(const TilesJob& job) {
+  const ImageInfo info = read_image_info(job.input);
+  const auto ps = job.from ? std::nullopt : read_photo_sphere(job.input);
+  const ProjectionSpec from = infer_source_spec(job.from, job.input, info.size, ps);
+  ConvertOptions o = job.options;
+  o.size = Size{1, 1};  // (the target is replaced per part)
+  ConversionGeometry g = make_geometry(info.size, from, parse_spec("pinhole:hfov=90"), o);
+  require_mono(g, "tiles");
+  std::string from_text = level_by_pose(g, ps, from.str());
+  const bool partial = !shows_whole_sphere(g.source);
+  TilePyramid pyramid = make_pyramid(job, center_density(g.source));
+  return Source{info, std::move(g), std::move(from_text), partial, std::move(pyramid)};
+}
+
+// Rows [y0, y1) of face `face` at size s: a pinhole of focal s / 2 centred on the face's centre.
+ConversionGeometry face_rows(const Source& src, int face, int64_t s, int64_t y0, int64_t y1) {
+  ConversionGeometry g = src.base;
+  const double h = 0.5 * static_cast<double>(s);
+  g.target = Pinhole(Size{s, y1 - y0}, h, h, h, h - static_cast<double>(y0));
+  g.rotation = src.base.rotation * rotation_from_ypr(kFaceAngles[face][0], kFaceAngles[face][1], 0);
+  return g;
+}
+
+ConvertOptions render_options(const TilesJob& job, const Source& src) {
+  ConvertOptions o = job.options;
+  if (src.partial) o.add_alpha = true, o.edges.soft = true;  // coverage as alpha: empty tiles, soft edges
+  return o;
+}
+
+// The JPEG decode scale for a whole face at size s (the same for every part of it, so that a
+// scheduler's parts equal the local run's).
+int face_scale(const TilesJob& job, const Source& src, int face, int64_t s) {
+  if (!src.info.scalable || job.options.decode_scale == 1) return 1;
+  const ConversionGeometry g = face_rows(src, face, s, 0, s);
+  return coarsest_decode_scale(g, finest_source_step(g, 4));
+}
+
+ConversionGeometry at_scale(ConversionGeometry g, const Source& src, int scale) {
+  if (scale > 1) g.source = rescaled(g.source, {src.info.size.width / scale, src.info.size.height / scale});
+  return g;
+}
+
+// A rendered part without its alpha: flattened over black; empty: no pixel has any coverage.
+struct Flat {
+  Image image;
+  bool empty = false;
+};
+
+Flat flatten(const Image& part, int64_t x0, int64_t y0, int64_t w, int64_t h, bool partial) {
+  const int a = partial ? part.alpha_channel() : -1;
+  const int channels = part.channels() - (a >= 0 ? 1 : 0);
+  Flat f{Image(Size{w, h}, channels, part.type(), -1, Image::Unfilled{})};
+  if (a < 0) {
+    for (int64_t y = 0; y < h; ++y) std::memcpy(f.image.row(y), part.pixel(x0, y0 + y), f.image.row_bytes());
+    return f;
+  }
+  bool any = false;
+  with_sample_type(part.type(), [&](auto sample) {
+    using T = decltype(sample);
+    const double scale = std::is_integral_v<T> ? 1.0 / static_cast<double>(std::numeric_limits<T>::max()) : 1.0;
+    for (int64_t y = 0; y < h; ++y) {
+      const unsigned char* in = part.pixel(x0, y0 + y);
+      unsigned char* out = f.image.row(y);
+      for (int64_t x = 0; x < w; ++x, in += part.pixel_bytes()) {
+        const double alpha = load<T>(in + a * sizeof(T)) * scale;
+        any |= alpha > 0;
+        for (int c = 0; c < part.channels(); ++c)
+          if (c != a) store<T>(out, load<T>(in + c * sizeof(T)) * alpha), out += sizeof(T);
+      }
+    }
+  });
+  f.empty = !any;
+  return f;
+}
+
+std::string encoded(const Image& image, const TilesJob& job, const std::string& path) {
+  WriteOptions w = job.write;
+  w.threads = 1;
+  const bool jpeg = job.format == "jpg";
+  Image converted;
+  const bool convert = jpeg ? image.type() != PixelType::U8 : (image.type() == PixelType::F16 || image.type() == PixelType::F32);
+  const Image& in = convert ? (converted = convert_pixels(image, jpeg ? PixelType::U8 : PixelType::U16)) : image;
+  const FileBytes b = jpeg ? encode_jpeg(in, path, w, {}) : encode_png(in, path, w, {});
+  return std::string(reinterpret_cast<const char*>(b.data()), b.size());
+}
+
+// One part to render: rows [y0, y1) of a face at size s, at a decode scale.
+struct Part {
+  int face;
+  int64_t size, y0, y1;
+  int scale;
+  ConversionGeometry geometry;  // at the scale
+};
+
+// Renders parts grouped by decode scale, each group from one read of the source (whole, or the
+// union of the parts' footprints), calling done(part index, image) as each is made.
+void render_parts(const TilesJob& job, const Source& src, std::vector<Part>& parts, bool whole,
+                  const std::function<void(size_t, const Image&)>& done) {
+  const ConvertOptions o = render_options(job, src);
+  std::map<int, std::vector<size_t>> by_scale;
+  for (size_t i = 0; i < parts.size(); ++i) by_scale[parts[i].scale].push_back(i);
+  for (const auto& [scale, members] : by_scale) {
+    const Size frame{src.info.size.width / scale, src.info.size.height / scale};
+    Converter::Region need{frame.width, frame.height, 0, 0};
+    std::vector<Converter> converters;
+    for (size_t i : members) {
+      converters.push_back(converter_for(parts[i].geometry, o));
+      if (whole) continue;
+      const Converter::Region r = converters.back().source_footprint();
+      if (r.x1 <= r.x0 || r.y1 <= r.y0) continue;
+      need = {std::min(need.x0, r.x0), std::min(need.y0, r.y0), std::max(need.x1, r.x1), std::max(need.y1, r.y1)};
+    }
+    if (whole) need = {0, 0, frame.width, frame.height};
+    const bool any = need.x1 > need.x0 && need.y1 > need.y0;  // else no part has a source pixel
+    Image window, with_alpha;
+    if (any) window = read_image_region(job.input, need.x0, need.y0, need.x1, need.y1, job.options.memory_limit, 0, scale);
+    const Image& in = any ? source_for(window, o, with_alpha) : window;
+    for (size_t k = 0; k < members.size(); ++k) {
+      Image out;
+      if (any) converters[k].run(in, out);
+      else out = Image(size_of(parts[members[k]].geometry.target), src.info.channels + 1, src.info.type, src.info.channels);
+      done(members[k], out);
+    }
+  }
+}
+
+std::vector<Part> parts_of(const TilesJob& job, const Source& src, const std::vector<TileRows>& rows) {
+  std::map<std::pair<size_t, int>, int> scales;
+  std::vector<Part> parts;
+  const TilePyramid& p = src.pyramid;
+  for (const TileRows& r : rows) {
+    if (r.level >= p.levels.size() || r.face < 0 || r.face > 5 || r.row0 < 0 || r.row1 <= r.row0 || r.row1 > p.levels[r.level].tiles)
+      throw Error("tile rows " + std::to_string(r.row0) + " to " + std::to_string(r.row1) + " of face " + std::to_string(r.face) +
+                  " at level index " + std::to_string(r.level) + " are not in the pyramid");
+    const int64_t s = p.levels[r.level].size;
+    auto [it, fresh] = scales.try_emplace({r.level, r.face}, 1);
+    if (fresh) it->second = face_scale(job, src, r.face, s);
+    // A partial source's field edge is found from each pixel's neighbours (EdgeFill): its bands
+    // take a converter tile's rows more on each side, as in the whole face (the tile grid kept).
+    const int64_t pad = src.partial ? kTile : 0;
+    const int64_t y0 = std::max<int64_t>(0, r.row0 * p.tile - pad), y1 = std::min(s, r.row1 * p.tile + pad);
+    parts.push_back({r.face, s, y0, y1, it->second, at_scale(face_rows(src, r.face, s, y0, y1), src, it->second)});
+  }
+  return parts;
+}
+
+std::array<int64_t, 2> render_rows(const TilesJob& job, const Source& src, const std::string& folder,
+                                   const std::vector<TileRows>& rows, bool whole,
+                                   const std::function<void(double)>& progress) {
+  std::vector<Part> parts = parts_of(job, src, rows);
+  const TilePyramid& p = src.pyramid;
+  std::atomic<int64_t> written{0}, empty{0};
+  size_t finished = 0;
+  render_parts(job, src, parts, whole, [&](size_t i, const Image& band) {
+    const TileRows& r = rows[i];
+    const int64_t s = parts[i].size, across = p.levels[r.level].tiles;
+    const int64_t n = (r.row1 - r.row0) * across;
+    parallel_tasks(n, job.options.threads, [&](int64_t t, int) {
+      const int64_t row = r.row0 + t / across, col = t % across;
+      const int64_t x0 = col * p.tile, y0 = row * p.tile - parts[i].y0;
+      const int64_t w = std::min(p.tile, s - col * p.tile), h = std::min(p.tile, s - row * p.tile);
+      const Flat f = flatten(band, x0, y0, w, h, src.partial);
+      if (f.empty) {
+        ++empty;
+        return;
+      }
+      const std::string path = p.tile_path(r.level, r.face, row, col);
+      OutputFolder::write_file(folder, path, encoded(f.image, job, job.output + "/" + path));
+      ++written;
+    });
+    if (progress) progress(static_cast<double>(++finished) / static_cast<double>(parts.size()));
+  });
+  return {written.load(), empty.load()};
+}
+
+// Every face's tile rows, in bands of at most band_pixels output pixels (at least one row).
+std::vector<TileRows> all_rows(const TilePyramid& p, int64_t band_pixels) {
+  std::vector<TileRows> rows;
+  for (size_t l = p.levels.size(); l-- > 0;) {
+    const TileLevel& level = p.levels[l];
+    const int64_t per = std::max<int64_t>(1, band_pixels / std::max<int64_t>(1, level.size * p.tile));
+    for (int f = 0; f < 6; ++f)
+      for (int64_t r = 0; r < level.tiles; r += per) rows.push_back({l, f, r, std::min(level.tiles, r + per)});
+  }
+  return rows;
+}
+
+// The yaw and pitch range a partial source covers, from its rays on a grid over its frame (every
+// valid pixel's ray is within a grid step of one of them) and the poles.
+ViewRange view_range(const Source& src) {
+  ViewRange v;
+  if (!src.partial) return v;
+  const Projection& p = src.base.source;
+  const Size size = size_of(p);
+  const Eigen::Matrix3d to_view = src.base.rotation.transpose();
+  constexpr int kGrid = 512;
+  std::vector<double> yaws;
+  double pitch0 = 90, pitch1 = -90;
+  const double deg = 180 / kPi;
+  for (int j = 0; j <= kGrid; ++j)
+    for (int i = 0; i <= kGrid; ++i) {
+      Ray d;
+      const double x = static_cast<double>(size.width) * i / kGrid, y = static_cast<double>(size.height) * j / kGrid;
+      if (!to_ray(p, std::min(x, std::nextafter(static_cast<double>(size.width), 0.0)),
+                  std::min(y, std::nextafter(static_cast<double>(size.height), 0.0)), d))
+        continue;
+      const Ray r = to_view * d;
+      yaws.push_back(std::atan2(r.x(), r.z()) * deg);
+      const double pitch = std::atan2(-r.y(), std::hypot(r.x(), r.z())) * deg;
+      pitch0 = std::min(pitch0, pitch), pitch1 = std::max(pitch1, pitch);
+    }
+  if (yaws.empty()) return v;
+  double sx, sy;
+  const bool up = to_pixel(p, src.base.rotation * Ray(0, -1, 0), sx, sy), down = to_pixel(p, src.base.rotation * Ray(0, 1, 0), sx, sy);
+  if (up) pitch1 = 90;
+  if (down) pitch0 = -90;
+  v.pitch0 = pitch0, v.pitch1 = pitch1;
+  std::sort(yaws.begin(), yaws.end());
+  double gap = yaws.front() + 360 - yaws.back(), after = yaws.back();
+  for (size_t i = 1; i < yaws.size(); ++i)
+    if (yaws[i] - yaws[i - 1] > gap) gap = yaws[i] - yaws[i - 1], after = yaws[i - 1];
+  // A gap of a few grid steps is sampling, not a border.
+  const double step = 360.0 * 4 / kGrid;
+  if (up || down || gap < step) return v;
+  v.full_yaw = false;
+  v.yaw0 = after + gap - 360 < -180 ? after + gap : after + gap - 360;
+  v.yaw0 = v.yaw0 >= 180 ? v.yaw0 - 360 : v.yaw0;
+  v.yaw1 = v.yaw0 + 360 - gap;
+  return v;
+}
+
+TilesReport finish(const TilesJob& job, const Source& src, OutputFolder& folder, std::array<int64_t, 2> counts) {
+  const TilePyramid& p = src.pyramid;
+  // The preview: Pannellum's fallback faces, Marzipano's faces stacked in its order.
+  std::vector<TileRows> none;
+  std::vector<Part> parts;
+  for (int f = 0; f < 6; ++f) {
+    const int scale = face_scale(job, src, f, p.preview);
+    parts.push_back({f, p.preview, 0, p.preview, scale, at_scale(face_rows(src, f, p.preview, 0, p.preview), src, scale)});
+  }
+  Image strip;
+  render_parts(job, src, parts, true, [&](size_t i, const Image& face) {
+    Flat flat = flatten(face, 0, 0, p.preview, p.preview, src.partial);
+    if (p.viewer == Viewer::Pannellum) {
+      if (!flat.empty) OutputFolder::write_file(folder.staged(), preview_path(p, parts[i].face),
+                                                encoded(flat.image, job, job.output + "/" + preview_path(p, parts[i].face)));
+      return;
+    }
+    if (strip.width() == 0) strip = Image(Size{p.preview, 6 * p.preview}, flat.image.channels(), flat.image.type());
+    const int64_t slot = std::string_view(kMarzipanoPreviewOrder).find(kFaceLetters[parts[i].face]);
+    for (int64_t y = 0; y < p.preview; ++y)
+      std::memcpy(strip.row(slot * p.preview + y), flat.image.row(y), flat.image.row_bytes());
+  });
+  if (p.viewer == Viewer::Marzipano)
+    OutputFolder::write_file(folder.staged(), preview_path(p, 0), encoded(strip, job, job.output + "/" + preview_path(p, 0)));
+  const ViewRange range = view_range(src);
+  for (const TextFile& f : viewer_files(job, p, range)) OutputFolder::write_file(folder.staged(), f.path, f.text);
+  folder.commit();
+  TilesReport report;
+  report.pyramid = p, report.from = src.from_text, report.source_size = src.info.size;
+  report.written = counts[0], report.empty = counts[1];
+  if (range.partial()) {
+    char b[160];
+    std::snprintf(b, sizeof b, "partial panorama: the view is limited to yaw %s, pitch %.2f to %.2f",
+                  range.full_yaw ? "all round" : (std::to_string(range.yaw0) + " to " + std::to_string(range.yaw1)).c_str(),
+                  range.pitch0, range.pitch1);
+    report.notes.push_back(b);
+  }
+  return report;
+}
+
+void check_job(const TilesJob& job) {
+  if (job.input.empty()) throw Error("no input given (expected a panorama)");
+  if (job.output.empty()) throw Error("no output folder given");
+  check_write_options(job.write);
+  if (job.options.decode_scale > 1)
+    throw Error(option_text("decode-scale") + " " + std::to_string(job.options.decode_scale) +
+                ": each level takes its own scale (use auto or 1)");
+}
+
+}  // namespace
+
+TilePyramid tile_pyramid(const TilesJob& job) { return open_source(job).pyramid; }
+
+TilesReport run_tiles(const TilesJob& job, const std::function<void(double)>& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_job(job);
+  const Source src = open_source(job);
+  OutputFolder folder(job.output, job.write.overwrite);
+  // One tile row a part: in flight, the source at one scale and one row of tiles.
+  const std::vector<TileRows> rows = all_rows(src.pyramid, 1);
+  const auto counts = render_rows(job, src, folder.staged(), rows, true, progress);
+  TilesReport report = finish(job, src, folder, counts);
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return report;
+}
+
+TilesStaging begin_tiles(const TilesJob& job, int64_t band_pixels) {
+  check_job(job);
+  const Source src = open_source(job);
+  OutputFolder folder(job.output, job.write.overwrite);
+  folder.keep();
+  return {folder.staged(), all_rows(src.pyramid, band_pixels)};
+}
+
+std::array<int64_t, 2> render_tiles(const TilesJob& job, const std::string& folder, const std::vector<TileRows>& rows) {
+  return render_rows(job, open_source(job), folder, rows, false, {});
+}
+
+TilesReport finish_tiles(const TilesJob& job, const std::string& staged, std::array<int64_t, 2> counts) {
+  const Source src = open_source(job);
+  OutputFolder folder(job.output, job.write.overwrite, staged);
+  return finish(job, src, folder, counts);
+}
+
+void abandon_tiles(const std::string& folder) { OutputFolder::remove_staged(folder); }
+
+}  // namespace panoproj
