@@ -56,7 +56,8 @@ std::string pannellum_config(const TilePyramid& p, const ViewRange& r, double hf
   return s;
 }
 
-// Marzipano's scene data: levels (the preview's first, fallbackOnly), URLs, limits in degrees.
+// Marzipano's scene data: levels (the preview's first, fallbackOnly), URLs, limits in degrees
+// (pitch positive up, as in Pannellum and panoproj: the page negates it for Marzipano).
 std::string marzipano_config(const TilePyramid& p, const ViewRange& r, double hfov) {
   std::string s = "{\n  \"faceSize\": " + std::to_string(p.levels.back().size) + ",\n  \"levels\": [\n";
   s += "    {\"tileSize\": " + std::to_string(p.preview) + ", \"size\": " + std::to_string(p.preview) +
@@ -74,7 +75,8 @@ std::string marzipano_config(const TilePyramid& p, const ViewRange& r, double hf
 }
 
 // index.html: the viewer's script from script_url, the config inlined (a page opened from disk
-// may not fetch it), the view from the query: ?yaw=&pitch=&hfov= (degrees), controls=0.
+// may not fetch it), the view from the query: ?yaw=&pitch=&hfov= (degrees, pitch positive up as
+// in Pannellum; Marzipano's pitch is positive down, so its page negates it), controls=0.
 const char* const kQuery = R"(var q = new URLSearchParams(location.search);
 function param(name, fallback) { var v = parseFloat(q.get(name)); return isFinite(v) ? v : fallback; }
 )";
@@ -108,14 +110,14 @@ std::string marzipano_page(const std::string& script, const std::string& config)
          "var geometry = new Marzipano.CubeGeometry(data.levels);\n"
          "var limits = [Marzipano.RectilinearView.limit.traditional(data.faceSize, 120 * deg, 120 * deg)];\n"
          "if (data.yawRange) limits.push(Marzipano.RectilinearView.limit.yaw(data.yawRange[0] * deg, data.yawRange[1] * deg));\n"
-         "limits.push(Marzipano.RectilinearView.limit.pitch(data.pitchRange[0] * deg, data.pitchRange[1] * deg));\n"
+         "limits.push(Marzipano.RectilinearView.limit.pitch(-data.pitchRange[1] * deg, -data.pitchRange[0] * deg));\n"
          "var hfov = param(\"hfov\", data.initialView.hfov) * deg;\n"
          "var vfov = 2 * Math.atan(Math.tan(hfov / 2) * element.clientHeight / element.clientWidth);\n"
          "var view = new Marzipano.RectilinearView({yaw: param(\"yaw\", data.initialView.yaw) * deg,\n"
-         "    pitch: param(\"pitch\", data.initialView.pitch) * deg, fov: vfov},\n"
+         "    pitch: -param(\"pitch\", data.initialView.pitch) * deg, fov: vfov},\n"
          "    Marzipano.util.compose.apply(null, limits));\n"
          "var scene = viewer.createScene({source: source, geometry: geometry, view: view, pinFirstLevel: true});\n"
-         "scene.switchTo();\nwindow.viewer = viewer;\n</script>\n</body>\n</html>\n";
+         "scene.switchTo({transitionDuration: 0});\nwindow.viewer = viewer;\n</script>\n</body>\n</html>\n";
 }
 
 }  // namespace
