@@ -201,7 +201,35 @@ def big(work, script, python):
         rows.append((name, float(seconds), int(kb) / 1024))
         print(f"{name:20s} {float(seconds):8.1f} s  peak {int(kb) / 1024:8.0f} MB")
     print(f"ratio (generate.py / panoproj): {rows[1][1] / rows[0][1]:.1f}x time, {rows[1][2] / rows[0][2]:.1f}x peak memory")
-    return True
+    return dask_run(work, source, work / "big_ours", ["--quality", "75"])
+
+
+def digests(folder):
+    import hashlib
+    return {str(p.relative_to(folder)): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(pathlib.Path(folder).rglob("*")) if p.is_file()}
+
+
+def _peak_rss_mb():
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def dask_run(work, source, local, args):
+    """The same pyramid on a 2-worker LocalCluster (one thread each): time, each worker's peak
+    memory, and the bytes against the local run's."""
+    from dask.distributed import Client, LocalCluster
+    out = work / "big_dask"
+    shutil.rmtree(out, ignore_errors=True)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                      memory_limit=0) as cluster, Client(cluster) as client:
+        t0 = time.perf_counter()
+        report = pp.tiles(str(source), str(out), quality=75, client=client, threads=1)
+        seconds = time.perf_counter() - t0
+        peaks = client.run(_peak_rss_mb)
+    same = digests(out) == digests(local)
+    print(f"dask LocalCluster 2 workers x 1 thread: {seconds:.1f} s, {report['tasks']} tasks, worker peaks "
+          + ", ".join(f"{v:.0f} MB" for v in peaks.values()) + f"; bytes equal to the local run: {same}")
+    return same
 
 
 if __name__ == "__main__":

@@ -14,6 +14,7 @@
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/tiles.hpp"
+#include "io/codec.hpp"
 #include "jobs/tile_layouts.hpp"
 #include "test_support.hpp"
 
@@ -197,6 +198,31 @@ TEST_P(EveryViewer, EveryTileEqualsItsFaceRenderedDirectlyAtItsLevel) {
   const size_t previews = job.viewer == Viewer::Pannellum ? 6 : 1;
   EXPECT_EQ(files.size(), static_cast<size_t>(r.pyramid.tile_count()) + previews + 2);
   EXPECT_TRUE(files.count("index.html") && files.count("config.json"));
+}
+
+// JPEG tiles hold the same pixels before encoding: each file is the JPEG encoding of the PNG
+// run's tile (the encoder is deterministic), byte for byte.
+TEST_F(Tiles, JpegTilesAreThePngTilesEncoded) {
+  TilesJob job;
+  job.input = source("equirect", {1024, 512});
+  job.tile = 128;
+  job.format = "png";
+  job.output = path("png");
+  const TilesReport r = run_tiles(job);
+  job.format = "jpg";
+  job.output = path("jpg");
+  run_tiles(job);
+  WriteOptions w = job.write;
+  w.threads = 1;
+  for (size_t l = 0; l < r.pyramid.levels.size(); ++l)
+    for (int f = 0; f < 6; ++f) {
+      const std::string name = r.pyramid.tile_path(l, f, 0, 0);
+      const Image png = read_image(path("png") + "/" + name);
+      const FileBytes want = encode_jpeg(png, "x.jpg", w, {});
+      const std::string jpg_name = name.substr(0, name.size() - 3) + "jpg";
+      EXPECT_EQ(slurp(path("jpg") + "/" + jpg_name), std::string(reinterpret_cast<const char*>(want.data()), want.size()))
+          << jpg_name;
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Viewers, EveryViewer, ::testing::Values(Viewer::Pannellum, Viewer::Marzipano),

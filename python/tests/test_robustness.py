@@ -976,3 +976,170 @@ def test_nan_and_inf_pixels_have_defined_integers(tmp_path):
     out = pp.convert(img, "equirect", "equirect", interp="bilinear", antialias="off")
     assert not np.isfinite(out[1:-1, :24]).any() and np.isnan(out[1:-1, 63]).all()
     assert np.isfinite(out[1:-1, 24:62]).all()
+
+
+# ---------------------------------------------------------------------------------------------
+# 7. Tile pyramids (panoproj tiles, pp.tiles): the output is a folder that lands whole.
+
+TILE_PARAMS = [
+    # (id, args after "tiles IN out", needle, input key)
+    ("viewer", ["--viewer", "krpano"], "viewer krpano is not known (use pannellum or marzipano)", "png"),
+    ("tile_8", ["--tile", "8"], "--tile 8 is out of range (16 to 8192 px)", "png"),
+    ("tile_text", ["--tile", "big"], "--tile", "png"),
+    ("levels_99", ["--levels", "99"], "--levels 99 is out of range", "png"),
+    ("levels_too_many", ["--levels", "9"], "--levels 9: a 80 px face in 80 px tiles has 1 level (use at most that)", "png"),
+    ("cube_size_marzipano", ["--viewer", "marzipano", "--cube-size", "1000"], "--cube-size 1000 is not 512 x 2^k", "png"),
+    ("cube_size_huge", ["--cube-size", "99999999999"], "--cube-size 99999999999 is out of range", "png"),
+    ("format", ["--format", "webp"], "--format webp is not a tile format (use jpg or png)", "png"),
+    ("quality", ["--quality", "0"], "quality 0 (expected 1 to 100)", "png"),
+    ("preview", ["--preview", "99999"], "--preview 99999 is out of range", "png"),
+    ("preview_marzipano", ["--viewer", "marzipano", "--preview", "100"], "--preview 100 does not divide", "png"),
+    ("script_url_quote", ["--script-url", 'x"><script>'], "has a character a page cannot hold in an attribute", "png"),
+    ("decode_scale", ["--decode-scale", "2"], "--decode-scale 2: each level takes its own scale (use auto or 1)", "jpg"),
+    ("yaw_nan", ["--yaw", "nan"], "yaw: nan (expected a finite angle", "png"),
+    ("threads", ["--threads", "-5"], "threads: -5", "png"),
+    ("memory_limit", ["--memory-limit", "1M"], "needs 6.3 MB, over the memory limit of 1.0 MB", "big"),
+    ("size_is_not_a_tiles_option", ["--size", "64x64"], "--size", "png"),
+    ("stereo", ["--from", "equirect:stereo=tb"], "tiles: stereo=", "png"),
+    ("no_projection", [], "cannot tell the projection", "square"),
+]
+
+
+@pytest.fixture
+def square(tmp_path):
+    path = tmp_path / "square.png"
+    pp.write(str(path), smooth_equirect(64, 64))
+    return path
+
+
+@pytest.mark.parametrize("case", TILE_PARAMS, ids=[c[0] for c in TILE_PARAMS])
+def test_tiles_bad_parameters(cli, files, tmp_path, case, square):
+    _, args, needle, key = case
+    src = square if key == "square" else files[key]
+    before = snapshot(tmp_path)
+    r = run(cli, ["tiles", src, "out"] + args, tmp_path)
+    expect_refused(r, needle)
+    assert r.out == ""
+    assert snapshot(tmp_path) == before
+
+
+@pytest.mark.parametrize("case", _table(HOSTILE))
+def test_tiles_hostile_inputs(cli, files, tmp_path, case):
+    key, needle, _ = case
+    before = snapshot(tmp_path)
+    r = run(cli, ["tiles", files[key], "out", "--from", "equirect"], tmp_path, timeout=30)
+    line = expect_refused(r, needle, rss=HOSTILE_RSS)
+    assert str(files[key]) in line
+    assert snapshot(tmp_path) == before
+
+
+def _old_folder(tmp_path):
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "mine.txt").write_bytes(b"old")
+
+
+def _assert_old_folder(tmp_path):
+    assert listing(tmp_path) == ["out"], listing(tmp_path)  # no temporary folder left beside it
+    assert listing(tmp_path / "out") == ["mine.txt"] and (tmp_path / "out" / "mine.txt").read_bytes() == b"old"
+
+
+@pytest.mark.parametrize("case", ["exists", "file", "missing_folder"])
+def test_tiles_outputs_that_cannot_be_written(cli, files, tmp_path, case):
+    out = {"exists": "out", "file": "afile", "missing_folder": "nowhere/out"}[case]
+    if case == "exists":
+        _old_folder(tmp_path)
+    (tmp_path / "afile").write_bytes(b"a file")
+    before = snapshot(tmp_path)
+    r = run(cli, ["tiles", files["png"], out], tmp_path)
+    expect_refused(r, {"exists": "output out exists (pass --overwrite to replace the folder)",
+                       "file": "output afile exists and is not a folder",
+                       "missing_folder": "output folder nowhere does not exist"}[case])
+    assert snapshot(tmp_path) == before
+
+
+def test_tiles_overwrite_replaces_the_whole_folder(cli, files, tmp_path):
+    _old_folder(tmp_path)
+    r = run(cli, ["tiles", files["png"], "out", "--overwrite", "-q"], tmp_path)
+    assert r.code == 0, r.err
+    assert listing(tmp_path) == ["out"]
+    names = listing(tmp_path / "out")
+    assert "mine.txt" not in names and {"config.json", "index.html", "fallback", "1"} <= set(names)
+
+
+@pytest.mark.parametrize("cut", [0, 3000, 30000])
+def test_tiles_writes_cut_at_a_byte_offset(cli, files, tmp_path, cut):
+    # RLIMIT_FSIZE: the first file past `cut` bytes fails (EFBIG); the old folder stays, nothing is left.
+    _old_folder(tmp_path)
+    r = run(cli, ["tiles", files["big"], "out", "--overwrite", "--format", "png"], tmp_path, fsize=cut)
+    expect_refused(r, "cannot write ", "File too large")
+    _assert_old_folder(tmp_path)
+
+
+@pytest.mark.skipif(not _tmpfs_available(), reason="no tmpfs mount permitted here")
+def test_tiles_on_a_full_tmpfs(cli, files, tmp_path):
+    mnt = tmp_path / "mnt"
+    mnt.mkdir()
+    script = (f"mount -t tmpfs -o size=1m tmpfs {mnt} && cd {mnt} && mkdir out && printf old > out/mine.txt && "
+              f"{os.path.abspath(cli)} tiles {files['big']} out --overwrite --format png; echo \"rc=$?\"; "
+              f"ls -A {mnt}; ls -A {mnt}/out; cat {mnt}/out/mine.txt")
+    p = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True, text=True, timeout=120)
+    assert "rc=1" in p.stdout, p.stdout + p.stderr
+    assert p.stdout.split("rc=1")[1].split() == ["out", "mine.txt", "old"], p.stdout
+    lines = [l for l in p.stderr.splitlines() if l.strip()]
+    assert len(lines) == 1 and "cannot write" in lines[0] and "No space left on device" in lines[0], lines
+
+
+@pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["INT", "TERM"])
+def test_tiles_signals_leave_nothing_behind(cli, files, tmp_path, sig):
+    # strace holds the one syncfs for 3 s: every file is in the temporary folder then.
+    _old_folder(tmp_path)
+
+    def interrupt(p):
+        deadline = time.time() + 20
+        while time.time() < deadline:
+            kids = _children(p.pid)
+            if kids and any(n.startswith(".panoproj-") for n in os.listdir(tmp_path)):
+                time.sleep(0.5)
+                os.kill(kids[0], sig)
+                return
+            time.sleep(0.05)
+
+    r = run(cli, ["tiles", files["big"], "out", "--overwrite"], tmp_path,
+            strace=["-e", "trace=syncfs", "-e", "inject=syncfs:delay_enter=3000000:when=1"],
+            on_start=lambda p: threading.Thread(target=interrupt, args=(p,), daemon=True).start())
+    assert r.code in (-sig, 128 + sig), (r.code, r.err)
+    _assert_old_folder(tmp_path)
+
+
+TILE_PY_CALLS = [
+    ("exists", dict(), FileExistsError, "exists (pass overwrite=True to replace the folder)"),
+    ("viewer", dict(viewer="krpano"), ValueError, "viewer krpano is not known"),
+    ("tile_type", dict(tile="512"), TypeError, "tile: '512' (expected an int)"),
+    ("levels_type", dict(levels=1.5), TypeError, "levels: 1.5 (expected an int)"),
+    ("tile_range", dict(tile=8), ValueError, "tile='8' is out of range (16 to 8192 px)"),
+    ("unknown_option", dict(size=(64, 64)), TypeError, "unknown option 'size'"),
+    ("yaw_nan", dict(yaw=float("nan")), ValueError, "yaw: nan"),
+    ("memory", dict(memory_limit="1M"), MemoryError, "over the memory limit"),
+]
+
+
+@pytest.mark.parametrize("case", TILE_PY_CALLS, ids=[c[0] for c in TILE_PY_CALLS])
+def test_python_tiles_refusals(files, tmp_path, case):
+    name, kw, error, needle = case
+    if name == "exists":
+        _old_folder(tmp_path)
+    before = snapshot(tmp_path)
+    with pytest.raises(error, match=re.escape(needle)):
+        pp.tiles(files["big"], tmp_path / "out", **kw)
+    assert snapshot(tmp_path) == before
+
+
+def test_python_tiles_on_a_client_that_fails_leaves_nothing(files, tmp_path):
+    class Failing:  # a scheduler whose tasks fail
+        def submit(self, *a, **k):
+            raise RuntimeError("worker lost")
+
+    with pytest.raises(RuntimeError, match="worker lost"):
+        pp.tiles(files["png"], tmp_path / "out", client=Failing())
+    assert listing(tmp_path) == []

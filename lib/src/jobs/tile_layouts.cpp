@@ -177,7 +177,7 @@ TilePyramid make_pyramid(const TilesJob& job, double density) {
     const int all = static_cast<int>(std::ceil(std::log2(static_cast<double>(cube) / static_cast<double>(p.tile)) - 1e-12)) + 1;
     if (job.levels > all)
       throw Error(option_text("levels", std::to_string(job.levels)) + ": a " + std::to_string(cube) + " px face in " +
-                  std::to_string(p.tile) + " px tiles has " + std::to_string(all) + " levels (use at most that)");
+                  std::to_string(p.tile) + " px tiles has " + std::to_string(all) + (all == 1 ? " level" : " levels") + " (use at most that)");
     const int n = job.levels ? job.levels : all;
     for (int l = 1; l <= n; ++l) sizes.push_back(cube >> (n - l));
     p.preview = job.preview ? job.preview : std::min<int64_t>(1024, cube);
@@ -202,7 +202,7 @@ TilePyramid make_pyramid(const TilesJob& job, double density) {
     while ((t << (all - 1)) < cube) ++all;
     if (job.levels > all)
       throw Error(option_text("levels", std::to_string(job.levels)) + ": a " + std::to_string(cube) + " px face in " +
-                  std::to_string(t) + " px tiles has " + std::to_string(all) + " levels (use at most that)");
+                  std::to_string(t) + " px tiles has " + std::to_string(all) + (all == 1 ? " level" : " levels") + " (use at most that)");
     const int n = job.levels ? job.levels : all;
     for (int l = 0; l < n; ++l) sizes.push_back(cube >> (n - 1 - l));
     int64_t pv = sizes.front();
