@@ -716,21 +716,25 @@ def test_signals_during_a_write_leave_nothing_behind(cli, files, tmp_path, sig, 
     _old_files(tmp_path, outputs)
     full = ["convert", files["png"], outputs[0] if kind == "convert" else "{face}.png"] + args
 
+    # strace holds the first fsync for 3 s: the temporary exists then.
+    r = run(cli, full, tmp_path, strace=["-e", "trace=fsync", "-e", "inject=fsync:delay_enter=3000000:when=1"],
+            on_start=_signal_once_a_temporary_exists(tmp_path, sig, 0.3))
+    assert r.code in (-sig, 128 + sig), (r.code, r.err)
+    _assert_old_intact(tmp_path, outputs)
+
+
+def _signal_once_a_temporary_exists(folder, sig, pause):
+    """on_start for run(): signals the tracee (strace's child) `pause` s after a temporary appears."""
     def interrupt(p):
-        # strace holds the first fsync for 3 s: the temporary exists then. Signal the tracee.
         deadline = time.time() + 20
         while time.time() < deadline:
             kids = _children(p.pid)
-            if kids and any(n.startswith(".panoproj-") for n in os.listdir(tmp_path)):
-                time.sleep(0.3)
+            if kids and any(n.startswith(".panoproj-") for n in os.listdir(folder)):
+                time.sleep(pause)
                 os.kill(kids[0], sig)
                 return
             time.sleep(0.05)
-
-    r = run(cli, full, tmp_path, strace=["-e", "trace=fsync", "-e", "inject=fsync:delay_enter=3000000:when=1"],
-            on_start=lambda p: threading.Thread(target=interrupt, args=(p,), daemon=True).start())
-    assert r.code in (-sig, 128 + sig), (r.code, r.err)
-    _assert_old_intact(tmp_path, outputs)
+    return lambda p: threading.Thread(target=interrupt, args=(p,), daemon=True).start()
 
 
 def _children(pid):
@@ -1094,20 +1098,9 @@ def test_tiles_on_a_full_tmpfs(cli, files, tmp_path):
 def test_tiles_signals_leave_nothing_behind(cli, files, tmp_path, sig):
     # strace holds the one syncfs for 3 s: every file is in the temporary folder then.
     _old_folder(tmp_path)
-
-    def interrupt(p):
-        deadline = time.time() + 20
-        while time.time() < deadline:
-            kids = _children(p.pid)
-            if kids and any(n.startswith(".panoproj-") for n in os.listdir(tmp_path)):
-                time.sleep(0.5)
-                os.kill(kids[0], sig)
-                return
-            time.sleep(0.05)
-
     r = run(cli, ["tiles", files["big"], "out", "--overwrite"], tmp_path,
             strace=["-e", "trace=syncfs", "-e", "inject=syncfs:delay_enter=3000000:when=1"],
-            on_start=lambda p: threading.Thread(target=interrupt, args=(p,), daemon=True).start())
+            on_start=_signal_once_a_temporary_exists(tmp_path, sig, 0.5))
     assert r.code in (-sig, 128 + sig), (r.code, r.err)
     _assert_old_folder(tmp_path)
 

@@ -12,9 +12,10 @@ namespace {
 constexpr int64_t kMaxCube = 65536;  // 6 faces of 2^32 px: a panorama 200k px wide
 constexpr int kMaxTile = 8192;
 
+// Degrees to a micro-degree (the range's last digits are rounding), as Python prints a float.
 std::string num(double v) {
   char b[32];
-  auto r = std::to_chars(b, b + sizeof b, v);
+  auto r = std::to_chars(b, b + sizeof b, std::round(v * 1e6) / 1e6 + 0.0);
   std::string s(b, r.ptr);
   if (s.find_first_of(".e") == std::string::npos) s += ".0";  // as Python prints a float
   return s;

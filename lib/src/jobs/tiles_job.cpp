@@ -83,27 +83,43 @@ struct Flat {
 Flat flatten(const Image& part, int64_t x0, int64_t y0, int64_t w, int64_t h, bool partial) {
   const int a = partial ? part.alpha_channel() : -1;
   const int channels = part.channels() - (a >= 0 ? 1 : 0);
-  Flat f{Image(Size{w, h}, channels, part.type(), -1, Image::Unfilled{})};
+  Flat f;
+  bool any = a < 0;
+  with_sample_type(part.type(), [&](auto sample) {
+    using T = decltype(sample);
+    for (int64_t y = 0; y < h && !any; ++y) {
+      const unsigned char* in = part.pixel(x0, y0 + y) + a * sizeof(T);
+      for (int64_t x = 0; x < w && !any; ++x, in += part.pixel_bytes()) any = load<T>(in) > 0;
+    }
+  });
+  f.empty = !any;
+  if (f.empty) return f;
+  f.image = Image(Size{w, h}, channels, part.type(), -1, Image::Unfilled{});
   if (a < 0) {
     for (int64_t y = 0; y < h; ++y) std::memcpy(f.image.row(y), part.pixel(x0, y0 + y), f.image.row_bytes());
     return f;
   }
-  bool any = false;
   with_sample_type(part.type(), [&](auto sample) {
     using T = decltype(sample);
     const double scale = std::is_integral_v<T> ? 1.0 / static_cast<double>(std::numeric_limits<T>::max()) : 1.0;
     for (int64_t y = 0; y < h; ++y) {
       const unsigned char* in = part.pixel(x0, y0 + y);
-      unsigned char* out = f.image.row(y);
+      T* out = reinterpret_cast<T*>(f.image.row(y));
       for (int64_t x = 0; x < w; ++x, in += part.pixel_bytes()) {
-        const double alpha = load<T>(in + a * sizeof(T)) * scale;
-        any |= alpha > 0;
-        for (int c = 0; c < part.channels(); ++c)
-          if (c != a) store<T>(out, load<T>(in + c * sizeof(T)) * alpha), out += sizeof(T);
+        const T* px = reinterpret_cast<const T*>(in);
+        if constexpr (std::is_same_v<T, uint8_t>) {
+          // c a / 255 rounded to nearest: (2 c a + 255) / 510.
+          const unsigned alpha = px[a];
+          for (int c = 0; c < part.channels(); ++c)
+            if (c != a) *out++ = static_cast<uint8_t>((2u * px[c] * alpha + 255u) / 510u);
+        } else {
+          const double alpha = load<T>(in + a * sizeof(T)) * scale;
+          for (int c = 0; c < part.channels(); ++c)
+            if (c != a) store<T>(reinterpret_cast<unsigned char*>(out++), load<T>(in + c * sizeof(T)) * alpha);
+        }
       }
     }
   });
-  f.empty = !any;
   return f;
 }
 
@@ -137,21 +153,28 @@ void render_parts(const TilesJob& job, const Source& src, std::vector<Part>& par
     const Size frame{src.info.size.width / scale, src.info.size.height / scale};
     Converter::Region need{frame.width, frame.height, 0, 0};
     std::vector<Converter> converters;
+    // A part of a partial source whose footprint is empty has no pixel with a source (nor,
+    // with its margin of rows, one on the field's edge): it is not rendered.
+    std::vector<char> seen;
     for (size_t i : members) {
       converters.push_back(converter_for(parts[i].geometry, o));
-      if (whole) continue;
+      seen.push_back(1);
+      if (whole && !src.partial) continue;
       const Converter::Region r = converters.back().source_footprint();
-      if (r.x1 <= r.x0 || r.y1 <= r.y0) continue;
+      if (r.x1 <= r.x0 || r.y1 <= r.y0) {
+        seen.back() = 0;
+        continue;
+      }
       need = {std::min(need.x0, r.x0), std::min(need.y0, r.y0), std::max(need.x1, r.x1), std::max(need.y1, r.y1)};
     }
     if (whole) need = {0, 0, frame.width, frame.height};
-    const bool any = need.x1 > need.x0 && need.y1 > need.y0;  // else no part has a source pixel
+    const bool any = std::find(seen.begin(), seen.end(), 1) != seen.end();
     Image window, with_alpha;
     if (any) window = read_image_region(job.input, need.x0, need.y0, need.x1, need.y1, job.options.memory_limit, 0, scale);
     const Image& in = any ? source_for(window, o, with_alpha) : window;
     for (size_t k = 0; k < members.size(); ++k) {
       Image out;
-      if (any) converters[k].run(in, out);
+      if (seen[k]) converters[k].run(in, out);
       else out = Image(size_of(parts[members[k]].geometry.target), src.info.channels + 1, src.info.type, src.info.channels);
       done(members[k], out);
     }
@@ -295,10 +318,14 @@ TilesReport finish(const TilesJob& job, const Source& src, OutputFolder& folder,
   report.written = counts[0], report.empty = counts[1];
   if (range.partial()) {
     char b[160];
-    std::snprintf(b, sizeof b, "partial panorama: the view is limited to yaw %s, pitch %.2f to %.2f",
-                  range.full_yaw ? "all round" : (std::to_string(range.yaw0) + " to " + std::to_string(range.yaw1)).c_str(),
+    char yaws[64] = "all round";
+    if (!range.full_yaw) std::snprintf(yaws, sizeof yaws, "%.2f to %.2f", range.yaw0, range.yaw1);
+    std::snprintf(b, sizeof b, "partial panorama: the view is limited to yaw %s, pitch %.2f to %.2f", yaws,
                   range.pitch0, range.pitch1);
     report.notes.push_back(b);
+    if (!range.full_yaw && range.yaw1 > 180)
+      report.notes.push_back("its yaw range crosses the back (180 degrees), which the viewers' yaw limits cannot hold: "
+                             "turn its centre to the front with " + option_text("yaw"));
   }
   return report;
 }
