@@ -109,6 +109,7 @@ TEST(TileLayout, BadValuesAreRefusedNamingThem) {
       {[](TilesJob& j) { j.viewer = Viewer::Marzipano, j.preview = 100; }, "--preview 100 does not divide"},
       {[](TilesJob& j) { j.format = "bmp"; }, "--format bmp is not a tile format"},
       {[](TilesJob& j) { j.script_url = "x\"onload=\"alert(1)"; }, "has a character a page cannot hold"},
+      {[](TilesJob& j) { j.cube_size = 65536; }, "--cube-size 65536 is over 4x the source's resolution (1303 px a face)"},
   };
   for (const Case& c : cases) {
     TilesJob job;
@@ -121,6 +122,16 @@ TEST(TileLayout, BadValuesAreRefusedNamingThem) {
     }
   }
   EXPECT_THROW(parse_viewer("krpano"), Error);
+  // Millions of files: a 100000-px panorama in 16-px tiles.
+  TilesJob job;
+  job.tile = 16;
+  try {
+    make_pyramid(job, 100000 / (2 * kPi));
+    ADD_FAILURE() << "32 million tiles accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("tiles (over 4194304 files: use larger tiles or fewer --levels)"), std::string::npos)
+        << e.what();
+  }
 }
 
 // The face letter in a tile's file name (Pannellum: <level>/<letter><row>_<col>; Marzipano:

@@ -994,6 +994,7 @@ TILE_PARAMS = [
     ("levels_too_many", ["--levels", "9"], "--levels 9: a 80 px face in 80 px tiles has 1 level (use at most that)", "png"),
     ("cube_size_marzipano", ["--viewer", "marzipano", "--cube-size", "1000"], "--cube-size 1000 is not 512 x 2^k", "png"),
     ("cube_size_huge", ["--cube-size", "99999999999"], "--cube-size 99999999999 is out of range", "png"),
+    ("cube_size_past_the_detail", ["--cube-size", "4096"], "--cube-size 4096 is over 4x the source's resolution", "png"),
     ("format", ["--format", "webp"], "--format webp is not a tile format (use jpg or png)", "png"),
     ("quality", ["--quality", "0"], "quality 0 (expected 1 to 100)", "png"),
     ("preview", ["--preview", "99999"], "--preview 99999 is out of range", "png"),

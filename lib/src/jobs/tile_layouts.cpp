@@ -11,6 +11,7 @@ namespace {
 
 constexpr int64_t kMaxCube = 65536;  // 6 faces of 2^32 px: a panorama 200k px wide
 constexpr int kMaxTile = 8192;
+constexpr int64_t kMaxTiles = int64_t{1} << 22;  // files in one pyramid
 
 // Degrees to a micro-degree (the range's last digits are rounding), as Python prints a float.
 std::string num(double v) {
@@ -214,11 +215,20 @@ TilePyramid make_pyramid(const TilesJob& job, double density) {
     p.preview = job.preview ? job.preview : pv;
   }
   if (p.preview < 16 && job.preview) throw Error(option_text("preview", std::to_string(job.preview)) + " is out of range (16 to 4096 px)");
+  // A top level far past the source's detail, or millions of files, is a mistake to refuse
+  // before hours of work: at most 4x the source's resolution, at most kMaxTiles tiles.
+  const int64_t top = sizes.back();
+  if (job.cube_size && static_cast<double>(top) > 4 * natural && top > p.tile)
+    throw Error(option_text("cube-size", std::to_string(top)) + " is over 4x the source's resolution (" +
+                std::to_string(static_cast<int64_t>(natural)) + " px a face): its tiles would hold no more detail");
   for (size_t i = 0; i < sizes.size(); ++i) {
     const int64_t s = sizes[i];
     if (s < 1) throw Error("level " + std::to_string(i + 1) + " would be empty (use fewer " + option_text("levels") + ")");
     p.levels.push_back({static_cast<int>(i) + 1, s, (s + p.tile - 1) / p.tile});
   }
+  if (p.tile_count() > kMaxTiles)
+    throw Error(option_text("tile", std::to_string(job.tile)) + " makes " + std::to_string(p.tile_count()) +
+                " tiles (over " + std::to_string(kMaxTiles) + " files: use larger tiles or fewer " + option_text("levels") + ")");
   return p;
 }
 
