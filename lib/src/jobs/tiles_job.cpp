@@ -147,6 +147,11 @@ struct Part {
 void render_parts(const TilesJob& job, const Source& src, std::vector<Part>& parts, bool whole,
                   const std::function<void(size_t, const Image&)>& done) {
   const ConvertOptions o = render_options(job, src);
+  // In flight besides the source's window: one part's output (and the tiles cut from it).
+  uint64_t part_bytes = 0;
+  for (const Part& p : parts)
+    part_bytes = std::max(part_bytes, image_bytes(size_of(p.geometry.target), src.info.channels + 1, 2 * bytes_of(src.info.type)));
+  require_memory("a band of tiles", part_bytes, job.options.memory_limit);
   std::map<int, std::vector<size_t>> by_scale;
   for (size_t i = 0; i < parts.size(); ++i) by_scale[parts[i].scale].push_back(i);
   for (const auto& [scale, members] : by_scale) {
@@ -170,7 +175,7 @@ void render_parts(const TilesJob& job, const Source& src, std::vector<Part>& par
     if (whole) need = {0, 0, frame.width, frame.height};
     const bool any = std::find(seen.begin(), seen.end(), 1) != seen.end();
     Image window, with_alpha;
-    if (any) window = read_image_region(job.input, need.x0, need.y0, need.x1, need.y1, job.options.memory_limit, 0, scale);
+    if (any) window = read_image_region(job.input, need.x0, need.y0, need.x1, need.y1, job.options.memory_limit, part_bytes, scale);
     const Image& in = any ? source_for(window, o, with_alpha) : window;
     for (size_t k = 0; k < members.size(); ++k) {
       Image out;
