@@ -1003,7 +1003,7 @@ TILE_PARAMS = [
     ("decode_scale", ["--decode-scale", "2"], "--decode-scale 2: each level takes its own scale (use auto or 1)", "jpg"),
     ("yaw_nan", ["--yaw", "nan"], "yaw: nan (expected a finite angle", "png"),
     ("threads", ["--threads", "-5"], "threads: -5", "png"),
-    ("memory_limit", ["--memory-limit", "1M"], "needs 6.3 MB, over the memory limit of 1.0 MB", "big"),
+    ("memory_limit", ["--memory-limit", "1M"], "a band of tiles needs 2.7 MB, over the memory limit of 1.0 MB", "big"),
     ("size_is_not_a_tiles_option", ["--size", "64x64"], "--size", "png"),
     ("stereo", ["--from", "equirect:stereo=tb"], "tiles: stereo=", "png"),
     ("no_projection", [], "cannot tell the projection", "square"),
