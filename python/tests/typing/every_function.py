@@ -35,6 +35,9 @@ rays, ok = pp.to_ray("equirect", (128, 64), np.array([0.5]), np.array([0.5]), co
 x, y, hit = pp.to_pixel("equirect", (128, 64), rays, convention="torch")
 faces: List[npt.NDArray[np.generic]] = pp.split_faces(out)
 print(pp.simd_target(), pp.__version__)
+report: Dict[str, object] = pp.tiles("samples/images/jordan_pond_4096x2048.jpg", "/tmp/panoproj-typing-tiles",
+                                     viewer="marzipano", tile=256, levels=1, format="png", quality=90,
+                                     script_url="js/", overwrite=True, interp="bilinear", yaw=10.0, threads=1)
 dice = compat.e2c(pano, face_w=16, mode="bilinear", cube_format="dice")
 listed = compat.e2c(pano, 16, cube_format="list")
 named = compat.e2c(pano, 16, cube_format="dict")
