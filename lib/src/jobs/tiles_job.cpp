@@ -5,7 +5,6 @@
 #include <cstring>
 #include <limits>
 #include <map>
-#include <mutex>
 
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
@@ -144,7 +143,7 @@ struct Part {
 
 // Renders parts grouped by decode scale, each group from one read of the source (whole, or the
 // union of the parts' footprints), calling done(part index, image) as each is made.
-void render_parts(const TilesJob& job, const Source& src, std::vector<Part>& parts, bool whole,
+void render_parts(const TilesJob& job, const Source& src, const std::vector<Part>& parts, bool whole,
                   const std::function<void(size_t, const Image&)>& done) {
   const ConvertOptions o = render_options(job, src);
   // In flight besides the source's window: one part's output (and the tiles cut from it).
@@ -209,7 +208,7 @@ std::vector<Part> parts_of(const TilesJob& job, const Source& src, const std::ve
 std::array<int64_t, 2> render_rows(const TilesJob& job, const Source& src, const std::string& folder,
                                    const std::vector<TileRows>& rows, bool whole,
                                    const std::function<void(double)>& progress) {
-  std::vector<Part> parts = parts_of(job, src, rows);
+  const std::vector<Part> parts = parts_of(job, src, rows);
   const TilePyramid& p = src.pyramid;
   std::atomic<int64_t> written{0}, empty{0};
   size_t finished = 0;
@@ -294,7 +293,6 @@ ViewRange view_range(const Source& src) {
 TilesReport finish(const TilesJob& job, const Source& src, OutputFolder& folder, std::array<int64_t, 2> counts) {
   const TilePyramid& p = src.pyramid;
   // The preview: Pannellum's fallback faces, Marzipano's faces stacked in its order.
-  std::vector<TileRows> none;
   std::vector<Part> parts;
   for (int f = 0; f < 6; ++f) {
     const int scale = face_scale(job, src, f, p.preview);
