@@ -103,6 +103,30 @@ std::string random_sibling(const std::string& path) {
   return (fs::path(path).parent_path() / name).string();
 }
 
+// Writes the pieces to fd one after the other, every write checked (EINTR retried); on failure
+// closes fd and throws naming path and the byte it stopped at.
+void write_pieces(int fd, const std::string& path, std::span<const std::string_view> pieces) {
+  size_t total = 0, written = 0;
+  for (const std::string_view piece : pieces) total += piece.size();
+  for (const std::string_view piece : pieces) {
+    const char* p = piece.data();
+    size_t left = piece.size();
+    while (left > 0) {
+      const ssize_t n = ::write(fd, p, left);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        const int err = n < 0 ? errno : ENOSPC;
+        ::close(fd);
+        char at[64];
+        std::snprintf(at, sizeof at, "writing byte %zu of %zu", written, total);
+        fail(path, at, err);
+      }
+      p += n, written += static_cast<size_t>(n);
+      left -= static_cast<size_t>(n);
+    }
+  }
+}
+
 bool lexists(const std::string& path, struct stat* st) { return ::lstat(path.c_str(), st) == 0; }
 
 void sync_folder(const std::string& path) {
@@ -162,25 +186,7 @@ void OutputSet::add(const std::string& path, std::span<const std::string_view> p
   }
   if (fd < 0) fail(path, "no free temporary name", EEXIST);
   staged_.push_back({path, temp, claim(temp)});
-  size_t total = 0, written = 0;
-  for (const std::string_view piece : pieces) total += piece.size();
-  for (const std::string_view piece : pieces) {
-    const char* p = piece.data();
-    size_t left = piece.size();
-    while (left > 0) {
-      const ssize_t n = ::write(fd, p, left);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) {
-        const int err = n < 0 ? errno : ENOSPC;
-        ::close(fd);
-        char at[64];
-        std::snprintf(at, sizeof at, "writing byte %zu of %zu", written, total);
-        fail(path, at, err);
-      }
-      p += n, written += static_cast<size_t>(n);
-      left -= static_cast<size_t>(n);
-    }
-  }
+  write_pieces(fd, path, pieces);
   if (::fsync(fd) != 0) {
     const int err = errno;
     ::close(fd);
@@ -305,18 +311,7 @@ void OutputFolder::write_file(const std::string& staged, const std::string& rela
   if (ec) fail(path.string(), "cannot create its folder", ec.value());
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
   if (fd < 0) fail(path.string(), "cannot create it", errno);
-  for (size_t done = 0; done < bytes.size();) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int err = n < 0 ? errno : ENOSPC;
-      ::close(fd);
-      char at[64];
-      std::snprintf(at, sizeof at, "writing byte %zu of %zu", done, bytes.size());
-      fail(path.string(), at, err);
-    }
-    done += static_cast<size_t>(n);
-  }
+  write_pieces(fd, path.string(), std::span(&bytes, 1));
   if (::close(fd) != 0) fail(path.string(), "closing it", errno);
 }
 
