@@ -44,7 +44,7 @@ PYTHON_FORMS = {
     "memory_limit": "Union[int, str, None]",
 }
 TABLE_TYPES = {"angle": "float", "integer": "int", "flag": "bool", "text": "str"}
-USES = {"convert": "ConvertOptions", "maps": "MapOptions", "tiles": "TilesOptions"}
+USES = {"convert": "ConvertOptions", "maps": "MapOptions", "tiles": "TilesOptions", "views": "ViewsOptions"}
 
 
 def class_name(spec_name: str) -> str:

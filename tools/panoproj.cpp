@@ -21,6 +21,7 @@
 #include "panoproj/error.hpp"
 #include "panoproj/spec.hpp"
 #include "panoproj/tiles.hpp"
+#include "panoproj/views.hpp"
 
 namespace {
 
@@ -227,6 +228,23 @@ int main(int argc, char** argv) {
   tiles->add_flag("--overwrite", tiles_job.write.overwrite, "replace an existing output folder");
   tiles->add_flag("-q,--quiet", tiles_quiet, "print nothing on success");
 
+  ViewsJob views_job;
+  std::vector<std::string> views_files;
+  std::string views_from;
+  bool views_quiet = false;
+  auto* views = app.add_subcommand("views", "split panoramas into perspective views with COLMAP and nerfstudio cameras");
+  views->add_option("files", views_files, "panoramas (one size and projection; each a frame), then the folder to make")
+      ->required()->expected(2, -1);
+  views->add_option("--rig", views_job.rig,
+                    "cube (default) | ring:n=8,fov=90,pitch=0[,vfov=,yaw=] | A+B | @rig.yaml (views: name, yaw, pitch, "
+                    "roll, hfov, vfov, size)");
+  views->add_option("--from", views_from, "source projection spec (default as convert infers it)");
+  views->add_option("--format", views_job.format, "jpg (default) | png");
+  views->add_option("--quality", views_job.write.quality, "JPEG quality, 1 to 100 (default 95)");
+  const TableOptions views_options(views, kUseViews);
+  views->add_flag("--overwrite", views_job.write.overwrite, "replace an existing output folder");
+  views->add_flag("-q,--quiet", views_quiet, "print nothing on success");
+
   SweepSetup sweep;
   std::string acc_scene = "chart", acc_from = "equirect", acc_from_size = "4096x2048", acc_to,
               acc_type = "uint8", acc_interp = "nearest,bilinear,bicubic,lanczos3", acc_antialias = "off,auto,mip,4",
@@ -353,6 +371,26 @@ int main(int argc, char** argv) {
       if (r.empty) std::printf(" (%lld empty, not written)", static_cast<long long>(r.empty));
       std::printf(", %.3f s\n", r.seconds);
       for (const std::string& n : r.notes) std::printf("  %s\n", n.c_str());
+      return 0;
+    }
+    if (views->parsed()) {
+      views_job.output = views_files.back();
+      views_job.inputs.assign(views_files.begin(), views_files.end() - 1);
+      if (!views_from.empty()) views_job.from = views_from;
+      views_options.apply(views_job.options);
+      QuietStderr hold(true);
+      ProgressBar bar(hold.fd(), !views_quiet);
+      const ViewsReport r = run_views(views_job, [&](double f) { bar.update(f); });
+      if (views_quiet) return 0;
+      std::string sizes;
+      for (const ViewCamera& c : r.views)
+        if (sizes.find(size_text(c.size)) == std::string::npos) sizes += (sizes.empty() ? "" : ", ") + size_text(c.size);
+      std::printf("\r%zu panorama%s (%s, %s) -> %s: %zu views each (%s), %lld images%s, COLMAP model in sparse/0, "
+                  "transforms.json, %.3f s\n",
+                  r.stems.size(), r.stems.size() == 1 ? "" : "s", size_text(r.source_size).c_str(), r.from.c_str(),
+                  views_job.output.c_str(), r.views.size(), sizes.c_str(), static_cast<long long>(r.images),
+                  r.masks ? " with masks" : "", r.seconds);
+      if (r.empty) std::printf("  %lld views see no part of the panorama (written black, masked)\n", static_cast<long long>(r.empty));
       return 0;
     }
     if (maps->parsed()) {

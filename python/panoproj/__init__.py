@@ -32,13 +32,14 @@ import os
 import re
 import warnings
 from concurrent.futures import ThreadPoolExecutor
-from typing import TYPE_CHECKING, Any, Callable, Dict, List, NamedTuple, Optional, Tuple, TypeVar, Union, cast, overload
+from typing import (TYPE_CHECKING, Any, Callable, Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple, TypeVar,
+                    Union, cast, overload)
 
 import numpy as np
 
-from . import _arrays, _coordinates, _core, _declared, _tiles
+from . import _arrays, _coordinates, _core, _declared, _tiles, _views
 from ._declared import *  # noqa: F401,F403 (the projection classes and Literal aliases)
-from ._declared import CLASSES, ConvertOptions, MapOptions, ProjectionName, TilesOptions
+from ._declared import CLASSES, ConvertOptions, MapOptions, ProjectionName, TilesOptions, ViewsOptions
 from ._projection import _CLASSES, Projection, projection
 from ._types import Array, FillLike, ImageLike, Mask, PathLike, SizeLike
 
@@ -52,8 +53,8 @@ __version__: str = _core.__version__  # the project's version (`panoproj --versi
 _CLASSES.update(CLASSES)
 __all__ = [
     "Projection", "projection", "projections", "ProjectionInfo", "ParameterInfo", "convert", "build_map", "Plan",
-    "read", "write", "to_ray", "to_pixel", "split_faces", "simd_target", "tiles", "ConvertOptions", "MapOptions",
-    "TilesOptions",
+    "read", "write", "to_ray", "to_pixel", "split_faces", "simd_target", "tiles", "views", "ConvertOptions", "MapOptions",
+    "TilesOptions", "ViewsOptions",
     "SizeLike", "FillLike", "ImageLike", "PathLike",
 ]
 __all__ += _declared.__all__  # the projection classes and the Literal aliases
@@ -534,6 +535,32 @@ def tiles(image: PathLike, out_dir: PathLike, *, viewer: Literal["pannellum", "m
                         cube_size=cube_size, format=format, quality=quality, preview=preview,
                         script_url=script_url, overwrite=overwrite)
     return _tiles.run(job, _core_options(options), client)
+
+
+@_takes_options("views")
+def views(images: Union[PathLike, Sequence[PathLike]], out_dir: PathLike, *,
+          rig: Union[str, Sequence[Mapping[str, Any]]] = "cube", src: Union[str, Projection, None] = None,
+          format: Literal["jpg", "png"] = "jpg", quality: int = 95, overwrite: bool = False, client: Any = None,
+          **options: Unpack[ViewsOptions]) -> Dict[str, Any]:
+    """Splits each panorama file of ``images`` (one path, or a sequence: one size and projection,
+    each a frame) into perspective views and writes them with their cameras into the new folder
+    ``out_dir`` (as ``panoproj views``): ``images/{stem}_{view}.jpg`` (or PNG), for a partial
+    panorama ``masks/{stem}_{view}.jpg.png``, COLMAP's text model in ``sparse/0`` (PINHOLE
+    cameras with cx = W/2 by COLMAP's pixel convention, images, one rig whose sensors are the
+    views, one frame per panorama) and nerfstudio's ``transforms.json``. The world is the
+    panorama's frame (x right, y down, z forward; transforms.json turns it z up).
+
+    ``rig``: ``"cube"``, ``"ring:n=8,fov=90,pitch=0"``, a sum ``"A+B"``, ``"@rig.yaml"``, or a
+    sequence of mappings with name, yaw, pitch, roll, hfov, vfov, size. ``size``: each view's
+    (W, H) unless the rig gives one; default: the source's resolution.
+
+    ``client``: a ``dask.distributed`` Client; each frame is then a task (the workers must see
+    the inputs and the output's parent folder at the same paths), with the same bytes as a local
+    run. Returns a report: the views (size, focal, world_from_camera), frames, source spec.
+    """
+    job = _views.job_of(images, out_dir, rig=rig, src=_spec(src), format=format, quality=quality,
+                        overwrite=overwrite)
+    return _views.run(job, _core_options(options), client)
 
 
 @_one_line_type_errors

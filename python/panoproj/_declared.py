@@ -905,3 +905,15 @@ class TilesOptions(TypedDict, total=False):
     antialias: Union[Antialias, int, None]
     decode_scale: DecodeScale
     memory_limit: Union[int, str, None]
+
+
+class ViewsOptions(TypedDict, total=False):
+    """The keyword options of the calls that take 'views' rows (the command's flags)."""
+
+    size: SizeLike
+    interp: Interp
+    threads: int
+    engine: Engine
+    antialias: Union[Antialias, int, None]
+    decode_scale: DecodeScale
+    memory_limit: Union[int, str, None]

@@ -26,6 +26,7 @@
 #include "panoproj/limits.hpp"
 #include "panoproj/maps.hpp"
 #include "panoproj/tiles.hpp"
+#include "panoproj/views.hpp"
 #include "attribute_values.hpp"
 #include "oiio_package.hpp"
 
@@ -184,6 +185,35 @@ py::dict tiles_report(const TilesReport& r) {
                   py::arg("seconds") = r.seconds, py::arg("notes") = r.notes);
 }
 
+// A views job from Python's arguments (panoproj/_views.py hands them over checked for type).
+ViewsJob views_job(const py::dict& job, const py::dict& options) {
+  ViewsJob j;
+  j.inputs = job["inputs"].cast<std::vector<std::string>>();
+  j.output = job["output"].cast<std::string>();
+  if (!job["src"].is_none()) j.from = job["src"].cast<std::string>();
+  j.rig = job["rig"].cast<std::string>();
+  j.format = job["format"].cast<std::string>();
+  j.write.quality = job["quality"].cast<int>();
+  j.write.overwrite = job["overwrite"].cast<bool>();
+  j.options = options_from(options, kUseViews);
+  return j;
+}
+
+py::dict views_report(const ViewsReport& r) {
+  py::list views;
+  for (const ViewCamera& c : r.views) {
+    py::list rotation;
+    for (int i = 0; i < 3; ++i)
+      rotation.append(py::make_tuple(c.world_from_camera(i, 0), c.world_from_camera(i, 1), c.world_from_camera(i, 2)));
+    views.append(py::dict(py::arg("name") = c.name, py::arg("size") = py::make_tuple(c.size.width, c.size.height),
+                          py::arg("focal") = c.focal, py::arg("world_from_camera") = rotation));
+  }
+  return py::dict(py::arg("views") = views, py::arg("frames") = r.stems, py::arg("src") = r.from,
+                  py::arg("source_size") = py::make_tuple(r.source_size.width, r.source_size.height),
+                  py::arg("masks") = r.masks, py::arg("images") = r.images, py::arg("empty") = r.empty,
+                  py::arg("seconds") = r.seconds);
+}
+
 Size size_pair(std::pair<int64_t, int64_t> s) {
   if (s.first < 1 || s.second < 1)
     throw Error("size: " + std::to_string(s.first) + "x" + std::to_string(s.second) + " (expected at least 1x1)");
@@ -300,7 +330,7 @@ PYBIND11_MODULE(_core, m) {
     py::list out;
     for (const OptionDef& d : conversion_options()) {
       py::list use;
-      for (auto [bit, name] : {std::pair{kUseConvert, "convert"}, {kUseMaps, "maps"}, {kUseAccuracy, "accuracy"}, {kUseTiles, "tiles"}})
+      for (auto [bit, name] : {std::pair{kUseConvert, "convert"}, {kUseMaps, "maps"}, {kUseAccuracy, "accuracy"}, {kUseTiles, "tiles"}, {kUseViews, "views"}})
         if (d.use & bit) use.append(name);
       const char* types[] = {"angle", "integer", "flag", "text"};
       out.append(py::dict(py::arg("name") = d.name, py::arg("type") = types[static_cast<int>(d.type)],
@@ -391,6 +421,39 @@ PYBIND11_MODULE(_core, m) {
     return tiles_report(r);
   });
   m.def("tiles_abandon", &abandon_tiles);
+
+  // Perspective views with cameras (views.hpp): whole, or begun, rendered by frames and finished.
+  m.def("views", [](const py::dict& job, const py::dict& options) {
+    const ViewsJob j = views_job(job, options);
+    ViewsReport r;
+    {
+      py::gil_scoped_release unlocked;
+      r = run_views(j);
+    }
+    return views_report(r);
+  });
+  m.def("views_begin", [](const py::dict& job, const py::dict& options) {
+    const ViewsJob j = views_job(job, options);
+    py::gil_scoped_release unlocked;
+    return begin_views(j);
+  });
+  m.def("views_render", [](const py::dict& job, const py::dict& options, const std::string& folder,
+                           const std::vector<int64_t>& frames) {
+    const ViewsJob j = views_job(job, options);
+    py::gil_scoped_release unlocked;
+    return render_views(j, folder, frames);
+  });
+  m.def("views_finish", [](const py::dict& job, const py::dict& options, const std::string& folder,
+                           std::array<int64_t, 2> counts) {
+    const ViewsJob j = views_job(job, options);
+    ViewsReport r;
+    {
+      py::gil_scoped_release unlocked;
+      r = finish_views(j, folder, counts);
+    }
+    return views_report(r);
+  });
+  m.def("views_abandon", &abandon_views);
 
   m.def(
       "build_map",

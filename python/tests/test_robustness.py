@@ -1137,3 +1137,171 @@ def test_python_tiles_on_a_client_that_fails_leaves_nothing(files, tmp_path):
     with pytest.raises(RuntimeError, match="worker lost"):
         pp.tiles(files["png"], tmp_path / "out", client=Failing())
     assert listing(tmp_path) == []
+
+
+# ---------------------------------------------------------------------------------------------
+# 8. Perspective views with cameras (panoproj views, pp.views): a folder that lands whole, every
+# input checked before the first view is rendered.
+
+VIEW_PARAMS = [
+    # (id, args after "views IN", needle[, input key: default png])
+    ("rig", ["--rig", "sphere"], "rig: 'sphere' (expected cube, ring:n=8,fov=90,pitch=0"),
+    ("ring_n", ["--rig", "ring:n=1000"], "rig ring: n: 1000 (expected a whole number from 1 to 360)"),
+    ("ring_fov", ["--rig", "ring:fov=180"], "hfov 180.000000 (expected more than 0, at most 179 degrees"),
+    ("ring_nan", ["--rig", "ring:pitch=nan"], "rig ring: pitch: 'nan' (expected a finite number)"),
+    ("rig_file_missing", ["--rig", "@nowhere.yaml"], "rig file 'nowhere.yaml': No such file or directory"),
+    ("rig_file_fifo", ["--rig", "@fifo"], "rig file 'fifo': not a regular file"),
+    ("rig_file_binary", ["--rig", "@binary.yaml"], "a NUL byte (expected YAML text)"),
+    ("rig_file_huge", ["--rig", "@huge.yaml"], "over 1 MB"),
+    ("rig_names_twice", ["--rig", "cube+cube"], "two views named front"),
+    ("wide_at_the_source", ["--rig", "ring:fov=179"], "px wide at the source's resolution (at most 65536)", "big"),
+    ("size_huge", ["--size", "70000x10"], "size: 70000x10 (expected 1 to 65536 pixels a side)"),
+    ("size_and_vfov", ["--rig", "ring:vfov=40", "--size", "64x64"], "and a size 64x64 both given"),
+    ("format", ["--format", "webp"], "format: 'webp' (expected jpg or png)"),
+    ("quality", ["--quality", "0"], "quality 0 (expected 1 to 100)"),
+    ("threads", ["--threads", "-5"], "threads: -5"),
+    ("memory_limit", ["--memory-limit", "1M"], "over the memory limit of 1.0 MB", "big"),
+    ("yaw_is_not_a_views_option", ["--yaw", "10"], "--yaw"),
+    ("stereo", ["--from", "equirect:stereo=tb"], "views: stereo="),
+]
+
+
+@pytest.fixture
+def rig_files(tmp_path):
+    os.mkfifo(tmp_path / "fifo")
+    (tmp_path / "binary.yaml").write_bytes(b"- {name: a}\n\0\n")
+    (tmp_path / "huge.yaml").write_bytes(b"# x\n" * 300000)
+
+
+@pytest.mark.parametrize("case", VIEW_PARAMS, ids=[c[0] for c in VIEW_PARAMS])
+def test_views_bad_parameters(cli, files, tmp_path, case, rig_files):
+    _, args, needle, *key = case
+    before = snapshot(tmp_path)
+    r = run(cli, ["views", files[key[0] if key else "png"], "out"] + args, tmp_path, timeout=30)
+    expect_refused(r, needle)
+    assert r.out == ""
+    assert snapshot(tmp_path) == before
+
+
+@pytest.mark.parametrize("case", _table(HOSTILE))
+def test_views_hostile_inputs(cli, files, tmp_path, case):
+    key, needle, _ = case
+    before = snapshot(tmp_path)
+    r = run(cli, ["views", files[key], "out", "--from", "equirect", "--size", "32x32"], tmp_path, timeout=30)
+    line = expect_refused(r, needle, rss=HOSTILE_RSS)
+    assert str(files[key]) in line
+    assert snapshot(tmp_path) == before
+
+
+@pytest.mark.parametrize("case", ["two_sizes", "same_stem", "space_in_name", "inside_the_output"])
+def test_views_inputs_a_rig_cannot_take(cli, files, tmp_path, case):
+    (tmp_path / "b").mkdir()
+    (tmp_path / "b" / "pano.png").write_bytes(files["png"].read_bytes())
+    (tmp_path / "my pano.png").write_bytes(files["png"].read_bytes())
+    if case == "inside_the_output":
+        _old_folder(tmp_path)
+        (tmp_path / "out" / "in.png").write_bytes(files["png"].read_bytes())
+    second, needle = {"two_sizes": (files["big"], "a rig's frames need one size and projection"),
+                      "same_stem": (tmp_path / "b" / "pano.png", "a second input named pano"),
+                      "space_in_name": (tmp_path / "my pano.png", "which COLMAP's images.txt cannot hold"),
+                      "inside_the_output": (tmp_path / "out" / "in.png", "is inside the output folder out")}[case]
+    before = snapshot(tmp_path)
+    r = run(cli, ["views", files["png"], second, "out", "--overwrite"], tmp_path)
+    expect_refused(r, needle)
+    assert snapshot(tmp_path) == before
+
+
+@pytest.mark.parametrize("case", ["exists", "file", "missing_folder"])
+def test_views_outputs_that_cannot_be_written(cli, files, tmp_path, case):
+    out = {"exists": "out", "file": "afile", "missing_folder": "nowhere/out"}[case]
+    if case == "exists":
+        _old_folder(tmp_path)
+    (tmp_path / "afile").write_bytes(b"a file")
+    before = snapshot(tmp_path)
+    r = run(cli, ["views", files["png"], out], tmp_path)
+    expect_refused(r, {"exists": "output out exists (pass --overwrite to replace the folder)",
+                       "file": "output afile exists and is not a folder",
+                       "missing_folder": "output folder nowhere does not exist"}[case])
+    assert snapshot(tmp_path) == before
+
+
+def test_views_overwrite_replaces_the_whole_folder(cli, files, tmp_path):
+    _old_folder(tmp_path)
+    r = run(cli, ["views", files["png"], "out", "--overwrite", "-q"], tmp_path)
+    assert r.code == 0, r.err
+    assert listing(tmp_path) == ["out"]
+    assert listing(tmp_path / "out") == ["images", "sparse", "transforms.json"]
+
+
+@pytest.mark.parametrize("cut", [0, 3000, 30000])
+def test_views_writes_cut_at_a_byte_offset(cli, files, tmp_path, cut):
+    _old_folder(tmp_path)
+    r = run(cli, ["views", files["big"], "out", "--overwrite", "--format", "png"], tmp_path, fsize=cut)
+    expect_refused(r, "cannot write ", "File too large")
+    _assert_old_folder(tmp_path)
+
+
+@pytest.mark.skipif(not _tmpfs_available(), reason="no tmpfs mount permitted here")
+def test_views_on_a_full_tmpfs(cli, files, tmp_path):
+    mnt = tmp_path / "mnt"
+    mnt.mkdir()
+    script = (f"mount -t tmpfs -o size=1m tmpfs {mnt} && cd {mnt} && mkdir out && printf old > out/mine.txt && "
+              f"{os.path.abspath(cli)} views {files['big']} out --overwrite --format png; echo \"rc=$?\"; "
+              f"ls -A {mnt}; ls -A {mnt}/out; cat {mnt}/out/mine.txt")
+    p = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True, text=True, timeout=120)
+    assert "rc=1" in p.stdout, p.stdout + p.stderr
+    assert p.stdout.split("rc=1")[1].split() == ["out", "mine.txt", "old"], p.stdout
+    lines = [l for l in p.stderr.splitlines() if l.strip()]
+    assert len(lines) == 1 and "cannot write" in lines[0] and "No space left on device" in lines[0], lines
+
+
+@pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["INT", "TERM"])
+def test_views_signals_leave_nothing_behind(cli, files, tmp_path, sig):
+    _old_folder(tmp_path)
+    r = run(cli, ["views", files["big"], "out", "--overwrite"], tmp_path,
+            strace=["-e", "trace=syncfs", "-e", "inject=syncfs:delay_enter=3000000:when=1"],
+            on_start=_signal_once_a_temporary_exists(tmp_path, sig, 0.5))
+    assert r.code in (-sig, 128 + sig), (r.code, r.err)
+    _assert_old_folder(tmp_path)
+
+
+VIEW_PY_CALLS = [
+    ("exists", dict(), FileExistsError, "exists (pass overwrite=True to replace the folder)"),
+    ("rig_type", dict(rig=5), TypeError, "rig: 5 (expected a str such as 'cube', or a sequence of mappings)"),
+    ("rig_view_type", dict(rig=["front"]), TypeError, "rig[0]: 'front' (expected a mapping"),
+    ("rig_key", dict(rig=[{"name": "a", "zoom": 2}]), TypeError, "rig[0]: unknown key 'zoom'"),
+    ("rig_yaw_type", dict(rig=[{"name": "a", "yaw": "10"}]), TypeError, "rig[0]['yaw']: '10' (expected a number"),
+    ("rig_yaw_nan", dict(rig=[{"name": "a", "yaw": float("nan")}]), ValueError, "rig[0]['yaw']: nan"),
+    ("rig_name_yaml", dict(rig=[{"name": "a: b"}]), ValueError, "rig[0]['name']: 'a: b'"),
+    ("rig_name_path", dict(rig=[{"name": "../a"}]), ValueError, "name '../a' (expected 1 to 64 letters"),
+    ("rig_empty", dict(rig=[]), ValueError, "rig: no views"),
+    ("images_type", dict(images=5), TypeError, "images: 5 (expected a path or a sequence of paths)"),
+    ("no_images", dict(images=[]), ValueError, "no input given"),
+    ("size_text", dict(size="64"), ValueError, "size: '64' (expected WxH"),
+    ("unknown_option", dict(yaw=10), TypeError, "unknown option 'yaw'"),
+    ("memory", dict(memory_limit="1M"), MemoryError, "over the memory limit"),
+]
+
+
+@pytest.mark.parametrize("case", VIEW_PY_CALLS, ids=[c[0] for c in VIEW_PY_CALLS])
+def test_python_views_refusals(files, tmp_path, case):
+    name, kw, error, needle = case
+    if name == "exists":
+        _old_folder(tmp_path)
+    before = snapshot(tmp_path)
+    kw = dict(kw)
+    images = kw.pop("images", files["big"])
+    with pytest.raises(error, match=re.escape(needle)):
+        pp.views(images, tmp_path / "out", **kw)
+    assert snapshot(tmp_path) == before
+
+
+def test_python_views_on_a_client_that_fails_leaves_nothing(files, tmp_path):
+    class Failing:  # a scheduler whose tasks fail
+        def submit(self, *a, **k):
+            raise RuntimeError("worker lost")
+
+    with pytest.raises(RuntimeError, match="worker lost"):
+        pp.views(files["png"], tmp_path / "out", client=Failing())
+    assert listing(tmp_path) == []

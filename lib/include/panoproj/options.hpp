@@ -130,7 +130,8 @@ using OptionValue = std::variant<double, int64_t, bool, std::string>;
 // Which calls take an option (bits).
 // kUseFiles: only conversions between files (the command's convert), e.g. how a file is decoded.
 // kUseTiles: tile pyramids (tiles.hpp), which render from a file too.
-enum OptionUse : unsigned { kUseConvert = 1, kUseMaps = 2, kUseAccuracy = 4, kUseFiles = 8, kUseTiles = 16 };
+// kUseViews: perspective views with cameras (views.hpp); size is each view's.
+enum OptionUse : unsigned { kUseConvert = 1, kUseMaps = 2, kUseAccuracy = 4, kUseFiles = 8, kUseTiles = 16, kUseViews = 32 };
 
 struct OptionDef {
   const char* name;          // Python's keyword; the command's flag is --name with '-' for '_'

@@ -22,7 +22,7 @@ const T& value_as(const OptionValue& v, const char* name) {
 std::vector<OptionDef> make_options() {
   constexpr unsigned kAll = kUseConvert | kUseMaps | kUseAccuracy;
   return {
-      {"size", OptionType::Text, kAll, "None",
+      {"size", OptionType::Text, kAll | kUseViews, "None",
        "output size WxH (cube faces: one face); default: the source's resolution at the target's centre, square pixels",
        [](ConvertOptions& o, const OptionValue& v) { o.size = parse_size(value_as<std::string>(v, "size")); }},
       {"yaw", OptionType::Angle, kAll | kUseTiles, "0.0", "degrees, positive looks right",
@@ -31,21 +31,21 @@ std::vector<OptionDef> make_options() {
        [](ConvertOptions& o, const OptionValue& v) { o.pitch = value_as<double>(v, "pitch"); }},
       {"roll", OptionType::Angle, kAll | kUseTiles, "0.0", "degrees, positive turns the view clockwise",
        [](ConvertOptions& o, const OptionValue& v) { o.roll = value_as<double>(v, "roll"); }},
-      {"interp", OptionType::Text, kUseConvert | kUseTiles, "'bicubic'",
+      {"interp", OptionType::Text, kUseConvert | kUseTiles | kUseViews, "'bicubic'",
        "nearest|bilinear|bicubic|lanczos3|bicubic-dering|lanczos3-dering (default bicubic; -dering: no ringing)",
        [](ConvertOptions& o, const OptionValue& v) { o.interp = parse_interp(value_as<std::string>(v, "interp")); },
        "nearest|bilinear|bicubic|lanczos3|bicubic-dering|lanczos3-dering"},
-      {"threads", OptionType::Integer, kAll | kUseTiles, "0", "worker threads (default 0: all cores)",
+      {"threads", OptionType::Integer, kAll | kUseTiles | kUseViews, "0", "worker threads (default 0: all cores)",
        [](ConvertOptions& o, const OptionValue& v) {
          const int64_t n = value_as<int64_t>(v, "threads");
          check_threads(n);
          o.threads = static_cast<int>(n);
        }},
-      {"engine", OptionType::Text, kUseConvert | kUseTiles, "'simd'",
+      {"engine", OptionType::Text, kUseConvert | kUseTiles | kUseViews, "'simd'",
        "simd (default) | scalar (same tiles, no SIMD) | reference (exact, slow)",
        [](ConvertOptions& o, const OptionValue& v) { o.engine = parse_engine(value_as<std::string>(v, "engine")); },
        "simd|scalar|reference"},
-      {"antialias", OptionType::Text, kUseConvert | kUseTiles, "None",
+      {"antialias", OptionType::Text, kUseConvert | kUseTiles | kUseViews, "None",
        "auto (default: where the output shrinks the source, each pixel the area-weighted mean of the source pixels "
        "under its footprint) | off | mip (mip levels) | N (N x N sub-pixels, 2..16); the reference engine has none",
        [](ConvertOptions& o, const OptionValue& v) { o.antialias = parse_antialias(value_as<std::string>(v, "antialias")); },
@@ -64,7 +64,7 @@ std::vector<OptionDef> make_options() {
          o.edges.colour = parse_fill_colour(value_as<std::string>(v, "fill"));
          o.edges.soft = true;
        }},
-      {"decode_scale", OptionType::Text, kUseFiles | kUseTiles, "'auto'",
+      {"decode_scale", OptionType::Text, kUseFiles | kUseTiles | kUseViews, "'auto'",
        "auto (default: a JPEG source that the view samples at under half its resolution everywhere decodes at 1/2, "
        "1/4 or 1/8 by DCT scaling, still twice the detail the output holds) | 1 | 2 | 4 | 8",
        [](ConvertOptions& o, const OptionValue& v) {
@@ -74,7 +74,7 @@ std::vector<OptionDef> make_options() {
          else throw Error(option_text("decode-scale") + " " + t + " (expected auto, 1, 2, 4 or 8)");
        },
        "auto|1|2|4|8"},
-      {"memory_limit", OptionType::Text, kAll | kUseTiles, "None",
+      {"memory_limit", OptionType::Text, kAll | kUseTiles | kUseViews, "None",
        "bytes a job may allocate, e.g. 4G or 512M (default: the memory available now); larger jobs are refused "
        "before any work",
        [](ConvertOptions& o, const OptionValue& v) {

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cerrno>
@@ -302,6 +303,20 @@ void OutputFolder::keep() {
   done_ = true;
   release(slot_);
   slot_ = -1;
+}
+
+void OutputFolder::require_outside(const std::string& path, const std::vector<std::string>& inputs) {
+  std::error_code ec;
+  const fs::path folder = fs::canonical(path, ec);
+  if (ec) return;  // not there: nothing to replace
+  for (const std::string& input : inputs) {
+    const fs::path in = fs::weakly_canonical(input, ec);
+    if (ec) continue;
+    const auto [f, i] = std::mismatch(folder.begin(), folder.end(), in.begin(), in.end());
+    if (f == folder.end())
+      throw Error("input " + input + " is inside the output folder " + path +
+                  ", which the job replaces (write the output elsewhere)");
+  }
 }
 
 void OutputFolder::write_file(const std::string& staged, const std::string& relative, std::string_view bytes) {

@@ -41,6 +41,11 @@ class OutputSet {
 // folder onto `path` (an existing folder, only with overwrite, is moved aside first, restored if
 // the rename fails, removed after). Not committed, the temporary folder is removed with all it
 // holds: by the destructor, and on SIGINT / SIGTERM / SIGHUP once install_signal_cleanup() ran.
+// A file of an OutputFolder: its path within the folder and its text.
+struct TextFile {
+  std::string path, text;
+};
+
 class OutputFolder {
  public:
   OutputFolder(std::string path, bool overwrite);
@@ -57,6 +62,8 @@ class OutputFolder {
   // Writes a new file at `relative` (subfolders made) in a temporary folder; thread-safe; throws
   // Error naming the file and the system's reason.
   static void write_file(const std::string& staged, const std::string& relative, std::string_view bytes);
+  // Throws unless every input lies outside `path` (an existing folder that overwrite would replace).
+  static void require_outside(const std::string& path, const std::vector<std::string>& inputs);
   // Removes a kept temporary folder and all it holds.
   static void remove_staged(const std::string& staged);
 

@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "panoproj/error.hpp"
+#include "base/json_text.hpp"
 
 namespace panoproj {
 namespace {
@@ -20,15 +21,6 @@ std::string num(double v) {
   std::string s(b, r.ptr);
   if (s.find_first_of(".e") == std::string::npos) s += ".0";  // as Python prints a float
   return s;
-}
-
-std::string json_string(std::string_view s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
 }
 
 // Pannellum's multires settings and, for a partial panorama, its limits (generate.py's keys).

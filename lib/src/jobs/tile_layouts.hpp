@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "panoproj/tiles.hpp"
+#include "io/atomic_output.hpp"
 
 namespace panoproj {
 
@@ -23,10 +24,7 @@ struct ViewRange {
   bool partial() const { return !full_yaw || pitch0 > -90 || pitch1 < 90; }
 };
 
-// The files besides the tiles: path within the output folder and text.
-struct TextFile {
-  std::string path, text;
-};
+// The files besides the tiles.
 std::vector<TextFile> viewer_files(const TilesJob& job, const TilePyramid& pyramid, const ViewRange& range);
 
 // The preview image's path (Marzipano: the faces stacked in order kPreviewOrder) or the

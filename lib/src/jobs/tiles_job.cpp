@@ -17,6 +17,7 @@
 #include "geometry/tile_map.hpp"
 #include "io/atomic_output.hpp"
 #include "io/codec.hpp"
+#include "jobs/rendered_parts.hpp"
 #include "jobs/tile_layouts.hpp"
 
 namespace panoproj {
@@ -71,66 +72,6 @@ int face_scale(const TilesJob& job, const Source& src, int face, int64_t s) {
 ConversionGeometry at_scale(ConversionGeometry g, const Source& src, int scale) {
   if (scale > 1) g.source = rescaled(g.source, {src.info.size.width / scale, src.info.size.height / scale});
   return g;
-}
-
-// A rendered part without its alpha: flattened over black; empty: no pixel has any coverage.
-struct Flat {
-  Image image;
-  bool empty = false;
-};
-
-Flat flatten(const Image& part, int64_t x0, int64_t y0, int64_t w, int64_t h, bool partial) {
-  const int a = partial ? part.alpha_channel() : -1;
-  const int channels = part.channels() - (a >= 0 ? 1 : 0);
-  Flat f;
-  bool any = a < 0;
-  with_sample_type(part.type(), [&](auto sample) {
-    using T = decltype(sample);
-    for (int64_t y = 0; y < h && !any; ++y) {
-      const unsigned char* in = part.pixel(x0, y0 + y) + a * sizeof(T);
-      for (int64_t x = 0; x < w && !any; ++x, in += part.pixel_bytes()) any = load<T>(in) > 0;
-    }
-  });
-  f.empty = !any;
-  if (f.empty) return f;
-  f.image = Image(Size{w, h}, channels, part.type(), -1, Image::Unfilled{});
-  if (a < 0) {
-    for (int64_t y = 0; y < h; ++y) std::memcpy(f.image.row(y), part.pixel(x0, y0 + y), f.image.row_bytes());
-    return f;
-  }
-  with_sample_type(part.type(), [&](auto sample) {
-    using T = decltype(sample);
-    const double scale = std::is_integral_v<T> ? 1.0 / static_cast<double>(std::numeric_limits<T>::max()) : 1.0;
-    for (int64_t y = 0; y < h; ++y) {
-      const unsigned char* in = part.pixel(x0, y0 + y);
-      T* out = reinterpret_cast<T*>(f.image.row(y));
-      for (int64_t x = 0; x < w; ++x, in += part.pixel_bytes()) {
-        const T* px = reinterpret_cast<const T*>(in);
-        if constexpr (std::is_same_v<T, uint8_t>) {
-          // c a / 255 rounded to nearest: (2 c a + 255) / 510.
-          const unsigned alpha = px[a];
-          for (int c = 0; c < part.channels(); ++c)
-            if (c != a) *out++ = static_cast<uint8_t>((2u * px[c] * alpha + 255u) / 510u);
-        } else {
-          const double alpha = load<T>(in + a * sizeof(T)) * scale;
-          for (int c = 0; c < part.channels(); ++c)
-            if (c != a) store<T>(reinterpret_cast<unsigned char*>(out++), load<T>(in + c * sizeof(T)) * alpha);
-        }
-      }
-    }
-  });
-  return f;
-}
-
-std::string encoded(const Image& image, const TilesJob& job, const std::string& path) {
-  WriteOptions w = job.write;
-  w.threads = 1;
-  const bool jpeg = job.format == "jpg";
-  Image converted;
-  const bool convert = jpeg ? image.type() != PixelType::U8 : (image.type() == PixelType::F16 || image.type() == PixelType::F32);
-  const Image& in = convert ? (converted = convert_pixels(image, jpeg ? PixelType::U8 : PixelType::U16)) : image;
-  const FileBytes b = jpeg ? encode_jpeg(in, path, w, {}) : encode_png(in, path, w, {});
-  return std::string(reinterpret_cast<const char*>(b.data()), b.size());
 }
 
 // One part to render: rows [y0, y1) of a face at size s, at a decode scale.
@@ -226,7 +167,7 @@ std::array<int64_t, 2> render_rows(const TilesJob& job, const Source& src, const
         return;
       }
       const std::string path = p.tile_path(r.level, r.face, row, col);
-      OutputFolder::write_file(folder, path, encoded(f.image, job, job.output + "/" + path));
+      OutputFolder::write_file(folder, path, encoded(f.image, job.format, job.write, job.output + "/" + path));
       ++written;
     });
     if (progress) progress(static_cast<double>(++finished) / static_cast<double>(parts.size()));
@@ -303,7 +244,7 @@ TilesReport finish(const TilesJob& job, const Source& src, OutputFolder& folder,
     Flat flat = flatten(face, 0, 0, p.preview, p.preview, src.partial);
     if (p.viewer == Viewer::Pannellum) {
       if (!flat.empty) OutputFolder::write_file(folder.staged(), preview_path(p, parts[i].face),
-                                                encoded(flat.image, job, job.output + "/" + preview_path(p, parts[i].face)));
+                                                encoded(flat.image, job.format, job.write, job.output + "/" + preview_path(p, parts[i].face)));
       return;
     }
     if (strip.width() == 0) strip = Image(Size{p.preview, 6 * p.preview}, flat.image.channels(), flat.image.type());
@@ -312,7 +253,7 @@ TilesReport finish(const TilesJob& job, const Source& src, OutputFolder& folder,
       std::memcpy(strip.row(slot * p.preview + y), flat.image.row(y), flat.image.row_bytes());
   });
   if (p.viewer == Viewer::Marzipano)
-    OutputFolder::write_file(folder.staged(), preview_path(p, 0), encoded(strip, job, job.output + "/" + preview_path(p, 0)));
+    OutputFolder::write_file(folder.staged(), preview_path(p, 0), encoded(strip, job.format, job.write, job.output + "/" + preview_path(p, 0)));
   const ViewRange range = view_range(src);
   for (const TextFile& f : viewer_files(job, p, range)) OutputFolder::write_file(folder.staged(), f.path, f.text);
   folder.commit();

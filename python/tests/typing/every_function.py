@@ -38,6 +38,9 @@ print(pp.simd_target(), pp.__version__)
 report: Dict[str, object] = pp.tiles("samples/images/jordan_pond_4096x2048.jpg", "/tmp/panoproj-typing-tiles",
                                      viewer="marzipano", tile=256, levels=1, format="png", quality=90,
                                      script_url="js/", overwrite=True, interp="bilinear", yaw=10.0, threads=1)
+cameras: Dict[str, object] = pp.views(["samples/images/jordan_pond_4096x2048.jpg"], "/tmp/panoproj-typing-views",
+                                      rig=[{"name": "a", "yaw": 10.0, "hfov": 60, "size": (64, 48)}], format="png",
+                                      quality=90, overwrite=True, size=(32, 32), interp="bilinear", threads=1)
 dice = compat.e2c(pano, face_w=16, mode="bilinear", cube_format="dice")
 listed = compat.e2c(pano, 16, cube_format="list")
 named = compat.e2c(pano, 16, cube_format="dict")

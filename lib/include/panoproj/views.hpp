@@ -1,0 +1,113 @@
+#pragma once
+// Panoramas split into perspective views with their cameras, for SfM, NeRF and Gaussian splatting
+// (COLMAP 4.x, nerfstudio). Each view is a pinhole (square pixels, principal point at the centre)
+// turned by yaw, pitch, roll (rotation.hpp) in the panorama's frame: x right, y down, z forward at
+// the panorama's centre, levelled by a Photo Sphere pose when the file has one.
+//
+// Rigs (text):
+//   cube                           front right back left up down: 90-degree views (up: pitched up
+//                                  from front, so its lower edge meets front's upper edge)
+//   ring:n=8,fov=90,pitch=0        n views around, first at yaw= (default 0); fov is horizontal,
+//                                  vfov= (default fov); names y000, y045 ... (pitch p: y000_p30)
+//   A+B                            the views of both (names must differ)
+//   @rig.yaml                      a list of views, one mapping each: name, yaw, pitch, roll,
+//                                  hfov (or fov), vfov, size (WxH) or width/height; block or flow
+//                                  style, optionally under a top key "views:"; the same YAML
+//                                  inline (text starting "- " or "views:")
+// Sizes: a view's own size, else the job's size, else the source's resolution at its centre
+// (focal = pixels per radian there). The focal follows from the width and hfov; the height from
+// vfov unless given.
+//
+// Output folder (lands whole, as tiles.hpp's):
+//   images/{stem}_{view}.{jpg|png}      one per panorama and view
+//   masks/{stem}_{view}.{ext}.png       partial panoramas: 255 where the view is fully covered,
+//                                       else 0 (COLMAP's ImageReader.mask_path naming; nerfstudio's
+//                                       mask_path)
+//   sparse/0/cameras.txt                one PINHOLE camera per view (a rig's sensors are cameras);
+//                                       COLMAP's pixels: the top-left pixel's centre is (0.5, 0.5),
+//                                       so cx = W / 2, cy = H / 2
+//   sparse/0/rigs.txt                   one rig: the first view is its reference sensor, each other
+//                                       view's sensor_from_rig its rotation from the first
+//   sparse/0/frames.txt                 one frame per panorama: rig_from_world = the first view's
+//                                       rotation, no translation
+//   sparse/0/images.txt                 cam_from_world = each view's rotation (world: the panorama's
+//                                       frame, translation 0). With several panoramas every one is
+//                                       put at the origin, levelled the same: the rig is known,
+//                                       the frames' poses are what SfM solves
+//   sparse/0/points3D.txt               empty
+//   transforms.json                     nerfstudio: camera-to-world in OpenGL's camera axes (x right,
+//                                       y up, looking down -z), world x right, y forward (the
+//                                       panorama's centre), z up; intrinsics as OPENCV without
+//                                       distortion (shared at the top when all views share them)
+#include <array>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "panoproj/image.hpp"
+#include "panoproj/io.hpp"
+#include "panoproj/options.hpp"
+
+namespace panoproj {
+
+struct ViewSpec {
+  std::string name;                   // [A-Za-z0-9_-], 1 to 64 characters
+  double yaw = 0, pitch = 0, roll = 0;  // degrees
+  double hfov = 90;                   // degrees, (0, 179]
+  double vfov = 0;                    // degrees; 0: from the height, else hfov
+  int64_t width = 0, height = 0;      // 0: from the job's size or the source's resolution
+};
+
+// The views a rig's text names (throws panoproj::Error naming the value and what was expected).
+std::vector<ViewSpec> parse_rig(std::string_view text);
+
+struct ViewsJob {
+  std::vector<std::string> inputs;   // panoramas (one size and projection), each a frame
+  std::string output;                // the folder to make
+  std::optional<std::string> from;   // source spec; default as convert infers it
+  std::string rig = "cube";
+  std::string format = "jpg";        // jpg | png
+  ConvertOptions options;            // size (each view's, unless the rig gives one; none: from the
+                                     // source), interp, antialias, engine, threads, decode scale, memory
+  WriteOptions write;                // quality, overwrite (the folder)
+};
+
+// A view as written: size, focal (pixels) and its rotation (world from camera; OpenCV's camera
+// axes: x right, y down, z forward).
+struct ViewCamera {
+  std::string name;
+  Size size;
+  double focal = 0;
+  Eigen::Matrix3d world_from_camera = Eigen::Matrix3d::Identity();
+};
+
+struct ViewsReport {
+  std::vector<ViewCamera> views;
+  std::vector<std::string> stems;  // the frames' names, in order
+  std::string from;                // the source spec (the first frame's)
+  Size source_size;
+  bool masks = false;              // a partial source: masks written
+  int64_t images = 0, empty = 0;   // view images written; of them, views without a source pixel
+  double seconds = 0;
+};
+
+// The cameras for this job (from the first input's header; checks the job's values).
+std::vector<ViewCamera> view_cameras(const ViewsJob& job);
+
+// Renders every view of every frame (one source decoded at a time).
+ViewsReport run_views(const ViewsJob& job, const std::function<void(double)>& progress = {});
+
+// The same in parts, for a scheduler (Python's client=): begin checks every input and creates the
+// temporary folder; render_views writes the given frames' views into it (any process, any order);
+// finish writes the camera files and lands the folder; abandon removes it.
+std::string begin_views(const ViewsJob& job);
+// Returns {images written, of them empty}.
+std::array<int64_t, 2> render_views(const ViewsJob& job, const std::string& folder, const std::vector<int64_t>& frames);
+ViewsReport finish_views(const ViewsJob& job, const std::string& folder, std::array<int64_t, 2> counts);
+void abandon_views(const std::string& folder);
+
+}  // namespace panoproj

@@ -1,0 +1,66 @@
+#include "jobs/rendered_parts.hpp"
+
+#include <cstring>
+#include <limits>
+#include <type_traits>
+
+#include "base/sample_io.hpp"
+#include "io/codec.hpp"
+
+namespace panoproj {
+
+Flat flatten(const Image& part, int64_t x0, int64_t y0, int64_t w, int64_t h, bool partial) {
+  const int a = partial ? part.alpha_channel() : -1;
+  const int channels = part.channels() - (a >= 0 ? 1 : 0);
+  Flat f;
+  bool any = a < 0;
+  with_sample_type(part.type(), [&](auto sample) {
+    using T = decltype(sample);
+    for (int64_t y = 0; y < h && !any; ++y) {
+      const unsigned char* in = part.pixel(x0, y0 + y) + a * sizeof(T);
+      for (int64_t x = 0; x < w && !any; ++x, in += part.pixel_bytes()) any = load<T>(in) > 0;
+    }
+  });
+  f.empty = !any;
+  if (f.empty) return f;
+  f.image = Image(Size{w, h}, channels, part.type(), -1, Image::Unfilled{});
+  if (a < 0) {
+    for (int64_t y = 0; y < h; ++y) std::memcpy(f.image.row(y), part.pixel(x0, y0 + y), f.image.row_bytes());
+    return f;
+  }
+  with_sample_type(part.type(), [&](auto sample) {
+    using T = decltype(sample);
+    const double scale = std::is_integral_v<T> ? 1.0 / static_cast<double>(std::numeric_limits<T>::max()) : 1.0;
+    for (int64_t y = 0; y < h; ++y) {
+      const unsigned char* in = part.pixel(x0, y0 + y);
+      T* out = reinterpret_cast<T*>(f.image.row(y));
+      for (int64_t x = 0; x < w; ++x, in += part.pixel_bytes()) {
+        const T* px = reinterpret_cast<const T*>(in);
+        if constexpr (std::is_same_v<T, uint8_t>) {
+          // c a / 255 rounded to nearest: (2 c a + 255) / 510.
+          const unsigned alpha = px[a];
+          for (int c = 0; c < part.channels(); ++c)
+            if (c != a) *out++ = static_cast<uint8_t>((2u * px[c] * alpha + 255u) / 510u);
+        } else {
+          const double alpha = load<T>(in + a * sizeof(T)) * scale;
+          for (int c = 0; c < part.channels(); ++c)
+            if (c != a) store<T>(reinterpret_cast<unsigned char*>(out++), load<T>(in + c * sizeof(T)) * alpha);
+        }
+      }
+    }
+  });
+  return f;
+}
+
+std::string encoded(const Image& image, const std::string& format, const WriteOptions& write, const std::string& path) {
+  WriteOptions w = write;
+  w.threads = 1;
+  const bool jpeg = format == "jpg";
+  Image converted;
+  const bool convert = jpeg ? image.type() != PixelType::U8 : (image.type() == PixelType::F16 || image.type() == PixelType::F32);
+  const Image& in = convert ? (converted = convert_pixels(image, jpeg ? PixelType::U8 : PixelType::U16)) : image;
+  const FileBytes b = jpeg ? encode_jpeg(in, path, w, {}) : encode_png(in, path, w, {});
+  return std::string(reinterpret_cast<const char*>(b.data()), b.size());
+}
+
+}  // namespace panoproj

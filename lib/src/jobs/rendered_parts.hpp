@@ -1,0 +1,23 @@
+#pragma once
+// Rendered pieces of a folder job (tiles, views) made into files: a partial source's part
+// flattened over black by its coverage (alpha), and the part encoded as the job's format.
+#include <string>
+
+#include "panoproj/image.hpp"
+#include "panoproj/io.hpp"
+
+namespace panoproj {
+
+// Pixels [x0, x0 + w) x [y0, y0 + h) of `part` without its alpha: colour x coverage (over black)
+// when `partial`, else copied; empty: no pixel has any coverage (image left empty).
+struct Flat {
+  Image image;
+  bool empty = false;
+};
+Flat flatten(const Image& part, int64_t x0, int64_t y0, int64_t w, int64_t h, bool partial);
+
+// The file bytes of `image` as format "jpg" (8-bit) or "png" (8 or 16-bit; float converted);
+// `path` names the file in errors.
+std::string encoded(const Image& image, const std::string& format, const WriteOptions& write, const std::string& path);
+
+}  // namespace panoproj
