@@ -240,6 +240,9 @@ int main(int argc, char** argv) {
                     "roll, hfov, vfov, size)");
   views->add_option("--from", views_from, "source projection spec (default as convert infers it)");
   views->add_option("--format", views_job.format, "jpg (default) | png");
+  views->add_option("--layout", views_job.layout,
+                    "flat (default: images/{stem}_{view}) | folders (images/{view}/{stem} and rig_config.json for "
+                    "COLMAP's rig_configurator)");
   views->add_option("--quality", views_job.write.quality, "JPEG quality, 1 to 100 (default 95)");
   const TableOptions views_options(views, kUseViews);
   views->add_flag("--overwrite", views_job.write.overwrite, "replace an existing output folder");

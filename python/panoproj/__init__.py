@@ -540,12 +540,13 @@ def tiles(image: PathLike, out_dir: PathLike, *, viewer: Literal["pannellum", "m
 @_takes_options("views")
 def views(images: Union[PathLike, Sequence[PathLike]], out_dir: PathLike, *,
           rig: Union[str, Sequence[Mapping[str, Any]]] = "cube", src: Union[str, Projection, None] = None,
-          format: Literal["jpg", "png"] = "jpg", quality: int = 95, overwrite: bool = False, client: Any = None,
-          **options: Unpack[ViewsOptions]) -> Dict[str, Any]:
+          format: Literal["jpg", "png"] = "jpg", layout: Literal["flat", "folders"] = "flat", quality: int = 95,
+          overwrite: bool = False, client: Any = None, **options: Unpack[ViewsOptions]) -> Dict[str, Any]:
     """Splits each panorama file of ``images`` (one path, or a sequence: one size and projection,
     each a frame) into perspective views and writes them with their cameras into the new folder
-    ``out_dir`` (as ``panoproj views``): ``images/{stem}_{view}.jpg`` (or PNG), for a partial
-    panorama ``masks/{stem}_{view}.jpg.png``, COLMAP's text model in ``sparse/0`` (PINHOLE
+    ``out_dir`` (as ``panoproj views``): ``images/{stem}_{view}.jpg`` (or PNG; ``layout="folders"``:
+    ``images/{view}/{stem}.jpg`` and ``rig_config.json`` for COLMAP's rig_configurator), for a
+    partial panorama ``masks/<image's name>.png``, COLMAP's text model in ``sparse/0`` (PINHOLE
     cameras with cx = W/2 by COLMAP's pixel convention, images, one rig whose sensors are the
     views, one frame per panorama) and nerfstudio's ``transforms.json``. The world is the
     panorama's frame (x right, y down, z forward; transforms.json turns it z up).
@@ -558,7 +559,7 @@ def views(images: Union[PathLike, Sequence[PathLike]], out_dir: PathLike, *,
     the inputs and the output's parent folder at the same paths), with the same bytes as a local
     run. Returns a report: the views (size, focal, world_from_camera), frames, source spec.
     """
-    job = _views.job_of(images, out_dir, rig=rig, src=_spec(src), format=format, quality=quality,
+    job = _views.job_of(images, out_dir, rig=rig, src=_spec(src), format=format, layout=layout, quality=quality,
                         overwrite=overwrite)
     return _views.run(job, _core_options(options), client)
 

@@ -86,7 +86,7 @@ def rig_text(rig: Any) -> str:
     return "\n".join(lines) + "\n"
 
 
-def job_of(images: Any, out_dir: Any, *, rig: Any, src: Optional[str], format: str, quality: int,
+def job_of(images: Any, out_dir: Any, *, rig: Any, src: Optional[str], format: str, layout: str, quality: int,
            overwrite: bool) -> Dict[str, Any]:
     """The job's arguments as _core takes them, each checked for its Python type."""
     def path(name: str, v: Any) -> str:
@@ -106,9 +106,11 @@ def job_of(images: Any, out_dir: Any, *, rig: Any, src: Optional[str], format: s
         raise TypeError(f"images: {images!r} (expected a path or a sequence of paths)")
     if not isinstance(format, str):
         raise TypeError(f"format: {format!r} (expected 'jpg' or 'png')")
+    if not isinstance(layout, str):
+        raise TypeError(f"layout: {layout!r} (expected 'flat' or 'folders')")
     if isinstance(quality, bool) or not isinstance(quality, int):
         raise TypeError(f"quality: {quality!r} (expected an int)")
     if not 0 < quality <= 100:
         raise ValueError(f"quality: {quality} (expected 1 to 100)")
     return {"inputs": inputs, "output": path("out_dir", out_dir), "src": src, "rig": rig_text(rig),
-            "format": format, "quality": quality, "overwrite": bool(overwrite)}
+            "format": format, "layout": layout, "quality": quality, "overwrite": bool(overwrite)}

@@ -193,6 +193,7 @@ ViewsJob views_job(const py::dict& job, const py::dict& options) {
   if (!job["src"].is_none()) j.from = job["src"].cast<std::string>();
   j.rig = job["rig"].cast<std::string>();
   j.format = job["format"].cast<std::string>();
+  j.layout = job["layout"].cast<std::string>();
   j.write.quality = job["quality"].cast<int>();
   j.write.overwrite = job["overwrite"].cast<bool>();
   j.options = options_from(options, kUseViews);

@@ -295,3 +295,82 @@ def test_views_on_a_local_cluster_equal_the_local_run(smooth, tmp_path):
     assert digests(tmp_path / "dask") == digests(tmp_path / "local")
     assert len(digests(tmp_path / "local")) == 36 + 6
     assert sorted(p.name for p in tmp_path.iterdir() if p.is_dir()) == ["dask", "local"]  # no temporary left
+
+
+def _rotation_angle(r):
+    return math.degrees(math.acos(np.clip((np.trace(r) - 1) / 2, -1, 1)))
+
+
+def test_colmaps_rig_configurator_and_sift_agree_with_the_written_rig(tmp_path):
+    """layout="folders" on a real photo (the bundled Jordan Pond): COLMAP's own feature extraction,
+    rig configuration and matching (pycolmap 4.2) take the views and rig_config.json; the rig it
+    builds holds the written rotations and intrinsics, and the rotation between overlapping views
+    fitted to SIFT matches (rays by the written intrinsics) is the written one."""
+    sample = pathlib.Path(__file__).resolve().parents[2] / "samples" / "images" / "jordan_pond_4096x2048.jpg"
+    frames = []
+    for k in range(2):
+        (tmp_path / f"f{k}.jpg").write_bytes(sample.read_bytes())
+        frames.append(tmp_path / f"f{k}.jpg")
+    out = tmp_path / "out"
+    report = pp.views(frames, out, rig="ring:n=8,fov=90,pitch=10", size=(480, 360), layout="folders")
+    names = [v["name"] for v in report["views"]]
+    assert sorted(p.name for p in (out / "images").iterdir()) == sorted(names)
+    db_path = str(tmp_path / "database.db")
+    reader = pycolmap.ImageReaderOptions()
+    reader.camera_model = "PINHOLE"
+    extraction = pycolmap.FeatureExtractionOptions()
+    extraction.num_threads = 2
+    pycolmap.extract_features(db_path, str(out / "images"), camera_mode=pycolmap.CameraMode.PER_FOLDER,
+                              reader_options=reader, extraction_options=extraction, device=pycolmap.Device.cpu)
+    db = pycolmap.Database.open(db_path)
+    pycolmap.apply_rig_config(pycolmap.read_rig_config(str(out / "rig_config.json")), db)
+    (rig,) = db.read_all_rigs()
+    frames_db = db.read_all_frames()
+    images = {i.image_id: i for i in db.read_all_images()}
+    cameras = {c.camera_id: c for c in db.read_all_cameras()}
+    assert rig.num_sensors() == 8 and len(frames_db) == 2
+    world_from = {v["name"]: np.array(v["world_from_camera"]) for v in report["views"]}
+    ref = next(i for i in images.values() if i.camera_id == rig.ref_sensor_id.id).name.split("/")[0]
+    assert ref == names[0]
+    for frame in frames_db:
+        stems = {images[d.id].name.split("/")[1] for d in frame.data_ids}
+        assert len(frame.data_ids) == 8 and len(stems) == 1  # one panorama per frame
+    for image in images.values():
+        view = image.name.split("/")[0]
+        cam = cameras[image.camera_id]
+        assert cam.model.name == "PINHOLE" and list(cam.params) == pytest.approx(
+            [report["views"][0]["focal"]] * 2 + [240, 180], abs=1e-9)
+        if image.camera_id != rig.ref_sensor_id.id:
+            sensor = pycolmap.sensor_t(pycolmap.SensorType.CAMERA, image.camera_id)
+            got = rig.sensor_from_rig(sensor).rotation.matrix()
+            assert np.allclose(got, world_from[view].T @ world_from[ref], atol=1e-9)
+    db.close()
+    pycolmap.match_exhaustive(db_path, device=pycolmap.Device.cpu)
+    db = pycolmap.Database.open(db_path)
+    by_name = {i.name: i for i in db.read_all_images()}
+    fits = []
+    for a, b in zip(names, names[1:] + names[:1]):  # neighbours overlap by 45 degrees
+        ia, ib = by_name[f"{a}/f0.jpg"], by_name[f"{b}/f0.jpg"]
+        tvg = db.read_two_view_geometry(ia.image_id, ib.image_id)
+        pairs = tvg.inlier_matches  # (keypoint in ia, keypoint in ib), as asked
+        assert len(pairs) > 30, (a, b, len(pairs))
+
+        def rays(image, idx):
+            xy = db.read_keypoints(image.image_id)[idx, :2]
+            r = np.column_stack([cameras[image.camera_id].cam_from_img(xy), np.ones(len(xy))])
+            return r / np.linalg.norm(r, axis=1, keepdims=True)
+
+        ra, rb = rays(ia, pairs[:, 0]), rays(ib, pairs[:, 1])
+        keep = np.ones(len(ra), bool)
+        for _ in range(10):  # Kabsch (rb ~ R ra), refitted to the matches within 3 median residuals
+            u, _, vt = np.linalg.svd(rb[keep].T @ ra[keep])
+            fitted = u @ np.diag([1, 1, np.linalg.det(u @ vt)]) @ vt
+            residual = np.arccos(np.clip(np.sum(rb * (ra @ fitted.T), axis=1), -1, 1))
+            keep = residual < max(3 * np.median(residual[keep]), 1e-4)
+        assert keep.sum() > 30, (a, b, keep.sum())
+        written = world_from[b].T @ world_from[a]
+        fits.append(_rotation_angle(fitted.T @ written))
+        assert _rotation_angle(fitted.T @ written @ yaw_rotation(1.0)) > 0.5  # a heading error would show
+    db.close()
+    assert max(fits) < 0.1, fits
+    print("rotation between neighbours, SIFT fit vs written (degrees):", [round(f, 4) for f in fits])

@@ -19,8 +19,9 @@
 // vfov unless given.
 //
 // Output folder (lands whole, as tiles.hpp's):
-//   images/{stem}_{view}.{jpg|png}      one per panorama and view
-//   masks/{stem}_{view}.{ext}.png       partial panoramas: 255 where the view is fully covered,
+//   images/{stem}_{view}.{jpg|png}      one per panorama and view (layout folders:
+//                                       images/{view}/{stem}.{ext}, COLMAP's rig layout)
+//   masks/<image's name>.png            partial panoramas: 255 where the view is fully covered,
 //                                       else 0 (COLMAP's ImageReader.mask_path naming; nerfstudio's
 //                                       mask_path)
 //   sparse/0/cameras.txt                one PINHOLE camera per view (a rig's sensors are cameras);
@@ -35,6 +36,9 @@
 //                                       put at the origin, levelled the same: the rig is known,
 //                                       the frames' poses are what SfM solves
 //   sparse/0/points3D.txt               empty
+//   rig_config.json                     layout folders: COLMAP's rig_configurator input (each
+//                                       view's image_prefix "{view}/", cam_from_rig, PINHOLE
+//                                       intrinsics), for SfM from a feature database
 //   transforms.json                     nerfstudio: camera-to-world in OpenGL's camera axes (x right,
 //                                       y up, looking down -z), world x right, y forward (the
 //                                       panorama's centre), z up; intrinsics as OPENCV without
@@ -71,6 +75,7 @@ struct ViewsJob {
   std::optional<std::string> from;   // source spec; default as convert infers it
   std::string rig = "cube";
   std::string format = "jpg";        // jpg | png
+  std::string layout = "flat";       // flat: images/{stem}_{view}; folders: images/{view}/{stem}
   ConvertOptions options;            // size (each view's, unless the rig gives one; none: from the
                                      // source), interp, antialias, engine, threads, decode scale, memory
   WriteOptions write;                // quality, overwrite (the folder)

@@ -15,13 +15,16 @@ std::string num(double v) {
   return b;
 }
 
-// "QW QX QY QZ TX TY TZ" of a rotation without translation (COLMAP's Rigid3d as text).
-std::string pose(const Eigen::Matrix3d& r) {
+// A rotation's unit quaternion as "w<sep>x<sep>y<sep>z", w >= 0 (COLMAP's order).
+std::string wxyz(const Eigen::Matrix3d& r, const char* sep) {
   Eigen::Quaterniond q(r);
   q.normalize();
   if (q.w() < 0) q.coeffs() = -q.coeffs();
-  return num(q.w()) + " " + num(q.x()) + " " + num(q.y()) + " " + num(q.z()) + " 0 0 0";
+  return num(q.w()) + sep + num(q.x()) + sep + num(q.y()) + sep + num(q.z());
 }
+
+// "QW QX QY QZ TX TY TZ" of a rotation without translation (COLMAP's Rigid3d as text).
+std::string pose(const Eigen::Matrix3d& r) { return wxyz(r, " ") + " 0 0 0"; }
 
 std::string colmap_cameras(const std::vector<ViewCamera>& views) {
   std::string s = "# Camera list with one line of data per camera:\n#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
@@ -48,6 +51,26 @@ std::string colmap_rigs(const std::vector<ViewCamera>& views) {
   return s + "\n";
 }
 
+// COLMAP's rig_configurator input: sensor v's images under "{view}/", its cam_from_rig (the
+// rotation [w, x, y, z]) and intrinsics, the first view the reference.
+std::string rig_config(const std::vector<ViewCamera>& views) {
+  std::string s = "[\n  {\n    \"cameras\": [";
+  for (size_t v = 0; v < views.size(); ++v) {
+    const ViewCamera& c = views[v];
+    s += v ? ",\n" : "\n";
+    s += "      {\n        \"image_prefix\": " + json_string(c.name + "/") + ",\n";
+    if (v == 0) {
+      s += "        \"ref_sensor\": true,\n";
+    } else {
+      s += "        \"cam_from_rig_rotation\": [" + wxyz(c.world_from_camera.transpose() * views[0].world_from_camera, ", ") +
+           "],\n        \"cam_from_rig_translation\": [0, 0, 0],\n";
+    }
+    s += "        \"camera_model_name\": \"PINHOLE\",\n        \"camera_params\": [" + num(c.focal) + ", " + num(c.focal) + ", " +
+         num(0.5 * static_cast<double>(c.size.width)) + ", " + num(0.5 * static_cast<double>(c.size.height)) + "]\n      }";
+  }
+  return s + "\n    ]\n  }\n]\n";
+}
+
 // One frame per panorama: rig_from_world = R_0^T (every panorama at the origin, levelled alike).
 std::string colmap_frames(const std::vector<ViewCamera>& views, size_t frames) {
   std::string s = "# Frame list with one line of data per frame:\n"
@@ -63,7 +86,7 @@ std::string colmap_frames(const std::vector<ViewCamera>& views, size_t frames) {
   return s;
 }
 
-std::string colmap_images(const std::vector<ViewCamera>& views, const std::vector<std::string>& stems, const std::string& ext) {
+std::string colmap_images(const std::vector<ViewCamera>& views, const std::vector<std::string>& stems, const ViewFiles& files) {
   const size_t n = stems.size() * views.size();
   std::string s = "# Image list with two lines of data per image:\n#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
                   "#   POINTS2D[] as (X, Y, POINT3D_ID)\n# Number of images: " + std::to_string(n) +
@@ -71,7 +94,7 @@ std::string colmap_images(const std::vector<ViewCamera>& views, const std::vecto
   for (size_t f = 0; f < stems.size(); ++f)
     for (size_t v = 0; v < views.size(); ++v)
       s += std::to_string(f * views.size() + v + 1) + " " + pose(views[v].world_from_camera.transpose()) + " " +
-           std::to_string(v + 1) + " " + view_image_name(stems[f], views[v].name, ext) + "\n\n";
+           std::to_string(v + 1) + " " + files.image_name(stems[f], views[v].name) + "\n\n";
   return s;
 }
 
@@ -92,8 +115,7 @@ std::string intrinsics(const ViewCamera& c, const std::string& indent) {
 
 // nerfstudio: camera-to-world with OpenGL's camera axes (x right, y up, z back), the world turned
 // z up: (x, y, z)_panoproj -> (x, z, -y).
-std::string transforms(const std::vector<ViewCamera>& views, const std::vector<std::string>& stems, const std::string& ext,
-                       bool masks) {
+std::string transforms(const std::vector<ViewCamera>& views, const std::vector<std::string>& stems, const ViewFiles& files) {
   bool shared = true;
   for (const ViewCamera& c : views) shared = shared && c.size == views[0].size && c.focal == views[0].focal;
   Eigen::Matrix3d to_z_up;
@@ -105,8 +127,8 @@ std::string transforms(const std::vector<ViewCamera>& views, const std::vector<s
   for (size_t f = 0; f < stems.size(); ++f)
     for (size_t v = 0; v < views.size(); ++v) {
       s += f + v == 0 ? "\n" : ",\n";
-      s += "    {\n      \"file_path\": " + json_string(view_image_path(stems[f], views[v].name, ext)) + ",\n";
-      if (masks) s += "      \"mask_path\": " + json_string(view_mask_path(stems[f], views[v].name, ext)) + ",\n";
+      s += "    {\n      \"file_path\": " + json_string(files.image_path(stems[f], views[v].name)) + ",\n";
+      if (files.masks) s += "      \"mask_path\": " + json_string(files.mask_path(stems[f], views[v].name)) + ",\n";
       if (!shared) s += intrinsics(views[v], "      ");
       const Eigen::Matrix3d c2w = to_z_up * views[v].world_from_camera * gl;
       s += "      \"transform_matrix\": [";
@@ -122,24 +144,20 @@ std::string transforms(const std::vector<ViewCamera>& views, const std::vector<s
 
 }  // namespace
 
-std::string view_image_name(const std::string& stem, const std::string& view, const std::string& ext) {
-  return stem + "_" + view + "." + ext;
-}
-std::string view_image_path(const std::string& stem, const std::string& view, const std::string& ext) {
-  return "images/" + view_image_name(stem, view, ext);
-}
-std::string view_mask_path(const std::string& stem, const std::string& view, const std::string& ext) {
-  return "masks/" + view_image_name(stem, view, ext) + ".png";
+std::string ViewFiles::image_name(const std::string& stem, const std::string& view) const {
+  return folders ? view + "/" + stem + "." + ext : stem + "_" + view + "." + ext;
 }
 
 std::vector<TextFile> camera_files(const std::vector<ViewCamera>& views, const std::vector<std::string>& stems,
-                                   const std::string& ext, bool masks) {
-  return {{"sparse/0/cameras.txt", colmap_cameras(views)},
-          {"sparse/0/images.txt", colmap_images(views, stems, ext)},
-          {"sparse/0/points3D.txt", kPoints},
-          {"sparse/0/rigs.txt", colmap_rigs(views)},
-          {"sparse/0/frames.txt", colmap_frames(views, stems.size())},
-          {"transforms.json", transforms(views, stems, ext, masks)}};
+                                   const ViewFiles& files) {
+  std::vector<TextFile> out{{"sparse/0/cameras.txt", colmap_cameras(views)},
+                            {"sparse/0/images.txt", colmap_images(views, stems, files)},
+                            {"sparse/0/points3D.txt", kPoints},
+                            {"sparse/0/rigs.txt", colmap_rigs(views)},
+                            {"sparse/0/frames.txt", colmap_frames(views, stems.size())},
+                            {"transforms.json", transforms(views, stems, files)}};
+  if (files.folders) out.push_back({"rig_config.json", rig_config(views)});
+  return out;
 }
 
 }  // namespace panoproj

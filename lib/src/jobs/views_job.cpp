@@ -46,11 +46,14 @@ Frame open_frame(const ViewsJob& job, const std::string& input) {
 
 std::string stem_of(const std::string& input) { return std::filesystem::path(input).stem().string(); }
 
+// tan(fov / 2), exactly 1 at 90 degrees (so a cube face's focal is exactly W / 2).
+double tan_half(double fov_deg) { return fov_deg == 90 ? 1.0 : std::tan(fov_deg * kPi / 360); }
+
 // Sizes and focals: a view's own size, else the job's, else the source's resolution at its centre.
 std::vector<ViewCamera> cameras_for(const ViewsJob& job, const Frame& frame) {
   std::vector<ViewCamera> cams;
   for (const ViewSpec& v : parse_rig(job.rig)) {
-    const double th = std::tan(v.hfov * kPi / 360);
+    const double th = tan_half(v.hfov);
     int64_t w = v.width, h = v.height;
     if (w == 0 && job.options.size) {
       w = job.options.size->width, h = job.options.size->height;
@@ -71,7 +74,7 @@ std::vector<ViewCamera> cameras_for(const ViewsJob& job, const Frame& frame) {
       focal = 0.5 * static_cast<double>(w) / th;
     }
     if (h == 0) {
-      const double tall = std::round(2 * focal * std::tan((v.vfov > 0 ? v.vfov : v.hfov) * kPi / 360));
+      const double tall = std::round(2 * focal * tan_half(v.vfov > 0 ? v.vfov : v.hfov));
       if (!(tall <= kMaxViewSide))
         throw Error("view " + v.name + ": " + std::to_string(static_cast<int64_t>(std::min(tall, 1e15))) +
                     " px tall (at most " + std::to_string(kMaxViewSide) + "): give a size, or a smaller vfov");
@@ -82,7 +85,10 @@ std::vector<ViewCamera> cameras_for(const ViewsJob& job, const Frame& frame) {
   return cams;
 }
 
+ViewFiles files_of(const ViewsJob& job, bool partial) { return {job.format, job.layout == "folders", partial}; }
+
 void check_job(const ViewsJob& job) {
+  if (job.layout != "flat" && job.layout != "folders") throw Error("layout: '" + job.layout + "' (expected flat or folders)");
   if (job.inputs.empty()) throw Error("no input given (expected one or more panoramas)");
   if (job.output.empty()) throw Error("no output folder given");
   if (job.format != "jpg" && job.format != "png") throw Error("format: '" + job.format + "' (expected jpg or png)");
@@ -157,6 +163,7 @@ std::array<int64_t, 2> render_frame(const ViewsJob& job, const std::vector<ViewC
   Image with_alpha;
   const Image& in = source_for(source, o, with_alpha);
   const std::string stem = stem_of(input);
+  const ViewFiles files = files_of(job, frame.partial);
   std::array<int64_t, 2> counts{0, 0};
   for (size_t v = 0; v < views.size(); ++v) {
     if (scale > 1) views[v].source = rescaled(views[v].source, at);
@@ -164,10 +171,10 @@ std::array<int64_t, 2> render_frame(const ViewsJob& job, const std::vector<ViewC
     converter_for(views[v], o).run(in, out);
     Flat flat = flatten(out, 0, 0, out.width(), out.height(), frame.partial);
     if (flat.empty) flat.image = Image(out.size(), out.channels() - 1, out.type());
-    const std::string path = view_image_path(stem, cams[v].name, job.format);
+    const std::string path = files.image_path(stem, cams[v].name);
     OutputFolder::write_file(folder, path, encoded(flat.image, job.format, job.write, job.output + "/" + path));
     if (frame.partial) {
-      const std::string mpath = view_mask_path(stem, cams[v].name, job.format);
+      const std::string mpath = files.mask_path(stem, cams[v].name);
       OutputFolder::write_file(folder, mpath, encoded(mask_of(out), "png", job.write, job.output + "/" + mpath));
     }
     ++counts[0];
@@ -182,7 +189,7 @@ ViewsReport finish(const ViewsJob& job, OutputFolder& folder, std::array<int64_t
   ViewsReport r;
   r.views = cameras_for(job, first);
   for (const std::string& in : job.inputs) r.stems.push_back(stem_of(in));
-  for (const TextFile& f : camera_files(r.views, r.stems, job.format, first.partial))
+  for (const TextFile& f : camera_files(r.views, r.stems, files_of(job, first.partial)))
     OutputFolder::write_file(folder.staged(), f.path, f.text);
   folder.commit();
   r.from = first.from_text, r.source_size = first.info.size, r.masks = first.partial;
