@@ -69,5 +69,9 @@ run "$out/jordan_stereo_tb.jpg" "$out/jordan_stereo_eac_sbs.jpg" --from equirect
 echo "== Real cubemap (six files) -> equirect"
 run "$img/cubemap_jordan_pond/face{index}_{face}.jpg" "$out/jordan_from_cubemap.jpg" --to equirect --size 4096x2048
 
+echo "== Perspective views for SfM and NeRF: a ring of eight 90-degree views pitched 10 degrees up"
+echo "   with COLMAP's model (one rig), rig_config.json and nerfstudio's transforms.json"
+"$pp" views "$pano" "$out/jordan_views" --rig ring:n=8,fov=90,pitch=10 --size 960x720 --layout folders --overwrite
+
 echo
 echo "Results written to $out"

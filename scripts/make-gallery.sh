@@ -39,3 +39,6 @@ for out, path in items.items():
     im.save(dst / out, quality=85, optimize=True)
 print("gallery:", len(items), "thumbnails in", dst)
 PY
+# The views' picture: their borders where the written COLMAP cameras look (pycolmap), the views below.
+"$root/.venv/bin/python" "$root/scripts/views_figure.py" "$root/out/demo/jordan_views" \
+  "$root/samples/images/jordan_pond_4096x2048.jpg" "$root/docs/gallery/views_on_the_panorama.jpg"

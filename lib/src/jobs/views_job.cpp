@@ -22,6 +22,7 @@ namespace panoproj {
 namespace {
 
 constexpr int64_t kMaxViewSide = 65536;
+constexpr size_t kMaxImages = 1000000;  // images.txt and transforms.json are held in memory
 
 // One panorama as the job sees it.
 struct Frame {
@@ -99,7 +100,10 @@ void check_job(const ViewsJob& job) {
 
 // Every input's header, name and projection, before anything is written: one size and projection
 // (the rig's cameras are the same for all), names COLMAP can hold, none twice.
-std::vector<std::string> check_inputs(const ViewsJob& job, const Frame& first) {
+std::vector<std::string> check_inputs(const ViewsJob& job, const Frame& first, size_t views) {
+  if (job.inputs.size() * views > kMaxImages)
+    throw Error(std::to_string(job.inputs.size()) + " panoramas of " + std::to_string(views) + " views are over " +
+                std::to_string(kMaxImages) + " images (split the sequence, or use fewer views)");
   std::vector<std::string> stems;
   std::set<std::string> seen;
   for (size_t i = 0; i < job.inputs.size(); ++i) {
@@ -202,7 +206,7 @@ std::pair<Frame, std::vector<ViewCamera>> begin(const ViewsJob& job) {
   check_job(job);
   Frame first = open_frame(job, job.inputs[0]);
   std::vector<ViewCamera> cams = cameras_for(job, first);
-  check_inputs(job, first);
+  check_inputs(job, first, cams.size());
   OutputFolder::require_outside(job.output, job.inputs);
   return {std::move(first), std::move(cams)};
 }
