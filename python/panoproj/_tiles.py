@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import os
 import time
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Dict, Optional, Sequence, Tuple
 
-from . import _core
+from . import _core, _staged
 
 Rows = Tuple[int, int, int, int]  # (level index, face, first row, end row)
 
@@ -27,16 +27,8 @@ def run(job: Dict[str, Any], options: Dict[str, Any], client: Any = None,
         return dict(_core.tiles(job, options))
     t0 = time.perf_counter()
     folder, work = _core.tiles_begin(job, options, band_pixels)
-    try:
-        futures = [client.submit(render_rows, job, options, folder, [rows], pure=False) for rows in work]
-        counts: List[Tuple[int, int]] = client.gather(futures)
-        report = dict(_core.tiles_finish(job, options, folder, [sum(c[0] for c in counts), sum(c[1] for c in counts)]))
-    except BaseException:
-        _core.tiles_abandon(folder)
-        raise
-    report["seconds"] = time.perf_counter() - t0
-    report["tasks"] = len(work)
-    return report
+    return _staged.run_on_client(client, render_rows, job, options, folder, [[rows] for rows in work],
+                                 _core.tiles_finish, _core.tiles_abandon, t0)
 
 
 def job_of(image: Any, out_dir: Any, *, viewer: str, src: Optional[str], tile: int, levels: Optional[int],

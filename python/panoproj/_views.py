@@ -8,9 +8,9 @@ from __future__ import annotations
 import math
 import os
 import time
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
 
-from . import _core
+from . import _core, _staged
 
 RigLike = Union[str, Sequence[Mapping[str, Any]]]
 
@@ -30,16 +30,8 @@ def run(job: Dict[str, Any], options: Dict[str, Any], client: Any = None) -> Dic
         return dict(_core.views(job, options))
     t0 = time.perf_counter()
     folder = _core.views_begin(job, options)
-    try:
-        futures = [client.submit(render_frame, job, options, folder, k, pure=False) for k in range(len(job["inputs"]))]
-        counts: List[Tuple[int, int]] = client.gather(futures)
-        report = dict(_core.views_finish(job, options, folder, [sum(c[0] for c in counts), sum(c[1] for c in counts)]))
-    except BaseException:
-        _core.views_abandon(folder)
-        raise
-    report["seconds"] = time.perf_counter() - t0
-    report["tasks"] = len(futures)
-    return report
+    return _staged.run_on_client(client, render_frame, job, options, folder, range(len(job["inputs"])),
+                                 _core.views_finish, _core.views_abandon, t0)
 
 
 def rig_text(rig: Any) -> str:

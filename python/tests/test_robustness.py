@@ -1028,16 +1028,6 @@ def test_tiles_bad_parameters(cli, files, tmp_path, case, square):
     assert snapshot(tmp_path) == before
 
 
-@pytest.mark.parametrize("case", _table(HOSTILE))
-def test_tiles_hostile_inputs(cli, files, tmp_path, case):
-    key, needle, _ = case
-    before = snapshot(tmp_path)
-    r = run(cli, ["tiles", files[key], "out", "--from", "equirect"], tmp_path, timeout=30)
-    line = expect_refused(r, needle, rss=HOSTILE_RSS)
-    assert str(files[key]) in line
-    assert snapshot(tmp_path) == before
-
-
 def _old_folder(tmp_path):
     (tmp_path / "out").mkdir()
     (tmp_path / "out" / "mine.txt").write_bytes(b"old")
@@ -1048,44 +1038,64 @@ def _assert_old_folder(tmp_path):
     assert listing(tmp_path / "out") == ["mine.txt"] and (tmp_path / "out" / "mine.txt").read_bytes() == b"old"
 
 
+# The folder jobs (tiles, views) land the same way: these cases run for both.
+FOLDER_JOBS = {"tiles": {"config.json", "index.html", "fallback", "1"}, "views": {"images", "sparse", "transforms.json"}}
+
+
+@pytest.mark.parametrize("command", FOLDER_JOBS)
+@pytest.mark.parametrize("case", _table(HOSTILE))
+def test_folder_hostile_inputs(cli, files, tmp_path, case, command):
+    key, needle, _ = case
+    before = snapshot(tmp_path)
+    small = ["--size", "32x32"] if command == "views" else []
+    r = run(cli, [command, files[key], "out", "--from", "equirect"] + small, tmp_path, timeout=30)
+    line = expect_refused(r, needle, rss=HOSTILE_RSS)
+    assert str(files[key]) in line
+    assert snapshot(tmp_path) == before
+
+
+@pytest.mark.parametrize("command", FOLDER_JOBS)
 @pytest.mark.parametrize("case", ["exists", "file", "missing_folder"])
-def test_tiles_outputs_that_cannot_be_written(cli, files, tmp_path, case):
+def test_folder_outputs_that_cannot_be_written(cli, files, tmp_path, case, command):
     out = {"exists": "out", "file": "afile", "missing_folder": "nowhere/out"}[case]
     if case == "exists":
         _old_folder(tmp_path)
     (tmp_path / "afile").write_bytes(b"a file")
     before = snapshot(tmp_path)
-    r = run(cli, ["tiles", files["png"], out], tmp_path)
+    r = run(cli, [command, files["png"], out], tmp_path)
     expect_refused(r, {"exists": "output out exists (pass --overwrite to replace the folder)",
                        "file": "output afile exists and is not a folder",
                        "missing_folder": "output folder nowhere does not exist"}[case])
     assert snapshot(tmp_path) == before
 
 
-def test_tiles_overwrite_replaces_the_whole_folder(cli, files, tmp_path):
+@pytest.mark.parametrize("command", FOLDER_JOBS)
+def test_folder_overwrite_replaces_the_whole_folder(cli, files, tmp_path, command):
     _old_folder(tmp_path)
-    r = run(cli, ["tiles", files["png"], "out", "--overwrite", "-q"], tmp_path)
+    r = run(cli, [command, files["png"], "out", "--overwrite", "-q"], tmp_path)
     assert r.code == 0, r.err
     assert listing(tmp_path) == ["out"]
     names = listing(tmp_path / "out")
-    assert "mine.txt" not in names and {"config.json", "index.html", "fallback", "1"} <= set(names)
+    assert "mine.txt" not in names and FOLDER_JOBS[command] <= set(names)
 
 
+@pytest.mark.parametrize("command", FOLDER_JOBS)
 @pytest.mark.parametrize("cut", [0, 3000, 30000])
-def test_tiles_writes_cut_at_a_byte_offset(cli, files, tmp_path, cut):
+def test_folder_writes_cut_at_a_byte_offset(cli, files, tmp_path, cut, command):
     # RLIMIT_FSIZE: the first file past `cut` bytes fails (EFBIG); the old folder stays, nothing is left.
     _old_folder(tmp_path)
-    r = run(cli, ["tiles", files["big"], "out", "--overwrite", "--format", "png"], tmp_path, fsize=cut)
+    r = run(cli, [command, files["big"], "out", "--overwrite", "--format", "png"], tmp_path, fsize=cut)
     expect_refused(r, "cannot write ", "File too large")
     _assert_old_folder(tmp_path)
 
 
 @pytest.mark.skipif(not _tmpfs_available(), reason="no tmpfs mount permitted here")
-def test_tiles_on_a_full_tmpfs(cli, files, tmp_path):
+@pytest.mark.parametrize("command", FOLDER_JOBS)
+def test_folder_on_a_full_tmpfs(cli, files, tmp_path, command):
     mnt = tmp_path / "mnt"
     mnt.mkdir()
     script = (f"mount -t tmpfs -o size=1m tmpfs {mnt} && cd {mnt} && mkdir out && printf old > out/mine.txt && "
-              f"{os.path.abspath(cli)} tiles {files['big']} out --overwrite --format png; echo \"rc=$?\"; "
+              f"{os.path.abspath(cli)} {command} {files['big']} out --overwrite --format png; echo \"rc=$?\"; "
               f"ls -A {mnt}; ls -A {mnt}/out; cat {mnt}/out/mine.txt")
     p = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True, text=True, timeout=120)
     assert "rc=1" in p.stdout, p.stdout + p.stderr
@@ -1095,15 +1105,27 @@ def test_tiles_on_a_full_tmpfs(cli, files, tmp_path):
 
 
 @pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")
+@pytest.mark.parametrize("command", FOLDER_JOBS)
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["INT", "TERM"])
-def test_tiles_signals_leave_nothing_behind(cli, files, tmp_path, sig):
+def test_folder_signals_leave_nothing_behind(cli, files, tmp_path, sig, command):
     # strace holds the one syncfs for 3 s: every file is in the temporary folder then.
     _old_folder(tmp_path)
-    r = run(cli, ["tiles", files["big"], "out", "--overwrite"], tmp_path,
+    r = run(cli, [command, files["big"], "out", "--overwrite"], tmp_path,
             strace=["-e", "trace=syncfs", "-e", "inject=syncfs:delay_enter=3000000:when=1"],
             on_start=_signal_once_a_temporary_exists(tmp_path, sig, 0.5))
     assert r.code in (-sig, 128 + sig), (r.code, r.err)
     _assert_old_folder(tmp_path)
+
+
+@pytest.mark.parametrize("command", FOLDER_JOBS)
+def test_python_folder_job_on_a_client_that_fails_leaves_nothing(files, tmp_path, command):
+    class Failing:  # a scheduler whose tasks fail
+        def submit(self, *a, **k):
+            raise RuntimeError("worker lost")
+
+    with pytest.raises(RuntimeError, match="worker lost"):
+        getattr(pp, command)(files["png"], tmp_path / "out", client=Failing())
+    assert listing(tmp_path) == []
 
 
 TILE_PY_CALLS = [
@@ -1117,26 +1139,6 @@ TILE_PY_CALLS = [
     ("memory", dict(memory_limit="1M"), MemoryError, "over the memory limit"),
 ]
 
-
-@pytest.mark.parametrize("case", TILE_PY_CALLS, ids=[c[0] for c in TILE_PY_CALLS])
-def test_python_tiles_refusals(files, tmp_path, case):
-    name, kw, error, needle = case
-    if name == "exists":
-        _old_folder(tmp_path)
-    before = snapshot(tmp_path)
-    with pytest.raises(error, match=re.escape(needle)):
-        pp.tiles(files["big"], tmp_path / "out", **kw)
-    assert snapshot(tmp_path) == before
-
-
-def test_python_tiles_on_a_client_that_fails_leaves_nothing(files, tmp_path):
-    class Failing:  # a scheduler whose tasks fail
-        def submit(self, *a, **k):
-            raise RuntimeError("worker lost")
-
-    with pytest.raises(RuntimeError, match="worker lost"):
-        pp.tiles(files["png"], tmp_path / "out", client=Failing())
-    assert listing(tmp_path) == []
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1183,16 +1185,6 @@ def test_views_bad_parameters(cli, files, tmp_path, case, rig_files):
     assert snapshot(tmp_path) == before
 
 
-@pytest.mark.parametrize("case", _table(HOSTILE))
-def test_views_hostile_inputs(cli, files, tmp_path, case):
-    key, needle, _ = case
-    before = snapshot(tmp_path)
-    r = run(cli, ["views", files[key], "out", "--from", "equirect", "--size", "32x32"], tmp_path, timeout=30)
-    line = expect_refused(r, needle, rss=HOSTILE_RSS)
-    assert str(files[key]) in line
-    assert snapshot(tmp_path) == before
-
-
 @pytest.mark.parametrize("case", ["two_sizes", "same_stem", "space_in_name", "inside_the_output"])
 def test_views_inputs_a_rig_cannot_take(cli, files, tmp_path, case):
     (tmp_path / "b").mkdir()
@@ -1209,61 +1201,6 @@ def test_views_inputs_a_rig_cannot_take(cli, files, tmp_path, case):
     r = run(cli, ["views", files["png"], second, "out", "--overwrite"], tmp_path)
     expect_refused(r, needle)
     assert snapshot(tmp_path) == before
-
-
-@pytest.mark.parametrize("case", ["exists", "file", "missing_folder"])
-def test_views_outputs_that_cannot_be_written(cli, files, tmp_path, case):
-    out = {"exists": "out", "file": "afile", "missing_folder": "nowhere/out"}[case]
-    if case == "exists":
-        _old_folder(tmp_path)
-    (tmp_path / "afile").write_bytes(b"a file")
-    before = snapshot(tmp_path)
-    r = run(cli, ["views", files["png"], out], tmp_path)
-    expect_refused(r, {"exists": "output out exists (pass --overwrite to replace the folder)",
-                       "file": "output afile exists and is not a folder",
-                       "missing_folder": "output folder nowhere does not exist"}[case])
-    assert snapshot(tmp_path) == before
-
-
-def test_views_overwrite_replaces_the_whole_folder(cli, files, tmp_path):
-    _old_folder(tmp_path)
-    r = run(cli, ["views", files["png"], "out", "--overwrite", "-q"], tmp_path)
-    assert r.code == 0, r.err
-    assert listing(tmp_path) == ["out"]
-    assert listing(tmp_path / "out") == ["images", "sparse", "transforms.json"]
-
-
-@pytest.mark.parametrize("cut", [0, 3000, 30000])
-def test_views_writes_cut_at_a_byte_offset(cli, files, tmp_path, cut):
-    _old_folder(tmp_path)
-    r = run(cli, ["views", files["big"], "out", "--overwrite", "--format", "png"], tmp_path, fsize=cut)
-    expect_refused(r, "cannot write ", "File too large")
-    _assert_old_folder(tmp_path)
-
-
-@pytest.mark.skipif(not _tmpfs_available(), reason="no tmpfs mount permitted here")
-def test_views_on_a_full_tmpfs(cli, files, tmp_path):
-    mnt = tmp_path / "mnt"
-    mnt.mkdir()
-    script = (f"mount -t tmpfs -o size=1m tmpfs {mnt} && cd {mnt} && mkdir out && printf old > out/mine.txt && "
-              f"{os.path.abspath(cli)} views {files['big']} out --overwrite --format png; echo \"rc=$?\"; "
-              f"ls -A {mnt}; ls -A {mnt}/out; cat {mnt}/out/mine.txt")
-    p = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True, text=True, timeout=120)
-    assert "rc=1" in p.stdout, p.stdout + p.stderr
-    assert p.stdout.split("rc=1")[1].split() == ["out", "mine.txt", "old"], p.stdout
-    lines = [l for l in p.stderr.splitlines() if l.strip()]
-    assert len(lines) == 1 and "cannot write" in lines[0] and "No space left on device" in lines[0], lines
-
-
-@pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")
-@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["INT", "TERM"])
-def test_views_signals_leave_nothing_behind(cli, files, tmp_path, sig):
-    _old_folder(tmp_path)
-    r = run(cli, ["views", files["big"], "out", "--overwrite"], tmp_path,
-            strace=["-e", "trace=syncfs", "-e", "inject=syncfs:delay_enter=3000000:when=1"],
-            on_start=_signal_once_a_temporary_exists(tmp_path, sig, 0.5))
-    assert r.code in (-sig, 128 + sig), (r.code, r.err)
-    _assert_old_folder(tmp_path)
 
 
 VIEW_PY_CALLS = [
@@ -1284,24 +1221,17 @@ VIEW_PY_CALLS = [
 ]
 
 
-@pytest.mark.parametrize("case", VIEW_PY_CALLS, ids=[c[0] for c in VIEW_PY_CALLS])
-def test_python_views_refusals(files, tmp_path, case):
-    name, kw, error, needle = case
+PY_FOLDER_CALLS = [("tiles",) + c for c in TILE_PY_CALLS] + [("views",) + c for c in VIEW_PY_CALLS]
+
+
+@pytest.mark.parametrize("case", PY_FOLDER_CALLS, ids=[f"{c[0]}-{c[1]}" for c in PY_FOLDER_CALLS])
+def test_python_folder_job_refusals(files, tmp_path, case):
+    command, name, kw, error, needle = case
     if name == "exists":
         _old_folder(tmp_path)
     before = snapshot(tmp_path)
     kw = dict(kw)
     images = kw.pop("images", files["big"])
     with pytest.raises(error, match=re.escape(needle)):
-        pp.views(images, tmp_path / "out", **kw)
+        getattr(pp, command)(images, tmp_path / "out", **kw)
     assert snapshot(tmp_path) == before
-
-
-def test_python_views_on_a_client_that_fails_leaves_nothing(files, tmp_path):
-    class Failing:  # a scheduler whose tasks fail
-        def submit(self, *a, **k):
-            raise RuntimeError("worker lost")
-
-    with pytest.raises(RuntimeError, match="worker lost"):
-        pp.views(files["png"], tmp_path / "out", client=Failing())
-    assert listing(tmp_path) == []

@@ -8,7 +8,6 @@
 
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
-#include "panoproj/jobs.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/rotation.hpp"
 #include "panoproj/tiles.hpp"
@@ -17,33 +16,22 @@
 #include "geometry/tile_map.hpp"
 #include "io/atomic_output.hpp"
 #include "io/codec.hpp"
+#include "jobs/file_source.hpp"
 #include "jobs/rendered_parts.hpp"
 #include "jobs/tile_layouts.hpp"
 
 namespace panoproj {
 namespace {
 
-// The source as every part of the job sees it.
-struct Source {
-  ImageInfo info;
-  ConversionGeometry base;  // the source on its frame; rotation: the options' (and a Photo Sphere's pose)
-  std::string from_text;
-  bool partial = false;     // not the whole sphere: alpha, empty tiles, a limited view
+// The source as every part of the job sees it, with its pyramid.
+struct Source : FileSource {
   TilePyramid pyramid;
 };
 
 Source open_source(const TilesJob& job) {
-  const ImageInfo info = read_image_info(job.input);
-  const auto ps = job.from ? std::nullopt : read_photo_sphere(job.input);
-  const ProjectionSpec from = infer_source_spec(job.from, job.input, info.size, ps);
-  ConvertOptions o = job.options;
-  o.size = Size{1, 1};  // (the target is replaced per part)
-  ConversionGeometry g = make_geometry(info.size, from, parse_spec("pinhole:hfov=90"), o);
-  require_mono(g, "tiles");
-  std::string from_text = level_by_pose(g, ps, from.str());
-  const bool partial = !shows_whole_sphere(g.source);
-  TilePyramid pyramid = make_pyramid(job, center_density(g.source));
-  return Source{info, std::move(g), std::move(from_text), partial, std::move(pyramid)};
+  FileSource file = open_file_source(job.input, job.from, job.options, "tiles");
+  TilePyramid pyramid = make_pyramid(job, center_density(file.base.source));
+  return Source{std::move(file), std::move(pyramid)};
 }
 
 // Rows [y0, y1) of face `face` at size s: a pinhole of focal s / 2 centred on the face's centre.

@@ -9,13 +9,13 @@
 
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
-#include "panoproj/jobs.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/rotation.hpp"
 #include "panoproj/views.hpp"
 #include "base/sample_io.hpp"
 #include "io/atomic_output.hpp"
 #include "jobs/camera_files.hpp"
+#include "jobs/file_source.hpp"
 #include "jobs/rendered_parts.hpp"
 
 namespace panoproj {
@@ -25,25 +25,9 @@ constexpr int64_t kMaxViewSide = 65536;
 constexpr size_t kMaxImages = 1000000;  // images.txt and transforms.json are held in memory
 
 // One panorama as the job sees it.
-struct Frame {
-  ImageInfo info;
-  ConversionGeometry base;  // the source on its frame; rotation: a Photo Sphere's pose (levelled)
-  std::string from_text;
-  bool partial = false;     // not the whole sphere: masks, views flattened over black
-};
+using Frame = FileSource;
 
-Frame open_frame(const ViewsJob& job, const std::string& input) {
-  const ImageInfo info = read_image_info(input);
-  const auto ps = job.from ? std::nullopt : read_photo_sphere(input);
-  const ProjectionSpec from = infer_source_spec(job.from, input, info.size, ps);
-  ConvertOptions o = job.options;
-  o.size = Size{1, 1};  // (the target is replaced per view)
-  ConversionGeometry g = make_geometry(info.size, from, parse_spec("pinhole:hfov=90"), o);
-  require_mono(g, "views");
-  std::string from_text = level_by_pose(g, ps, from.str());
-  const bool partial = !shows_whole_sphere(g.source);
-  return Frame{info, std::move(g), std::move(from_text), partial};
-}
+Frame open_frame(const ViewsJob& job, const std::string& input) { return open_file_source(input, job.from, job.options, "views"); }
 
 std::string stem_of(const std::string& input) { return std::filesystem::path(input).stem().string(); }
 

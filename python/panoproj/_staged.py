@@ -1,0 +1,25 @@
+"""Folder jobs on a Dask ``distributed`` client (pp.tiles, pp.views): the caller has begun the
+job (a temporary folder beside the output); each item is a task that writes its files into the
+folder and returns (written, empty); the counts' sums finish the job (the folder lands), and any
+failure abandons it (the folder removed)."""
+from __future__ import annotations
+
+import time
+from typing import Any, Callable, Dict, List, Sequence, Tuple
+
+
+def run_on_client(client: Any, task: Callable[..., Tuple[int, int]], job: Dict[str, Any], options: Dict[str, Any],
+                  folder: str, items: Sequence[Any], finish: Callable[..., Any],
+                  abandon: Callable[[str], None], t0: float) -> Dict[str, Any]:
+    """task(job, options, folder, item) per item on the client; finish(job, options, folder,
+    [written, empty]) then; t0: when the job began (perf_counter)."""
+    try:
+        futures = [client.submit(task, job, options, folder, item, pure=False) for item in items]
+        counts: List[Tuple[int, int]] = client.gather(futures)
+        report = dict(finish(job, options, folder, [sum(c[0] for c in counts), sum(c[1] for c in counts)]))
+    except BaseException:
+        abandon(folder)
+        raise
+    report["seconds"] = time.perf_counter() - t0
+    report["tasks"] = len(futures)
+    return report
