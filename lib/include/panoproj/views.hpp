@@ -100,9 +100,6 @@ struct ViewsReport {
   double seconds = 0;
 };
 
-// The cameras for this job (from the first input's header; checks the job's values).
-std::vector<ViewCamera> view_cameras(const ViewsJob& job);
-
 // Renders every view of every frame (one source decoded at a time).
 ViewsReport run_views(const ViewsJob& job, const std::function<void(double)>& progress = {});
 

@@ -84,11 +84,10 @@ void check_job(const ViewsJob& job) {
 
 // Every input's header, name and projection, before anything is written: one size and projection
 // (the rig's cameras are the same for all), names COLMAP can hold, none twice.
-std::vector<std::string> check_inputs(const ViewsJob& job, const Frame& first, size_t views) {
+void check_inputs(const ViewsJob& job, const Frame& first, size_t views) {
   if (job.inputs.size() * views > kMaxImages)
     throw Error(std::to_string(job.inputs.size()) + " panoramas of " + std::to_string(views) + " views are over " +
                 std::to_string(kMaxImages) + " images (split the sequence, or use fewer views)");
-  std::vector<std::string> stems;
   std::set<std::string> seen;
   for (size_t i = 0; i < job.inputs.size(); ++i) {
     const std::string& in = job.inputs[i];
@@ -99,7 +98,6 @@ std::vector<std::string> check_inputs(const ViewsJob& job, const Frame& first, s
     if (stem.empty()) throw Error("input " + in + ": no file name");
     if (!seen.insert(stem).second)
       throw Error("input " + in + ": a second input named " + stem + " (the views are named by the input's name: rename one)");
-    stems.push_back(stem);
     if (i == 0) continue;
     const Frame f = open_frame(job, in);
     if (f.info.size != first.info.size || f.base.source.index() != first.base.source.index() ||
@@ -107,7 +105,6 @@ std::vector<std::string> check_inputs(const ViewsJob& job, const Frame& first, s
       throw Error("input " + in + " is " + size_text(f.info.size) + " " + f.from_text + ", the first " +
                   size_text(first.info.size) + " " + first.from_text + " (a rig's frames need one size and projection)");
   }
-  return stems;
 }
 
 // 255 where the view is wholly covered, else 0 (COLMAP and nerfstudio skip the zeros).
@@ -185,26 +182,21 @@ ViewsReport finish(const ViewsJob& job, OutputFolder& folder, std::array<int64_t
   return r;
 }
 
-// Everything checked; the first frame and the cameras.
-std::pair<Frame, std::vector<ViewCamera>> begin(const ViewsJob& job) {
+// Everything checked before any view is rendered; the cameras.
+std::vector<ViewCamera> begin(const ViewsJob& job) {
   check_job(job);
-  Frame first = open_frame(job, job.inputs[0]);
+  const Frame first = open_frame(job, job.inputs[0]);
   std::vector<ViewCamera> cams = cameras_for(job, first);
   check_inputs(job, first, cams.size());
   OutputFolder::require_outside(job.output, job.inputs);
-  return {std::move(first), std::move(cams)};
+  return cams;
 }
 
 }  // namespace
 
-std::vector<ViewCamera> view_cameras(const ViewsJob& job) {
-  check_job(job);
-  return cameras_for(job, open_frame(job, job.inputs.at(0)));
-}
-
 ViewsReport run_views(const ViewsJob& job, const std::function<void(double)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();
-  const auto [first, cams] = begin(job);
+  const std::vector<ViewCamera> cams = begin(job);
   OutputFolder folder(job.output, job.write.overwrite);
   std::array<int64_t, 2> counts{0, 0};
   const double total = static_cast<double>(job.inputs.size() * cams.size());
