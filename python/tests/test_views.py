@@ -374,3 +374,18 @@ def test_colmaps_rig_configurator_and_sift_agree_with_the_written_rig(tmp_path):
     db.close()
     assert max(fits) < 0.1, fits
     print("rotation between neighbours, SIFT fit vs written (degrees):", [round(f, 4) for f in fits])
+
+
+def test_pycolmap_reads_a_model_after_panoproj_is_imported(smooth, tmp_path):
+    """In one process with panoproj first: the wheel's static libstdc++ once exported its locale
+    facet ids (STB_GNU_UNIQUE, bound process-wide), and pycolmap then failed to parse numbers."""
+    import subprocess
+    import sys
+
+    path, _ = smooth
+    pp.views(path, tmp_path / "out", rig="cube", size=(64, 64))
+    code = ("import panoproj, pycolmap, sys; r = pycolmap.Reconstruction(sys.argv[1]); "
+            "assert r.num_images() == 6 and r.cameras[1].params[0] == 32, r.summary()")
+    p = subprocess.run([sys.executable, "-c", code, str(tmp_path / "out" / "sparse" / "0")], capture_output=True,
+                       text=True, timeout=120)
+    assert p.returncode == 0, p.stderr[-2000:]

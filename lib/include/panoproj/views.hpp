@@ -42,7 +42,9 @@
 //   transforms.json                     nerfstudio: camera-to-world in OpenGL's camera axes (x right,
 //                                       y up, looking down -z), world x right, y forward (the
 //                                       panorama's centre), z up; intrinsics as OPENCV without
-//                                       distortion (shared at the top when all views share them)
+//                                       distortion (shared at the top when all views share them);
+//                                       every camera at the origin (nerfstudio: --auto-scale-poses
+//                                       False, it divides by the largest translation)
 #include <array>
 #include <functional>
 #include <optional>
