@@ -79,8 +79,8 @@ TEST(RigText, BadRigsAreRefusedNamingTheValue) {
       {"cube+cube", "two views named front"},
       {"- {name: a/b}", "name 'a/b' (expected 1 to 64 letters"},
       {"- {name: a, yaw: 400}", "yaw 400.000000 (expected -360 to 360"},
-      {"- {name: a, size: 0x10}", "size 0x10: width: 0 (expected a whole number from 1 to 65536)"},
-      {"- {name: a, size: 100000x10}", "expected a whole number from 1 to 65536"},
+      {"- {name: a, size: 0x10}", "size: 0x10 (expected WxH with positive integers"},
+      {"- {name: a, size: 100000x10}", "size 100000x10 (expected 1 to 65536 pixels a side)"},
       {"- {name: a, height: 10}", "a height without a width"},
       {"- {name: a, vfov: 40, size: 10x10}", "both vfov and a height"},
       {"- {name: a, name: b}", "'name' given twice"},
@@ -88,8 +88,8 @@ TEST(RigText, BadRigsAreRefusedNamingTheValue) {
       {"- {name: a", "a flow mapping ends with '}'"},
       {"- {yaw: 3}", "view 1 has no name"},
       {"views:\n  -\n\tname: a", "line 3: a tab"},
-      {"@/nonexistent/rig.yaml", "rig file '/nonexistent/rig.yaml': No such file"},
-      {"@/dev/null", "rig file '/dev/null': not a regular file"},
+      {"@/nonexistent/rig.yaml", "the rig file /nonexistent/rig.yaml does not exist (check the path)"},
+      {"@/dev/null", "cannot read the rig file /dev/null: a device (expected a YAML list of views after @)"},
   };
   for (const Case& c : cases) {
     try {

@@ -1,11 +1,24 @@
-"""Folder jobs on a Dask ``distributed`` client (pp.tiles, pp.views): the caller has begun the
-job (a temporary folder beside the output); each item is a task that writes its files into the
-folder and returns (written, empty); the counts' sums finish the job (the folder lands), and any
-failure abandons it (the folder removed)."""
+"""Folder jobs (pp.tiles, pp.views): their path arguments checked, and their run on a Dask
+``distributed`` client: the caller has begun the job (a temporary folder beside the output);
+each item is a task that writes its files into the folder and returns (written, empty); the
+counts' sums finish the job (the folder lands), and any failure abandons it (the folder
+removed)."""
 from __future__ import annotations
 
+import os
 import time
 from typing import Any, Callable, Dict, List, Sequence, Tuple
+
+
+def path_arg(name: str, v: Any) -> str:
+    """A path argument as the core takes it: a str, or an os.PathLike giving one."""
+    try:
+        p = os.fspath(v)
+    except TypeError:
+        raise TypeError(f"{name}: {v!r} (expected a str or os.PathLike path)") from None
+    if not isinstance(p, str):
+        raise TypeError(f"{name}: {v!r} (expected a str or os.PathLike path)")
+    return p
 
 
 def run_on_client(client: Any, task: Callable[..., Tuple[int, int]], job: Dict[str, Any], options: Dict[str, Any],

@@ -5,7 +5,6 @@ scale they need, and the client finishes (preview, config, index.html) and lands
 The bytes equal a local run's: each tile depends only on the job."""
 from __future__ import annotations
 
-import os
 import time
 from typing import Any, Dict, Optional, Sequence, Tuple
 
@@ -35,12 +34,6 @@ def job_of(image: Any, out_dir: Any, *, viewer: str, src: Optional[str], tile: i
            cube_size: Optional[int], format: str, quality: int, preview: Optional[int], script_url: Optional[str],
            overwrite: bool) -> Dict[str, Any]:
     """The job's arguments as _core takes them, each checked for its Python type."""
-    def path(name: str, v: Any) -> str:
-        p = os.fspath(v)
-        if not isinstance(p, str):
-            raise TypeError(f"{name}: {v!r} (expected a str or os.PathLike path)")
-        return p
-
     def integer(name: str, v: Any, none: int) -> int:
         if v is None:
             return none
@@ -57,7 +50,7 @@ def job_of(image: Any, out_dir: Any, *, viewer: str, src: Optional[str], tile: i
             raise TypeError(f"{name}: {v!r} (expected a str)")
         return v
 
-    return {"input": path("image", image), "output": path("out_dir", out_dir), "src": src,
+    return {"input": _staged.path_arg("image", image), "output": _staged.path_arg("out_dir", out_dir), "src": src,
             "viewer": text("viewer", viewer, "pannellum"), "tile": integer("tile", tile, 512),
             "levels": integer("levels", levels, 0), "cube_size": integer("cube_size", cube_size, 0),
             "format": text("format", format, "jpg"), "quality": integer("quality", quality, 95),

@@ -81,19 +81,10 @@ def rig_text(rig: Any) -> str:
 def job_of(images: Any, out_dir: Any, *, rig: Any, src: Optional[str], format: str, layout: str, quality: int,
            overwrite: bool) -> Dict[str, Any]:
     """The job's arguments as _core takes them, each checked for its Python type."""
-    def path(name: str, v: Any) -> str:
-        try:
-            p = os.fspath(v)
-        except TypeError:
-            raise TypeError(f"{name}: {v!r} (expected a str or os.PathLike path)") from None
-        if not isinstance(p, str):
-            raise TypeError(f"{name}: {v!r} (expected a str or os.PathLike path)")
-        return p
-
     if isinstance(images, (str, os.PathLike)):
-        inputs = [path("images", images)]
+        inputs = [_staged.path_arg("images", images)]
     elif isinstance(images, Sequence):
-        inputs = [path(f"images[{i}]", v) for i, v in enumerate(images)]
+        inputs = [_staged.path_arg(f"images[{i}]", v) for i, v in enumerate(images)]
     else:
         raise TypeError(f"images: {images!r} (expected a path or a sequence of paths)")
     if not isinstance(format, str):
@@ -104,5 +95,5 @@ def job_of(images: Any, out_dir: Any, *, rig: Any, src: Optional[str], format: s
         raise TypeError(f"quality: {quality!r} (expected an int)")
     if not 0 < quality <= 100:
         raise ValueError(f"quality: {quality} (expected 1 to 100)")
-    return {"inputs": inputs, "output": path("out_dir", out_dir), "src": src, "rig": rig_text(rig),
+    return {"inputs": inputs, "output": _staged.path_arg("out_dir", out_dir), "src": src, "rig": rig_text(rig),
             "format": format, "layout": layout, "quality": quality, "overwrite": bool(overwrite)}

@@ -267,12 +267,29 @@ void check_output_folder(const std::string& path, bool overwrite) {
     throw Error("output folder " + dir.string() + " does not exist (create it first)", ErrorKind::Missing);
 }
 
+// Throws unless every input lies outside `path` (an existing folder that overwrite would replace).
+void require_outside(const std::string& path, const std::vector<std::string>& inputs) {
+  std::error_code ec;
+  const fs::path folder = fs::canonical(path, ec);
+  if (ec) return;  // not there: nothing to replace
+  for (const std::string& input : inputs) {
+    const fs::path in = fs::weakly_canonical(input, ec);
+    if (ec) continue;
+    const auto [f, i] = std::mismatch(folder.begin(), folder.end(), in.begin(), in.end());
+    if (f == folder.end())
+      throw Error("input " + input + " is inside the output folder " + path +
+                  ", which the job replaces (write the output elsewhere)");
+  }
+}
+
 }  // namespace
 
-OutputFolder::OutputFolder(std::string path, bool overwrite) : path_(std::move(path)), overwrite_(overwrite) {
+OutputFolder::OutputFolder(std::string path, bool overwrite, const std::vector<std::string>& inputs)
+    : path_(std::move(path)), overwrite_(overwrite) {
   while (path_.size() > 1 && path_.back() == '/') path_.pop_back();
   if (path_.empty()) throw Error("output: an empty folder name");
   check_output_folder(path_, overwrite_);
+  require_outside(path_, inputs);
   for (int attempt = 0; attempt < 8 && staged_.empty(); ++attempt) {
     const std::string temp = random_sibling(path_);
     if (::mkdir(temp.c_str(), 0777) == 0) staged_ = temp;
@@ -303,20 +320,6 @@ void OutputFolder::keep() {
   done_ = true;
   release(slot_);
   slot_ = -1;
-}
-
-void OutputFolder::require_outside(const std::string& path, const std::vector<std::string>& inputs) {
-  std::error_code ec;
-  const fs::path folder = fs::canonical(path, ec);
-  if (ec) return;  // not there: nothing to replace
-  for (const std::string& input : inputs) {
-    const fs::path in = fs::weakly_canonical(input, ec);
-    if (ec) continue;
-    const auto [f, i] = std::mismatch(folder.begin(), folder.end(), in.begin(), in.end());
-    if (f == folder.end())
-      throw Error("input " + input + " is inside the output folder " + path +
-                  ", which the job replaces (write the output elsewhere)");
-  }
 }
 
 void OutputFolder::write_file(const std::string& staged, const std::string& relative, std::string_view bytes) {

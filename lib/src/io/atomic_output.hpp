@@ -48,7 +48,8 @@ struct TextFile {
 
 class OutputFolder {
  public:
-  OutputFolder(std::string path, bool overwrite);
+  // inputs: the files the job reads; one inside `path` (which overwrite would replace) is refused.
+  OutputFolder(std::string path, bool overwrite, const std::vector<std::string>& inputs);
   // Adopts a temporary folder another OutputFolder made and kept (keep(): a scheduler's client
   // made it, workers filled it).
   OutputFolder(std::string path, bool overwrite, std::string staged);
@@ -62,8 +63,6 @@ class OutputFolder {
   // Writes a new file at `relative` (subfolders made) in a temporary folder; thread-safe; throws
   // Error naming the file and the system's reason.
   static void write_file(const std::string& staged, const std::string& relative, std::string_view bytes);
-  // Throws unless every input lies outside `path` (an existing folder that overwrite would replace).
-  static void require_outside(const std::string& path, const std::vector<std::string>& inputs);
   // Removes a kept temporary folder and all it holds.
   static void remove_staged(const std::string& staged);
 

@@ -3,25 +3,21 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <filesystem>
 #include <set>
 #include <string>
 
 #include "panoproj/error.hpp"
+#include "panoproj/options.hpp"
 #include "panoproj/views.hpp"
+#include "base/input_check.hpp"
+#include "base/text.hpp"
 
 namespace panoproj {
 namespace {
 
 constexpr size_t kMaxViews = 1000;
 constexpr int64_t kMaxViewSide = 65536;
-constexpr long kMaxRigFile = 1 << 20;
-
-std::string trim(std::string_view s) {
-  const size_t a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
-  return a == std::string_view::npos ? std::string() : std::string(s.substr(a, b - a + 1));
-}
+constexpr size_t kMaxRigFile = size_t{1} << 20;
 
 double number(const std::string& text, const std::string& what) {
   errno = 0;
@@ -50,20 +46,13 @@ void check_view(const ViewSpec& v, const std::string& where) {
     throw Error(of + "hfov " + std::to_string(v.hfov) + " (expected more than 0, at most 179 degrees: a pinhole sees less than 180)");
   if (!(v.vfov == 0 || (v.vfov > 0 && v.vfov <= 179)))
     throw Error(of + "vfov " + std::to_string(v.vfov) + " (expected more than 0, at most 179 degrees)");
-  if ((v.width == 0) != (v.height == 0) && v.width == 0)
+  if (v.width == 0 && v.height != 0)
     throw Error(of + "a height without a width (give size WxH, or the width alone)");
   if (v.width < 0 || v.height < 0 || v.width > kMaxViewSide || v.height > kMaxViewSide)
     throw Error(of + "size " + std::to_string(v.width) + "x" + std::to_string(v.height) + " (expected 1 to " +
                 std::to_string(kMaxViewSide) + " pixels a side)");
   if (v.vfov > 0 && v.height > 0)
     throw Error(of + "both vfov and a height (the height follows from vfov: give one)");
-}
-
-void set_size(ViewSpec& v, const std::string& text, const std::string& what) {
-  const size_t x = text.find('x');
-  if (x == std::string::npos) throw Error(what + ": '" + text + "' (expected WxH, e.g. 1024x768)");
-  v.width = whole(text.substr(0, x), what + " " + text + ": width", 1, kMaxViewSide);
-  v.height = whole(text.substr(x + 1), what + " " + text + ": height", 1, kMaxViewSide);
 }
 
 // One key of a view (from a YAML mapping).
@@ -79,7 +68,10 @@ void set_key(ViewSpec& v, const std::string& key, std::string value, std::set<st
   else if (k == "roll") v.roll = number(value, what);
   else if (k == "hfov") v.hfov = number(value, what);
   else if (k == "vfov") v.vfov = number(value, what);
-  else if (k == "size") set_size(v, value, what);
+  else if (k == "size") {
+    const Size s = parse_size(value, what);
+    v.width = s.width, v.height = s.height;  // (the sides' range: check_view)
+  }
   else if (k == "width") v.width = whole(value, what, 1, kMaxViewSide);
   else if (k == "height") v.height = whole(value, what, 1, kMaxViewSide);
   else throw Error(where + "unknown key '" + key + "' (expected name, yaw, pitch, roll, hfov or fov, vfov, size, width, height)");
@@ -126,18 +118,10 @@ std::vector<ViewSpec> ring(const std::string& keys) {
 
 // A block or flow YAML list of mappings of scalars (the subset a rig needs), optionally under a
 // top key "views:".
+// read_head refuses directories, FIFOs and devices before reading.
 std::string read_rig_file(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
-    throw Error("rig file '" + path + "': not a regular file (expected a YAML file)");
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw Error("rig file '" + path + "': " + std::strerror(errno));
-  std::string text(kMaxRigFile + 1, '\0');
-  text.resize(std::fread(text.data(), 1, text.size(), f));
-  const bool failed = std::ferror(f);
-  std::fclose(f);
-  if (failed) throw Error("rig file '" + path + "': could not be read");
-  if (text.size() > static_cast<size_t>(kMaxRigFile)) throw Error("rig file '" + path + "': over 1 MB (expected a list of views)");
+  std::string text = read_head(path, kMaxRigFile + 1, "the rig file", "a YAML list of views after @");
+  if (text.size() > kMaxRigFile) throw Error("rig file '" + path + "': over 1 MB (expected a list of views)");
   return text;
 }
 

@@ -279,7 +279,7 @@ TilesReport run_tiles(const TilesJob& job, const std::function<void(double)>& pr
   const auto t0 = std::chrono::steady_clock::now();
   check_job(job);
   const Source src = open_source(job);
-  OutputFolder folder(job.output, job.write.overwrite);
+  OutputFolder folder(job.output, job.write.overwrite, std::vector<std::string>{job.input});
   // One tile row a part: in flight, the source at one scale and one row of tiles.
   const std::vector<TileRows> rows = all_rows(src.pyramid, 1);
   const auto counts = render_rows(job, src, folder.staged(), rows, true, progress);
@@ -291,7 +291,7 @@ TilesReport run_tiles(const TilesJob& job, const std::function<void(double)>& pr
 TilesStaging begin_tiles(const TilesJob& job, int64_t band_pixels) {
   check_job(job);
   const Source src = open_source(job);
-  OutputFolder folder(job.output, job.write.overwrite);
+  OutputFolder folder(job.output, job.write.overwrite, std::vector<std::string>{job.input});
   folder.keep();
   return {folder.staged(), all_rows(src.pyramid, band_pixels)};
 }

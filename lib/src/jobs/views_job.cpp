@@ -154,10 +154,12 @@ std::array<int64_t, 2> render_frame(const ViewsJob& job, const std::vector<ViewC
     if (scale > 1) views[v].source = rescaled(views[v].source, at);
     Image out;
     converter_for(views[v], o).run(in, out);
-    Flat flat = flatten(out, 0, 0, out.width(), out.height(), frame.partial);
+    // A partial source's view flattened over black by coverage (none: black); a whole one as made.
+    Flat flat;
+    if (frame.partial) flat = flatten(out, 0, 0, out.width(), out.height(), true);
     if (flat.empty) flat.image = Image(out.size(), out.channels() - 1, out.type());
     const std::string path = files.image_path(stem, cams[v].name);
-    OutputFolder::write_file(folder, path, encoded(flat.image, job.format, job.write, job.output + "/" + path));
+    OutputFolder::write_file(folder, path, encoded(frame.partial ? flat.image : out, job.format, job.write, job.output + "/" + path));
     if (frame.partial) {
       const std::string mpath = files.mask_path(stem, cams[v].name);
       OutputFolder::write_file(folder, mpath, encoded(mask_of(out), "png", job.write, job.output + "/" + mpath));
@@ -188,7 +190,6 @@ std::vector<ViewCamera> begin(const ViewsJob& job) {
   const Frame first = open_frame(job, job.inputs[0]);
   std::vector<ViewCamera> cams = cameras_for(job, first);
   check_inputs(job, first, cams.size());
-  OutputFolder::require_outside(job.output, job.inputs);
   return cams;
 }
 
@@ -197,7 +198,7 @@ std::vector<ViewCamera> begin(const ViewsJob& job) {
 ViewsReport run_views(const ViewsJob& job, const std::function<void(double)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<ViewCamera> cams = begin(job);
-  OutputFolder folder(job.output, job.write.overwrite);
+  OutputFolder folder(job.output, job.write.overwrite, job.inputs);
   std::array<int64_t, 2> counts{0, 0};
   const double total = static_cast<double>(job.inputs.size() * cams.size());
   double done = 0;
@@ -214,7 +215,7 @@ ViewsReport run_views(const ViewsJob& job, const std::function<void(double)>& pr
 
 std::string begin_views(const ViewsJob& job) {
   begin(job);
-  OutputFolder folder(job.output, job.write.overwrite);
+  OutputFolder folder(job.output, job.write.overwrite, job.inputs);
   folder.keep();
   return folder.staged();
 }

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "panoproj/error.hpp"
+#include "base/text.hpp"
 #include "projections/module.hpp"
 
 namespace panoproj {
@@ -101,13 +102,6 @@ std::string validate(const ProjectionDef& d, const ParamDef& p, const std::strin
   const bool hi_ok = p.hi_open ? v < p.hi : v <= p.hi;
   if (!lo_ok || !hi_ok) throw Error(where + " is out of range (expected " + range_text(p) + ")");
   return text;
-}
-
-std::string trim(std::string_view s) {
-  const auto b = s.find_first_not_of(" \t");
-  if (b == std::string_view::npos) return {};
-  const auto e = s.find_last_not_of(" \t");
-  return std::string(s.substr(b, e - b + 1));
 }
 
 }  // namespace

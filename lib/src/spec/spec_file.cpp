@@ -10,17 +10,14 @@
 
 #include "panoproj/error.hpp"
 #include "base/input_check.hpp"
+#include "base/text.hpp"
 
 namespace panoproj {
 namespace {
 
 using Pairs = std::vector<std::pair<std::string, std::string>>;
 
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return {};
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
+constexpr std::string_view kSpace = " \t\r\n";
 
 // {"key": value, ...} with string or number values; nothing nested.
 Pairs parse_json(const std::string& text, const std::string& path) {
@@ -88,16 +85,16 @@ Pairs parse_yaml(const std::string& text, const std::string& path) {
   std::string line;
   for (int n = 1; std::getline(in, line); ++n) {
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
-    line = trim(line);
+    line = trim(line, kSpace);
     if (line.empty() || line == "---") continue;
     const auto colon = line.find(':');
     if (colon == std::string::npos || line[0] == '-' || line[0] == ' ')
       throw Error(path + ": line " + std::to_string(n) + " is not 'key: value' (expected a flat YAML mapping of spec keys)");
-    std::string value = trim(line.substr(colon + 1));
+    std::string value = trim(line.substr(colon + 1), kSpace);
     if (value.size() >= 2 && (value.front() == '"' || value.front() == '\'') && value.back() == value.front())
       value = value.substr(1, value.size() - 2);
     if (value.empty()) throw Error(path + ": line " + std::to_string(n) + " has no value (nested mappings are not supported)");
-    out.emplace_back(trim(line.substr(0, colon)), value);
+    out.emplace_back(trim(line.substr(0, colon), kSpace), value);
   }
   return out;
 }
@@ -111,7 +108,7 @@ std::string spec_from_file(const std::string& path) {
   std::string text = read_head(path, kMax + 1, "the spec file", "a JSON or YAML file after @");
   if (text.size() > kMax) throw Error(path + " is over 1 MiB (expected a small JSON or YAML spec file)");
   if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);  // a UTF-8 byte order mark
-  const std::string head = trim(text);
+  const std::string head = trim(text, kSpace);
   const Pairs pairs = !head.empty() && head[0] == '{' ? parse_json(head, path) : parse_yaml(text, path);
   std::string name, keys;
   for (size_t i = 0; i < pairs.size(); ++i) {
