@@ -14,6 +14,7 @@
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/tiles.hpp"
+#include "io/atomic_output.hpp"
 #include "io/codec.hpp"
 #include "jobs/tile_layouts.hpp"
 #include "test_support.hpp"
@@ -204,11 +205,11 @@ TEST_P(EveryViewer, EveryTileEqualsItsFaceRenderedDirectlyAtItsLevel) {
     }
   }
   EXPECT_EQ(checked, r.pyramid.tile_count());
-  // Exactly the tiles, the preview, config.json and index.html.
+  // Exactly the tiles, the preview, config.json, index.html and the marker.
   const auto files = files_below(job.output);
   const size_t previews = job.viewer == Viewer::Pannellum ? 6 : 1;
-  EXPECT_EQ(files.size(), static_cast<size_t>(r.pyramid.tile_count()) + previews + 2);
-  EXPECT_TRUE(files.count("index.html") && files.count("config.json"));
+  EXPECT_EQ(files.size(), static_cast<size_t>(r.pyramid.tile_count()) + previews + 3);
+  EXPECT_TRUE(files.count("index.html") && files.count("config.json") && files.count(kFolderMarker));
 }
 
 // JPEG tiles hold the same pixels before encoding: each file is the JPEG encoding of the PNG
@@ -312,7 +313,7 @@ TEST_F(Tiles, PartsInAnyOrderEqualTheWholeRun) {
   }
   const TilesReport r = finish_tiles(job, s.folder, counts);
   EXPECT_EQ(r.written, r.pyramid.tile_count());
-  EXPECT_FALSE(fs::exists(s.folder));
+  EXPECT_FALSE(fs::exists(s.folder.path));
   EXPECT_EQ(files_below(path("parts")), files_below(path("whole")));
 }
 
@@ -322,28 +323,39 @@ TEST_F(Tiles, TheFolderLandsWholeOrNotAtAll) {
   job.output = path("out");
   fs::create_directory(job.output);
   std::ofstream(fs::path(job.output) / "mine.txt") << "keep";
-  try {
-    run_tiles(job);
-    ADD_FAILURE() << "an existing folder was replaced without overwrite";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::Exists);
-    EXPECT_NE(std::string(e.what()).find("--overwrite"), std::string::npos);
+  // A folder panoproj did not make is replaced neither without overwrite nor with it.
+  for (const bool overwrite : {false, true}) {
+    job.write.overwrite = overwrite;
+    try {
+      run_tiles(job);
+      ADD_FAILURE() << "an existing folder was replaced, overwrite " << overwrite;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::Exists);
+      EXPECT_NE(std::string(e.what()).find(overwrite ? "was not made by panoproj" : "--overwrite"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(slurp(fs::path(job.output) / "mine.txt"), "keep");
   }
-  EXPECT_EQ(slurp(fs::path(job.output) / "mine.txt"), "keep");
-  // A source that fails while decoding: nothing is left, the old folder is intact.
+  // One it made (its marker at the root): a source that fails while decoding leaves nothing and
+  // the old folder intact.
+  job.output = path("pyramid");
+  job.write.overwrite = false;
+  run_tiles(job);
+  EXPECT_EQ(slurp(fs::path(job.output) / kFolderMarker), "{\"made_by\": \"panoproj\", \"job\": \"tiles\"}\n");
+  std::ofstream(fs::path(job.output) / "mine.txt") << "keep";
+  const size_t before = files_below(job.output).size();
   const std::string bytes = slurp(job.input);
   const std::string broken = path("broken.png");
   std::ofstream(broken, std::ios::binary) << bytes.substr(0, bytes.size() * 2 / 3);
   job.input = broken;
   job.write.overwrite = true;
   EXPECT_THROW(run_tiles(job), Error);
-  EXPECT_EQ(files_below(job.output).size(), 1u);
+  EXPECT_EQ(files_below(job.output).size(), before);
   for (const auto& e : fs::directory_iterator(dir_)) EXPECT_EQ(e.path().filename().string().rfind(".panoproj-", 0), std::string::npos) << e.path();
   // With overwrite a good source replaces it whole.
   job.input = path("src.png");
   const TilesReport r = run_tiles(job);
   EXPECT_FALSE(fs::exists(fs::path(job.output) / "mine.txt"));
-  EXPECT_EQ(static_cast<int64_t>(files_below(job.output).size()), r.pyramid.tile_count() + 6 + 2);
+  EXPECT_EQ(static_cast<int64_t>(files_below(job.output).size()), r.pyramid.tile_count() + 6 + 3);
   for (const auto& e : fs::directory_iterator(dir_)) EXPECT_EQ(e.path().filename().string().rfind(".panoproj-", 0), std::string::npos) << e.path();
 }
 

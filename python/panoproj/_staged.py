@@ -9,6 +9,10 @@ import os
 import time
 from typing import Any, Callable, Dict, List, Sequence, Tuple
 
+# The temporary folder as the tasks carry it: (path, device, inode); each task refuses a folder
+# of another identity (one swapped in meanwhile).
+Staged = Tuple[str, int, int]
+
 
 def path_arg(name: str, v: Any) -> str:
     """A path argument as the core takes it: a str, or an os.PathLike giving one."""
@@ -22,8 +26,8 @@ def path_arg(name: str, v: Any) -> str:
 
 
 def run_on_client(client: Any, task: Callable[..., Tuple[int, int]], job: Dict[str, Any], options: Dict[str, Any],
-                  folder: str, items: Sequence[Any], finish: Callable[..., Any],
-                  abandon: Callable[[str], None], t0: float) -> Dict[str, Any]:
+                  folder: Staged, items: Sequence[Any], finish: Callable[..., Any],
+                  abandon: Callable[[Staged], None], t0: float) -> Dict[str, Any]:
     """task(job, options, folder, item) per item on the client; finish(job, options, folder,
     [written, empty]) then; t0: when the job began (perf_counter)."""
     try:

@@ -9,11 +9,12 @@ import time
 from typing import Any, Dict, Optional, Sequence, Tuple
 
 from . import _core, _staged
+from ._staged import Staged
 
 Rows = Tuple[int, int, int, int]  # (level index, face, first row, end row)
 
 
-def render_rows(job: Dict[str, Any], options: Dict[str, Any], folder: str, rows: Sequence[Rows]) -> Tuple[int, int]:
+def render_rows(job: Dict[str, Any], options: Dict[str, Any], folder: Staged, rows: Sequence[Rows]) -> Tuple[int, int]:
     """One task: the tiles of ``rows`` written into ``folder``; returns (written, empty)."""
     written, empty = _core.tiles_render(job, options, folder, list(rows))
     return int(written), int(empty)

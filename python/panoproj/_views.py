@@ -11,6 +11,7 @@ import time
 from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
 
 from . import _core, _staged
+from ._staged import Staged
 
 RigLike = Union[str, Sequence[Mapping[str, Any]]]
 
@@ -18,7 +19,7 @@ _NUMBER_KEYS = ("yaw", "pitch", "roll", "hfov", "fov", "vfov")
 _INTEGER_KEYS = ("width", "height")
 
 
-def render_frame(job: Dict[str, Any], options: Dict[str, Any], folder: str, frame: int) -> Tuple[int, int]:
+def render_frame(job: Dict[str, Any], options: Dict[str, Any], folder: Staged, frame: int) -> Tuple[int, int]:
     """One task: frame ``frame``'s views written into ``folder``; returns (written, empty)."""
     written, empty = _core.views_render(job, options, folder, [frame])
     return int(written), int(empty)

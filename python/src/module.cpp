@@ -12,6 +12,7 @@
 
 #include <Imath/half.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <optional>
@@ -21,6 +22,7 @@
 #include "panoproj/convert.hpp"
 #include "panoproj/options.hpp"
 #include "panoproj/error.hpp"
+#include "panoproj/interrupt.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/jobs.hpp"
 #include "panoproj/limits.hpp"
@@ -54,12 +56,35 @@ py::dtype dtype_of(PixelType t) {
   return py::dtype::of<uint8_t>();
 }
 
+// The GIL released for a long call, which Ctrl-C stops: between units of work the calling thread
+// takes the GIL back (at most every 50 ms) to run Python's signal handlers; KeyboardInterrupt (or
+// whatever a handler raises) stops the job, which then writes nothing.
+class Unlocked {
+ public:
+  Unlocked() : previous_(set_interrupt_check([last = std::chrono::steady_clock::now()]() mutable {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last < std::chrono::milliseconds(50)) return;
+    last = now;
+    py::gil_scoped_acquire locked;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  })) {}
+  ~Unlocked() { set_interrupt_check(std::move(previous_)); }
+  Unlocked(const Unlocked&) = delete;
+  Unlocked& operator=(const Unlocked&) = delete;
+
+ private:
+  std::function<void()> previous_;
+  py::gil_scoped_release released_;
+};
+
 // 2 and 4 channels carry alpha last (grey + alpha, RGBA), as the image files do.
 int alpha_for(int channels) { return channels == 2 || channels == 4 ? channels - 1 : -1; }
 
 // An array as an Image: a view of its pixels when C-contiguous, else of a C-order copy (kept in
-// `keep`). HxW or HxWxC, C in 1..4; with 2 or 4 channels the last is alpha when `has_alpha`.
-Image image_of(const py::array& a, py::object& keep, bool has_alpha = true) {
+// `keep`), counted against the memory budget before it is made (a broadcast array of stride 0
+// would expand whole). HxW or HxWxC, C in 1..4; with 2 or 4 channels the last is alpha when
+// `has_alpha`.
+Image image_of(const py::array& a, py::object& keep, bool has_alpha = true, int64_t memory_limit = 0) {
   const PixelType t = pixel_type(a.dtype());
   if (a.ndim() != 2 && a.ndim() != 3)
     throw py::value_error("array shape: " + std::to_string(a.ndim()) +
@@ -71,7 +96,13 @@ Image image_of(const py::array& a, py::object& keep, bool has_alpha = true) {
     throw py::value_error("array shape: " + std::to_string(a.shape(1)) + "x" + std::to_string(a.shape(0)) +
                           " pixels (expected at least 1x1)");
   py::array c = a;
-  if (!(a.flags() & py::array::c_style)) c = py::array::ensure(a, py::array::c_style);
+  if (!(a.flags() & py::array::c_style)) {
+    const Size size{a.shape(1), a.shape(0)};
+    require_memory("a C-order copy of the " + size_text(size) + " array (it is strided or broadcast)",
+                   image_bytes(size, channels, bytes_of(t)), memory_limit);
+    c = py::array::ensure(a, py::array::c_style);
+    if (!c) throw std::bad_alloc();  // numpy's failed allocation (ensure clears its error)
+  }
   keep = c;
   auto* data = static_cast<unsigned char*>(const_cast<void*>(c.data()));
   return Image::view(data, {c.shape(1), c.shape(0)}, channels, t, has_alpha ? alpha_for(channels) : -1);
@@ -93,20 +124,20 @@ template <class Read>
 py::array read_array(Read&& read) {
   Image im;
   {
-    py::gil_scoped_release unlocked;
+    Unlocked unlocked;
     im = read();
   }
   return array_of(std::move(im), true);
 }
 
 // Six faces (front, right, back, left, up, down) of one shape and dtype as the 6x1 strip.
-Image strip_of(const py::sequence& faces, bool has_alpha) {
+Image strip_of(const py::sequence& faces, bool has_alpha, int64_t memory_limit) {
   if (py::len(faces) != 6)
     throw py::value_error("cube faces: " + std::to_string(py::len(faces)) + " arrays (expected 6)");
   std::vector<Image> views;
   std::vector<py::object> keep(6);
   for (size_t f = 0; f < 6; ++f) {
-    views.push_back(image_of(faces[f].cast<py::array>(), keep[f], has_alpha));
+    views.push_back(image_of(faces[f].cast<py::array>(), keep[f], has_alpha, memory_limit));
     const Image& v = views.back();
     if (v.width() != v.height())
       throw py::value_error("cube face " + std::string(kFaceNames[f]) + ": " + std::to_string(v.width()) + "x" +
@@ -129,11 +160,11 @@ Image strip_of(const py::sequence& faces, bool has_alpha) {
 
 // The source as an Image: one array, or a list of six cube faces (then the spec must be a cubemap
 // laid out as 6x1 or files). panoproj/_arrays.py has made every other form one of these.
-Image source_of(const py::object& src, py::object& keep, const ProjectionSpec& spec, bool has_alpha) {
-  if (py::isinstance<py::array>(src)) return image_of(src.cast<py::array>(), keep, has_alpha);
+Image source_of(const py::object& src, py::object& keep, const ProjectionSpec& spec, bool has_alpha, int64_t memory_limit) {
+  if (py::isinstance<py::array>(src)) return image_of(src.cast<py::array>(), keep, has_alpha, memory_limit);
   if (spec.kind() != Kind::Cubemap || (spec.choice("layout") != "6x1" && spec.choice("layout") != "files"))
     throw py::value_error("src: " + spec.str() + " with six face arrays (expected cubemap, layout 6x1 or files)");
-  return strip_of(src.cast<py::list>(), has_alpha);
+  return strip_of(src.cast<py::list>(), has_alpha, memory_limit);
 }
 
 // Python's keyword options, by the table's names (panoproj/__init__.py hands over those given,
@@ -171,6 +202,13 @@ TilesJob tiles_job(const py::dict& job, const py::dict& options) {
   j.write.overwrite = job["overwrite"].cast<bool>();
   j.options = options_from(options, kUseTiles);
   return j;
+}
+
+// A folder job's temporary folder as the tasks carry it (picklable): (path, device, inode).
+py::tuple staged_handle(const StagedFolder& s) { return py::make_tuple(s.path, s.device, s.inode); }
+StagedFolder staged_of(const py::tuple& t) {
+  if (t.size() != 3) throw py::type_error("staged folder: expected (path, device, inode)");
+  return {t[0].cast<std::string>(), t[1].cast<uint64_t>(), t[2].cast<uint64_t>()};
 }
 
 py::dict tiles_report(const TilesReport& r) {
@@ -240,7 +278,7 @@ class PyPlan {
 
   py::array run(const py::object& src, std::optional<py::array> out, bool has_alpha) const {
     py::object keep;
-    const Image raw = source_of(src, keep, parse_spec(src_), has_alpha);
+    const Image raw = source_of(src, keep, parse_spec(src_), has_alpha, options_.memory_limit);
     Image with_alpha;
     const Image& in = source_for(raw, options_, with_alpha);
     const bool flat = py::isinstance<py::array>(src) && src.cast<py::array>().ndim() == 2 && in.channels() == 1;
@@ -264,14 +302,14 @@ class PyPlan {
       Image o = Image::view(static_cast<unsigned char*>(out->mutable_data()), s, in.channels(), in.type(),
                             in.alpha_channel());
       {
-        py::gil_scoped_release unlocked;
+        Unlocked unlocked;
         converter_.run(in, o);
       }
       return *out;
     }
     Image result;
     {
-      py::gil_scoped_release unlocked;
+      Unlocked unlocked;
       result = converter_.run(in);
     }
     return array_of(std::move(result), flat);
@@ -289,7 +327,7 @@ std::pair<py::array, py::array> split_map(Image&& map) {
   const int64_t w = map.width(), h = map.height();
   Image x({w, h}, 1, PixelType::F32, -1, Image::Unfilled{}), y({w, h}, 1, PixelType::F32, -1, Image::Unfilled{});
   {
-    py::gil_scoped_release unlocked;
+    Unlocked unlocked;
     const auto* m = reinterpret_cast<const float*>(map.data());
     auto* px = reinterpret_cast<float*>(x.data());
     auto* py_ = reinterpret_cast<float*>(y.data());
@@ -369,13 +407,13 @@ PYBIND11_MODULE(_core, m) {
          bool has_alpha) {
         const ProjectionSpec from = parse_spec(src);
         py::object keep;
-        const Image in = source_of(src_image, keep, from, has_alpha);
-        const ProjectionSpec to = parse_spec(dst);
         const ConvertOptions o = options_from(options, kUseConvert);
+        const Image in = source_of(src_image, keep, from, has_alpha, o.memory_limit);
+        const ProjectionSpec to = parse_spec(dst);
         const bool flat = py::isinstance<py::array>(src_image) && src_image.cast<py::array>().ndim() == 2 && !o.add_alpha;
         Image out;
         {
-          py::gil_scoped_release unlocked;
+          Unlocked unlocked;
           out = convert(in, from, to, o);
         }
         return array_of(std::move(out), flat);
@@ -387,7 +425,7 @@ PYBIND11_MODULE(_core, m) {
     const TilesJob j = tiles_job(job, options);
     TilesReport r;
     {
-      py::gil_scoped_release unlocked;
+      Unlocked unlocked;
       r = run_tiles(j);
     }
     return tiles_report(r);
@@ -396,65 +434,73 @@ PYBIND11_MODULE(_core, m) {
     const TilesJob j = tiles_job(job, options);
     TilesStaging s;
     {
-      py::gil_scoped_release unlocked;
+      Unlocked unlocked;
       s = begin_tiles(j, band_pixels);
     }
     py::list work;
     for (const TileRows& r : s.work) work.append(py::make_tuple(r.level, r.face, r.row0, r.row1));
-    return py::make_tuple(s.folder, work);
+    return py::make_tuple(staged_handle(s.folder), work);
   });
-  m.def("tiles_render", [](const py::dict& job, const py::dict& options, const std::string& folder,
+  m.def("tiles_render", [](const py::dict& job, const py::dict& options, const py::tuple& folder,
                            const std::vector<std::tuple<size_t, int, int64_t, int64_t>>& rows) {
     const TilesJob j = tiles_job(job, options);
     std::vector<TileRows> work;
     for (const auto& [level, face, row0, row1] : rows) work.push_back({level, face, row0, row1});
-    py::gil_scoped_release unlocked;
-    return render_tiles(j, folder, work);
+    const StagedFolder staged = staged_of(folder);
+    Unlocked unlocked;
+    return render_tiles(j, staged, work);
   });
-  m.def("tiles_finish", [](const py::dict& job, const py::dict& options, const std::string& folder,
+  m.def("tiles_finish", [](const py::dict& job, const py::dict& options, const py::tuple& folder,
                            std::array<int64_t, 2> counts) {
     const TilesJob j = tiles_job(job, options);
+    const StagedFolder staged = staged_of(folder);
     TilesReport r;
     {
-      py::gil_scoped_release unlocked;
-      r = finish_tiles(j, folder, counts);
+      Unlocked unlocked;
+      r = finish_tiles(j, staged, counts);
     }
     return tiles_report(r);
   });
-  m.def("tiles_abandon", &abandon_tiles);
+  m.def("tiles_abandon", [](const py::tuple& folder) { abandon_tiles(staged_of(folder)); });
 
   // Perspective views with cameras (views.hpp): whole, or begun, rendered by frames and finished.
   m.def("views", [](const py::dict& job, const py::dict& options) {
     const ViewsJob j = views_job(job, options);
     ViewsReport r;
     {
-      py::gil_scoped_release unlocked;
+      Unlocked unlocked;
       r = run_views(j);
     }
     return views_report(r);
   });
   m.def("views_begin", [](const py::dict& job, const py::dict& options) {
     const ViewsJob j = views_job(job, options);
-    py::gil_scoped_release unlocked;
-    return begin_views(j);
+    StagedFolder s;
+    {
+      Unlocked unlocked;
+      s = begin_views(j);
+    }
+    return staged_handle(s);
   });
-  m.def("views_render", [](const py::dict& job, const py::dict& options, const std::string& folder,
+  m.def("views_render", [](const py::dict& job, const py::dict& options, const py::tuple& folder,
                            const std::vector<int64_t>& frames) {
     const ViewsJob j = views_job(job, options);
-    py::gil_scoped_release unlocked;
-    return render_views(j, folder, frames);
+    const StagedFolder staged = staged_of(folder);
+    Unlocked unlocked;
+    return render_views(j, staged, frames);
   });
-  m.def("views_finish", [](const py::dict& job, const py::dict& options, const std::string& folder,
+  m.def("views_finish", [](const py::dict& job, const py::dict& options, const py::tuple& folder,
                            std::array<int64_t, 2> counts) {
     const ViewsJob j = views_job(job, options);
+    const StagedFolder staged = staged_of(folder);
     ViewsReport r;
     {
-      py::gil_scoped_release unlocked;
-      r = finish_views(j, folder, counts);
+      Unlocked unlocked;
+      r = finish_views(j, staged, counts);
     }
     return views_report(r);
   });
-  m.def("views_abandon", &abandon_views);
+  m.def("views_abandon", [](const py::tuple& folder) { abandon_views(staged_of(folder)); });
 
   m.def(
       "build_map",
@@ -474,7 +520,7 @@ PYBIND11_MODULE(_core, m) {
         else throw Error("convention: " + convention + " (expected opencv or panoproj)");
         Image map;
         {
-          py::gil_scoped_release unlocked;
+          Unlocked unlocked;
           map = build_map(geometry.source, geometry.target, geometry.rotation, c, o.threads);
         }
         return split_map(std::move(map));
@@ -504,7 +550,7 @@ PYBIND11_MODULE(_core, m) {
       [](const std::string& path) {
         Metadata m;
         {
-          py::gil_scoped_release unlocked;  // (the package backend takes it back)
+          Unlocked unlocked;  // (the package backend takes it back)
           m = read_metadata(path);
         }
         py::dict out;
@@ -530,7 +576,7 @@ PYBIND11_MODULE(_core, m) {
                                  " (expected int, float, str, bytes or a sequence of numbers)");
           w.metadata.push_back({k.cast<std::string>(), std::move(*value)});
         }
-        py::gil_scoped_release unlocked;
+        Unlocked unlocked;
         is_face_pattern(path) ? write_cube_faces(im, path, w) : write_image(im, path, w);
       },
       py::arg("path"), py::arg("array"), py::arg("overwrite"), py::arg("dtype"), py::arg("metadata"),
@@ -552,7 +598,7 @@ PYBIND11_MODULE(_core, m) {
         double* r = rays.mutable_data();
         bool* o = ok.mutable_data();
         {
-          py::gil_scoped_release unlocked;
+          Unlocked unlocked;
           for (py::ssize_t i = 0; i < n; ++i) {
             Ray d;
             o[i] = std::isfinite(px[i]) && std::isfinite(py_[i]) && to_ray(p, px[i], py_[i], d);
@@ -577,7 +623,7 @@ PYBIND11_MODULE(_core, m) {
         double *px = xs.mutable_data(), *py_ = ys.mutable_data();
         bool* o = ok.mutable_data();
         {
-          py::gil_scoped_release unlocked;
+          Unlocked unlocked;
           for (py::ssize_t i = 0; i < n; ++i) {
             const Ray d(r[3 * i], r[3 * i + 1], r[3 * i + 2]);
             const double len = d.norm();

@@ -518,8 +518,9 @@ def test_temporaries_are_created_exclusively_under_unpredictable_names(cli, file
         opens = [l for l in r.trace.splitlines() if ".panoproj-" in l and "O_CREAT" in l]
         assert len(opens) == 1, opens
         assert "O_EXCL" in opens[0] and "O_NOFOLLOW" in opens[0], opens[0]
-        names.append(re.search(r"\.panoproj-([0-9a-f]+)\.tmp", opens[0]).group(1))
-    assert names[0] != names[1] and len(names[0]) == 16
+        # .panoproj-<pid>-<start time>-<16 hex>.tmp: the process (for stale ones) and a random part.
+        names.append(re.search(r"\.panoproj-[0-9]+-[0-9]+-([0-9a-f]{16})\.tmp", opens[0]).group(1))
+    assert names[0] != names[1]
 
 
 @pytest.mark.why
@@ -616,7 +617,9 @@ def test_injected_system_call_faults(cli, files, tmp_path, fault, ext):
     # The k-th call of its kind fails: the first write is the temporary's (nothing else is written
     # before the error line); for a face set, the fourth face's write, or the third rename.
     when = {"write": 4 if faces else 1, "fsync": 1, "rename": 3 if faces else 1}[call]
-    syscall = "rename,renameat,renameat2" if call == "rename" else call
+    # (strace counts each system call apart: for a face set only renameat2, which moves old faces
+    # aside, so that the roll-back's renameat is not hit too, a second fault.)
+    syscall = ("renameat2" if faces else "rename,renameat,renameat2") if call == "rename" else call
     _old_files(tmp_path, outputs)
     full = ["convert", files["png"], outputs[0] if not faces else "{face}." + ext] + args
     r = run(cli, full, tmp_path, strace=["-e", f"trace={syscall}", "-e", f"inject={syscall}:error={err}:when={when}"])
@@ -696,6 +699,7 @@ def test_a_folder_without_write_permission(cli, files):
 def test_a_read_only_file_system(cli, files, tmp_path):
     mnt = tmp_path / "mnt"
     mnt.mkdir()
+    marker = '{"made_by": "panoproj"}'
     script = (f"mount -t tmpfs -o ro tmpfs {mnt} && {os.path.abspath(cli)} convert {files['png']} {mnt}/o.png "
               f"--to fisheye --size 32x32; echo \"rc=$?\"; ls -A {mnt}")
     p = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True, text=True, timeout=60)
@@ -1028,18 +1032,24 @@ def test_tiles_bad_parameters(cli, files, tmp_path, case, square):
     assert snapshot(tmp_path) == before
 
 
-def _old_folder(tmp_path):
-    (tmp_path / "out").mkdir()
-    (tmp_path / "out" / "mine.txt").write_bytes(b"old")
+MARKER = "panoproj-output.json"
+
+
+def _old_folder(tmp_path, name="out"):
+    """A folder an earlier run made (its marker at the root), with a file the user added."""
+    (tmp_path / name).mkdir()
+    (tmp_path / name / MARKER).write_text('{"made_by": "panoproj", "job": "tiles"}\n')
+    (tmp_path / name / "mine.txt").write_bytes(b"old")
 
 
 def _assert_old_folder(tmp_path):
     assert listing(tmp_path) == ["out"], listing(tmp_path)  # no temporary folder left beside it
-    assert listing(tmp_path / "out") == ["mine.txt"] and (tmp_path / "out" / "mine.txt").read_bytes() == b"old"
+    assert listing(tmp_path / "out") == ["mine.txt", MARKER] and (tmp_path / "out" / "mine.txt").read_bytes() == b"old"
 
 
 # The folder jobs (tiles, views) land the same way: these cases run for both.
-FOLDER_JOBS = {"tiles": {"config.json", "index.html", "fallback", "1"}, "views": {"images", "sparse", "transforms.json"}}
+FOLDER_JOBS = {"tiles": {"config.json", "index.html", "fallback", "1", MARKER},
+               "views": {"images", "sparse", "transforms.json", MARKER}}
 
 
 @pytest.mark.parametrize("command", FOLDER_JOBS)
@@ -1105,12 +1115,13 @@ def test_folder_writes_cut_at_a_byte_offset(cli, files, tmp_path, cut, command):
 def test_folder_on_a_full_tmpfs(cli, files, tmp_path, command):
     mnt = tmp_path / "mnt"
     mnt.mkdir()
-    script = (f"mount -t tmpfs -o size=1m tmpfs {mnt} && cd {mnt} && mkdir out && printf old > out/mine.txt && "
+    marker = '{"made_by": "panoproj"}'
+    script = (f"mount -t tmpfs -o size=1m tmpfs {mnt} && cd {mnt} && mkdir out && printf old > out/mine.txt && printf '{marker}' > out/{MARKER} && "
               f"{os.path.abspath(cli)} {command} {files['big']} out --overwrite --format png; echo \"rc=$?\"; "
               f"ls -A {mnt}; ls -A {mnt}/out; cat {mnt}/out/mine.txt")
     p = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True, text=True, timeout=120)
     assert "rc=1" in p.stdout, p.stdout + p.stderr
-    assert p.stdout.split("rc=1")[1].split() == ["out", "mine.txt", "old"], p.stdout
+    assert p.stdout.split("rc=1")[1].split() == ["out", "mine.txt", MARKER, "old"], p.stdout
     lines = [l for l in p.stderr.splitlines() if l.strip()]
     assert len(lines) == 1 and "cannot write" in lines[0] and "No space left on device" in lines[0], lines
 

@@ -293,7 +293,7 @@ def test_views_on_a_local_cluster_equal_the_local_run(smooth, tmp_path):
                           threads=1)
     assert remote["tasks"] == 4 and remote["images"] == local["images"] == 4 * 9
     assert digests(tmp_path / "dask") == digests(tmp_path / "local")
-    assert len(digests(tmp_path / "local")) == 36 + 6
+    assert len(digests(tmp_path / "local")) == 36 + 6 + 1  # images, camera files, the marker
     assert sorted(p.name for p in tmp_path.iterdir() if p.is_dir()) == ["dask", "local"]  # no temporary left
 
 

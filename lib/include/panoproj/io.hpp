@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -100,6 +101,16 @@ void check_write_options(const WriteOptions& options);
 // A text file (CSV, JSON ...) or any bytes, written like images.
 void write_text(const std::string& text, const std::string& path, bool overwrite);
 void write_bytes(std::string_view bytes, const std::string& path, bool overwrite);
+// Throws unless the outputs of one job name different files (by device and inode where they
+// exist, else by normalised path): each pair is {option or role, path}; empty paths are skipped.
+void require_distinct_outputs(const std::vector<std::pair<std::string, std::string>>& outputs);
+// A folder job's temporary folder (tiles, views), as a scheduler hands it to the processes that
+// write into it: its path and identity. A process opens it by path without following a link and
+// refuses a folder of another device or inode (one swapped in meanwhile).
+struct StagedFolder {
+  std::string path;
+  uint64_t device = 0, inode = 0;
+};
 // Removes the temporaries of writes under way (and restores old files moved aside by a face set's
 // commit) on SIGINT, SIGTERM and SIGHUP, then dies of the signal as before. For programs that own
 // their signals (the panoproj command); Python keeps its own.

@@ -100,13 +100,13 @@ TilesReport run_tiles(const TilesJob& job, const std::function<void(double)>& pr
 // region and scale they need; any process, any order: each tile's bytes depend only on the job);
 // finish writes the rest (config, index.html, preview) and lands the folder; abandon removes it.
 struct TilesStaging {
-  std::string folder;   // the temporary folder
+  StagedFolder folder;  // the temporary folder
   std::vector<TileRows> work;  // every face's rows, in bands of at most band_pixels output pixels
 };
 TilesStaging begin_tiles(const TilesJob& job, int64_t band_pixels = int64_t{1} << 24);
 // Returns {tiles written, empty tiles}.
-std::array<int64_t, 2> render_tiles(const TilesJob& job, const std::string& folder, const std::vector<TileRows>& rows);
-TilesReport finish_tiles(const TilesJob& job, const std::string& folder, std::array<int64_t, 2> counts);
-void abandon_tiles(const std::string& folder);
+std::array<int64_t, 2> render_tiles(const TilesJob& job, const StagedFolder& folder, const std::vector<TileRows>& rows);
+TilesReport finish_tiles(const TilesJob& job, const StagedFolder& folder, std::array<int64_t, 2> counts);
+void abandon_tiles(const StagedFolder& folder);
 
 }  // namespace panoproj

@@ -108,10 +108,10 @@ ViewsReport run_views(const ViewsJob& job, const std::function<void(double)>& pr
 // The same in parts, for a scheduler (Python's client=): begin checks every input and creates the
 // temporary folder; render_views writes the given frames' views into it (any process, any order);
 // finish writes the camera files and lands the folder; abandon removes it.
-std::string begin_views(const ViewsJob& job);
+StagedFolder begin_views(const ViewsJob& job);
 // Returns {images written, of them empty}.
-std::array<int64_t, 2> render_views(const ViewsJob& job, const std::string& folder, const std::vector<int64_t>& frames);
-ViewsReport finish_views(const ViewsJob& job, const std::string& folder, std::array<int64_t, 2> counts);
-void abandon_views(const std::string& folder);
+std::array<int64_t, 2> render_views(const ViewsJob& job, const StagedFolder& folder, const std::vector<int64_t>& frames);
+ViewsReport finish_views(const ViewsJob& job, const StagedFolder& folder, std::array<int64_t, 2> counts);
+void abandon_views(const StagedFolder& folder);
 
 }  // namespace panoproj

@@ -1,11 +1,15 @@
 #include "panoproj/limits.hpp"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <optional>
+#include <string>
+#include <algorithm>
 
 #include "panoproj/error.hpp"
 
@@ -24,16 +28,89 @@ uint64_t image_bytes(Size size, int channels, uint64_t sample_bytes) {
   return n;
 }
 
+namespace {
+
+// The first number in a file (a cgroup's "max" reads as none).
+std::optional<uint64_t> number_in(const std::string& path) {
+  std::ifstream f(path);
+  std::string word;
+  if (!(f >> word) || word.empty() || !std::isdigit(static_cast<unsigned char>(word[0]))) return std::nullopt;
+  return std::strtoull(word.c_str(), nullptr, 10);
+}
+
+// What a cgroup still lets this process allocate: the least, over its cgroup and the ones above
+// it, of limit - usage (v2: memory.max, memory.current; v1: the memory controller's
+// limit_in_bytes, usage_in_bytes). UINT64_MAX when none limits it.
+uint64_t cgroup_room() {
+  std::ifstream cgroups("/proc/self/cgroup");
+  uint64_t room = UINT64_MAX;
+  for (std::string line; std::getline(cgroups, line);) {
+    const size_t a = line.find(':'), b = line.find(':', a + 1);
+    if (a == std::string::npos || b == std::string::npos) continue;
+    const std::string controllers = line.substr(a + 1, b - a - 1);
+    std::string path = line.substr(b + 1);
+    const bool v2 = controllers.empty();
+    bool v1 = false;
+    for (size_t at = 0; at <= controllers.size();) {
+      const size_t end = std::min(controllers.find(',', at), controllers.size());
+      v1 |= controllers.compare(at, end - at, "memory") == 0;
+      at = end + 1;
+    }
+    if (!v2 && !v1) continue;
+    const std::string base = v2 ? "/sys/fs/cgroup" : "/sys/fs/cgroup/memory";
+    for (int depth = 0; depth < 64; ++depth) {
+      const std::string dir = base + (path == "/" ? "" : path);
+      const auto max = number_in(dir + (v2 ? "/memory.max" : "/memory.limit_in_bytes"));
+      const auto used = number_in(dir + (v2 ? "/memory.current" : "/memory.usage_in_bytes"));
+      if (max && *max < (uint64_t{1} << 62)) room = std::min(room, *max > used.value_or(0) ? *max - used.value_or(0) : 0);
+      if (path.empty() || path == "/") break;
+      path = path.substr(0, path.rfind('/'));
+      if (path.empty()) path = "/";
+    }
+  }
+  return room;
+}
+
+// What the address-space limit (ulimit -v) leaves: RLIMIT_AS less the address space in use.
+uint64_t address_space_room() {
+  rlimit r{};
+  if (::getrlimit(RLIMIT_AS, &r) != 0 || r.rlim_cur == RLIM_INFINITY) return UINT64_MAX;
+  std::ifstream statm("/proc/self/statm");
+  uint64_t pages = 0;
+  statm >> pages;
+  const uint64_t used = pages * static_cast<uint64_t>(::sysconf(_SC_PAGESIZE));
+  return r.rlim_cur > used ? r.rlim_cur - used : 0;
+}
+
+struct Budget {
+  uint64_t bytes;
+  const char* what;
+};
+
+Budget default_budget() {
+  Budget b{UINT64_MAX, "the memory available now"};
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key, unit;
+  uint64_t kb = 0;
+  while (meminfo >> key >> kb >> unit)
+    if (key == "MemAvailable:") {
+      b.bytes = kb * 1024;
+      break;
+    }
+  if (b.bytes == UINT64_MAX) {
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+    if (pages > 0 && page > 0) b.bytes = static_cast<uint64_t>(pages) * static_cast<uint64_t>(page);
+  }
+  if (const uint64_t c = cgroup_room(); c < b.bytes) b = {c, "what the process's cgroup still allows"};
+  if (const uint64_t a = address_space_room(); a < b.bytes) b = {a, "what the address-space limit (ulimit -v) leaves"};
+  return b;
+}
+
+}  // namespace
+
 uint64_t memory_budget(int64_t limit) {
   if (limit > 0) return static_cast<uint64_t>(limit);
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  uint64_t kb = 0;
-  std::string unit;
-  while (meminfo >> key >> kb >> unit)
-    if (key == "MemAvailable:") return kb * 1024;
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
-  return pages > 0 && page > 0 ? static_cast<uint64_t>(pages) * static_cast<uint64_t>(page) : UINT64_MAX;
+  return default_budget().bytes;
 }
 
 std::string bytes_text(uint64_t b) {
@@ -52,10 +129,10 @@ std::string bytes_text(uint64_t b) {
 }
 
 void require_memory(const std::string& what, uint64_t bytes, int64_t limit) {
-  const uint64_t budget = memory_budget(limit);
-  if (bytes <= budget) return;
-  throw Error(what + " needs " + bytes_text(bytes) + ", over the memory limit of " + bytes_text(budget) +
-                  (limit > 0 ? " (raise " : " (the memory available now; set ") + option_text("memory-limit") +
+  const Budget budget = limit > 0 ? Budget{static_cast<uint64_t>(limit), nullptr} : default_budget();
+  if (bytes <= budget.bytes) return;
+  throw Error(what + " needs " + bytes_text(bytes) + ", over the memory limit of " + bytes_text(budget.bytes) +
+                  (limit > 0 ? " (raise " : " (" + std::string(budget.what) + "; set ") + option_text("memory-limit") +
                   " to change it, or ask for a smaller size)",
               ErrorKind::Memory);
 }

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "panoproj/error.hpp"
+#include "panoproj/interrupt.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -149,10 +150,14 @@ int workers_for(int64_t n, int threads) {
 void parallel_tasks(int64_t n, int threads, const std::function<void(int64_t, int)>& fn) {
   std::atomic<int64_t> next{0};
   FirstError error;
-  // After a failure no new task starts; the ones running finish.
+  // After a failure no new task starts; the ones running finish. The calling thread (worker 0)
+  // runs its interrupt check before each task it takes.
   const std::function<void(int)> worker = [&](int w) {
     error.run([&] {
-      for (int64_t t; !error.failed() && (t = next.fetch_add(1)) < n;) fn(t, w);
+      for (int64_t t; !error.failed() && (t = next.fetch_add(1)) < n;) {
+        if (w == 0) check_interrupt();
+        fn(t, w);
+      }
     });
   };
   const int helpers = workers_for(n, threads) - 1;

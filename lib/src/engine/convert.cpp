@@ -1,5 +1,6 @@
 #include "panoproj/convert.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -54,6 +55,31 @@ std::array<int64_t, 2> stereo_origin(Size eye, StereoLayout layout, int e) {
   return {0, 0};
 }
 
+namespace {
+
+// The smallest side of a default output size; below it the field is refused, not rendered.
+constexpr int64_t kMinDefaultSide = 8;
+
+// Throws unless some pixel of p has a direction: pixel centres on a grid of up to 256 x 256 (every
+// pixel of a smaller frame) and the frame's centre.
+void require_valid_pixels(const Projection& p, const ProjectionSpec& spec, const char* role) {
+  const Size s = size_of(p);
+  const int64_t nx = std::min<int64_t>(s.width, 256), ny = std::min<int64_t>(s.height, 256);
+  Ray d;
+  if (to_ray(p, 0.5 * static_cast<double>(s.width), 0.5 * static_cast<double>(s.height), d)) return;
+  for (int64_t j = 0; j < ny; ++j)
+    for (int64_t i = 0; i < nx; ++i) {
+      const double x = std::floor((static_cast<double>(i) + 0.5) * static_cast<double>(s.width) / static_cast<double>(nx)) + 0.5;
+      const double y = std::floor((static_cast<double>(j) + 0.5) * static_cast<double>(s.height) / static_cast<double>(ny)) + 0.5;
+      if (to_ray(p, x, y, d)) return;
+    }
+  throw Error(std::string(role) + ": " + spec.str() + " on a " + size_text(s) +
+              " frame has no pixel that sees a direction (its valid region is empty or under a pixel): give "
+              "parameters that show a field");
+}
+
+}  // namespace
+
 ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, const ProjectionSpec& to,
                                  const ConvertOptions& o) {
   for (const auto& [name, v] : {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"roll", o.roll}}) {
@@ -75,8 +101,15 @@ ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, c
     size = stereo_eye(size, stereo.target, "size");
   } else {
     size = default_size(to, center_density(source));
+    if (size.width < kMinDefaultSide || size.height < kMinDefaultSide)
+      throw Error("to: " + to.str() + " at the source's resolution would be " + size_text(size) + " (under " +
+                  std::to_string(kMinDefaultSide) + " px a side: its field spans fewer than " +
+                  std::to_string(kMinDefaultSide) + " of the source's pixels); give " + option_text("size") +
+                  " WxH, or a wider field");
   }
   Projection target = make_projection(to, size);
+  require_valid_pixels(source, from, "from");
+  require_valid_pixels(target, to, "to");
   // Absurd sizes stop here, before any per-tile work: the output alone, at one byte a pixel.
   const Size frame = stereo_frame(size_of(target), stereo.target);
   if (frame.width > kMaxSide || frame.height > kMaxSide)

@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <sys/random.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,29 +15,35 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <set>
+#include <utility>
 
 #include "panoproj/error.hpp"
-#include "panoproj/io.hpp"
+#include "panoproj/interrupt.hpp"
 
 namespace panoproj {
 namespace fs = std::filesystem;
 namespace {
 
-// Temporaries (and, during a commit, moved-aside old files) that a signal must clean up. Plain
-// arrays and atomics: the handler may only call async-signal-safe functions (unlink, rename).
+// Temporaries (and, during a commit, moved-aside old files and folders) that a signal must clean
+// up, as names in an open folder. Plain arrays and atomics: the handler may only call
+// async-signal-safe functions (unlinkat, renameat, statx, getdents64).
 struct Slot {
   std::atomic<int> state{0};  // 0 free, 1 being filled, 2 live
-  char temp[4096];
-  char restore_to[4096];  // "" : unlink temp; else rename temp back to this path
-  bool tree;              // temp is a folder: removed with all it holds
+  int dir;                    // the folder holding both names (kept open while the slot is live)
+  char temp[256];
+  char restore_to[256];  // "" : remove temp; else rename temp back to this name
+  bool tree;             // temp is a folder: removed with all it holds
 };
 std::array<Slot, 64> slots;
 
-int claim(const std::string& temp, const std::string& restore_to = {}, bool tree = false) {
+int claim(int dir, const std::string& temp, const std::string& restore_to = {}, bool tree = false) {
   if (temp.size() >= sizeof slots[0].temp || restore_to.size() >= sizeof slots[0].restore_to) return -1;
   for (size_t i = 0; i < slots.size(); ++i) {
     int expected = 0;
     if (!slots[i].state.compare_exchange_strong(expected, 1)) continue;
+    slots[i].dir = dir;
     std::memcpy(slots[i].temp, temp.c_str(), temp.size() + 1);
     std::memcpy(slots[i].restore_to, restore_to.c_str(), restore_to.size() + 1);
     slots[i].tree = tree;
@@ -50,14 +57,25 @@ void release(int slot) {
   if (slot >= 0) slots[static_cast<size_t>(slot)].state = 0;
 }
 
-// Removes name (in the folder parent) and, if a folder, all it holds, with system calls only
-// (async-signal-safe). Entries are read again from the start until a pass removes none.
-void remove_tree_at(int parent, const char* name, int depth) {
-  const int fd = depth > 16 ? -1 : ::openat(parent, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-  if (fd < 0) {
-    (void)::unlinkat(parent, name, 0);
-    return;
-  }
+// True when `name` in `dir` is the root of a mount (a bind mount of the same file system
+// included), or cannot be looked at: removal does not enter it.
+bool mount_root(int dir, const char* name) {
+  struct statx sx {};
+  if (::statx(dir, name, AT_SYMLINK_NOFOLLOW | AT_NO_AUTOMOUNT, STATX_BASIC_STATS, &sx) != 0) return true;
+  if (sx.stx_attributes_mask & STATX_ATTR_MOUNT_ROOT) return (sx.stx_attributes & STATX_ATTR_MOUNT_ROOT) != 0;
+  struct stat d {};
+  return ::fstat(dir, &d) != 0 || makedev(sx.stx_dev_major, sx.stx_dev_minor) != d.st_dev;
+}
+
+bool dot_or_dotdot(const char* n) { return n[0] == '.' && (!n[1] || (n[1] == '.' && !n[2])); }
+
+// Removes `name` (in `dir`) and, if a folder, all it holds, with system calls only
+// (async-signal-safe), never entering a mount point. Entries are read again from the start until a
+// pass removes none. Returns whether `name` is gone.
+bool remove_tree_at(int dir, const char* name, int depth) {
+  if (mount_root(dir, name)) return false;
+  const int fd = depth > 64 ? -1 : ::openat(dir, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return ::unlinkat(dir, name, 0) == 0 || errno == ENOENT;
   alignas(8) char buf[4096];
   for (bool removed = true; removed;) {
     removed = false;
@@ -66,22 +84,21 @@ void remove_tree_at(int parent, const char* name, int depth) {
       for (ssize_t at = 0; at < n;) {
         const auto* d = reinterpret_cast<const struct dirent64*>(buf + at);
         at += d->d_reclen;
-        if (d->d_name[0] == '.' && (!d->d_name[1] || (d->d_name[1] == '.' && !d->d_name[2]))) continue;
-        if (d->d_type == DT_DIR) remove_tree_at(fd, d->d_name, depth + 1);
-        else (void)::unlinkat(fd, d->d_name, 0);
-        removed = true;
+        if (dot_or_dotdot(d->d_name)) continue;
+        if (d->d_type == DT_DIR || d->d_type == DT_UNKNOWN) removed |= remove_tree_at(fd, d->d_name, depth + 1);
+        else removed |= !mount_root(fd, d->d_name) && ::unlinkat(fd, d->d_name, 0) == 0;
       }
   }
   ::close(fd);
-  (void)::unlinkat(parent, name, AT_REMOVEDIR);
+  return ::unlinkat(dir, name, AT_REMOVEDIR) == 0;
 }
 
 extern "C" void cleanup_and_reraise(int sig) {
   for (Slot& s : slots) {
     if (s.state.load() != 2) continue;
-    if (s.restore_to[0]) (void)::rename(s.temp, s.restore_to);
-    else if (s.tree) remove_tree_at(AT_FDCWD, s.temp, 0);
-    else (void)::unlink(s.temp);
+    if (s.restore_to[0]) (void)::renameat(s.dir, s.temp, s.dir, s.restore_to);
+    else if (s.tree) (void)remove_tree_at(s.dir, s.temp, 0);
+    else (void)::unlinkat(s.dir, s.temp, 0);
   }
   std::signal(sig, SIG_DFL);
   std::raise(sig);
@@ -93,15 +110,67 @@ std::string reason(int err) { return std::strerror(err); }
   throw Error("cannot write " + path + ": " + why + " (" + reason(err) + ")", ErrorKind::File);
 }
 
-// ".panoproj-<16 hex>.tmp" in path's folder.
-std::string random_sibling(const std::string& path) {
+// A process's start time in clock ticks after boot (/proc/<pid>/stat field 22); 0 if it is gone.
+unsigned long long start_time(long pid) {
+  char path[64];
+  std::snprintf(path, sizeof path, "/proc/%ld/stat", pid);
+  FILE* f = std::fopen(path, "re");
+  if (!f) return 0;
+  char buf[1024];
+  const size_t n = std::fread(buf, 1, sizeof buf - 1, f);
+  std::fclose(f);
+  buf[n] = 0;
+  const char* p = std::strrchr(buf, ')');  // the command name may hold spaces and parentheses
+  unsigned long long t = 0;
+  if (p && std::sscanf(p + 2, "%*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %*u %*u %*d %*d %*d %*d %*d %*d %llu", &t) != 1)
+    return 0;
+  return t;
+}
+
+// ".panoproj-<pid>-<start time>-<16 hex>.tmp".
+std::string temp_name() {
+  static const long pid = ::getpid();
+  static const unsigned long long started = start_time(pid);
   uint64_t r = 0;
-  if (::getrandom(&r, sizeof r, 0) != static_cast<ssize_t>(sizeof r)) {
-    r = static_cast<uint64_t>(::getpid()) * 0x9E3779B97F4A7C15ull ^ reinterpret_cast<uintptr_t>(&r);
+  if (::getrandom(&r, sizeof r, 0) != static_cast<ssize_t>(sizeof r))
+    r = static_cast<uint64_t>(pid) * 0x9E3779B97F4A7C15ull ^ reinterpret_cast<uintptr_t>(&r);
+  char name[96];
+  std::snprintf(name, sizeof name, ".panoproj-%ld-%llu-%016llx.tmp", pid, started, static_cast<unsigned long long>(r));
+  return name;
+}
+
+// Removes the stale temporaries in `dir` (shown as `shown`): once per folder and process.
+void remove_stale(int dir, const std::string& shown) {
+  static std::mutex mutex;
+  static std::set<std::pair<dev_t, ino_t>> seen;
+  struct stat st {};
+  if (::fstat(dir, &st) != 0) return;
+  {
+    std::lock_guard lock(mutex);
+    if (!seen.insert({st.st_dev, st.st_ino}).second) return;
   }
-  char name[40];
-  std::snprintf(name, sizeof name, ".panoproj-%016llx.tmp", static_cast<unsigned long long>(r));
-  return (fs::path(path).parent_path() / name).string();
+  const int fd = ::openat(dir, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  DIR* d = ::fdopendir(fd);
+  if (!d) {
+    ::close(fd);
+    return;
+  }
+  std::vector<std::string> stale;
+  while (const dirent* e = ::readdir(d)) {
+    long pid = 0;
+    unsigned long long started = 0, r = 0;
+    int end = 0;
+    if (std::sscanf(e->d_name, ".panoproj-%ld-%llu-%16llx.tmp%n", &pid, &started, &r, &end) != 3 ||
+        e->d_name[end] != 0 || pid <= 0)
+      continue;
+    if (start_time(pid) != started) stale.push_back(e->d_name);
+  }
+  ::closedir(d);
+  for (const std::string& name : stale)
+    if (remove_tree_at(dir, name.c_str(), 0))
+      std::fprintf(stderr, "panoproj: removed %s, a temporary left by a run that ended without cleaning up\n",
+                   (fs::path(shown) / name).c_str());
 }
 
 // Writes the pieces to fd one after the other, every write checked (EINTR retried); on failure
@@ -130,14 +199,32 @@ void write_pieces(int fd, const std::string& path, std::span<const std::string_v
 
 bool lexists(const std::string& path, struct stat* st) { return ::lstat(path.c_str(), st) == 0; }
 
-void sync_folder(const std::string& path) {
+std::string folder_of(const std::string& path) {
   const fs::path parent = fs::path(path).parent_path();
-  const fs::path dir = parent.empty() ? fs::path(".") : parent;
-  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return;
-  (void)::fsync(fd);  // best effort: the renames are done, a failure here loses nothing
-  ::close(fd);
+  return parent.empty() ? "." : parent.string();
 }
+
+std::string name_of(const std::string& path) { return fs::path(path).filename().string(); }
+
+// The folder that holds `path`, opened (following links, as the caller named it); throws naming it
+// when it is missing or not a folder.
+int open_folder_of(const std::string& path) {
+  const std::string dir = folder_of(path);
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) {
+    if (errno == ENOENT || errno == ENOTDIR)
+      throw Error("output folder " + dir + " does not exist (create it first)", ErrorKind::Missing);
+    fail(path, "cannot open its folder", errno);
+  }
+  return fd;
+}
+
+struct Closer {
+  int fd;
+  ~Closer() {
+    if (fd >= 0) ::close(fd);
+  }
+};
 
 }  // namespace
 
@@ -167,26 +254,60 @@ void check_output_path(const std::string& path, bool overwrite) {
   struct stat ds {};
   if (!dir.empty() && (::stat(dir.c_str(), &ds) != 0 || !S_ISDIR(ds.st_mode)))
     throw Error("output folder " + dir.string() + " does not exist (create it first)", ErrorKind::Missing);
+  const std::string name = name_of(path);
+  if (name.empty() || name == "." || name == "..")
+    throw Error("output " + path + " names no file (give a file name)", ErrorKind::File);
 }
+
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code ea, eb;
+  if (fs::exists(a, ea) && fs::exists(b, eb)) {
+    const bool same = fs::equivalent(a, b, ea);
+    if (!ea) return same;
+  }
+  const fs::path ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
+  if (ea || eb) return fs::absolute(a).lexically_normal() == fs::absolute(b).lexically_normal();
+  return ca == cb;
+}
+
+void require_distinct_outputs(const std::vector<std::pair<std::string, std::string>>& outputs) {
+  for (size_t i = 0; i < outputs.size(); ++i)
+    for (size_t j = i + 1; j < outputs.size(); ++j)
+      if (!outputs[i].second.empty() && !outputs[j].second.empty() && same_file(outputs[i].second, outputs[j].second))
+        throw Error(outputs[i].first + " and " + outputs[j].first + " both name " + outputs[j].second +
+                    " (give each output its own file)");
+}
+
+// ---- Single files and face sets ----
 
 OutputSet::~OutputSet() {
   for (const Staged& s : staged_) {
-    (void)::unlink(s.temp.c_str());
+    (void)::unlinkat(s.dir, s.temp.c_str(), 0);
     release(s.slot);
+    ::close(s.dir);
   }
 }
 
 void OutputSet::add(const std::string& path, std::span<const std::string_view> pieces) {
   check_output_path(path, overwrite_);
+  const int dir = open_folder_of(path);
+  remove_stale(dir, folder_of(path));
   std::string temp;
   int fd = -1;
   for (int attempt = 0; attempt < 8 && fd < 0; ++attempt) {
-    temp = random_sibling(path);
-    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
-    if (fd < 0 && errno != EEXIST) fail(path, "cannot create a file in its folder", errno);
+    temp = temp_name();
+    fd = ::openat(dir, temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd < 0 && errno != EEXIST) {
+      const int err = errno;
+      ::close(dir);
+      fail(path, "cannot create a file in its folder", err);
+    }
   }
-  if (fd < 0) fail(path, "no free temporary name", EEXIST);
-  staged_.push_back({path, temp, claim(temp)});
+  if (fd < 0) {
+    ::close(dir);
+    fail(path, "no free temporary name", EEXIST);
+  }
+  staged_.push_back({path, name_of(path), temp, dir, claim(dir, temp)});
   write_pieces(fd, path, pieces);
   if (::fsync(fd) != 0) {
     const int err = errno;
@@ -197,17 +318,19 @@ void OutputSet::add(const std::string& path, std::span<const std::string_view> p
 }
 
 void OutputSet::commit() {
+  check_interrupt();  // the last moment a stop leaves nothing written
   // Old files are moved aside (restored on failure or by a signal) so that a set lands whole.
   struct Moved {
-    std::string path, aside;
+    int dir;
+    std::string name, aside;
     int slot;
   };
   std::vector<Moved> moved;
   std::vector<size_t> placed;
   auto roll_back = [&] {
-    for (size_t i : placed) (void)::unlink(staged_[i].path.c_str());
+    for (size_t i : placed) (void)::unlinkat(staged_[i].dir, staged_[i].name.c_str(), 0);
     for (const Moved& m : moved) {
-      (void)::rename(m.aside.c_str(), m.path.c_str());
+      (void)::renameat(m.dir, m.aside.c_str(), m.dir, m.name.c_str());
       release(m.slot);
     }
   };
@@ -215,24 +338,24 @@ void OutputSet::commit() {
   for (size_t i = 0; i < staged_.size(); ++i) {
     const Staged& s = staged_[i];
     struct stat st {};
-    if (lexists(s.path, &st)) {
+    if (::fstatat(s.dir, s.name.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0) {
       if (!overwrite_ || S_ISDIR(st.st_mode)) {
         roll_back();
         check_output_path(s.path, overwrite_);  // says why
       }
       if (several) {
-        const std::string aside = random_sibling(s.path);
-        if (::renameat2(AT_FDCWD, s.path.c_str(), AT_FDCWD, aside.c_str(), RENAME_NOREPLACE) != 0) {
+        const std::string aside = temp_name();
+        if (::renameat2(s.dir, s.name.c_str(), s.dir, aside.c_str(), RENAME_NOREPLACE) != 0) {
           const int err = errno;
           roll_back();
           fail(s.path, "moving the old file aside", err);
         }
-        moved.push_back({s.path, aside, claim(aside, s.path)});
+        moved.push_back({s.dir, s.name, aside, claim(s.dir, aside, s.name)});
       }
     }
     // Without overwrite a file created meanwhile is not replaced.
     const unsigned flags = overwrite_ ? 0 : RENAME_NOREPLACE;
-    if (::renameat2(AT_FDCWD, s.temp.c_str(), AT_FDCWD, s.path.c_str(), flags) != 0) {
+    if (::renameat2(s.dir, s.temp.c_str(), s.dir, s.name.c_str(), flags) != 0) {
       const int err = errno;
       roll_back();
       if (err == EEXIST) check_output_path(s.path, overwrite_);
@@ -241,79 +364,246 @@ void OutputSet::commit() {
     placed.push_back(i);
   }
   for (const Moved& m : moved) {
-    (void)::unlink(m.aside.c_str());
+    (void)::unlinkat(m.dir, m.aside.c_str(), 0);
     release(m.slot);
   }
-  for (Staged& s : staged_) release(s.slot);
-  if (!staged_.empty()) sync_folder(staged_.front().path);
+  for (Staged& s : staged_) {
+    release(s.slot);
+    (void)::fsync(s.dir);  // best effort: the renames are done, a failure here loses nothing
+    ::close(s.dir);
+  }
   staged_.clear();
+}
+
+// ---- Folders ----
+
+FolderWriter::FolderWriter(const StagedFolder& staged, std::string shown) : shown_(std::move(shown)) {
+  fd_ = ::open(staged.path.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  struct stat st {};
+  if (fd_ < 0 || ::fstat(fd_, &st) != 0 || st.st_dev != staged.device || st.st_ino != staged.inode) {
+    const int err = fd_ < 0 ? errno : 0;
+    if (fd_ >= 0) ::close(fd_);
+    throw Error("temporary folder " + staged.path + " of " + shown_ +
+                    (err == ENOENT ? " is gone (was the job interrupted?)"
+                                   : " is not the one the job made (moved or replaced meanwhile): nothing written there"),
+                ErrorKind::File);
+  }
+}
+
+FolderWriter::~FolderWriter() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void FolderWriter::write(const std::string& relative, std::string_view bytes) const {
+  const std::string shown = shown_ + "/" + relative;
+  std::vector<std::string> parts;
+  for (const auto& p : fs::path(relative)) parts.push_back(p.string());
+  if (parts.empty() || fs::path(relative).is_absolute())
+    throw Error("cannot write " + shown + ": not a path inside the folder", ErrorKind::File);
+  int dir = fd_;
+  Closer owned{-1};
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    const char* c = parts[i].c_str();
+    if (parts[i].empty() || dot_or_dotdot(c)) throw Error("cannot write " + shown + ": not a path inside the folder", ErrorKind::File);
+    if (::mkdirat(dir, c, 0777) != 0 && errno != EEXIST) fail(shown, "cannot create its folder", errno);
+    const int next = ::openat(dir, c, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (next < 0) fail(shown, "cannot open its folder", errno);
+    if (owned.fd >= 0) ::close(owned.fd);
+    owned.fd = dir = next;
+  }
+  if (dot_or_dotdot(parts.back().c_str())) throw Error("cannot write " + shown + ": not a file name", ErrorKind::File);
+  const int fd = ::openat(dir, parts.back().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  if (fd < 0) fail(shown, "cannot create it", errno);
+  write_pieces(fd, shown, std::span(&bytes, 1));
+  if (::close(fd) != 0) fail(shown, "closing it", errno);
 }
 
 namespace {
 
-// Throws unless path may become the output folder.
-void check_output_folder(const std::string& path, bool overwrite) {
-  struct stat st {};
-  if (lexists(path, &st)) {
-    if (!S_ISDIR(st.st_mode))
-      throw Error("output " + path + " exists and is not a folder (give a new folder's name)", ErrorKind::File);
-    if (!overwrite)
-      throw Error("output " + path + " exists (pass " + option_text("overwrite") + " to replace the folder)",
-                  ErrorKind::Exists);
-  }
-  const fs::path dir = fs::path(path).parent_path();
-  struct stat ds {};
-  if (!dir.empty() && (::stat(dir.c_str(), &ds) != 0 || !S_ISDIR(ds.st_mode)))
-    throw Error("output folder " + dir.string() + " does not exist (create it first)", ErrorKind::Missing);
+// The names an earlier version's folder held at its root (before the marker), and those it must.
+bool earlier_layout(const std::set<std::string>& names) {
+  const auto only = [&](std::initializer_list<const char*> allowed, bool digits) {
+    for (const std::string& n : names) {
+      bool ok = digits && !n.empty() && n.size() < 4 && std::all_of(n.begin(), n.end(), ::isdigit);
+      for (const char* a : allowed) ok |= n == a;
+      if (!ok) return false;
+    }
+    return true;
+  };
+  const auto has = [&](const char* n) { return names.count(n) > 0; };
+  const bool tiles = has("config.json") && has("index.html") && only({"config.json", "index.html", "fallback", "tiles"}, true);
+  const bool views = has("images") && (has("transforms.json") || has("sparse")) &&
+                     only({"images", "masks", "sparse", "transforms.json", "rig_config.json"}, false);
+  return tiles || views;
 }
 
-// Throws unless every input lies outside `path` (an existing folder that overwrite would replace).
-void require_outside(const std::string& path, const std::vector<std::string>& inputs) {
-  std::error_code ec;
-  const fs::path folder = fs::canonical(path, ec);
-  if (ec) return;  // not there: nothing to replace
-  for (const std::string& input : inputs) {
-    const fs::path in = fs::weakly_canonical(input, ec);
-    if (ec) continue;
-    const auto [f, i] = std::mismatch(folder.begin(), folder.end(), in.begin(), in.end());
-    if (f == folder.end())
-      throw Error("input " + input + " is inside the output folder " + path +
-                  ", which the job replaces (write the output elsewhere)");
+// Whether the folder `fd` was made by panoproj: its marker, an earlier version's layout, or empty.
+bool made_by_panoproj(int fd) {
+  const int marker = ::openat(fd, kFolderMarker, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+  if (marker >= 0) {
+    char buf[256] = {};
+    const ssize_t n = ::read(marker, buf, sizeof buf - 1);
+    ::close(marker);
+    if (n > 0 && std::strstr(buf, "\"made_by\": \"panoproj\"")) return true;
   }
+  const int dup = ::openat(fd, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  DIR* d = dup < 0 ? nullptr : ::fdopendir(dup);
+  if (!d) {
+    if (dup >= 0) ::close(dup);
+    return false;
+  }
+  std::set<std::string> names;
+  while (const dirent* e = ::readdir(d))
+    if (!dot_or_dotdot(e->d_name) && names.size() < 4096) names.insert(e->d_name);
+  ::closedir(d);
+  return names.empty() || earlier_layout(names);
+}
+
+// The first mount point inside folder `fd` (a path relative to it), or "".
+std::string mount_inside(int fd, const std::string& at, int depth) {
+  const int dup = ::openat(fd, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  DIR* d = dup < 0 ? nullptr : ::fdopendir(dup);
+  if (!d) {
+    if (dup >= 0) ::close(dup);
+    return {};
+  }
+  std::string found;
+  while (const dirent* e = ::readdir(d)) {
+    if (dot_or_dotdot(e->d_name)) continue;
+    const std::string path = at.empty() ? e->d_name : at + "/" + e->d_name;
+    if (mount_root(fd, e->d_name)) {
+      found = path;
+      break;
+    }
+    if (e->d_type != DT_DIR && e->d_type != DT_UNKNOWN) continue;
+    const int sub = depth > 64 ? -1 : ::openat(fd, e->d_name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (sub < 0) continue;
+    found = mount_inside(sub, path, depth + 1);
+    ::close(sub);
+    if (!found.empty()) break;
+  }
+  ::closedir(d);
+  return found;
+}
+
+// Throws unless the entry `name` in `parent` (the output `path`) may be replaced by the job's folder.
+void check_replaceable(int parent, const std::string& name, const std::string& path, bool overwrite) {
+  struct stat st {};
+  if (::fstatat(parent, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) return;
+  if (!S_ISDIR(st.st_mode))
+    throw Error("output " + path + " exists and is not a folder (give a new folder's name)", ErrorKind::File);
+  if (!overwrite)
+    throw Error("output " + path + " exists (pass " + option_text("overwrite") + " to replace the folder)", ErrorKind::Exists);
+  if (mount_root(parent, name.c_str()))
+    throw Error("output " + path + " is a mount point, which cannot be replaced (write into a new folder inside it)",
+                ErrorKind::File);
+  const int fd = ::openat(parent, name.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) fail(path, "cannot open the existing folder", errno);
+  Closer closer{fd};
+  if (!made_by_panoproj(fd))
+    throw Error("output " + path + " was not made by panoproj (no " + kFolderMarker +
+                    ", not a tile pyramid or view set), so " + option_text("overwrite") +
+                    " does not replace it (give a new folder's name, or remove it yourself)",
+                ErrorKind::Exists);
+  const std::string mount = mount_inside(fd, "", 0);
+  if (!mount.empty())
+    throw Error("output " + path + " holds a mount point, " + path + "/" + mount +
+                    ", which replacing the folder would reach into (unmount it, or give a new folder's name)",
+                ErrorKind::File);
+}
+
+// Throws if an input lies inside the existing folder `name` of `parent`, which the job replaces:
+// by device and inode of each folder above the input (as named, and with links resolved), so a
+// bind mount of the folder is seen.
+void require_outside(int parent, const std::string& name, const std::string& path, const std::vector<std::string>& inputs) {
+  struct stat out {};
+  if (::fstatat(parent, name.c_str(), &out, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISDIR(out.st_mode)) return;
+  for (const std::string& input : inputs) {
+    std::error_code ec;
+    std::vector<fs::path> ways{fs::absolute(input, ec).lexically_normal()};
+    const fs::path resolved = fs::weakly_canonical(input, ec);
+    if (!ec) ways.push_back(resolved);
+    for (const fs::path& way : ways)
+      for (fs::path p = way.parent_path();; p = p.parent_path()) {
+        struct stat st {};
+        if (::stat(p.c_str(), &st) == 0 && st.st_dev == out.st_dev && st.st_ino == out.st_ino)
+          throw Error("input " + input + " is inside the output folder " + path +
+                      ", which the job replaces (write the output elsewhere)");
+        if (p == p.parent_path() || p.empty()) break;
+      }
+  }
+}
+
+std::string marker_text(const std::string& job) {
+  return "{\"made_by\": \"panoproj\", \"job\": \"" + job + "\"}\n";
 }
 
 }  // namespace
 
-OutputFolder::OutputFolder(std::string path, bool overwrite, const std::vector<std::string>& inputs)
-    : path_(std::move(path)), overwrite_(overwrite) {
+void OutputFolder::open_parent() {
   while (path_.size() > 1 && path_.back() == '/') path_.pop_back();
   if (path_.empty()) throw Error("output: an empty folder name");
-  check_output_folder(path_, overwrite_);
-  require_outside(path_, inputs);
-  for (int attempt = 0; attempt < 8 && staged_.empty(); ++attempt) {
-    const std::string temp = random_sibling(path_);
-    if (::mkdir(temp.c_str(), 0777) == 0) staged_ = temp;
-    else if (errno != EEXIST) fail(path_, "cannot create a folder beside it", errno);
-  }
-  if (staged_.empty()) fail(path_, "no free temporary name", EEXIST);
-  slot_ = claim(staged_, {}, true);
+  name_ = name_of(path_);
+  if (name_.empty() || name_ == "." || name_ == "..")
+    throw Error("output " + path_ + " names no new folder (give the folder by its name, not . or ..)", ErrorKind::File);
+  parent_ = open_folder_of(path_);
 }
 
-OutputFolder::OutputFolder(std::string path, bool overwrite, std::string staged)
-    : path_(std::move(path)), staged_(std::move(staged)), overwrite_(overwrite) {
-  while (path_.size() > 1 && path_.back() == '/') path_.pop_back();
+OutputFolder::OutputFolder(std::string path, bool overwrite, const std::vector<std::string>& inputs, std::string job)
+    : path_(std::move(path)), job_(std::move(job)), overwrite_(overwrite) {
+  open_parent();
+  try {
+    check_replaceable(parent_, name_, path_, overwrite_);
+    require_outside(parent_, name_, path_, inputs);
+    remove_stale(parent_, folder_of(path_));
+    for (int attempt = 0; attempt < 8 && staged_name_.empty(); ++attempt) {
+      const std::string temp = temp_name();
+      if (::mkdirat(parent_, temp.c_str(), 0777) == 0) staged_name_ = temp;
+      else if (errno != EEXIST) fail(path_, "cannot create a folder beside it", errno);
+    }
+    if (staged_name_.empty()) fail(path_, "no free temporary name", EEXIST);
+    slot_ = claim(parent_, staged_name_, {}, true);
+    struct stat st {};
+    if (::fstatat(parent_, staged_name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) fail(path_, "looking at its temporary folder", errno);
+    staged_ = {(fs::path(folder_of(path_)) / staged_name_).string(), static_cast<uint64_t>(st.st_dev),
+               static_cast<uint64_t>(st.st_ino)};
+    writer_ = std::make_unique<FolderWriter>(staged_, path_);
+  } catch (...) {
+    if (!staged_name_.empty()) (void)remove_tree_at(parent_, staged_name_.c_str(), 0);
+    release(slot_);
+    ::close(parent_);
+    throw;
+  }
+}
+
+OutputFolder::OutputFolder(std::string path, bool overwrite, const StagedFolder& staged, std::string job)
+    : path_(std::move(path)), job_(std::move(job)), staged_(staged), overwrite_(overwrite) {
+  open_parent();
+  staged_name_ = name_of(staged_.path);
   struct stat st {};
-  if (!lexists(staged_, &st) || !S_ISDIR(st.st_mode))
-    throw Error("temporary folder " + staged_ + " is gone (was the job interrupted?)", ErrorKind::Missing);
-  slot_ = claim(staged_, {}, true);
+  if (staged_name_.rfind(".panoproj-", 0) != 0 ||
+      ::fstatat(parent_, staged_name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_dev != staged_.device ||
+      st.st_ino != staged_.inode) {
+    ::close(parent_);
+    throw Error("temporary folder " + staged_.path + " is not beside " + path_ +
+                    " as the job made it (moved, replaced or removed meanwhile: was the job interrupted?)",
+                ErrorKind::Missing);
+  }
+  slot_ = claim(parent_, staged_name_, {}, true);
+  try {
+    writer_ = std::make_unique<FolderWriter>(staged_, path_);
+  } catch (...) {
+    release(slot_);
+    ::close(parent_);
+    throw;
+  }
 }
 
 OutputFolder::~OutputFolder() {
-  if (!done_) {
-    std::error_code ec;
-    fs::remove_all(staged_, ec);
-  }
+  writer_.reset();
+  if (!done_) (void)remove_tree_at(parent_, staged_name_.c_str(), 0);
   release(slot_);
+  ::close(parent_);
 }
 
 void OutputFolder::keep() {
@@ -322,57 +612,54 @@ void OutputFolder::keep() {
   slot_ = -1;
 }
 
-void OutputFolder::write_file(const std::string& staged, const std::string& relative, std::string_view bytes) {
-  const fs::path path = fs::path(staged) / relative;
-  std::error_code ec;
-  fs::create_directories(path.parent_path(), ec);
-  if (ec) fail(path.string(), "cannot create its folder", ec.value());
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
-  if (fd < 0) fail(path.string(), "cannot create it", errno);
-  write_pieces(fd, path.string(), std::span(&bytes, 1));
-  if (::close(fd) != 0) fail(path.string(), "closing it", errno);
-}
-
-void OutputFolder::remove_staged(const std::string& staged) {
-  std::error_code ec;
-  fs::remove_all(staged, ec);
+void OutputFolder::remove_staged(const StagedFolder& staged) {
+  const int dir = ::open(folder_of(staged.path).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir < 0) return;
+  Closer closer{dir};
+  const std::string name = name_of(staged.path);
+  struct stat st {};
+  if (name.rfind(".panoproj-", 0) == 0 && ::fstatat(dir, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 &&
+      st.st_dev == staged.device && st.st_ino == staged.inode)
+    (void)remove_tree_at(dir, name.c_str(), 0);
 }
 
 void OutputFolder::commit() {
+  check_interrupt();  // the last moment a stop leaves nothing written
+  writer_->write(kFolderMarker, marker_text(job_));
   // One sync for every file written (each write was checked; syncfs reports a failed writeback).
-  const int fd = ::open(staged_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) fail(path_, "opening its temporary folder", errno);
-  if (::syncfs(fd) != 0) {
-    const int err = errno;
-    ::close(fd);
-    fail(path_, "syncing its files to disk", err);
-  }
-  ::close(fd);
+  if (::syncfs(writer_->fd()) != 0) fail(path_, "syncing its files to disk", errno);
+  struct stat st {};
+  if (::fstatat(parent_, staged_name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_dev != staged_.device ||
+      st.st_ino != staged_.inode)
+    throw Error("cannot write " + path_ + ": its temporary folder " + staged_.path +
+                    " was moved or replaced meanwhile (nothing landed)",
+                ErrorKind::File);
   std::string aside;
   int aside_slot = -1;
-  struct stat st {};
-  if (lexists(path_, &st)) {
-    check_output_folder(path_, overwrite_);
-    aside = random_sibling(path_);
-    if (::renameat2(AT_FDCWD, path_.c_str(), AT_FDCWD, aside.c_str(), RENAME_NOREPLACE) != 0)
+  if (::fstatat(parent_, name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0) {
+    check_replaceable(parent_, name_, path_, overwrite_);  // again: it may have changed during the work
+    aside = temp_name();
+    if (::renameat2(parent_, name_.c_str(), parent_, aside.c_str(), RENAME_NOREPLACE) != 0)
       fail(path_, "moving the old folder aside", errno);
-    aside_slot = claim(aside, path_);
+    aside_slot = claim(parent_, aside, name_);
   }
-  if (::renameat2(AT_FDCWD, staged_.c_str(), AT_FDCWD, path_.c_str(), RENAME_NOREPLACE) != 0) {
+  if (::renameat2(parent_, staged_name_.c_str(), parent_, name_.c_str(), RENAME_NOREPLACE) != 0) {
     const int err = errno;
-    if (!aside.empty()) (void)::rename(aside.c_str(), path_.c_str());
+    if (!aside.empty()) (void)::renameat(parent_, aside.c_str(), parent_, name_.c_str());
     release(aside_slot);
-    if (err == EEXIST || err == ENOTEMPTY) check_output_folder(path_, false);  // made meanwhile: says so
+    if (err == EEXIST || err == ENOTEMPTY) check_replaceable(parent_, name_, path_, false);  // made meanwhile: says so
     fail(path_, "renaming its temporary folder into place", err);
   }
   done_ = true;
   release(slot_);
   slot_ = -1;
-  sync_folder(path_);
+  (void)::fsync(parent_);  // best effort: the renames are done, a failure here loses nothing
   if (!aside.empty()) {
     release(aside_slot);
-    std::error_code ec;
-    fs::remove_all(aside, ec);
+    if (!remove_tree_at(parent_, aside.c_str(), 0))
+      throw Error(path_ + " landed, but its old folder, moved to " + (fs::path(folder_of(path_)) / aside).string() +
+                      ", could not be removed whole (a mount point appeared inside it?): remove it yourself",
+                  ErrorKind::File);
   }
 }
 

@@ -13,6 +13,7 @@
 #include "panoproj/limits.hpp"
 #include "panoproj/photo_sphere.hpp"
 #include "base/pixel_buffers.hpp"
+#include "io/atomic_output.hpp"
 #include "io/region_read.hpp"
 #include "io/streamed_output.hpp"
 #include "jobs/frame_pipeline.hpp"
@@ -31,19 +32,6 @@ std::vector<std::string> expand(const std::string& path, const FaceOrder* order)
   if (!order) return {path};
   for (int f = 0; f < 6; ++f) out.push_back(face_path(path, f, *order));
   return out;
-}
-
-// The same file by inode, or (where either cannot be looked at) the same normalised path; a path
-// that cannot be resolved is never taken for another.
-bool same_file(const std::string& a, const std::string& b) {
-  std::error_code ea, eb;
-  if (fs::exists(a, ea) && fs::exists(b, eb)) {
-    const bool same = fs::equivalent(a, b, ea);
-    if (!ea) return same;
-  }
-  const fs::path ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
-  if (ea || eb) return fs::absolute(a).lexically_normal() == fs::absolute(b).lexically_normal();
-  return ca == cb;
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
+#include "panoproj/interrupt.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/rotation.hpp"
 #include "panoproj/tiles.hpp"
@@ -106,6 +107,7 @@ void render_parts(const TilesJob& job, const Source& src, const std::vector<Part
     if (any) window = read_image_region(job.input, need.x0, need.y0, need.x1, need.y1, job.options.memory_limit, part_bytes, scale);
     const Image& in = any ? source_for(window, o, with_alpha) : window;
     for (size_t k = 0; k < members.size(); ++k) {
+      check_interrupt();
       Image out;
       if (seen[k]) converters[k].run(in, out);
       else out = Image(size_of(parts[members[k]].geometry.target), src.info.channels + 1, src.info.type, src.info.channels);
@@ -134,7 +136,7 @@ std::vector<Part> parts_of(const TilesJob& job, const Source& src, const std::ve
   return parts;
 }
 
-std::array<int64_t, 2> render_rows(const TilesJob& job, const Source& src, const std::string& folder,
+std::array<int64_t, 2> render_rows(const TilesJob& job, const Source& src, const FolderWriter& folder,
                                    const std::vector<TileRows>& rows, bool whole,
                                    const std::function<void(double)>& progress) {
   const std::vector<Part> parts = parts_of(job, src, rows);
@@ -155,7 +157,7 @@ std::array<int64_t, 2> render_rows(const TilesJob& job, const Source& src, const
         return;
       }
       const std::string path = p.tile_path(r.level, r.face, row, col);
-      OutputFolder::write_file(folder, path, encoded(f.image, job.format, job.write, job.output + "/" + path));
+      folder.write(path, encoded(f.image, job.format, job.write, job.output + "/" + path));
       ++written;
     });
     if (progress) progress(static_cast<double>(++finished) / static_cast<double>(parts.size()));
@@ -231,7 +233,7 @@ TilesReport finish(const TilesJob& job, const Source& src, OutputFolder& folder,
   render_parts(job, src, parts, true, [&](size_t i, const Image& face) {
     Flat flat = flatten(face, 0, 0, p.preview, p.preview, src.partial);
     if (p.viewer == Viewer::Pannellum) {
-      if (!flat.empty) OutputFolder::write_file(folder.staged(), preview_path(p, parts[i].face),
+      if (!flat.empty) folder.writer().write(preview_path(p, parts[i].face),
                                                 encoded(flat.image, job.format, job.write, job.output + "/" + preview_path(p, parts[i].face)));
       return;
     }
@@ -241,9 +243,9 @@ TilesReport finish(const TilesJob& job, const Source& src, OutputFolder& folder,
       std::memcpy(strip.row(slot * p.preview + y), flat.image.row(y), flat.image.row_bytes());
   });
   if (p.viewer == Viewer::Marzipano)
-    OutputFolder::write_file(folder.staged(), preview_path(p, 0), encoded(strip, job.format, job.write, job.output + "/" + preview_path(p, 0)));
+    folder.writer().write(preview_path(p, 0), encoded(strip, job.format, job.write, job.output + "/" + preview_path(p, 0)));
   const ViewRange range = view_range(src);
-  for (const TextFile& f : viewer_files(job, p, range)) OutputFolder::write_file(folder.staged(), f.path, f.text);
+  for (const TextFile& f : viewer_files(job, p, range)) folder.writer().write(f.path, f.text);
   folder.commit();
   TilesReport report;
   report.pyramid = p, report.from = src.from_text, report.source_size = src.info.size;
@@ -279,10 +281,10 @@ TilesReport run_tiles(const TilesJob& job, const std::function<void(double)>& pr
   const auto t0 = std::chrono::steady_clock::now();
   check_job(job);
   const Source src = open_source(job);
-  OutputFolder folder(job.output, job.write.overwrite, std::vector<std::string>{job.input});
+  OutputFolder folder(job.output, job.write.overwrite, std::vector<std::string>{job.input}, "tiles");
   // One tile row a part: in flight, the source at one scale and one row of tiles.
   const std::vector<TileRows> rows = all_rows(src.pyramid, 1);
-  const auto counts = render_rows(job, src, folder.staged(), rows, true, progress);
+  const auto counts = render_rows(job, src, folder.writer(), rows, true, progress);
   TilesReport report = finish(job, src, folder, counts);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
@@ -291,21 +293,22 @@ TilesReport run_tiles(const TilesJob& job, const std::function<void(double)>& pr
 TilesStaging begin_tiles(const TilesJob& job, int64_t band_pixels) {
   check_job(job);
   const Source src = open_source(job);
-  OutputFolder folder(job.output, job.write.overwrite, std::vector<std::string>{job.input});
+  OutputFolder folder(job.output, job.write.overwrite, std::vector<std::string>{job.input}, "tiles");
   folder.keep();
   return {folder.staged(), all_rows(src.pyramid, band_pixels)};
 }
 
-std::array<int64_t, 2> render_tiles(const TilesJob& job, const std::string& folder, const std::vector<TileRows>& rows) {
-  return render_rows(job, open_source(job), folder, rows, false, {});
+std::array<int64_t, 2> render_tiles(const TilesJob& job, const StagedFolder& staged, const std::vector<TileRows>& rows) {
+  const Source src = open_source(job);
+  return render_rows(job, src, FolderWriter(staged, job.output), rows, false, {});
 }
 
-TilesReport finish_tiles(const TilesJob& job, const std::string& staged, std::array<int64_t, 2> counts) {
+TilesReport finish_tiles(const TilesJob& job, const StagedFolder& staged, std::array<int64_t, 2> counts) {
   const Source src = open_source(job);
-  OutputFolder folder(job.output, job.write.overwrite, staged);
+  OutputFolder folder(job.output, job.write.overwrite, staged, "tiles");
   return finish(job, src, folder, counts);
 }
 
-void abandon_tiles(const std::string& folder) { OutputFolder::remove_staged(folder); }
+void abandon_tiles(const StagedFolder& folder) { OutputFolder::remove_staged(folder); }
 
 }  // namespace panoproj

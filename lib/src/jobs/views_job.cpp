@@ -9,6 +9,7 @@
 
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
+#include "panoproj/interrupt.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/rotation.hpp"
 #include "panoproj/views.hpp"
@@ -123,7 +124,7 @@ Image mask_of(const Image& view) {
 }
 
 // Renders frame k's views into the temporary folder; returns {written, empty}.
-std::array<int64_t, 2> render_frame(const ViewsJob& job, const std::vector<ViewCamera>& cams, const std::string& folder,
+std::array<int64_t, 2> render_frame(const ViewsJob& job, const std::vector<ViewCamera>& cams, const FolderWriter& folder,
                                     int64_t k, const std::function<void()>& view_done) {
   const std::string& input = job.inputs[static_cast<size_t>(k)];
   const Frame frame = open_frame(job, input);
@@ -151,6 +152,7 @@ std::array<int64_t, 2> render_frame(const ViewsJob& job, const std::vector<ViewC
   const ViewFiles files = files_of(job, frame.partial);
   std::array<int64_t, 2> counts{0, 0};
   for (size_t v = 0; v < views.size(); ++v) {
+    check_interrupt();
     if (scale > 1) views[v].source = rescaled(views[v].source, at);
     Image out;
     converter_for(views[v], o).run(in, out);
@@ -159,10 +161,10 @@ std::array<int64_t, 2> render_frame(const ViewsJob& job, const std::vector<ViewC
     if (frame.partial) flat = flatten(out, 0, 0, out.width(), out.height(), true);
     if (flat.empty) flat.image = Image(out.size(), out.channels() - 1, out.type());
     const std::string path = files.image_path(stem, cams[v].name);
-    OutputFolder::write_file(folder, path, encoded(frame.partial ? flat.image : out, job.format, job.write, job.output + "/" + path));
+    folder.write(path, encoded(frame.partial ? flat.image : out, job.format, job.write, job.output + "/" + path));
     if (frame.partial) {
       const std::string mpath = files.mask_path(stem, cams[v].name);
-      OutputFolder::write_file(folder, mpath, encoded(mask_of(out), "png", job.write, job.output + "/" + mpath));
+      folder.write(mpath, encoded(mask_of(out), "png", job.write, job.output + "/" + mpath));
     }
     ++counts[0];
     counts[1] += flat.empty ? 1 : 0;
@@ -177,7 +179,7 @@ ViewsReport finish(const ViewsJob& job, OutputFolder& folder, std::array<int64_t
   r.views = cameras_for(job, first);
   for (const std::string& in : job.inputs) r.stems.push_back(stem_of(in));
   for (const TextFile& f : camera_files(r.views, r.stems, files_of(job, first.partial)))
-    OutputFolder::write_file(folder.staged(), f.path, f.text);
+    folder.writer().write(f.path, f.text);
   folder.commit();
   r.from = first.from_text, r.source_size = first.info.size, r.masks = first.partial;
   r.images = counts[0], r.empty = counts[1];
@@ -198,12 +200,12 @@ std::vector<ViewCamera> begin(const ViewsJob& job) {
 ViewsReport run_views(const ViewsJob& job, const std::function<void(double)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<ViewCamera> cams = begin(job);
-  OutputFolder folder(job.output, job.write.overwrite, job.inputs);
+  OutputFolder folder(job.output, job.write.overwrite, job.inputs, "views");
   std::array<int64_t, 2> counts{0, 0};
   const double total = static_cast<double>(job.inputs.size() * cams.size());
   double done = 0;
   for (size_t k = 0; k < job.inputs.size(); ++k) {
-    const auto c = render_frame(job, cams, folder.staged(), static_cast<int64_t>(k), [&] {
+    const auto c = render_frame(job, cams, folder.writer(), static_cast<int64_t>(k), [&] {
       if (progress) progress(++done / total);
     });
     counts[0] += c[0], counts[1] += c[1];
@@ -213,15 +215,16 @@ ViewsReport run_views(const ViewsJob& job, const std::function<void(double)>& pr
   return r;
 }
 
-std::string begin_views(const ViewsJob& job) {
+StagedFolder begin_views(const ViewsJob& job) {
   begin(job);
-  OutputFolder folder(job.output, job.write.overwrite, job.inputs);
+  OutputFolder folder(job.output, job.write.overwrite, job.inputs, "views");
   folder.keep();
   return folder.staged();
 }
 
-std::array<int64_t, 2> render_views(const ViewsJob& job, const std::string& folder, const std::vector<int64_t>& frames) {
+std::array<int64_t, 2> render_views(const ViewsJob& job, const StagedFolder& staged, const std::vector<int64_t>& frames) {
   check_job(job);
+  const FolderWriter folder(staged, job.output);
   const std::vector<ViewCamera> cams = cameras_for(job, open_frame(job, job.inputs.at(0)));
   std::array<int64_t, 2> counts{0, 0};
   for (int64_t k : frames) {
@@ -233,12 +236,12 @@ std::array<int64_t, 2> render_views(const ViewsJob& job, const std::string& fold
   return counts;
 }
 
-ViewsReport finish_views(const ViewsJob& job, const std::string& staged, std::array<int64_t, 2> counts) {
+ViewsReport finish_views(const ViewsJob& job, const StagedFolder& staged, std::array<int64_t, 2> counts) {
   check_job(job);
-  OutputFolder folder(job.output, job.write.overwrite, staged);
+  OutputFolder folder(job.output, job.write.overwrite, staged, "views");
   return finish(job, folder, counts);
 }
 
-void abandon_views(const std::string& folder) { OutputFolder::remove_staged(folder); }
+void abandon_views(const StagedFolder& folder) { OutputFolder::remove_staged(folder); }
 
 }  // namespace panoproj

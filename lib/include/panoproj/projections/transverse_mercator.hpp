@@ -7,8 +7,9 @@
 //   phi = asin(sin Y / cosh X),  lambda = atan2(sinh X, cos Y).
 // Y covers the whole great circle through the poles (-pi, pi]; X grows without bound towards the
 // two points 90 degrees off the central meridian on the equator, so the map ends at
-// |X| <= atanh(sin x_max): x_max is the angle from the central meridian (Mercator's phi_max,
-// turned a quarter).
+// |X| <= atanh(sin x_max) = asinh(tan x_max) (the latter finite up to x_max's last double below
+// 90 degrees, where sin rounds to 1): x_max is the angle from the central meridian (Mercator's
+// phi_max, turned a quarter).
 #include <cmath>
 
 #include "panoproj/projections/map_frame.hpp"
@@ -20,7 +21,7 @@ class TransverseMercator : public MapProjection<TransverseMercator> {
   static constexpr bool kConvexOutline = true;  // a rectangle
 
   TransverseMercator(Size size, double x_max, double lon0)
-      : MapProjection(lon0), x_max_(x_max), X_max_(std::atanh(std::sin(x_max))) {
+      : MapProjection(lon0), x_max_(x_max), X_max_(std::asinh(std::tan(x_max))) {
     frame_ = {size, -X_max_, X_max_, -kPi, kPi};
   }
 
