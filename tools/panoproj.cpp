@@ -45,9 +45,11 @@ class QuietStderr {
     const int null_fd = ::open("/dev/null", O_WRONLY);
     if (saved_ >= 0 && null_fd >= 0) ::dup2(null_fd, 2);
     if (null_fd >= 0) ::close(null_fd);
+    if (saved_ >= 0) set_notice_handler([fd = saved_](const std::string& text) { ::dprintf(fd, "panoproj: %s\n", text.c_str()); });
   }
   ~QuietStderr() {
     if (saved_ < 0) return;
+    set_notice_handler({});
     std::fflush(stderr);
     ::dup2(saved_, 2);
     ::close(saved_);
@@ -322,6 +324,7 @@ int main(int argc, char** argv) {
         throw Error("truth-supersample: " + std::to_string(sweep.truth_supersample) + " (expected 1 to 64)");
       for (const std::string* path : {&acc_csv, &acc_json, &acc_plot})
         if (!path->empty()) check_output_path(*path, acc_overwrite);
+      require_distinct_outputs({{option_text("csv"), acc_csv}, {option_text("json"), acc_json}, {option_text("plot"), acc_plot}});
       const ConversionGeometry geometry =
           make_geometry(parse_size(acc_from_size), parse_spec(acc_from), parse_spec(acc_to), o);
       sweep.scene = parse_scene(acc_scene);

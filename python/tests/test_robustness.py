@@ -13,6 +13,7 @@ offset with EFBIG), strace's syscall injection (ENOSPC, EDQUOT, EIO on write; EI
 on rename) and, where a mount is permitted, a 1 MiB tmpfs. Each case checks that its fault fired.
 Cases marked ``why`` reproduce the failures listed under "Why" in issue 15.
 """
+import json
 import os
 import pathlib
 import re
@@ -31,6 +32,7 @@ import pytest
 
 import panoproj as pp
 from conftest import HUGE_HDR, huge_exr, huge_tiff, smooth_equirect
+from folder_race import folder_race
 
 HOSTILE_RSS = 300 << 20
 DEFAULT_RSS = 1500 << 20
@@ -302,6 +304,13 @@ PARAMS = [
     ("accuracy_size", ["accuracy", "--to", "fisheye", "--size", "4294967296x4294967296"], "4294967296x4294967296", True),
     ("accuracy_from_size", ["accuracy", "--to", "fisheye", "--from-size", "4000000x2000000"], "give --size", False),
     ("accuracy_csv_folder", ["accuracy", "--to", "fisheye", "--csv", "nowhere/a.csv"], "output folder nowhere", True),
+    # One job's outputs against each other, before the sweep (it wrote the CSV, then failed on it).
+    ("accuracy_same_output", ["accuracy", "--to", "fisheye", "--csv", "r.txt", "--json", "./r.txt"],
+     "--csv and --json both name ./r.txt (give each output its own file)", True),
+    # Degenerate default sizes (were 256x1, 1x1 ...): refused, naming the spec.
+    ("default_size_under_8", ["--to", "equirect:vfov=0.01"], "equirect:vfov=0.01 at the source's resolution would be "
+     "256x1 (under 8 px a side", True),
+    ("default_size_1x1", ["--to", "pinhole:hfov=0.01"], "would be 1x1 (under 8 px a side", True),
     ("maps_size", ["maps", "m.exr", "--from", "equirect", "--source-size", "64x32", "--to", "fisheye",
                    "--size", "4294967296x4294967296"], "4294967296x4294967296", True),
     ("maps_convention", ["maps", "m.exr", "--from", "equirect", "--source-size", "64x32", "--to", "fisheye",
@@ -1253,3 +1262,332 @@ def test_python_folder_job_refusals(files, tmp_path, case):
     with pytest.raises(error, match=re.escape(needle)):
         getattr(pp, command)(images, tmp_path / "out", **kw)
     assert snapshot(tmp_path) == before
+
+
+# ---------------------------------------------------------------------------------------------
+# 9. Nothing lost, round 3: output folders reached only through opened folders, identities by
+#    device and inode, no removal into mounts, --overwrite only on panoproj's folders, stale
+#    temporaries, degenerate geometry, Python's copies and Ctrl-C, memory limits, HDR in bands.
+
+def _earlier_layout(tmp_path, command):
+    """A folder as the version before the marker wrote it (no marker)."""
+    out = tmp_path / "out"
+    if command == "tiles":
+        for d in ("1", "fallback"):
+            (out / d).mkdir(parents=True)
+        (out / "config.json").write_text("{}")
+        (out / "index.html").write_text("<html>")
+        (out / "1" / "f0_0.jpg").write_bytes(b"old tile")
+    else:
+        (out / "images").mkdir(parents=True)
+        (out / "sparse" / "0").mkdir(parents=True)
+        (out / "transforms.json").write_text("{}")
+        (out / "images" / "a_front.jpg").write_bytes(b"old view")
+
+
+@pytest.mark.parametrize("command", FOLDER_JOBS)
+def test_overwrite_refuses_a_folder_panoproj_did_not_make(cli, files, tmp_path, command):
+    (tmp_path / "photos").mkdir()
+    (tmp_path / "photos" / "holiday.jpg").write_bytes(b"irreplaceable")
+    before = snapshot(tmp_path)
+    t0 = time.perf_counter()
+    r = run(cli, [command, files["big"], "photos", "--overwrite"], tmp_path)
+    expect_refused(r, "output photos was not made by panoproj (no panoproj-output.json, not a tile pyramid or view set)",
+                   "give a new folder's name, or remove it yourself")
+    assert time.perf_counter() - t0 < 5  # before any work
+    assert snapshot(tmp_path) == before and (tmp_path / "photos" / "holiday.jpg").read_bytes() == b"irreplaceable"
+
+
+@pytest.mark.parametrize("command", FOLDER_JOBS)
+@pytest.mark.parametrize("made_by", ["marker", "earlier_layout", "empty"])
+def test_overwrite_replaces_a_folder_panoproj_made(cli, files, tmp_path, command, made_by):
+    if made_by == "marker":
+        _old_folder(tmp_path)
+    elif made_by == "earlier_layout":
+        _earlier_layout(tmp_path, command)
+    else:
+        (tmp_path / "out").mkdir()
+    r = run(cli, [command, files["png"], "out", "--overwrite", "-q"], tmp_path)
+    assert r.code == 0, r.err
+    assert listing(tmp_path) == ["out"]
+    names = set(listing(tmp_path / "out"))
+    assert FOLDER_JOBS[command] <= names and "mine.txt" not in names
+    assert json.loads((tmp_path / "out" / MARKER).read_text()) == {"made_by": "panoproj", "job": command}
+
+
+@pytest.mark.parametrize("command", FOLDER_JOBS)
+@pytest.mark.parametrize("name", [".", "sub/..", "sub/."])
+def test_folder_names_that_cannot_be_renamed_are_refused_before_work(cli, files, tmp_path, command, name):
+    (tmp_path / "sub").mkdir()
+    before = snapshot(tmp_path)
+    r = run(cli, [command, files["big"], name, "--overwrite"], tmp_path)
+    expect_refused(r, f"output {name} names no new folder (give the folder by its name, not . or ..)")
+    assert snapshot(tmp_path) == before
+
+
+def _unshare_available():
+    return _tmpfs_available()
+
+
+@pytest.mark.skipif(not _unshare_available(), reason="no mount namespace permitted here")
+@pytest.mark.parametrize("command", FOLDER_JOBS)
+@pytest.mark.parametrize("mount", ["tmpfs", "bind"])
+def test_overwrite_never_reaches_into_a_mount_inside_the_folder(cli, files, tmp_path, command, mount):
+    # A tmpfs, or a bind mount of a folder of the same file system (its st_dev is the parent's),
+    # inside an output folder panoproj made: refused before any work, nothing under it removed.
+    _old_folder(tmp_path)
+    (tmp_path / "out" / "m").mkdir()
+    (tmp_path / "elsewhere").mkdir()
+    (tmp_path / "elsewhere" / "theirs.txt").write_bytes(b"theirs")
+    source = "-t tmpfs tmpfs" if mount == "tmpfs" else f"--bind {tmp_path / 'elsewhere'}"
+    fill = f"printf theirs > {tmp_path}/out/m/theirs.txt && " if mount == "tmpfs" else ""
+    script = (f"mount {source} {tmp_path}/out/m && {fill}cd {tmp_path} && "
+              f"{os.path.abspath(cli)} {command} {files['png']} out --overwrite; echo \"rc=$?\"; "
+              f"ls -A {tmp_path}; ls -A {tmp_path}/out/m; cat {tmp_path}/out/m/theirs.txt")
+    p = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True, text=True, timeout=60)
+    assert "rc=1" in p.stdout, p.stdout + p.stderr
+    listed = p.stdout.split("rc=1")[1].split()
+    assert listed == ["elsewhere", "out", "theirs.txt", "theirs"], listed  # no temporary; the mount's file intact
+    lines = [l for l in p.stderr.splitlines() if l.strip()]
+    assert len(lines) == 1 and "holds a mount point, out/m" in lines[0], lines
+    assert (tmp_path / "elsewhere" / "theirs.txt").read_bytes() == b"theirs"
+
+
+@pytest.mark.skipif(not _unshare_available(), reason="no mount namespace permitted here")
+@pytest.mark.parametrize("command", FOLDER_JOBS)
+def test_an_input_reached_through_a_bind_mount_of_the_output_is_refused(cli, files, tmp_path, command):
+    # Canonical paths differ (view/in.png against out/in.png); device and inode do not.
+    _old_folder(tmp_path)
+    shutil.copy(files["png"], tmp_path / "out" / "in.png")
+    (tmp_path / "view").mkdir()
+    script = (f"mount --bind {tmp_path}/out {tmp_path}/view && cd {tmp_path} && "
+              f"{os.path.abspath(cli)} {command} view/in.png out --overwrite; echo \"rc=$?\"; ls -A {tmp_path}/out")
+    p = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True, text=True, timeout=60)
+    assert "rc=1" in p.stdout, p.stdout + p.stderr
+    assert p.stdout.split("rc=1")[1].split() == ["in.png", "mine.txt", MARKER], p.stdout
+    assert "input view/in.png is inside the output folder out, which the job replaces" in p.stderr, p.stderr
+
+
+@pytest.mark.skipif(os.geteuid() != 0 or not shutil.which("setpriv"),
+                    reason="needs root and setpriv to run the swapper as another user")
+@pytest.mark.parametrize("command", FOLDER_JOBS)
+def test_a_swapped_temporary_folder_never_redirects_a_write(cli, files, command):
+    # Before the fix (c67a930) 10 of 10 runs wrote tiles into the root-only folder
+    # (scripts/folder-race.sh); now the writes go to the folder made, by its handle.
+    hits, swapped = folder_race(cli, files["png"], command, runs=25, seconds=5)
+    assert hits == 0 and swapped > 0, (hits, swapped)  # the swapper did act, and redirected nothing
+
+
+def test_a_worker_refuses_a_staged_folder_swapped_after_begin(files, tmp_path):
+    # The staged handle carries the folder's device and inode: a folder swapped in at its path is
+    # refused by every task and by finish, and the one made is left to abandon.
+    job = pp._tiles.job_of(files["png"], tmp_path / "out", viewer="pannellum", src=None, tile=512, levels=None,
+                           cube_size=None, format="jpg", quality=95, preview=None, script_url=None, overwrite=False)
+    options = {}
+    staged, work = pp._core.tiles_begin(job, options, 1 << 24)
+    moved = staged[0] + ".moved"
+    os.rename(staged[0], moved)
+    os.mkdir(staged[0])
+    with pytest.raises(OSError, match="is not the one the job made"):
+        pp._core.tiles_render(job, options, staged, [work[0]])
+    with pytest.raises(FileNotFoundError, match="is not beside"):
+        pp._core.tiles_finish(job, options, staged, [0, 0])
+    assert os.listdir(staged[0]) == [] and not (tmp_path / "out").exists()
+    os.rmdir(staged[0])
+    os.rename(moved, staged[0])
+    pp._core.tiles_abandon(staged)
+    assert listing(tmp_path) == []
+
+
+@pytest.mark.parametrize("command", FOLDER_JOBS)
+def test_a_killed_runs_temporaries_are_removed_by_the_next_run(cli, tmp_path, command):
+    # SIGKILL leaves the temporary folder (nothing can clean up); the next run into the same folder
+    # removes it, since its process is gone, and says so. One of a live process is kept, and one
+    # of the naming before (no process in the name) is left alone.
+    big = tmp_path / "big.jpg"
+    pp.write(str(big), smooth_equirect(4096, 2048))
+    args = ["--cube-size", "4096"] if command == "tiles" else ["--size", "3000x3000"]
+    p = subprocess.Popen([os.path.abspath(cli), command, str(big), "out", "--threads", "1"] + args, cwd=tmp_path,
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 20
+    while time.time() < deadline and not any(n.startswith(".panoproj-") for n in os.listdir(tmp_path)):
+        time.sleep(0.02)
+    time.sleep(0.2)
+    p.kill()
+    assert p.wait() == -9
+    big.unlink()
+    left = [n for n in listing(tmp_path) if n.startswith(".panoproj-")]
+    assert len(left) == 1, listing(tmp_path)
+    with open(f"/proc/{os.getpid()}/stat") as f:
+        started = f.read().rsplit(")", 1)[1].split()[19]
+    live = f".panoproj-{os.getpid()}-{started}-0123456789abcdef.tmp"
+    (tmp_path / live).mkdir()
+    (tmp_path / ".panoproj-0123456789abcdef.tmp").mkdir()
+    shutil.copy(pathlib.Path(__file__).resolve().parents[2] / "samples" / "images" / "mars_spirit_1024x512_rgba.png",
+                tmp_path / "in.png")
+    r = run(cli, [command, "in.png", "out2", "-q"], tmp_path)
+    assert r.code == 0, r.err
+    assert f"removed {left[0]}, a temporary left by a run that ended without cleaning up" in r.err, r.err
+    assert listing(tmp_path) == sorted([".panoproj-0123456789abcdef.tmp", live, "in.png", "out2"])
+
+
+@pytest.mark.parametrize("command", FOLDER_JOBS)
+def test_a_full_disk_names_the_output_file_not_the_temporary(cli, files, tmp_path, command):
+    _old_folder(tmp_path)
+    r = run(cli, [command, files["big"], "out", "--overwrite", "--format", "png"], tmp_path, fsize=3000)
+    line = expect_refused(r, "cannot write out/", "File too large")
+    assert ".panoproj-" not in line, line
+    _assert_old_folder(tmp_path)
+
+
+@pytest.mark.parametrize("x_max", ["89.9999995", "89.99999999999", "89.99999999999999"])
+def test_transverse_mercator_to_its_last_degree_is_not_black(tmp_path, x_max):
+    # sin(x_max) rounded to 1 made the frame's half-width atanh(1) = inf: an all-black map.
+    src = smooth_equirect(256, 128)
+    tm = pp.convert(src, "equirect", f"transverse-mercator:x_max={x_max}", size=(512, 256))
+    # aspect=keep: the map (about 12:1 to 23:1) fills the width, a band of the height (was: none).
+    assert (tm.max(axis=2) > 0).mean() > 0.15
+    back = pp.convert(tm, f"transverse-mercator:x_max={x_max}", "equirect", size=(256, 128))
+    rows = slice(16, 112)  # away from the poles, where the map's pixels grow without bound
+    assert np.abs(back[rows].astype(float) - src[rows]).mean() < 8
+
+
+def test_tiles_take_a_partial_rgba_panorama(cli, tmp_path):
+    # The bundled 210-degree RGBA fisheye (was: "channels: 5"), and an RGBA partial equirect.
+    samples = pathlib.Path(__file__).resolve().parents[2] / "samples" / "images"
+    for src, args in ((samples / "stellarium_trees_fisheye210_512.png", ["--from", "fisheye:fov=210", "--pitch", "-90"]),
+                      (samples / "mars_spirit_1024x512_rgba.png", ["--from", "equirect:hfov=200,vfov=100"])):
+        out = tmp_path / src.stem
+        r = run(cli, ["tiles", src, out, "-q"] + args, tmp_path)
+        assert r.code == 0, r.err
+        tiles = list((out / "1").iterdir())
+        assert tiles and all(pp.read(str(t)).shape[2] == 3 for t in tiles)
+
+
+def _python_code(code, timeout=60, env=None):
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout,
+                          env=dict(os.environ, **(env or {})))
+
+
+def test_a_broadcast_array_is_counted_before_it_is_copied():
+    # 65536 x 131072 x 3 of stride 0: its C-order copy (25.7 GB) was made whole, uncounted, and a
+    # failed allocation crashed the interpreter. Now MemoryError before the copy.
+    p = _python_code("import numpy as np, panoproj as pp\n"
+                "a = np.broadcast_to(np.uint8(7), (65536, 131072, 3))\n"
+                "try:\n    pp.convert(a, 'equirect', 'fisheye', size=(64, 64))\n"
+                "except MemoryError as e:\n    print('MemoryError', e)\n")
+    assert p.returncode == 0, p.stderr
+    assert "MemoryError a C-order copy of the 131072x65536 array (it is strided or broadcast) needs 26 GB" in p.stdout, \
+        p.stdout
+    # One that fits is copied and converted as a contiguous one is.
+    small = np.broadcast_to(np.arange(64, dtype=np.uint8)[None, :, None], (32, 64, 3))
+    assert np.array_equal(pp.convert(small, "equirect", "fisheye", size=(16, 16)),
+                          pp.convert(np.ascontiguousarray(small), "equirect", "fisheye", size=(16, 16)))
+
+
+@pytest.mark.parametrize("call", ["tiles", "views", "convert"])
+def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
+    big = tmp_path / "big.jpg"
+    pp.write(str(big), smooth_equirect(4096, 2048))
+    frames = [str(big)]
+    for k in range(3):  # views: several frames (distinct names)
+        frames.append(str(tmp_path / f"frame{k}.jpg"))
+        os.link(big, frames[-1])
+    out = tmp_path / "out"
+    body = {"tiles": f"pp.tiles({str(big)!r}, {str(out)!r}, cube_size=4096, threads=1)",
+            "views": f"pp.views(frames, {str(out)!r}, size=(3000, 3000), threads=1)",
+            "convert": "pp.convert(a, 'equirect', 'fisheye', size=(12000, 12000), threads=1)"}[call]
+    code = ("import os, sys, time, numpy as np, panoproj as pp\n"
+            f"a = pp.read({str(big)!r})\n"
+            f"frames = {frames!r}\n"
+            "print('start', flush=True)\n"
+            "t0 = time.perf_counter()\n"
+            f"try:\n    {body}\n    print('finished')\n"
+            "except KeyboardInterrupt:\n    print('interrupted after', time.perf_counter() - t0)\n")
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "start"
+    time.sleep(1.0)
+    sent = time.perf_counter()
+    p.send_signal(signal.SIGINT)
+    out_text, err = p.communicate(timeout=60)
+    assert "interrupted" in out_text, out_text + err
+    assert time.perf_counter() - sent < 3, "Ctrl-C took effect late"
+    assert sorted(os.listdir(tmp_path)) == sorted(pathlib.Path(f).name for f in frames)  # nothing written, no temporary
+
+
+def test_a_job_over_the_address_space_limit_is_refused_at_once(cli, files, tmp_path):
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (2 << 30, resource.RLIM_INFINITY))
+    t0 = time.perf_counter()
+    p = subprocess.run([os.path.abspath(cli), "convert", files["jpg"], "o.png", "--to", "equirect",
+                        "--size", "60000x30000"], cwd=tmp_path, capture_output=True, text=True, preexec_fn=limit)
+    assert time.perf_counter() - t0 < 1
+    assert p.returncode == 1 and "what the address-space limit (ulimit -v) leaves" in p.stderr, p.stderr
+    assert listing(tmp_path) == []
+
+
+def _child_cgroup(limit):
+    """A new memory cgroup (v2, else v1) under this process's with `limit` bytes, or None."""
+    for line in pathlib.Path("/proc/self/cgroup").read_text().splitlines():
+        _, controllers, path = line.split(":", 2)
+        if controllers == "":
+            base, files = pathlib.Path("/sys/fs/cgroup" + path), ("memory.max",)
+        elif "memory" in controllers.split(","):
+            base, files = pathlib.Path("/sys/fs/cgroup/memory" + path), ("memory.limit_in_bytes",)
+        else:
+            continue
+        child = base / f"panoproj-test-{os.getpid()}"
+        try:
+            child.mkdir()
+            (child / files[0]).write_text(str(limit))
+            return child
+        except OSError:
+            if child.exists():
+                child.rmdir()
+    return None
+
+
+def test_a_job_over_the_cgroups_limit_is_refused_at_once(cli, files, tmp_path):
+    group = _child_cgroup(500_000_000)
+    if group is None:
+        pytest.skip("no memory cgroup can be made here")
+    try:
+        t0 = time.perf_counter()
+        p = subprocess.run(["sh", "-c", f"echo $$ > {group}/cgroup.procs && exec {os.path.abspath(cli)} convert "
+                                        f"{files['jpg']} o.png --to equirect --size 20000x10000"],
+                           cwd=tmp_path, capture_output=True, text=True)
+        assert time.perf_counter() - t0 < 1
+        assert p.returncode == 1 and "what the process's cgroup still allows" in p.stderr, p.stderr
+        assert listing(tmp_path) == []
+    finally:
+        group.rmdir()
+
+
+def _rle_hdr(path, width, height):
+    """A Radiance HDR of run-length rows (each row one colour, a gradient down the frame): about
+    1 kB a row on disk, 12 bytes a pixel decoded."""
+    with open(path, "wb") as f:
+        f.write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (height, width))
+        runs = [127] * (width // 127) + ([width % 127] if width % 127 else [])
+        for y in range(height):
+            v = 0.25 + 0.5 * y / height  # mantissa in [64, 192) with exponent 128 + 0: v = m / 256
+            rgbe = (int(v * 256), int(v * 128), int(v * 64), 128)
+            row = bytearray(b"\x02\x02" + struct.pack(">H", width))
+            for c in rgbe:
+                for n in runs:
+                    row += bytes((128 + n, c))
+            f.write(row)
+
+
+def test_a_large_rle_hdr_is_read_in_bands_at_a_small_views_scale(cli, tmp_path):
+    # 16384 x 8192 (1.6 GB as floats) in 8.7 MB: a 64x64 view decodes it at 1/8 in bands of 8 rows.
+    src = tmp_path / "big.hdr"
+    _rle_hdr(src, 16384, 8192)
+    assert src.stat().st_size < 10_000_000
+    r = run(cli, ["convert", src, "v.exr", "--to", "equirect", "--size", "64x32", "-v"], tmp_path, timeout=120)
+    assert r.code == 0, r.err
+    assert "at 1/8 scale" in r.out, r.out
+    assert r.rss < 200 << 20, f"peak memory {r.rss >> 20} MB"
+    v = pp.read(str(tmp_path / "v.exr"))
+    want = 0.25 + 0.5 * (np.arange(32) + 0.5) / 32  # each output row's mean source row
+    assert np.abs(v[:, :, 0].mean(axis=1) - want).max() < 0.01

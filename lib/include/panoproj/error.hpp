@@ -2,6 +2,7 @@
 // The exception the library throws at its edges (spec parsing, factories, I/O) for what the user
 // gave: one line, "what: value (expected ...)". Kernels never throw. A broken invariant (a bug,
 // not a user's mistake) throws InternalError instead.
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -36,6 +37,11 @@ std::string option_text(std::string_view cli_option);
 // An option with a text value: "--interp nearest", or "interp='nearest'" in Python.
 std::string option_text(std::string_view cli_option, std::string_view value);
 void use_python_option_names();
+
+// Something the user should know that is not an error (a stale temporary removed): "panoproj:
+// <text>" on stderr, or given to the handler set (the command's, whose stderr is held during a job).
+void notice(const std::string& text);
+void set_notice_handler(std::function<void(const std::string&)> handler);
 
 // A library's message as one line of at most 240 characters (newlines folded, the rest cut).
 std::string one_line(std::string text);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdio>
+#include <mutex>
 #include <utility>
 
 namespace panoproj {
@@ -37,6 +39,25 @@ std::string one_line(std::string s) {
   while (!s.empty() && s.back() == ' ') s.pop_back();
   if (s.size() > kMost) s = s.substr(0, kMost - 3) + "...";
   return s;
+}
+
+}  // namespace panoproj
+
+namespace panoproj {
+namespace {
+std::mutex notice_mutex;
+std::function<void(const std::string&)> notice_handler;
+}  // namespace
+
+void notice(const std::string& text) {
+  std::lock_guard lock(notice_mutex);
+  if (notice_handler) notice_handler(text);
+  else std::fprintf(stderr, "panoproj: %s\n", text.c_str());
+}
+
+void set_notice_handler(std::function<void(const std::string&)> handler) {
+  std::lock_guard lock(notice_mutex);
+  notice_handler = std::move(handler);
 }
 
 }  // namespace panoproj

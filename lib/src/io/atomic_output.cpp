@@ -34,11 +34,14 @@ struct Slot {
   int dir;                    // the folder holding both names (kept open while the slot is live)
   char temp[256];
   char restore_to[256];  // "" : remove temp; else rename temp back to this name
-  bool tree;             // temp is a folder: removed with all it holds
+  bool tree;             // temp is a folder: removed with all it holds, if still this one:
+  dev_t device;          // its device and inode (0: not checked)
+  ino_t inode;
 };
 std::array<Slot, 64> slots;
 
-int claim(int dir, const std::string& temp, const std::string& restore_to = {}, bool tree = false) {
+int claim(int dir, const std::string& temp, const std::string& restore_to = {}, bool tree = false,
+          const StagedFolder* identity = nullptr) {
   if (temp.size() >= sizeof slots[0].temp || restore_to.size() >= sizeof slots[0].restore_to) return -1;
   for (size_t i = 0; i < slots.size(); ++i) {
     int expected = 0;
@@ -47,6 +50,8 @@ int claim(int dir, const std::string& temp, const std::string& restore_to = {}, 
     std::memcpy(slots[i].temp, temp.c_str(), temp.size() + 1);
     std::memcpy(slots[i].restore_to, restore_to.c_str(), restore_to.size() + 1);
     slots[i].tree = tree;
+    slots[i].device = identity ? static_cast<dev_t>(identity->device) : 0;
+    slots[i].inode = identity ? static_cast<ino_t>(identity->inode) : 0;
     slots[i].state = 2;
     return static_cast<int>(i);
   }
@@ -93,11 +98,20 @@ bool remove_tree_at(int dir, const char* name, int depth) {
   return ::unlinkat(dir, name, AT_REMOVEDIR) == 0;
 }
 
+// Whether `name` in `dir` is the folder of this identity (async-signal-safe).
+bool is_folder(int dir, const char* name, dev_t device, ino_t inode) {
+  struct stat st {};
+  return ::fstatat(dir, name, &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISDIR(st.st_mode) && st.st_dev == device &&
+         st.st_ino == inode;
+}
+
 extern "C" void cleanup_and_reraise(int sig) {
   for (Slot& s : slots) {
     if (s.state.load() != 2) continue;
     if (s.restore_to[0]) (void)::renameat(s.dir, s.temp, s.dir, s.restore_to);
-    else if (s.tree) (void)remove_tree_at(s.dir, s.temp, 0);
+    else if (s.tree) {
+      if (s.inode == 0 || is_folder(s.dir, s.temp, s.device, s.inode)) (void)remove_tree_at(s.dir, s.temp, 0);
+    }
     else (void)::unlinkat(s.dir, s.temp, 0);
   }
   std::signal(sig, SIG_DFL);
@@ -110,7 +124,8 @@ std::string reason(int err) { return std::strerror(err); }
   throw Error("cannot write " + path + ": " + why + " (" + reason(err) + ")", ErrorKind::File);
 }
 
-// A process's start time in clock ticks after boot (/proc/<pid>/stat field 22); 0 if it is gone.
+// A process's start time in clock ticks after boot (/proc/<pid>/stat field 22); 0 if it is gone
+// (or a zombie).
 unsigned long long start_time(long pid) {
   char path[64];
   std::snprintf(path, sizeof path, "/proc/%ld/stat", pid);
@@ -122,9 +137,10 @@ unsigned long long start_time(long pid) {
   buf[n] = 0;
   const char* p = std::strrchr(buf, ')');  // the command name may hold spaces and parentheses
   unsigned long long t = 0;
-  if (p && std::sscanf(p + 2, "%*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %*u %*u %*d %*d %*d %*d %*d %*d %llu", &t) != 1)
+  char state = 0;
+  if (!p || std::sscanf(p + 2, "%c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %*u %*u %*d %*d %*d %*d %*d %*d %llu", &state, &t) != 2)
     return 0;
-  return t;
+  return state == 'Z' || state == 'X' ? 0 : t;  // a zombie is gone, only not yet reaped
 }
 
 // ".panoproj-<pid>-<start time>-<16 hex>.tmp".
@@ -169,8 +185,8 @@ void remove_stale(int dir, const std::string& shown) {
   ::closedir(d);
   for (const std::string& name : stale)
     if (remove_tree_at(dir, name.c_str(), 0))
-      std::fprintf(stderr, "panoproj: removed %s, a temporary left by a run that ended without cleaning up\n",
-                   (fs::path(shown) / name).c_str());
+      notice("removed " + (shown == "." ? name : (fs::path(shown) / name).string()) +
+             ", a temporary left by a run that ended without cleaning up");
 }
 
 // Writes the pieces to fd one after the other, every write checked (EINTR retried); on failure
@@ -265,8 +281,12 @@ bool same_file(const std::string& a, const std::string& b) {
     const bool same = fs::equivalent(a, b, ea);
     if (!ea) return same;
   }
-  const fs::path ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
-  if (ea || eb) return fs::absolute(a).lexically_normal() == fs::absolute(b).lexically_normal();
+  // Absolute first: weakly_canonical leaves a relative path none of whose parts exists relative
+  // ("r.txt"), but makes "./r.txt" absolute.
+  const fs::path aa = fs::absolute(a, ea), ab = fs::absolute(b, eb);
+  if (ea || eb) return false;
+  const fs::path ca = fs::weakly_canonical(aa, ea), cb = fs::weakly_canonical(ab, eb);
+  if (ea || eb) return aa.lexically_normal() == ab.lexically_normal();
   return ca == cb;
 }
 
@@ -562,15 +582,17 @@ OutputFolder::OutputFolder(std::string path, bool overwrite, const std::vector<s
       else if (errno != EEXIST) fail(path_, "cannot create a folder beside it", errno);
     }
     if (staged_name_.empty()) fail(path_, "no free temporary name", EEXIST);
-    slot_ = claim(parent_, staged_name_, {}, true);
     struct stat st {};
     if (::fstatat(parent_, staged_name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) fail(path_, "looking at its temporary folder", errno);
     staged_ = {(fs::path(folder_of(path_)) / staged_name_).string(), static_cast<uint64_t>(st.st_dev),
                static_cast<uint64_t>(st.st_ino)};
+    slot_ = claim(parent_, staged_name_, {}, true, &staged_);
     writer_ = std::make_unique<FolderWriter>(staged_, path_);
   } catch (...) {
-    if (!staged_name_.empty()) (void)remove_tree_at(parent_, staged_name_.c_str(), 0);
     release(slot_);
+    if (!staged_name_.empty() && staged_.inode != 0 &&
+        is_folder(parent_, staged_name_.c_str(), static_cast<dev_t>(staged_.device), static_cast<ino_t>(staged_.inode)))
+      (void)remove_tree_at(parent_, staged_name_.c_str(), 0);
     ::close(parent_);
     throw;
   }
@@ -589,7 +611,7 @@ OutputFolder::OutputFolder(std::string path, bool overwrite, const StagedFolder&
                     " as the job made it (moved, replaced or removed meanwhile: was the job interrupted?)",
                 ErrorKind::Missing);
   }
-  slot_ = claim(parent_, staged_name_, {}, true);
+  slot_ = claim(parent_, staged_name_, {}, true, &staged_);
   try {
     writer_ = std::make_unique<FolderWriter>(staged_, path_);
   } catch (...) {
@@ -601,8 +623,10 @@ OutputFolder::OutputFolder(std::string path, bool overwrite, const StagedFolder&
 
 OutputFolder::~OutputFolder() {
   writer_.reset();
-  if (!done_) (void)remove_tree_at(parent_, staged_name_.c_str(), 0);
   release(slot_);
+  // Only the folder it made: one swapped in at its name (by whoever can write beside it) is left.
+  if (!done_ && is_folder(parent_, staged_name_.c_str(), static_cast<dev_t>(staged_.device), static_cast<ino_t>(staged_.inode)))
+    (void)remove_tree_at(parent_, staged_name_.c_str(), 0);
   ::close(parent_);
 }
 
@@ -617,9 +641,8 @@ void OutputFolder::remove_staged(const StagedFolder& staged) {
   if (dir < 0) return;
   Closer closer{dir};
   const std::string name = name_of(staged.path);
-  struct stat st {};
-  if (name.rfind(".panoproj-", 0) == 0 && ::fstatat(dir, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 &&
-      st.st_dev == staged.device && st.st_ino == staged.inode)
+  if (name.rfind(".panoproj-", 0) == 0 &&
+      is_folder(dir, name.c_str(), static_cast<dev_t>(staged.device), static_cast<ino_t>(staged.inode)))
     (void)remove_tree_at(dir, name.c_str(), 0);
 }
 

@@ -69,11 +69,23 @@ class OiioDecoder final : public Decoder {
     header_.alpha_channel = s.alpha_channel >= 0 && s.alpha_channel < s.nchannels ? s.alpha_channel : -1;
     header_.sample_bits = s.get_int_attribute("oiio:BitsPerSample", static_cast<int>(s.format.size() * 8));
     header_.compression = s.get_string_attribute("compression");
+    banded_ = file.format == "hdr" && s.tile_width == 0 && s.x == 0 && s.y == 0 && s.depth <= 1 &&
+              header_.type == PixelType::F32;
+  }
+
+  // Radiance HDR (run-length rows: none read without those above it) decodes at 1/2, 1/4 and 1/8
+  // too: each pixel the mean of its scale x scale block (fewer at the frame's right and bottom
+  // edges), rows read in bands of `scale`, so a small view of a large file never holds it whole.
+  Size scaled_size(int scale) const override {
+    if (scale == 1) return header_.size;
+    if (!banded_ || (scale != 2 && scale != 4 && scale != 8)) return {};
+    return {(header_.size.width + scale - 1) / scale, (header_.size.height + scale - 1) / scale};
   }
 
   // Tiled files: the tiles `need` touches; scanline files: whole rows (TIFF and EXR strips read
   // directly); a frame with an offset or depth: all of it.
-  PixelRect window(PixelRect need, int) const override {
+  PixelRect window(PixelRect need, int scale) const override {
+    if (scale > 1) return {0, need.y0, scaled_size(scale).width, need.y1};
     const OIIO::ImageSpec& s = in_->spec();
     const int64_t w = s.width, h = s.height;
     if (s.x != 0 || s.y != 0 || s.depth > 1) return {0, 0, w, h};
@@ -85,7 +97,8 @@ class OiioDecoder final : public Decoder {
     return {0, need.y0, w, need.y1};
   }
 
-  void read_into(PixelRect r, int, Image& win, const RowsArrived& arrived) override {
+  void read_into(PixelRect r, int scale, Image& win, const RowsArrived& arrived) override {
+    if (scale > 1) return read_banded(r, scale, win, arrived);
     const OIIO::ImageSpec& s = in_->spec();
     const auto px = static_cast<OIIO::stride_t>(win.pixel_bytes()), row = static_cast<OIIO::stride_t>(win.row_bytes());
     bool ok;
@@ -106,8 +119,33 @@ class OiioDecoder final : public Decoder {
   const OIIO::ImageSpec& spec() const { return in_->spec(); }
 
  private:
+  void read_banded(PixelRect r, int scale, Image& win, const RowsArrived& arrived) {
+    const int64_t w = header_.size.width, h = header_.size.height, c = header_.channels;
+    std::vector<float> band(static_cast<size_t>(scale * w * c));
+    for (int64_t oy = r.y0; oy < r.y1; ++oy) {
+      const int64_t y0 = oy * scale, y1 = std::min(h, y0 + scale);
+      if (!in_->read_scanlines(0, 0, static_cast<int>(y0), static_cast<int>(y1), 0, 0, static_cast<int>(c),
+                               OIIO::TypeDesc::FLOAT, band.data()) ||
+          in_->has_error())
+        throw_damaged(path_, in_->geterror());
+      auto* out = reinterpret_cast<float*>(win.row(oy - r.y0));
+      for (int64_t ox = 0; ox < r.x1; ++ox) {
+        const int64_t x0 = ox * scale, x1 = std::min(w, x0 + scale);
+        const double n = static_cast<double>((x1 - x0) * (y1 - y0));
+        for (int64_t k = 0; k < c; ++k) {
+          double sum = 0;
+          for (int64_t y = 0; y < y1 - y0; ++y)
+            for (int64_t x = x0; x < x1; ++x) sum += band[static_cast<size_t>((y * w + x) * c + k)];
+          out[ox * c + k] = static_cast<float>(sum / n);
+        }
+      }
+      if (arrived) arrived(oy - r.y0 + 1);
+    }
+  }
+
   std::string path_;
   std::unique_ptr<OIIO::ImageInput> in_;
+  bool banded_ = false;
 };
 
 // Element i of an array of basetype `base` as a number; known false for other types.
