@@ -242,6 +242,37 @@ TEST_F(Io, TiledFilesDecodeOnlyTheTilesTheRegionTouches) {
   EXPECT_THROW(read_image_region(path("t.tif"), 0, 200, 512, 256), Error);
 }
 
+// Radiance HDR decodes at 1/2, 1/4 and 1/8 as the mean of each block (fewer pixels at the right
+// and bottom edges), rows read in bands: the region's rows of the scaled frame, every column.
+TEST_F(Io, HdrDecodesAtAScaleAsTheMeanOfEachBlock) {
+  Image src({101, 37}, 3, PixelType::F32);
+  for (int64_t y = 0; y < 37; ++y)
+    for (int64_t x = 0; x < 101; ++x)
+      for (int c = 0; c < 3; ++c) test::set(src, x, y, c, std::pow(2.0, std::sin(0.3 * x + 0.7 * y + c)));
+  write_image(src, path("s.hdr"), {});
+  const Image full = read_image(path("s.hdr"));  // as stored (RGBE)
+  EXPECT_TRUE(read_image_info(path("s.hdr")).scalable);
+  for (int scale : {2, 4, 8}) {
+    const int64_t w = (101 + scale - 1) / scale, h = (37 + scale - 1) / scale;
+    const Image win = read_image_region(path("s.hdr"), 1, 1, 2, h - 1, 0, 0, scale);
+    ASSERT_EQ(win.width(), w) << scale;
+    ASSERT_EQ(win.origin_y(), 1) << scale;
+    ASSERT_EQ(win.height(), h - 2) << scale;
+    double worst = 0;
+    for (int64_t y = 1; y < h - 1; ++y)
+      for (int64_t x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) {
+          double sum = 0;
+          int n = 0;
+          for (int64_t j = y * scale; j < std::min<int64_t>(37, (y + 1) * scale); ++j)
+            for (int64_t i = x * scale; i < std::min<int64_t>(101, (x + 1) * scale); ++i, ++n) sum += test::get(full, i, j, c);
+          const auto* px = reinterpret_cast<const float*>(win.at(x, y));
+          worst = std::max(worst, std::fabs(px[c] - sum / n) / (sum / n));
+        }
+    EXPECT_LT(worst, 1e-6) << "scale " << scale;
+  }
+}
+
 TEST_F(Io, CubeFacesRoundTripAndMustMatch) {
   Image strip = pattern({6 * 16, 16}, 3, PixelType::U8, -1);
   write_cube_faces(strip, path("f{index}_{face}.png"), {});

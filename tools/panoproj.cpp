@@ -269,8 +269,9 @@ int main(int argc, char** argv) {
                        "engines to sweep: simd (float geometry where within 1/1024 px), reference (exact double, "
                        "no antialiasing); default both");
   accuracy->add_option("--decode-scale", acc_decode,
-                       "sources to sweep: memory (default: the rendered source as is), or the source as a JPEG "
-                       "(quality 95, 4:2:0) decoded at 1, 2, 4, 8 (1/N scale, inside the timing), e.g. memory,1,4");
+                       "sources to sweep: memory (default: the rendered source as is), or the source as a file "
+                       "decoded at 1, 2, 4, 8 (1/N scale, inside the timing), e.g. memory,1,4: a JPEG (quality 95, "
+                       "4:2:0) for --type uint8, a Radiance HDR for --type float");
   accuracy->add_option("--runs", sweep.runs, "timed runs per option, median reported (default 5)");
   accuracy->add_option("--truth-supersample", sweep.truth_supersample,
                        "rays per axis of each truth pixel (default 8: its area average)");

@@ -107,32 +107,37 @@ std::vector<SweepOption> sweep_options(const std::vector<Interp>& interps, const
   return v;
 }
 
-std::string decode_name(int decode_scale) {
-  return decode_scale == 0 ? "memory" : decode_scale == 1 ? "jpeg" : "jpeg 1/" + std::to_string(decode_scale);
+std::string decode_name(int decode_scale, PixelType type) {
+  const std::string file = type == PixelType::F32 ? "hdr" : "jpeg";
+  return decode_scale == 0 ? "memory" : decode_scale == 1 ? file : file + " 1/" + std::to_string(decode_scale);
 }
 
 namespace {
 
-// The rendered source as a JPEG file in a fresh temporary folder, removed with it.
-class JpegSource {
+// The rendered source as a file (uint8: JPEG, float: Radiance HDR) in a fresh temporary folder,
+// removed with it.
+class EncodedSource {
  public:
-  explicit JpegSource(const Image& source) {
-    if (source.type() != PixelType::U8)
-      throw Error("accuracy: decode scales need a uint8 source (--type uint8): JPEG holds 8-bit samples");
+  explicit EncodedSource(const Image& source)
+      : extension_(source.type() == PixelType::F32 ? ".hdr" : ".jpg") {
+    if (source.type() != PixelType::U8 && source.type() != PixelType::F32)
+      throw Error("accuracy: decode scales need a uint8 source (a JPEG) or a float one (a Radiance HDR): give "
+                  "--type uint8 or float");
     std::string dir = (std::filesystem::temp_directory_path() / "panoproj-accuracy-XXXXXX").string();
     if (!::mkdtemp(dir.data())) throw Error("accuracy: cannot make a temporary folder: " + std::string(std::strerror(errno)), ErrorKind::File);
     dir_ = dir;
     write_image(source, path(), {});
   }
-  ~JpegSource() {
+  ~EncodedSource() {
     std::error_code ec;
     std::filesystem::remove_all(dir_, ec);
   }
-  JpegSource(const JpegSource&) = delete;
-  JpegSource& operator=(const JpegSource&) = delete;
-  std::string path() const { return (dir_ / "source.jpg").string(); }
+  EncodedSource(const EncodedSource&) = delete;
+  EncodedSource& operator=(const EncodedSource&) = delete;
+  std::string path() const { return (dir_ / ("source" + extension_)).string(); }
 
  private:
+  std::string extension_;
   std::filesystem::path dir_;
 };
 
@@ -144,10 +149,10 @@ std::vector<SweepResult> run_sweep(const Projection& sp, const Projection& dp, c
   const Image source = render_scene(setup.scene, sp, setup.type, setup.source_supersample, setup.threads);
   const Image truth = render_scene(setup.scene, dp, setup.type, setup.truth_supersample, setup.threads);
   const std::vector<uint8_t> mask = compared_pixels(sp, dp, rotation);
-  std::unique_ptr<JpegSource> jpeg;
+  std::unique_ptr<EncodedSource> file;
   const Size size = size_of(sp);
   for (const SweepOption& o : options) {
-    if (o.decode_scale > 0 && !jpeg) jpeg = std::make_unique<JpegSource>(source);
+    if (o.decode_scale > 0 && !file) file = std::make_unique<EncodedSource>(source);
     if (o.decode_scale > 1 && (size.width % o.decode_scale != 0 || size.height % o.decode_scale != 0))
       throw Error("accuracy: decode scale " + std::to_string(o.decode_scale) + " needs the source's sides (" +
                   size_text(size) + ") to be multiples of it");
@@ -161,12 +166,12 @@ std::vector<SweepResult> run_sweep(const Projection& sp, const Projection& dp, c
     for (int r = 0; r < setup.runs; ++r) {
       const auto t0 = std::chrono::steady_clock::now();
       const Converter c(from, dp, rotation, o.interp, o.engine, setup.threads, Keep::Nothing, o.antialias);
-      if (o.decode_scale > 0) c.run(read_image_region(jpeg->path(), 0, 0, INT64_MAX, INT64_MAX, 0, 0, s), out);
+      if (o.decode_scale > 0) c.run(read_image_region(file->path(), 0, 0, INT64_MAX, INT64_MAX, 0, 0, s), out);
       else c.run(source, out);
       ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-    results.push_back({o, ms[ms.size() / 2], compare_images(out, truth, mask)});
+    results.push_back({o, decode_name(o.decode_scale, setup.type), ms[ms.size() / 2], compare_images(out, truth, mask)});
   }
   return results;
 }
@@ -205,7 +210,7 @@ std::string sweep_table(const std::vector<SweepResult>& results) {
   for (size_t i = 0; i < results.size(); ++i) {
     const SweepResult& r = results[i];
     const bool best = std::find(front.begin(), front.end(), i) != front.end();
-    t += format("| %s | %s | %s | %s | %.2f | %.2f | %.4f | %.4f | %s |\n", decode_name(r.option.decode_scale).c_str(),
+    t += format("| %s | %s | %s | %s | %.2f | %.2f | %.4f | %.4f | %s |\n", r.source.c_str(),
                 name_of(r.option.interp),
                 name_of(r.option.antialias).c_str(), name_of(r.option.engine), r.median_ms, r.error.psnr, r.error.max_abs,
                 r.error.ssim, best ? "yes" : "");
@@ -218,7 +223,7 @@ std::string sweep_csv(const std::vector<SweepResult>& results) {
   std::string t = "source,kernel,antialias,engine,median_ms,psnr_db,rmse,max_abs,ssim,pixels,pareto\n";
   for (size_t i = 0; i < results.size(); ++i) {
     const SweepResult& r = results[i];
-    t += format("%s,%s,%s,%s,%.4f,%.4f,%.6g,%.6g,%.6f,%lld,%d\n", decode_name(r.option.decode_scale).c_str(),
+    t += format("%s,%s,%s,%s,%.4f,%.4f,%.6g,%.6g,%.6f,%lld,%d\n", r.source.c_str(),
                 name_of(r.option.interp), name_of(r.option.antialias).c_str(),
                 name_of(r.option.engine), r.median_ms, r.error.psnr, r.error.rmse, r.error.max_abs, r.error.ssim,
                 static_cast<long long>(r.error.pixels), std::find(front.begin(), front.end(), i) != front.end() ? 1 : 0);
@@ -236,7 +241,7 @@ std::string sweep_json(const std::vector<SweepResult>& results, const std::strin
     t += format("    {\"source\": \"%s\", \"kernel\": \"%s\", \"antialias\": \"%s\", \"engine\": \"%s\", \"median_ms\": %.4f, "
                 "\"psnr_db\": %.4f, \"rmse\": %.6g, \"max_abs\": %.6g, \"ssim\": %.6f, \"pixels\": %lld, "
                 "\"pareto\": %s}%s\n",
-                decode_name(r.option.decode_scale).c_str(), name_of(r.option.interp), name_of(r.option.antialias).c_str(),
+                r.source.c_str(), name_of(r.option.interp), name_of(r.option.antialias).c_str(),
                 name_of(r.option.engine), r.median_ms, r.error.psnr, r.error.rmse, r.error.max_abs, r.error.ssim,
                 static_cast<long long>(r.error.pixels), std::find(front.begin(), front.end(), i) != front.end() ? "true" : "false",
                 i + 1 < results.size() ? "," : "");

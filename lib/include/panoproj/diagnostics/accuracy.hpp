@@ -43,13 +43,15 @@ struct SweepOption {
   Interp interp;
   Antialias antialias;
   Engine engine;  // simd: float geometry where within 1/1024 px; reference: exact double
-  // 0: the rendered source as it is; 1, 2, 4, 8: the source written as a JPEG (quality 95,
-  // 4:2:0, uint8) and decoded at 1/decode_scale (DCT scaling) inside the timing, the geometry
-  // rescaled to that frame, as `convert --decode-scale` does.
+  // 0: the rendered source as it is; 1, 2, 4, 8: the source written as a file and decoded at
+  // 1/decode_scale inside the timing, the geometry rescaled to that frame, as `convert
+  // --decode-scale` does: uint8 as a JPEG (quality 95, 4:2:0; DCT scaling), float as a Radiance
+  // HDR (block means, rows read in bands).
   int decode_scale = 0;
 };
 struct SweepResult {
   SweepOption option;
+  std::string source;  // decode_name of its decode scale and the setup's type
   double median_ms = 0;
   ErrorStats error;
 };
@@ -65,8 +67,8 @@ std::vector<SweepOption> sweep_options(const std::vector<Interp>& interps = {Int
                                                                                   {Antialias::Mode::Supersample, 4}},
                                        const std::vector<Engine>& engines = {Engine::Simd, Engine::Reference},
                                        const std::vector<int>& decode_scales = {0});
-// "memory" (0), "jpeg" (1), "jpeg 1/4" ...
-std::string decode_name(int decode_scale);
+// "memory" (0), "jpeg" (1), "jpeg 1/4", "hdr 1/8" ... (the file: JPEG for uint8, HDR for float)
+std::string decode_name(int decode_scale, PixelType type);
 std::vector<SweepResult> run_sweep(const Projection& source, const Projection& target, const Eigen::Matrix3d& rotation,
                                    const SweepSetup& setup, const std::vector<SweepOption>& options);
 // The results as a Markdown table (Pareto-optimal rows marked), CSV and JSON (with `about`, a
