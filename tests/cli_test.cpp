@@ -311,6 +311,11 @@ TEST_F(Cli, BatchIsCheckedBeforeAnythingIsWritten) {
   write_image(Image({64, 32}, 3, PixelType::U8), p("sub/a.png"), {});
   expect_refused("convert " + p("a.png") + " " + p("sub/a.png") + " '" + p("{stem}_o.png") + "' --to equirect",
                  "would be written twice");
+  // Two texts, one file.
+  mkdir(p("sub0").c_str(), 0755);
+  mkdir(p("sub1").c_str(), 0755);
+  expect_refused("convert " + p("a.png") + " " + p("sub/a.png") + " '" + p("sub{n}/../o.png") + "' --to equirect",
+                 "would be written twice");
 }
 
 TEST_F(Cli, AViewReadsOnlyTheSourceRowsItNeeds) {
@@ -442,30 +447,33 @@ TEST_F(Cli, AccuracyReportsErrorAgainstTime) {
   expect_refused(base + "--type keep", "type: keep");
 }
 
-TEST_F(Cli, AccuracyWeighsScaledJpegDecodes) {
-  // The chart shrunk 8 times (mip levels): the source as a JPEG (quality 95) decoded whole, or
-  // at 1/4 (which the view allows: still twice the detail the output holds), within a dB of the
-  // source in memory.
+// The chart shrunk 8 times (mip levels): the source as a file decoded whole, or at 1/4 (which the
+// view allows: still twice the detail the output holds), within a dB of the source in memory: a
+// JPEG (quality 95) for uint8, a Radiance HDR (block means) for float.
+TEST_F(Cli, AccuracyWeighsScaledDecodes) {
   const std::string base = "accuracy --from-size 1024x512 --to equirect --size 128x64 --runs 1 --threads 2 "
                            "--interp bilinear --antialias mip --engine simd --truth-supersample 6 ";
-  const CliRun r = run(base + "--decode-scale memory,1,4 --csv " + p("d.csv"));
-  ASSERT_EQ(r.code, 0) << r.err;
-  std::ifstream csv(p("d.csv"));
-  std::map<std::string, double> psnr;
-  std::string line;
-  std::getline(csv, line);  // the header
-  while (std::getline(csv, line)) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
-    psnr[f[0]] = std::stod(f[5]);
+  for (const std::string file : {"jpeg", "hdr"}) {
+    const std::string type = file == "jpeg" ? "uint8" : "float";
+    const CliRun r = run(base + "--type " + type + " --decode-scale memory,1,4 --csv " + p(file + ".csv"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::ifstream csv(p(file + ".csv"));
+    std::map<std::string, double> psnr;
+    std::string line;
+    std::getline(csv, line);  // the header
+    while (std::getline(csv, line)) {
+      std::vector<std::string> f;
+      std::stringstream ss(line);
+      for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+      psnr[f[0]] = std::stod(f[5]);
+    }
+    ASSERT_EQ(psnr.size(), 3u) << r.out;
+    EXPECT_NEAR(psnr[file], psnr["memory"], 1.0) << r.out;
+    EXPECT_NEAR(psnr[file + " 1/4"], psnr[file], 1.0) << r.out;
+    EXPECT_NE(r.out.find("| " + file + " 1/4 | bilinear | mip | simd |"), std::string::npos) << r.out;
   }
-  ASSERT_EQ(psnr.size(), 3u) << r.out;
-  EXPECT_NEAR(psnr["jpeg"], psnr["memory"], 1.0) << r.out;
-  EXPECT_NEAR(psnr["jpeg 1/4"], psnr["jpeg"], 1.0) << r.out;
-  EXPECT_NE(r.out.find("| jpeg 1/4 | bilinear | mip | simd |"), std::string::npos) << r.out;
   expect_refused(base + "--decode-scale 3", "--decode-scale: 3 (expected memory, 1, 2, 4 or 8");
-  expect_refused(base + "--decode-scale 4 --type float", "need a uint8 source");
+  expect_refused(base + "--decode-scale 4 --type uint16", "need a uint8 source (a JPEG) or a float one");
   expect_refused("accuracy --from-size 500x250 --to fisheye --size 32x32 --runs 1 --decode-scale 4",
                  "needs the source's sides (500x250) to be multiples of it");
 }

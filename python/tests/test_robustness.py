@@ -527,8 +527,9 @@ def test_temporaries_are_created_exclusively_under_unpredictable_names(cli, file
         opens = [l for l in r.trace.splitlines() if ".panoproj-" in l and "O_CREAT" in l]
         assert len(opens) == 1, opens
         assert "O_EXCL" in opens[0] and "O_NOFOLLOW" in opens[0], opens[0]
-        # .panoproj-<pid>-<start time>-<16 hex>.tmp: the process (for stale ones) and a random part.
-        names.append(re.search(r"\.panoproj-[0-9]+-[0-9]+-([0-9a-f]{16})\.tmp", opens[0]).group(1))
+        # .panoproj-<pid space>-<pid>-<start time>-<16 hex>.tmp: the process (for stale ones) and a
+        # random part.
+        names.append(re.search(r"\.panoproj-[0-9a-f]{8}-[0-9]+-[0-9]+-([0-9a-f]{16})\.tmp", opens[0]).group(1))
     assert names[0] != names[1]
 
 
@@ -1418,17 +1419,19 @@ def test_a_killed_runs_temporaries_are_removed_by_the_next_run(cli, tmp_path, co
     big.unlink()
     left = [n for n in listing(tmp_path) if n.startswith(".panoproj-")]
     assert len(left) == 1, listing(tmp_path)
+    space = left[0].split("-")[1]  # this boot's and pid namespace's
     with open(f"/proc/{os.getpid()}/stat") as f:
         started = f.read().rsplit(")", 1)[1].split()[19]
-    live = f".panoproj-{os.getpid()}-{started}-0123456789abcdef.tmp"
-    (tmp_path / live).mkdir()
-    (tmp_path / ".panoproj-0123456789abcdef.tmp").mkdir()
+    live = f".panoproj-{space}-{os.getpid()}-{started}-0123456789abcdef.tmp"
+    other = ".panoproj-%08x-999999999-1-0123456789abcdef.tmp" % (int(space, 16) ^ 1)  # another machine's
+    for name in (live, other, ".panoproj-0123456789abcdef.tmp"):
+        (tmp_path / name).mkdir()
     shutil.copy(pathlib.Path(__file__).resolve().parents[2] / "samples" / "images" / "mars_spirit_1024x512_rgba.png",
                 tmp_path / "in.png")
     r = run(cli, [command, "in.png", "out2", "-q"], tmp_path)
     assert r.code == 0, r.err
     assert f"removed {left[0]}, a temporary left by a run that ended without cleaning up" in r.err, r.err
-    assert listing(tmp_path) == sorted([".panoproj-0123456789abcdef.tmp", live, "in.png", "out2"])
+    assert listing(tmp_path) == sorted([".panoproj-0123456789abcdef.tmp", live, other, "in.png", "out2"])
 
 
 @pytest.mark.parametrize("command", FOLDER_JOBS)

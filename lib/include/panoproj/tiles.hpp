@@ -18,12 +18,14 @@
 //   marzipano: OUT/tiles/<z>/<face>/<row>/<col>.<ext>, z = 1 .. N over sizes tile * 2^k (its
 //     viewer throws unless each size is a multiple of its tile size and of its parent's); z = 0 is
 //     the preview level, OUT/tiles/preview.<ext>, six faces stacked in Marzipano's order bdflru.
-//   Both: OUT/index.html opening the result with the viewer's script (script_url).
+//   Both: OUT/index.html opening the result with the viewer's script (script_url), and
+//   OUT/panoproj-output.json, the marker of a folder panoproj made.
 // Partial panoramas: tiles without any source pixel are not written (the viewer is limited to the
 // source's yaw and pitch range), the others flattened over black at the field's (soft) edge.
 //
 // The output folder lands whole: everything is written into a temporary folder beside it, synced
-// once and renamed into place (an existing one replaced only with overwrite).
+// once and renamed into place (an existing one replaced only with overwrite, and only one
+// panoproj made: its panoproj-output.json at the root; io/atomic_output.hpp).
 #include <array>
 #include <functional>
 #include <optional>

@@ -36,6 +36,8 @@
 //                                       put at the origin, levelled the same: the rig is known,
 //                                       the frames' poses are what SfM solves
 //   sparse/0/points3D.txt               empty
+//   panoproj-output.json                the marker of a folder panoproj made (overwrite replaces
+//                                       only such a folder)
 //   rig_config.json                     layout folders: COLMAP's rig_configurator input (each
 //                                       view's image_prefix "{view}/", cam_from_rig, PINHOLE
 //                                       intrinsics), for SfM from a feature database

@@ -143,15 +143,33 @@ unsigned long long start_time(long pid) {
   return state == 'Z' || state == 'X' ? 0 : t;  // a zombie is gone, only not yet reaped
 }
 
-// ".panoproj-<pid>-<start time>-<16 hex>.tmp".
+// Which process ids this process can look up: FNV-1a of the boot's id and the pid namespace. A
+// temporary of another machine (a shared folder) or container is never judged by our /proc.
+unsigned pid_space() {
+  std::string text;
+  char buf[128];
+  if (FILE* f = std::fopen("/proc/sys/kernel/random/boot_id", "re")) {
+    text.append(buf, std::fread(buf, 1, sizeof buf, f));
+    std::fclose(f);
+  }
+  const ssize_t n = ::readlink("/proc/self/ns/pid", buf, sizeof buf);
+  if (n > 0) text.append(buf, static_cast<size_t>(n));
+  uint32_t h = 2166136261u;
+  for (const char c : text) h = (h ^ static_cast<unsigned char>(c)) * 16777619u;
+  return h;
+}
+
+// ".panoproj-<pid space>-<pid>-<start time>-<16 hex>.tmp".
 std::string temp_name() {
   static const long pid = ::getpid();
   static const unsigned long long started = start_time(pid);
+  static const unsigned space = pid_space();
   uint64_t r = 0;
   if (::getrandom(&r, sizeof r, 0) != static_cast<ssize_t>(sizeof r))
     r = static_cast<uint64_t>(pid) * 0x9E3779B97F4A7C15ull ^ reinterpret_cast<uintptr_t>(&r);
-  char name[96];
-  std::snprintf(name, sizeof name, ".panoproj-%ld-%llu-%016llx.tmp", pid, started, static_cast<unsigned long long>(r));
+  char name[112];
+  std::snprintf(name, sizeof name, ".panoproj-%08x-%ld-%llu-%016llx.tmp", space, pid, started,
+                static_cast<unsigned long long>(r));
   return name;
 }
 
@@ -172,13 +190,15 @@ void remove_stale(int dir, const std::string& shown) {
     ::close(fd);
     return;
   }
+  static const unsigned ours = pid_space();
   std::vector<std::string> stale;
   while (const dirent* e = ::readdir(d)) {
+    unsigned space = 0;
     long pid = 0;
     unsigned long long started = 0, r = 0;
     int end = 0;
-    if (std::sscanf(e->d_name, ".panoproj-%ld-%llu-%16llx.tmp%n", &pid, &started, &r, &end) != 3 ||
-        e->d_name[end] != 0 || pid <= 0)
+    if (std::sscanf(e->d_name, ".panoproj-%8x-%ld-%llu-%16llx.tmp%n", &space, &pid, &started, &r, &end) != 4 ||
+        e->d_name[end] != 0 || pid <= 0 || space != ours)
       continue;
     if (start_time(pid) != started) stale.push_back(e->d_name);
   }

@@ -3,11 +3,12 @@
 // relative to that handle (openat, mkdirat, renameat2 with O_NOFOLLOW at every component), so a
 // path component swapped meanwhile cannot redirect a write.
 //
-// Temporaries are named ".panoproj-<pid>-<start time>-<16 hex>.tmp" (the process that made them
-// and its start time in clock ticks after boot, /proc/<pid>/stat field 22): one whose process is
-// gone is stale, and the next output into the same folder removes it and says so on stderr; one
-// whose process is alive is never touched. (Temporaries of versions before this naming carry no
-// process and are left alone.)
+// Temporaries are named ".panoproj-<space>-<pid>-<start time>-<16 hex>.tmp": the process that
+// made them, its start time in clock ticks after boot (/proc/<pid>/stat field 22), and a hash of
+// the boot and pid namespace its pid belongs to. One of this boot and namespace whose process is
+// gone is stale: the next output into the same folder removes it and says so (notice); one whose
+// process is alive, or of another machine or container (a shared folder), is never touched, nor
+// one of the versions before this naming.
 //
 // Removal never enters a mount point (statx's STATX_ATTR_MOUNT_ROOT: bind mounts of the same file
 // system included).

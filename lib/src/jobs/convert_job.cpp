@@ -5,6 +5,7 @@
 #include <functional>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -140,10 +141,13 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     for (const auto& f : expand(o, out_faces ? &out_order : nullptr)) all_outputs.push_back(f);
   for (const auto& i : job.inputs)
     for (const auto& f : expand(i, in_faces ? &in_order : nullptr)) all_inputs.push_back(f);
+  // Outputs against each other by their resolved paths (x.png and ./x.png are one file).
+  std::set<fs::path> resolved;
   for (size_t a = 0; a < all_outputs.size(); ++a) {
-    for (size_t b = 0; b < a; ++b)
-      if (all_outputs[a] == all_outputs[b])
-        throw Error("output " + all_outputs[a] + " would be written twice (make the pattern unique per input)");
+    std::error_code ec;
+    const fs::path key = fs::weakly_canonical(fs::absolute(all_outputs[a]), ec);
+    if (!resolved.insert(ec ? fs::absolute(all_outputs[a]).lexically_normal() : key).second)
+      throw Error("output " + all_outputs[a] + " would be written twice (make the pattern unique per input)");
     for (const auto& i : all_inputs)
       if (same_file(all_outputs[a], i))
         throw Error("output " + all_outputs[a] + " is the input (choose another output path)");
