@@ -309,8 +309,15 @@ PARAMS = [
      "--csv and --json both name ./r.txt (give each output its own file)", True),
     # Degenerate default sizes (were 256x1, 1x1 ...): refused, naming the spec.
     ("default_size_under_8", ["--to", "equirect:vfov=0.01"], "equirect:vfov=0.01 at the source's resolution would be "
-     "256x1 (under 8 px a side", True),
+     "256x1 (under 8 px a side: its field spans fewer than 8 of the source's pixels); give --size WxH, or vfov >= ", True),
     ("default_size_1x1", ["--to", "pinhole:hfov=0.01"], "would be 1x1 (under 8 px a side", True),
+    # A source or target whose valid region is empty or under a pixel across (was: an empty image).
+    ("source_circle_under_a_pixel", ["--from", "fisheye:fov=180,radius=0.6", "--to", "equirect"],
+     "from: fisheye:fov=180,radius=0.6 on a 256x128 frame has no pixel that sees a direction", True),
+    ("source_circle_off_the_frame", ["--from", "fisheye:fov=180,cx=-200", "--to", "equirect"],
+     "(its valid region is empty or under a pixel across)", True),
+    ("target_circle_off_the_frame", ["--to", "fisheye:fov=180,cx=5000", "--size", "64x64"],
+     "to: fisheye:fov=180,cx=5000 on a 64x64 frame has no pixel that sees a direction", True),
     ("maps_size", ["maps", "m.exr", "--from", "equirect", "--source-size", "64x32", "--to", "fisheye",
                    "--size", "4294967296x4294967296"], "4294967296x4294967296", True),
     ("maps_convention", ["maps", "m.exr", "--from", "equirect", "--source-size", "64x32", "--to", "fisheye",

@@ -38,6 +38,8 @@ struct ProjectionDef {
 };
 
 const std::vector<ProjectionDef>& projection_catalog();
+// A key's range as messages give it: "0 < fov <= 360", "one of a|b".
+std::string range_text(const ParamDef& p);
 const ProjectionDef& projection_def(Kind kind, std::string_view name);
 
 class ProjectionSpec {

@@ -2,6 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <array>
+#include <map>
+#include <set>
+#include <vector>
 #include <sstream>
 
 #include "panoproj/error.hpp"
@@ -60,22 +65,101 @@ namespace {
 // The smallest side of a default output size; below it the field is refused, not rendered.
 constexpr int64_t kMinDefaultSide = 8;
 
-// Throws unless some pixel of p has a direction: pixel centres on a grid of up to 256 x 256 (every
-// pixel of a smaller frame) and the frame's centre.
+// The values of the spec's given numeric keys that, each changed alone, give a default size of at
+// least kMinDefaultSide a side: "vfov >= 0.32 (0 < vfov < 180)", or "" when none does. Along each
+// key, doubling (or halving) steps from its value to the first size that fits, then bisection.
+std::string usable_values(const ProjectionSpec& spec, double density) {
+  const auto fits = [&](const ParamDef& key, double v) {
+    std::map<std::string, std::string> values;
+    for (const ParamDef& p : spec.def().params) {
+      if (!spec.given(p.key)) continue;
+      char text[40];
+      std::snprintf(text, sizeof text, "%.17g", p.key == key.key ? v : spec.number(p.key).value_or(0));
+      values[p.key] = p.type == ParamType::Number ? text : spec.choice(p.key);
+    }
+    try {
+      const Size s = default_size(ProjectionSpec(spec.def(), values), density);
+      return s.width >= kMinDefaultSide && s.height >= kMinDefaultSide;
+    } catch (const Error&) {
+      return false;
+    }
+  };
+  std::string hints;
+  for (const ParamDef& p : spec.def().params) {
+    if (p.type != ParamType::Number || !spec.given(p.key)) continue;
+    const double v = *spec.number(p.key);
+    for (const double step : {2.0, 0.5}) {
+      const double end = step > 1 ? (p.hi_open ? std::nextafter(p.hi, p.lo) : p.hi) : (p.lo_open ? std::nextafter(p.lo, p.hi) : p.lo);
+      if (v == 0 || !std::isfinite(end) || (step > 1 ? end <= v : end >= v)) continue;
+      double bad = v, good = NAN;
+      for (int k = 0; k < 64 && std::isnan(good); ++k) {
+        const double next = step > 1 ? std::min(bad * step, end) : std::max(bad * step, end);
+        if (fits(p, next)) good = next;
+        else if (next == end) break;
+        else bad = next;
+      }
+      if (std::isnan(good)) continue;
+      for (int k = 0; k < 48; ++k) {
+        const double mid = 0.5 * (bad + good);
+        (fits(p, mid) ? good : bad) = mid;
+      }
+      char text[160];
+      std::snprintf(text, sizeof text, "%s%s %s %.3g (%s)", hints.empty() ? "" : ", or ", p.key, step > 1 ? ">=" : "<=",
+                    step > 1 ? good * (1 + 5e-4) : good * (1 - 5e-4), range_text(p).c_str());
+      hints += text;
+      break;
+    }
+  }
+  return hints;
+}
+
+// Throws unless p's pixel centres that see a direction span at least two columns and two rows (or
+// the frame's whole width or height, under two). Found on a grid of up to 256 x 256 centres; where
+// the grid finds none, or all within one grid column or row, every centre is looked at around
+// what it found and around the pixels of the 26 axis and diagonal directions.
 void require_valid_pixels(const Projection& p, const ProjectionSpec& spec, const char* role) {
   const Size s = size_of(p);
-  const int64_t nx = std::min<int64_t>(s.width, 256), ny = std::min<int64_t>(s.height, 256);
-  Ray d;
-  if (to_ray(p, 0.5 * static_cast<double>(s.width), 0.5 * static_cast<double>(s.height), d)) return;
-  for (int64_t j = 0; j < ny; ++j)
-    for (int64_t i = 0; i < nx; ++i) {
-      const double x = std::floor((static_cast<double>(i) + 0.5) * static_cast<double>(s.width) / static_cast<double>(nx)) + 0.5;
-      const double y = std::floor((static_cast<double>(j) + 0.5) * static_cast<double>(s.height) / static_cast<double>(ny)) + 0.5;
-      if (to_ray(p, x, y, d)) return;
-    }
-  throw Error(std::string(role) + ": " + spec.str() + " on a " + size_text(s) +
-              " frame has no pixel that sees a direction (its valid region is empty or under a pixel): give "
-              "parameters that show a field");
+  const int64_t nx = std::min<int64_t>(s.width, 256), ny = std::min<int64_t>(s.height, 256);  // the fine grid
+  const auto valid = [&](int64_t x, int64_t y) {
+    Ray d;
+    return to_ray(p, static_cast<double>(x) + 0.5, static_cast<double>(y) + 0.5, d);
+  };
+  const int64_t need_x = std::min<int64_t>(2, s.width), need_y = std::min<int64_t>(2, s.height);
+  std::vector<std::array<int64_t, 2>> found;
+  // A 16 x 16 grid first, then the fine one: a usual field is settled in a few dozen rays.
+  for (const int64_t n : {int64_t{16}, int64_t{256}}) {
+    const int64_t mx = std::min(s.width, n), my = std::min(s.height, n);
+    std::set<int64_t> gx, gy;
+    found.clear();
+    for (int64_t j = 0; j < my; ++j)
+      for (int64_t i = 0; i < mx; ++i) {
+        const int64_t x = (2 * i + 1) * s.width / (2 * mx), y = (2 * j + 1) * s.height / (2 * my);
+        if (!valid(x, y)) continue;
+        if (found.size() < 4) found.push_back({x, y});
+        gx.insert(x), gy.insert(y);
+        if (static_cast<int64_t>(gx.size()) >= need_x && static_cast<int64_t>(gy.size()) >= need_y) return;
+      }
+    if (!found.empty()) break;
+  }
+  for (int a = -1; a <= 1; ++a)
+    for (int b = -1; b <= 1; ++b)
+      for (int c = -1; c <= 1; ++c) {
+        double x, y;
+        if ((a || b || c) && to_pixel(p, Ray(a, b, c).normalized(), x, y) && found.size() < 32)
+          found.push_back({static_cast<int64_t>(std::floor(x)), static_cast<int64_t>(std::floor(y))});
+      }
+  std::set<int64_t> columns, rows;
+  const int64_t rx = s.width / nx + 1, ry = s.height / ny + 1;
+  for (const auto& [cx, cy] : found)
+    for (int64_t y = std::max<int64_t>(0, cy - ry); y <= std::min(s.height - 1, cy + ry); ++y)
+      for (int64_t x = std::max<int64_t>(0, cx - rx); x <= std::min(s.width - 1, cx + rx); ++x)
+        if (valid(x, y)) columns.insert(x), rows.insert(y);
+  if (static_cast<int64_t>(columns.size()) >= need_x && static_cast<int64_t>(rows.size()) >= need_y) return;
+  throw Error(std::string(role) + ": " + spec.str() + " on a " + size_text(s) + " frame " +
+              (columns.empty() ? std::string("has no pixel that sees a direction")
+                               : "sees directions from " + std::to_string(columns.size()) + " column(s) and " +
+                                     std::to_string(rows.size()) + " row(s) of pixels only") +
+              " (its valid region is empty or under a pixel across): give parameters that show a field");
 }
 
 }  // namespace
@@ -93,6 +177,7 @@ ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, c
   check_threads(o.threads);
   const Stereo stereo = stereo_of(from, to);
   Projection source = make_projection(from, stereo_eye(source_size, stereo.source, "the source"));
+  require_valid_pixels(source, from, "from");
   Size size;
   if (o.size) {
     size = *o.size;
@@ -101,14 +186,15 @@ ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, c
     size = stereo_eye(size, stereo.target, "size");
   } else {
     size = default_size(to, center_density(source));
-    if (size.width < kMinDefaultSide || size.height < kMinDefaultSide)
+    if (size.width < kMinDefaultSide || size.height < kMinDefaultSide) {
+      const std::string wider = usable_values(to, center_density(source));
       throw Error("to: " + to.str() + " at the source's resolution would be " + size_text(size) + " (under " +
                   std::to_string(kMinDefaultSide) + " px a side: its field spans fewer than " +
                   std::to_string(kMinDefaultSide) + " of the source's pixels); give " + option_text("size") +
-                  " WxH, or a wider field");
+                  " WxH, or " + (wider.empty() ? "a wider field" : wider));
+    }
   }
   Projection target = make_projection(to, size);
-  require_valid_pixels(source, from, "from");
   require_valid_pixels(target, to, "to");
   // Absurd sizes stop here, before any per-tile work: the output alone, at one byte a pixel.
   const Size frame = stereo_frame(size_of(target), stereo.target);

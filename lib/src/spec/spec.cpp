@@ -64,17 +64,6 @@ std::string list_names() {
   return s;
 }
 
-std::string range_text(const ParamDef& p) {
-  std::ostringstream o;
-  if (p.type == ParamType::Choice) return std::string("one of ") + p.choices;
-  if (p.type == ParamType::Text) return "text";
-  if (std::isfinite(p.lo)) o << p.lo << (p.lo_open ? " < " : " <= ");
-  o << p.key;
-  if (std::isfinite(p.hi)) o << (p.hi_open ? " < " : " <= ") << p.hi;
-  if (!std::isfinite(p.lo) && !std::isfinite(p.hi)) o << " finite";
-  return o.str();
-}
-
 // Checks one value against its definition; returns the canonical text.
 std::string validate(const ProjectionDef& d, const ParamDef& p, const std::string& text) {
   const std::string where = std::string(d.name) + ": " + p.key + "=" + text;
@@ -105,6 +94,17 @@ std::string validate(const ProjectionDef& d, const ParamDef& p, const std::strin
 }
 
 }  // namespace
+
+std::string range_text(const ParamDef& p) {
+  std::ostringstream o;
+  if (p.type == ParamType::Choice) return std::string("one of ") + p.choices;
+  if (p.type == ParamType::Text) return "text";
+  if (std::isfinite(p.lo)) o << p.lo << (p.lo_open ? " < " : " <= ");
+  o << p.key;
+  if (std::isfinite(p.hi)) o << (p.hi_open ? " < " : " <= ") << p.hi;
+  if (!std::isfinite(p.lo) && !std::isfinite(p.hi)) o << " finite";
+  return o.str();
+}
 
 const std::vector<ProjectionDef>& projection_catalog() {
   static const std::vector<ProjectionDef> catalog = [] {
