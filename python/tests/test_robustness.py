@@ -1575,6 +1575,25 @@ def test_a_job_over_the_cgroups_limit_is_refused_at_once(cli, files, tmp_path):
         group.rmdir()
 
 
+def test_a_cgroups_file_cache_is_not_taken_for_used_memory(cli, files, tmp_path):
+    # 500 MB written inside a 600 MB cgroup: its file cache, reclaimable, is charged to the cgroup.
+    # A job needing about 200 MB then runs (the budget was the limit less all usage, cache included:
+    # 100 MB, and the job was refused).
+    group = _child_cgroup(600_000_000)
+    if group is None:
+        pytest.skip("no memory cgroup can be made here")
+    try:
+        p = subprocess.run(["sh", "-c", f"echo $$ > {group}/cgroup.procs && "
+                                        "dd if=/dev/zero of=cache bs=1M count=500 status=none && "
+                                        f"exec {os.path.abspath(cli)} convert {files['jpg']} o.ppm --to equirect "
+                                        "--size 8000x4000 -q"],
+                           cwd=tmp_path, capture_output=True, text=True, timeout=120)
+        assert p.returncode == 0, p.stderr
+        assert (tmp_path / "o.ppm").stat().st_size > 8000 * 4000 * 3
+    finally:
+        group.rmdir()
+
+
 def _rle_hdr(path, width, height):
     """A Radiance HDR of run-length rows (each row one colour, a gradient down the frame): about
     1 kB a row on disk, 12 bytes a pixel decoded."""

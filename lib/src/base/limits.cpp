@@ -38,9 +38,20 @@ std::optional<uint64_t> number_in(const std::string& path) {
   return std::strtoull(word.c_str(), nullptr, 10);
 }
 
+// A key's number in a cgroup's memory.stat ("inactive_file 1234"), or 0.
+uint64_t stat_in(const std::string& path, const std::string& key) {
+  std::ifstream f(path);
+  std::string k;
+  uint64_t v = 0;
+  while (f >> k >> v)
+    if (k == key) return v;
+  return 0;
+}
+
 // What a cgroup still lets this process allocate: the least, over its cgroup and the ones above
-// it, of limit - usage (v2: memory.max, memory.current; v1: the memory controller's
-// limit_in_bytes, usage_in_bytes). UINT64_MAX when none limits it.
+// it, of limit - working set (v2: memory.max, memory.current; v1: the memory controller's
+// limit_in_bytes, usage_in_bytes), the working set being usage less the inactive file cache,
+// which the kernel reclaims first (as the kubelet counts it). UINT64_MAX when none limits it.
 uint64_t cgroup_room() {
   std::ifstream cgroups("/proc/self/cgroup");
   uint64_t room = UINT64_MAX;
@@ -61,8 +72,12 @@ uint64_t cgroup_room() {
     for (int depth = 0; depth < 64; ++depth) {
       const std::string dir = base + (path == "/" ? "" : path);
       const auto max = number_in(dir + (v2 ? "/memory.max" : "/memory.limit_in_bytes"));
-      const auto used = number_in(dir + (v2 ? "/memory.current" : "/memory.usage_in_bytes"));
-      if (max && *max < (uint64_t{1} << 62)) room = std::min(room, *max > used.value_or(0) ? *max - used.value_or(0) : 0);
+      if (max && *max < (uint64_t{1} << 62)) {
+        const uint64_t usage = number_in(dir + (v2 ? "/memory.current" : "/memory.usage_in_bytes")).value_or(0);
+        const uint64_t cache = stat_in(dir + "/memory.stat", v2 ? "inactive_file" : "total_inactive_file");
+        const uint64_t used = usage > cache ? usage - cache : 0;
+        room = std::min(room, *max > used ? *max - used : 0);
+      }
       if (path.empty() || path == "/") break;
       path = path.substr(0, path.rfind('/'));
       if (path.empty()) path = "/";
