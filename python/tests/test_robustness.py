@@ -1363,6 +1363,22 @@ def test_overwrite_never_reaches_into_a_mount_inside_the_folder(cli, files, tmp_
 
 @pytest.mark.skipif(not _unshare_available(), reason="no mount namespace permitted here")
 @pytest.mark.parametrize("command", FOLDER_JOBS)
+def test_an_output_folder_that_is_a_mount_point_is_refused_before_work(cli, files, tmp_path, command):
+    # It cannot be renamed (EBUSY): refused at once, not after the work (which was then lost).
+    _old_folder(tmp_path)
+    script = (f"mount -t tmpfs tmpfs {tmp_path}/out && printf theirs > {tmp_path}/out/theirs.txt && cd {tmp_path} && "
+              f"{os.path.abspath(cli)} {command} {files['big']} out --overwrite; echo \"rc=$?\"; ls -A {tmp_path}; "
+              f"ls -A {tmp_path}/out")
+    t0 = time.perf_counter()
+    p = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True, text=True, timeout=60)
+    assert "rc=1" in p.stdout, p.stdout + p.stderr
+    assert p.stdout.split("rc=1")[1].split() == ["out", "theirs.txt"], p.stdout
+    assert "output out is a mount point, which cannot be replaced (write into a new folder inside it)" in p.stderr
+    assert time.perf_counter() - t0 < 5
+
+
+@pytest.mark.skipif(not _unshare_available(), reason="no mount namespace permitted here")
+@pytest.mark.parametrize("command", FOLDER_JOBS)
 def test_an_input_reached_through_a_bind_mount_of_the_output_is_refused(cli, files, tmp_path, command):
     # Canonical paths differ (view/in.png against out/in.png); device and inode do not.
     _old_folder(tmp_path)
