@@ -143,6 +143,9 @@ inline constexpr int64_t kMaxSide = 2147483647;
 // The source as the conversion takes it: with an opaque alpha channel added when add_alpha asks
 // for one and it has none (in storage), else source itself (not copied).
 const Image& source_for(const Image& source, const ConvertOptions& options, Image& storage);
+// The output's channels for a source of `channels`: one more (alpha, last) with add_alpha unless
+// the source has alpha already (2 or 4 channels).
+int output_channels(int channels, const ConvertOptions& options);
 
 // A conversion's geometry: both projections bound to their frames (one eye's where stereo), the
 // rotation, and the stereo frames.

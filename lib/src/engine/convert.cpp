@@ -231,10 +231,14 @@ const Image& source_for(const Image& source, const ConvertOptions& options, Imag
   return storage;
 }
 
+int output_channels(int channels, const ConvertOptions& options) {
+  return channels + (options.add_alpha && channels < 4 && channels != 2 ? 1 : 0);
+}
+
 void require_job_memory(const ConversionGeometry& geometry, int channels, PixelType type,
                         const ConvertOptions& options, uint64_t more, const std::string& more_what) {
   const Size out = geometry.target_frame();
-  const int out_channels = channels + (options.add_alpha && channels < 4 && channels != 2 ? 1 : 0);
+  const int out_channels = output_channels(channels, options);
   require_memory("output " + size_text(out) + " (" + std::to_string(out_channels) + " channels of " + name_of(type) + ")" +
                      (more > 0 ? " with " + more_what : ""),
                  add_bytes(image_bytes(out, out_channels, bytes_of(type)), more), options.memory_limit);

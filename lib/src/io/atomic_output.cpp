@@ -35,8 +35,8 @@ struct Slot {
   char temp[256];
   char restore_to[256];  // "" : remove temp; else rename temp back to this name
   bool tree;             // temp is a folder: removed with all it holds, if still this one:
-  dev_t device;          // its device and inode (0: not checked)
-  ino_t inode;
+  uint64_t device;       // its device and inode (0: not checked)
+  uint64_t inode;
 };
 std::array<Slot, 64> slots;
 
@@ -50,8 +50,8 @@ int claim(int dir, const std::string& temp, const std::string& restore_to = {}, 
     std::memcpy(slots[i].temp, temp.c_str(), temp.size() + 1);
     std::memcpy(slots[i].restore_to, restore_to.c_str(), restore_to.size() + 1);
     slots[i].tree = tree;
-    slots[i].device = identity ? static_cast<dev_t>(identity->device) : 0;
-    slots[i].inode = identity ? static_cast<ino_t>(identity->inode) : 0;
+    slots[i].device = identity ? identity->device : 0;
+    slots[i].inode = identity ? identity->inode : 0;
     slots[i].state = 2;
     return static_cast<int>(i);
   }
@@ -75,8 +75,9 @@ bool mount_root(int dir, const char* name) {
 bool dot_or_dotdot(const char* n) { return n[0] == '.' && (!n[1] || (n[1] == '.' && !n[2])); }
 
 // Removes `name` (in `dir`) and, if a folder, all it holds, with system calls only
-// (async-signal-safe), never entering a mount point. Entries are read again from the start until a
-// pass removes none. Returns whether `name` is gone.
+// (async-signal-safe), never entering a mount point (a file that is one the kernel refuses to
+// unlink: EBUSY). Entries are read again from the start until a pass removes none. Returns whether
+// `name` is gone.
 bool remove_tree_at(int dir, const char* name, int depth) {
   if (mount_root(dir, name)) return false;
   const int fd = depth > 64 ? -1 : ::openat(dir, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
@@ -91,7 +92,7 @@ bool remove_tree_at(int dir, const char* name, int depth) {
         at += d->d_reclen;
         if (dot_or_dotdot(d->d_name)) continue;
         if (d->d_type == DT_DIR || d->d_type == DT_UNKNOWN) removed |= remove_tree_at(fd, d->d_name, depth + 1);
-        else removed |= !mount_root(fd, d->d_name) && ::unlinkat(fd, d->d_name, 0) == 0;
+        else removed |= ::unlinkat(fd, d->d_name, 0) == 0;
       }
   }
   ::close(fd);
@@ -99,10 +100,27 @@ bool remove_tree_at(int dir, const char* name, int depth) {
 }
 
 // Whether `name` in `dir` is the folder of this identity (async-signal-safe).
-bool is_folder(int dir, const char* name, dev_t device, ino_t inode) {
+bool is_folder(int dir, const char* name, uint64_t device, uint64_t inode) {
   struct stat st {};
-  return ::fstatat(dir, name, &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISDIR(st.st_mode) && st.st_dev == device &&
-         st.st_ino == inode;
+  return ::fstatat(dir, name, &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISDIR(st.st_mode) &&
+         static_cast<uint64_t>(st.st_dev) == device && static_cast<uint64_t>(st.st_ino) == inode;
+}
+
+// The prefix of every temporary's name.
+constexpr std::string_view kTempPrefix = ".panoproj-";
+
+// Calls each(entry) for the entries of folder `fd` but . and .., until it returns false.
+template <class Each>
+void each_entry(int fd, Each&& each) {
+  const int dup = ::openat(fd, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  DIR* d = dup < 0 ? nullptr : ::fdopendir(dup);
+  if (!d) {
+    if (dup >= 0) ::close(dup);
+    return;
+  }
+  while (const dirent* e = ::readdir(d))
+    if (!dot_or_dotdot(e->d_name) && !each(*e)) break;
+  ::closedir(d);
 }
 
 extern "C" void cleanup_and_reraise(int sig) {
@@ -183,26 +201,18 @@ void remove_stale(int dir, const std::string& shown) {
     std::lock_guard lock(mutex);
     if (!seen.insert({st.st_dev, st.st_ino}).second) return;
   }
-  const int fd = ::openat(dir, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return;
-  DIR* d = ::fdopendir(fd);
-  if (!d) {
-    ::close(fd);
-    return;
-  }
   static const unsigned ours = pid_space();
   std::vector<std::string> stale;
-  while (const dirent* e = ::readdir(d)) {
+  each_entry(dir, [&](const dirent& e) {
     unsigned space = 0;
     long pid = 0;
     unsigned long long started = 0, r = 0;
     int end = 0;
-    if (std::sscanf(e->d_name, ".panoproj-%8x-%ld-%llu-%16llx.tmp%n", &space, &pid, &started, &r, &end) != 4 ||
-        e->d_name[end] != 0 || pid <= 0 || space != ours)
-      continue;
-    if (start_time(pid) != started) stale.push_back(e->d_name);
-  }
-  ::closedir(d);
+    if (std::sscanf(e.d_name, ".panoproj-%8x-%ld-%llu-%16llx.tmp%n", &space, &pid, &started, &r, &end) == 4 &&
+        e.d_name[end] == 0 && pid > 0 && space == ours && start_time(pid) != started)
+      stale.push_back(e.d_name);
+    return true;
+  });
   for (const std::string& name : stale)
     if (remove_tree_at(dir, name.c_str(), 0))
       notice("removed " + (shown == "." ? name : (fs::path(shown) / name).string()) +
@@ -301,13 +311,17 @@ bool same_file(const std::string& a, const std::string& b) {
     const bool same = fs::equivalent(a, b, ea);
     if (!ea) return same;
   }
+  return resolved_path(a) == resolved_path(b);
+}
+
+fs::path resolved_path(const std::string& path) {
   // Absolute first: weakly_canonical leaves a relative path none of whose parts exists relative
   // ("r.txt"), but makes "./r.txt" absolute.
-  const fs::path aa = fs::absolute(a, ea), ab = fs::absolute(b, eb);
-  if (ea || eb) return false;
-  const fs::path ca = fs::weakly_canonical(aa, ea), cb = fs::weakly_canonical(ab, eb);
-  if (ea || eb) return aa.lexically_normal() == ab.lexically_normal();
-  return ca == cb;
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(path, ec);
+  if (ec) return fs::path(path).lexically_normal();
+  const fs::path resolved = fs::weakly_canonical(absolute, ec);
+  return ec ? absolute.lexically_normal() : resolved;
 }
 
 void require_distinct_outputs(const std::vector<std::pair<std::string, std::string>>& outputs) {
@@ -486,48 +500,37 @@ bool made_by_panoproj(int fd) {
     ::close(marker);
     if (n > 0 && std::strstr(buf, "\"made_by\": \"panoproj\"")) return true;
   }
-  const int dup = ::openat(fd, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  DIR* d = dup < 0 ? nullptr : ::fdopendir(dup);
-  if (!d) {
-    if (dup >= 0) ::close(dup);
-    return false;
-  }
   std::set<std::string> names;
-  while (const dirent* e = ::readdir(d))
-    if (!dot_or_dotdot(e->d_name) && names.size() < 4096) names.insert(e->d_name);
-  ::closedir(d);
+  each_entry(fd, [&](const dirent& e) {
+    names.insert(e.d_name);
+    return names.size() < 4096;
+  });
   return names.empty() || earlier_layout(names);
 }
 
 // The first mount point inside folder `fd` (a path relative to it), or "".
 std::string mount_inside(int fd, const std::string& at, int depth) {
-  const int dup = ::openat(fd, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  DIR* d = dup < 0 ? nullptr : ::fdopendir(dup);
-  if (!d) {
-    if (dup >= 0) ::close(dup);
-    return {};
-  }
   std::string found;
-  while (const dirent* e = ::readdir(d)) {
-    if (dot_or_dotdot(e->d_name)) continue;
-    const std::string path = at.empty() ? e->d_name : at + "/" + e->d_name;
-    if (mount_root(fd, e->d_name)) {
-      found = path;
-      break;
+  each_entry(fd, [&](const dirent& e) {
+    const std::string path = at.empty() ? e.d_name : at + "/" + e.d_name;
+    if (mount_root(fd, e.d_name)) found = path;
+    else if (e.d_type == DT_DIR || e.d_type == DT_UNKNOWN) {
+      const int sub = depth > 64 ? -1 : ::openat(fd, e.d_name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+      if (sub >= 0) {
+        found = mount_inside(sub, path, depth + 1);
+        ::close(sub);
+      }
     }
-    if (e->d_type != DT_DIR && e->d_type != DT_UNKNOWN) continue;
-    const int sub = depth > 64 ? -1 : ::openat(fd, e->d_name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-    if (sub < 0) continue;
-    found = mount_inside(sub, path, depth + 1);
-    ::close(sub);
-    if (!found.empty()) break;
-  }
-  ::closedir(d);
+    return found.empty();
+  });
   return found;
 }
 
-// Throws unless the entry `name` in `parent` (the output `path`) may be replaced by the job's folder.
-void check_replaceable(int parent, const std::string& name, const std::string& path, bool overwrite) {
+// Throws unless the entry `name` in `parent` (the output `path`) may be replaced by the job's
+// folder; with scan_mounts, also if a mount point lies anywhere inside it (before the work: the
+// removal after the commit never enters one anyway, and says so).
+void check_replaceable(int parent, const std::string& name, const std::string& path, bool overwrite,
+                       bool scan_mounts) {
   struct stat st {};
   if (::fstatat(parent, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) return;
   if (!S_ISDIR(st.st_mode))
@@ -545,7 +548,7 @@ void check_replaceable(int parent, const std::string& name, const std::string& p
                     ", not a tile pyramid or view set), so " + option_text("overwrite") +
                     " does not replace it (give a new folder's name, or remove it yourself)",
                 ErrorKind::Exists);
-  const std::string mount = mount_inside(fd, "", 0);
+  const std::string mount = scan_mounts ? mount_inside(fd, "", 0) : std::string();
   if (!mount.empty())
     throw Error("output " + path + " holds a mount point, " + path + "/" + mount +
                     ", which replacing the folder would reach into (unmount it, or give a new folder's name)",
@@ -593,7 +596,7 @@ OutputFolder::OutputFolder(std::string path, bool overwrite, const std::vector<s
     : path_(std::move(path)), job_(std::move(job)), overwrite_(overwrite) {
   open_parent();
   try {
-    check_replaceable(parent_, name_, path_, overwrite_);
+    check_replaceable(parent_, name_, path_, overwrite_, true);
     require_outside(parent_, name_, path_, inputs);
     remove_stale(parent_, folder_of(path_));
     for (int attempt = 0; attempt < 8 && staged_name_.empty(); ++attempt) {
@@ -610,9 +613,7 @@ OutputFolder::OutputFolder(std::string path, bool overwrite, const std::vector<s
     writer_ = std::make_unique<FolderWriter>(staged_, path_);
   } catch (...) {
     release(slot_);
-    if (!staged_name_.empty() && staged_.inode != 0 &&
-        is_folder(parent_, staged_name_.c_str(), static_cast<dev_t>(staged_.device), static_cast<ino_t>(staged_.inode)))
-      (void)remove_tree_at(parent_, staged_name_.c_str(), 0);
+    remove_own_staged();
     ::close(parent_);
     throw;
   }
@@ -622,10 +623,7 @@ OutputFolder::OutputFolder(std::string path, bool overwrite, const StagedFolder&
     : path_(std::move(path)), job_(std::move(job)), staged_(staged), overwrite_(overwrite) {
   open_parent();
   staged_name_ = name_of(staged_.path);
-  struct stat st {};
-  if (staged_name_.rfind(".panoproj-", 0) != 0 ||
-      ::fstatat(parent_, staged_name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_dev != staged_.device ||
-      st.st_ino != staged_.inode) {
+  if (!staged_here()) {
     ::close(parent_);
     throw Error("temporary folder " + staged_.path + " is not beside " + path_ +
                     " as the job made it (moved, replaced or removed meanwhile: was the job interrupted?)",
@@ -644,10 +642,18 @@ OutputFolder::OutputFolder(std::string path, bool overwrite, const StagedFolder&
 OutputFolder::~OutputFolder() {
   writer_.reset();
   release(slot_);
-  // Only the folder it made: one swapped in at its name (by whoever can write beside it) is left.
-  if (!done_ && is_folder(parent_, staged_name_.c_str(), static_cast<dev_t>(staged_.device), static_cast<ino_t>(staged_.inode)))
-    (void)remove_tree_at(parent_, staged_name_.c_str(), 0);
+  if (!done_) remove_own_staged();
   ::close(parent_);
+}
+
+bool OutputFolder::staged_here() const {
+  return name_of(staged_.path) == staged_name_ && staged_name_.starts_with(kTempPrefix) &&
+         is_folder(parent_, staged_name_.c_str(), staged_.device, staged_.inode);
+}
+
+void OutputFolder::remove_own_staged() const {
+  // Only the folder it made: one swapped in at its name (by whoever can write beside it) is left.
+  if (!staged_name_.empty() && staged_.inode != 0 && staged_here()) (void)remove_tree_at(parent_, staged_name_.c_str(), 0);
 }
 
 void OutputFolder::keep() {
@@ -661,8 +667,7 @@ void OutputFolder::remove_staged(const StagedFolder& staged) {
   if (dir < 0) return;
   Closer closer{dir};
   const std::string name = name_of(staged.path);
-  if (name.rfind(".panoproj-", 0) == 0 &&
-      is_folder(dir, name.c_str(), static_cast<dev_t>(staged.device), static_cast<ino_t>(staged.inode)))
+  if (name.starts_with(kTempPrefix) && is_folder(dir, name.c_str(), staged.device, staged.inode))
     (void)remove_tree_at(dir, name.c_str(), 0);
 }
 
@@ -671,16 +676,15 @@ void OutputFolder::commit() {
   writer_->write(kFolderMarker, marker_text(job_));
   // One sync for every file written (each write was checked; syncfs reports a failed writeback).
   if (::syncfs(writer_->fd()) != 0) fail(path_, "syncing its files to disk", errno);
-  struct stat st {};
-  if (::fstatat(parent_, staged_name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_dev != staged_.device ||
-      st.st_ino != staged_.inode)
+  if (!staged_here())
     throw Error("cannot write " + path_ + ": its temporary folder " + staged_.path +
                     " was moved or replaced meanwhile (nothing landed)",
                 ErrorKind::File);
   std::string aside;
   int aside_slot = -1;
+  struct stat st {};
   if (::fstatat(parent_, name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0) {
-    check_replaceable(parent_, name_, path_, overwrite_);  // again: it may have changed during the work
+    check_replaceable(parent_, name_, path_, overwrite_, false);  // again: it may have changed during the work
     aside = temp_name();
     if (::renameat2(parent_, name_.c_str(), parent_, aside.c_str(), RENAME_NOREPLACE) != 0)
       fail(path_, "moving the old folder aside", errno);
@@ -690,7 +694,7 @@ void OutputFolder::commit() {
     const int err = errno;
     if (!aside.empty()) (void)::renameat(parent_, aside.c_str(), parent_, name_.c_str());
     release(aside_slot);
-    if (err == EEXIST || err == ENOTEMPTY) check_replaceable(parent_, name_, path_, false);  // made meanwhile: says so
+    if (err == EEXIST || err == ENOTEMPTY) check_replaceable(parent_, name_, path_, false, false);  // made meanwhile: says so
     fail(path_, "renaming its temporary folder into place", err);
   }
   done_ = true;

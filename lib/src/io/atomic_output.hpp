@@ -12,6 +12,7 @@
 //
 // Removal never enters a mount point (statx's STATX_ATTR_MOUNT_ROOT: bind mounts of the same file
 // system included).
+#include <filesystem>
 #include <memory>
 #include <span>
 #include <string>
@@ -108,6 +109,9 @@ class OutputFolder {
 
  private:
   void open_parent();
+  // Whether the temporary folder is still the one made, at its name beside the output.
+  bool staged_here() const;
+  void remove_own_staged() const;
   std::string path_, name_, job_;
   StagedFolder staged_;
   std::string staged_name_;
@@ -121,5 +125,8 @@ class OutputFolder {
 // The same file by device and inode, or (where either cannot be looked at) the same normalised
 // path; a path that cannot be resolved is never taken for another.
 bool same_file(const std::string& a, const std::string& b);
+// A path made absolute and resolved as far as it exists (links, "..", "."); where it cannot be
+// looked at, made absolute and normalised.
+std::filesystem::path resolved_path(const std::string& path);
 
 }  // namespace panoproj

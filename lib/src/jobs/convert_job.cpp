@@ -144,9 +144,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   // Outputs against each other by their resolved paths (x.png and ./x.png are one file).
   std::set<fs::path> resolved;
   for (size_t a = 0; a < all_outputs.size(); ++a) {
-    std::error_code ec;
-    const fs::path key = fs::weakly_canonical(fs::absolute(all_outputs[a]), ec);
-    if (!resolved.insert(ec ? fs::absolute(all_outputs[a]).lexically_normal() : key).second)
+    if (!resolved.insert(resolved_path(all_outputs[a])).second)
       throw Error("output " + all_outputs[a] + " would be written twice (make the pattern unique per input)");
     for (const auto& i : all_inputs)
       if (same_file(all_outputs[a], i))

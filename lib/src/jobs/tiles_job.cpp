@@ -110,8 +110,8 @@ void render_parts(const TilesJob& job, const Source& src, const std::vector<Part
       check_interrupt();
       Image out;
       if (seen[k]) converters[k].run(in, out);
-      else {  // as the converter makes it: the source's alpha kept (2 or 4 channels), else coverage added
-        const int channels = src.info.channels == 2 || src.info.channels == 4 ? src.info.channels : src.info.channels + 1;
+      else {  // as the converter makes it (a partial source: alpha last)
+        const int channels = output_channels(src.info.channels, o);
         out = Image(size_of(parts[members[k]].geometry.target), channels, src.info.type, channels - 1);
       }
       done(members[k], out);
