@@ -11,7 +11,7 @@ namespace panoproj {
 
 double finest_source_step(const ConversionGeometry& g, double stop_below) {
   const Size out = size_of(g.target);
-  const double wrap = SourceTaps(g.source).wraps_x() ? static_cast<double>(size_of(g.source).width) : 0.0;
+  const double wrap = SourceTaps(g.source).wrap_period();
   // Points every 16 output pixels, at most 257 per axis, the last row and column included.
   auto points = [](int64_t n) {
     const int64_t count = std::min<int64_t>(257, (n + 15) / 16 + 1);

@@ -134,7 +134,7 @@ Converter::Impl::Impl(Projection source, Projection target, const Eigen::Matrix3
       rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), keep_(keep) {
   if (antialias_.mode != Antialias::Mode::Off && engine_ == Engine::Reference)
     throw Error("antialias " + name_of(antialias_) + " needs the simd or scalar engine (or --antialias off)");
-  if (const auto* d = std::get_if<DualFisheye>(&source_)) {
+  if (const DualFisheye* d = sampling_facts(source_).dual) {
     // Each lens alone, blended (or cut) per tile; their maps are not kept (Keep keeps those
     // of source_, which the lenses do not use).
     if (d->feather() > 0 && engine_ == Engine::Reference)
@@ -188,7 +188,7 @@ void Converter::Impl::build_cache() const {
 
 PlannedTaps* Converter::Impl::planned_for(const Image& src) const {
   if (!planned_) return nullptr;
-  const SimdSource s = simd_source(src, source_);
+  const SimdSource s = simd_source(src, source_, SourceTaps(source_));
   if (!keeps_taps(s)) return nullptr;
   const std::lock_guard<std::mutex> lock(layout_mutex_);
   if (!planned_layout_) planned_layout_ = s;
@@ -210,8 +210,7 @@ Converter::Region Converter::Impl::source_footprint() const {
   }
   // A cube source is read whole, a dual fisheye's too (its blend reads both lenses, beyond either
   // one's map); a target showing the whole sphere needs no mapping to know.
-  if (std::holds_alternative<Cubemap>(source_) || std::holds_alternative<DualFisheye>(source_) || shows_whole_sphere(target_))
-    return all;
+  if (sampling_facts(source_).has_cells() || shows_whole_sphere(target_)) return all;
   // Bounding box of the valid positions: over the kept maps, the fused tiles' vector geometry
   // (reduced in registers, nothing stored), or maps made one tile at a time.
   if (keep_ != Keep::Nothing) std::call_once(cache_once_, [this] { build_cache(); });
@@ -251,11 +250,12 @@ Converter::Region Converter::Impl::source_footprint() const {
     if (antialias_.mode == Antialias::Mode::Mip) m = static_cast<int64_t>(std::exp2(std::ceil(std::log2(rho)))) * (n / 2 + 2);
     r = {r.x0 - m, r.y0 - m, r.x1 + m, r.y1 + m};
   }
-  // Where taps leave the frame, the tap rules read elsewhere: wrap (full width), pole crossing
-  // (full width, rows from the pole), clamp (the edge row or column, inside the clamp).
-  if (r.x0 < 0 || r.x1 > frame.width) r.x0 = 0, r.x1 = frame.width;
-  if (r.y0 < 0) r.y0 = 0, r.x0 = 0, r.x1 = frame.width;
-  if (r.y1 > frame.height) r.y1 = frame.height, r.x0 = 0, r.x1 = frame.width;
+  // Where taps leave the image's pixels, the tap rules read elsewhere: wrap (full width), pole
+  // crossing (full width, rows from the pole), clamp (the edge row or column, inside the clamp).
+  const SourceTaps taps(source_);
+  if (r.x0 < taps.col0() || r.x1 > taps.col1()) r.x0 = 0, r.x1 = frame.width;
+  if (r.y0 < taps.row0()) r.y0 = 0, r.x0 = 0, r.x1 = frame.width;
+  if (r.y1 > taps.row1()) r.y1 = frame.height, r.x0 = 0, r.x1 = frame.width;
   return r;
 }
 
@@ -263,7 +263,7 @@ bool Converter::Impl::streams() const {
   // Mip builds levels over the rows its tiles reach; a cube or dual fisheye's taps cross into
   // other faces or lenses (source_footprint reads them whole).
   return engine_ != Engine::Reference && antialias_.mode != Antialias::Mode::Mip &&
-         !std::holds_alternative<Cubemap>(source_) && !std::holds_alternative<DualFisheye>(source_);
+         !sampling_facts(source_).has_cells();
 }
 
 std::vector<int64_t> Converter::Impl::tiles_by_source_row() const {
@@ -388,7 +388,7 @@ void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats
   const TileSampling sampling(src, source_, lenses_, rotation_, interp_, engine_ == Engine::Simd);
   PlannedTaps* const planned = planned_for(src);
   // Where x wraps, footprints measure steps across the seam the short way.
-  const double wrap = sampling.taps().wraps_x() ? static_cast<double>(size_of(source_).width) : 0.0;
+  const double wrap = sampling.taps().wrap_period();
   const auto strategy = tile_strategy(antialias_, {sampling, source_, target_, sub_targets_, rotation_, wrap});
   // While src is read (task 0), tiles go in the order their rows come in, each once they are.
   const int64_t first = read ? 1 : 0;

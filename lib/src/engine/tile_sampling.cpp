@@ -8,13 +8,19 @@
 
 namespace panoproj {
 
-SimdSource simd_source(const Image& src, const Projection& sp) {
+SimdSource simd_source(const Image& src, const Projection& sp, const SourceTaps& taps) {
+  const SamplingFacts f = sampling_facts(sp);
   int64_t cw = 0, ch = 0;
-  const Cubemap* c = std::get_if<Cubemap>(&sp);
+  const Cubemap* c = f.cube;
   if (c && c->uniform()) cw = ch = c->face_size();
-  if (const auto* d = std::get_if<DualFisheye>(&sp)) cw = d->cell_width(), ch = d->cell_height();
-  SimdSource s{src.data(), static_cast<int64_t>(src.row_bytes()), src.channels(), src.alpha_channel(), src.type(),
-               src.origin_x(), src.origin_y(), src.origin_x() + src.width(), src.origin_y() + src.height(), cw, ch};
+  if (f.dual) cw = f.dual->cell_width(), ch = f.dual->cell_height();
+  // The pixels held that are the image's (taps beyond them are misses, for the tap rules).
+  const int64_t x0 = std::max(src.origin_x(), taps.col0()), y0 = std::max(src.origin_y(), taps.row0());
+  const int64_t x1 = std::max(x0, std::min(src.origin_x() + src.width(), taps.col1()));
+  const int64_t y1 = std::max(y0, std::min(src.origin_y() + src.height(), taps.row1()));
+  const auto row = static_cast<int64_t>(src.row_bytes());
+  const unsigned char* base = src.data() + (y0 - src.origin_y()) * row + (x0 - src.origin_x()) * static_cast<int64_t>(src.pixel_bytes());
+  SimdSource s{base, row, src.channels(), src.alpha_channel(), src.type(), x0, y0, x1, y1, cw, ch};
   if (c && !c->uniform()) s.cells_x = &c->x_axis(), s.cells_y = &c->y_axis();
   return s;
 }
@@ -26,7 +32,7 @@ std::vector<LensSource> lens_sources(const DualFisheye& d, const Eigen::Matrix3d
 TileSampling::TileSampling(const Image& src, const Projection& source, const std::vector<LensSource>& lenses,
                            const Eigen::Matrix3d& rotation, Interp interp, bool simd)
     : src_(src), source_(source), lenses_(lenses), rotation_(rotation), interp_(interp), simd_(simd), taps_(source),
-      simd_src_(simd_source(src, source)) {}
+      simd_src_(simd_source(src, source, taps_)) {}
 
 void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
                         const TileMap* tm, bool simd, TileMap& scratch, std::array<double, 4>& b) {
@@ -115,7 +121,7 @@ void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Pr
 void TileSampling::rect(const Projection& t, const TileRect& rect, const KeptTile& kept, unsigned char* out,
                         int64_t stride, TileScratch& wk, const FootprintField* fp) const {
   if (lenses_.empty()) return from(source_, rotation_, t, rect, kept, out, stride, wk, fp);
-  const int side = dual_weights(std::get<DualFisheye>(source_), t, rotation_, rect, wk.weights);
+  const int side = dual_weights(*sampling_facts(source_).dual, t, rotation_, rect, wk.weights);
   if (side >= 0) {
     const LensSource& l = lenses_[static_cast<size_t>(side)];
     return from(l.lens, l.rotation, t, rect, {}, out, stride, wk, fp);

@@ -286,8 +286,14 @@ std::vector<ProjectionCase> cases() {
   return rows;
 }
 
+SamplingFacts sampling(const Projection& p) {
+  SamplingFacts f = framed_facts(p);
+  f.cube = &std::get<Cubemap>(p);
+  return f;
+}
+
 }  // namespace
 
-const ProjectionModule kCubemapModule{catalog, check, make, size_for, rescale, cases, always};
+const ProjectionModule kCubemapModule{catalog, check, make, size_for, rescale, cases, always, sampling};
 
 }  // namespace panoproj

@@ -29,6 +29,13 @@ Projection rescale(const Projection& p, Size size, double, double) {
 }
 
 // Vertical fields from 0.01 to 179.99 degrees, partial and off-centre ones.
+// A full one wraps; its poles are at infinity, never in the frame.
+SamplingFacts sampling(const Projection& p) {
+  SamplingFacts f = framed_facts(p);
+  f.wraps_x = std::get<Cylindrical>(p).full_longitude();
+  return f;
+}
+
 std::vector<ProjectionCase> cases() {
   return {{"cylindrical", {kTinyFrame, {4096, 1400}, kPhotoFrame, kHugeFrame}},
           {"cylindrical:vfov=179.99", {kPhotoFrame}},
@@ -41,6 +48,6 @@ std::vector<ProjectionCase> cases() {
 }  // namespace
 
 const ProjectionModule kCylindricalModule{catalog, [](const ProjectionSpec& s) { check_latitude_span(s, true); }, make,
-                                          size_for, rescale, cases};
+                                          size_for, rescale, cases, nullptr, sampling};
 
 }  // namespace panoproj

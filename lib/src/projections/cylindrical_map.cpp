@@ -34,6 +34,21 @@ Size size_for(const ProjectionSpec& s, double density) { return map_size(s, map_
 
 Projection rescale(const Projection& p, Size size, double, double) { return std::get<CylindricalMap>(p).resized(size); }
 
+// The outline's box (inside a keep-aspect frame: fractional pixels) holds a whole turn; Miller and
+// the equal-area map to 90 degrees end at the pole lines, whose taps continue over the pole as an
+// equirect's (their Y is symmetric about the pole, so the mirrored row is the far side's);
+// Mercator never reaches its pole.
+SamplingFacts sampling(const Projection& p) {
+  const auto& m = std::get<CylindricalMap>(p);
+  const MapFrame& fr = m.frame();
+  SamplingFacts f;
+  f.x0 = fr.pixel_x(-kPi), f.x1 = fr.pixel_x(kPi);
+  f.y0 = fr.pixel_y(m.y_max()), f.y1 = fr.pixel_y(-m.y_max());
+  f.wraps_x = true;
+  f.north_pole = f.south_pole = m.law() != CylindricalLaw::Mercator && m.phi_max() >= kHalfPi * (1.0 - 1e-12);
+  return f;
+}
+
 // Round trips within 1e-9 px. Each law at its defaults from 1x1 to 40000 px; Mercator near its pole; Gall-Peters, a standard
 // parallel near the pole; stretched and square frames.
 std::vector<ProjectionCase> cases() {
@@ -49,6 +64,6 @@ std::vector<ProjectionCase> cases() {
 
 }  // namespace
 
-const ProjectionModule kCylindricalMapModule{catalog, nullptr, make, size_for, rescale, cases, always};
+const ProjectionModule kCylindricalMapModule{catalog, nullptr, make, size_for, rescale, cases, always, sampling};
 
 }  // namespace panoproj

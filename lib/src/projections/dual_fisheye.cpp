@@ -133,6 +133,11 @@ std::vector<ProjectionCase> cases() {
 
 }  // namespace
 
-const ProjectionModule kDualFisheyeModule{catalog, [](const ProjectionSpec& s) { lenses_of(s); }, make, size_for, rescale, cases};
+const ProjectionModule kDualFisheyeModule{catalog, [](const ProjectionSpec& s) { lenses_of(s); }, make, size_for, rescale, cases,
+                                          nullptr, [](const Projection& p) {
+                                            SamplingFacts f = framed_facts(p);
+                                            f.dual = &std::get<DualFisheye>(p);
+                                            return f;
+                                          }};
 
 }  // namespace panoproj

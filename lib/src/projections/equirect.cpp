@@ -30,6 +30,17 @@ bool whole_sphere(const Projection& p) {
   return e.reaches_north_pole() && e.reaches_south_pole();
 }
 
+// Its rows hold a whole turn each; a full one wraps, and continues over a pole its frame reaches.
+SamplingFacts sampling(const Projection& p) {
+  const auto& e = std::get<Equirect>(p);
+  SamplingFacts f = framed_facts(p);
+  f.wraps_x = e.full_longitude();
+  f.north_pole = e.reaches_north_pole();
+  f.south_pole = e.reaches_south_pole();
+  f.rows_hold_turn = true;
+  return f;
+}
+
 // 1x1 to 40000 px, fields of 0.01 degree, a field touching the pole, partial fields across the
 // seam and below the equator.
 std::vector<ProjectionCase> cases() {
@@ -44,6 +55,6 @@ std::vector<ProjectionCase> cases() {
 }  // namespace
 
 const ProjectionModule kEquirectModule{
-    catalog, [](const ProjectionSpec& s) { check_latitude_span(s, false); }, make, size_for, rescale, cases, whole_sphere};
+    catalog, [](const ProjectionSpec& s) { check_latitude_span(s, false); }, make, size_for, rescale, cases, whole_sphere, sampling};
 
 }  // namespace panoproj

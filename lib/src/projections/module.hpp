@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/sampling_facts.hpp"
 #include "panoproj/projection.hpp"
 #include "panoproj/spec.hpp"
 
@@ -41,6 +42,9 @@ struct ProjectionModule {
   // Whether it shows the whole sphere (a conversion to it reads every pixel of any source);
   // null: never.
   bool (*whole_sphere)(const Projection& p) = nullptr;
+  // What sampling needs to know of it as a source (geometry/sampling_facts.hpp); null: the frame,
+  // clamped.
+  SamplingFacts (*sampling)(const Projection& p) = nullptr;
 };
 
 // whole_sphere of the forms that always show it.

@@ -55,6 +55,18 @@ Projection rescaled(const Projection& p, Size size) {
   return module_of(p).rescaled(p, size, sx, sy);
 }
 
+SamplingFacts framed_facts(const Projection& p) {
+  const Size s = size_of(p);
+  SamplingFacts f;
+  f.x1 = static_cast<double>(s.width), f.y1 = static_cast<double>(s.height);
+  return f;
+}
+
+SamplingFacts sampling_facts(const Projection& p) {
+  const ProjectionModule& m = module_of(p);
+  return m.sampling ? m.sampling(p) : framed_facts(p);
+}
+
 bool shows_whole_sphere(const Projection& p) {
   const ProjectionModule& m = module_of(p);
   return m.whole_sphere && m.whole_sphere(p);

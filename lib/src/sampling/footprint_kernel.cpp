@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "geometry/sampling_facts.hpp"
 #include "sampling/map_steps.hpp"
 
 namespace panoproj {
@@ -43,7 +44,7 @@ namespace {
 // on an equirect (its rows all hold the full circle of longitude), else 1.
 double x_density(const Projection& source, double x, double y) {
   Ray d;
-  if (!std::holds_alternative<Equirect>(source) || !to_ray(source, x, y, d)) return 1.0;
+  if (!sampling_facts(source).rows_hold_turn || !to_ray(source, x, y, d)) return 1.0;
   return std::sqrt(std::max(0.0, 1.0 - d.y() * d.y() / d.squaredNorm()));  // latitude: asin(-y) (conventions.hpp)
 }
 

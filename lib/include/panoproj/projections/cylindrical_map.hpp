@@ -47,6 +47,7 @@ class CylindricalMap : public MapProjection<CylindricalMap> {
   CylindricalLaw law() const { return law_; }
   double phi_max() const { return phi_max_; }
   double phi_s() const { return phi_s_; }
+  double y_max() const { return y_of(phi_max_); }  // the outline's top, Y at phi_max
 
  private:
   double y_of(double phi) const {
