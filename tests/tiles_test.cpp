@@ -108,7 +108,7 @@ TEST(TileLayout, BadValuesAreRefusedNamingThem) {
       {[](TilesJob& j) { j.cube_size = 1 << 20; }, "--cube-size 1048576 is out of range"},
       {[](TilesJob& j) { j.viewer = Viewer::Marzipano, j.cube_size = 1000; }, "--cube-size 1000 is not 512 x 2^k"},
       {[](TilesJob& j) { j.viewer = Viewer::Marzipano, j.preview = 100; }, "--preview 100 does not divide"},
-      {[](TilesJob& j) { j.format = "bmp"; }, "--format bmp is not a tile format"},
+      {[](TilesJob& j) { j.format = "bmp"; }, "--format bmp is not a format web viewers show (use jpg or png)"},
       {[](TilesJob& j) { j.script_url = "x\"onload=\"alert(1)"; }, "has a character a page cannot hold"},
       {[](TilesJob& j) { j.cube_size = 65536; }, "--cube-size 65536 is over 4x the source's resolution (1303 px a face)"},
   };

@@ -18,6 +18,7 @@
 #include "panoproj/io.hpp"
 #include "panoproj/limits.hpp"
 #include "base/sample_io.hpp"
+#include "io/formats.hpp"
 
 namespace panoproj {
 
@@ -108,8 +109,9 @@ std::vector<SweepOption> sweep_options(const std::vector<Interp>& interps, const
 }
 
 std::string decode_name(int decode_scale, PixelType type) {
-  const std::string file = type == PixelType::F32 ? "hdr" : "jpeg";
-  return decode_scale == 0 ? "memory" : decode_scale == 1 ? file : file + " 1/" + std::to_string(decode_scale);
+  if (decode_scale == 0) return "memory";
+  const std::string file = scaled_format_for(type).name;
+  return decode_scale == 1 ? file : file + " 1/" + std::to_string(decode_scale);
 }
 
 namespace {
@@ -119,10 +121,7 @@ namespace {
 class EncodedSource {
  public:
   explicit EncodedSource(const Image& source)
-      : extension_(source.type() == PixelType::F32 ? ".hdr" : ".jpg") {
-    if (source.type() != PixelType::U8 && source.type() != PixelType::F32)
-      throw Error("accuracy: decode scales need a uint8 source (a JPEG) or a float one (a Radiance HDR): give "
-                  "--type uint8 or float");
+      : extension_(scaled_format_for(source.type()).extensions[0]) {
     std::string dir = (std::filesystem::temp_directory_path() / "panoproj-accuracy-XXXXXX").string();
     if (!::mkdtemp(dir.data())) throw Error("accuracy: cannot make a temporary folder: " + std::string(std::strerror(errno)), ErrorKind::File);
     dir_ = dir;

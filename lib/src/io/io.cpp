@@ -26,6 +26,7 @@
 #include "io/region_read.hpp"
 #include "io/streamed_output.hpp"
 #include "io/exif.hpp"
+#include "io/formats.hpp"
 #include "io/oiio_plugin.hpp"
 #include "base/input_check.hpp"
 #include "base/parallel.hpp"
@@ -36,37 +37,12 @@ const char* const kFaceNames[6] = {"front", "right", "back", "left", "up", "down
 const char* const kAxisNames[6] = {"px", "nx", "py", "ny", "pz", "nz"};
 
 namespace fs = std::filesystem;
-namespace {
-
-enum class OutFormat { Jpeg, Png, Pnm, Oiio };
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
-
-OutFormat out_format(const std::string& path) {
-  const std::string ext = lower_extension(path);
-  if (ext == ".jpg" || ext == ".jpeg") return OutFormat::Jpeg;
-  if (ext == ".png") return OutFormat::Png;
-  if (ext == ".ppm" || ext == ".pgm" || ext == ".pnm") return OutFormat::Pnm;
-  if (ext == ".tif" || ext == ".tiff" || ext == ".exr" || ext == ".hdr") return OutFormat::Oiio;
-  throw Error("cannot write " + path + ": no image format for its extension (use .jpg .png .ppm .pgm .tif .exr .hdr)",
-              ErrorKind::File);
-}
-
-// Largest side each format's writer takes (libjpeg's 65500; the others store 32-bit sides).
-int64_t max_side(OutFormat f) { return f == OutFormat::Jpeg ? 65500 : INT_MAX; }
-
-}  // namespace
 
 void check_writable_size(const std::string& path, Size size) {
-  const OutFormat f = out_format(path);
-  if (size.width > max_side(f) || size.height > max_side(f))
-    throw Error("cannot write " + path + ": " + size_text(size) + " pixels, over the " +
-                (f == OutFormat::Jpeg ? "JPEG" : "format") + " limit of " + std::to_string(max_side(f)) +
-                " a side (choose a smaller size or another format)");
+  const ImageFormat& f = format_of_path(path);
+  if (size.width > f.max_side || size.height > f.max_side)
+    throw Error("cannot write " + path + ": " + size_text(size) + " pixels, over the " + f.title + " limit of " +
+                std::to_string(f.max_side) + " a side (choose a smaller size or another format)");
 }
 
 ChromaSubsampling parse_subsampling(std::string_view text) {
@@ -137,24 +113,17 @@ void write_encoded(const Encoded& e, const std::string& path, bool overwrite) {
 
 Encoded encode(const Image& in, const std::string& path, const WriteOptions& options) {
   check_write_options(options);
-  const OutFormat format = out_format(path);
-  PixelType type = options.type.value_or(in.type());
-  if (format == OutFormat::Jpeg) type = PixelType::U8;
-  if ((format == OutFormat::Png || format == OutFormat::Pnm) && (type == PixelType::F16 || type == PixelType::F32))
-    type = PixelType::U16;
+  const ImageFormat& format = format_of_path(path);
+  const PixelType type = format.stored_type(options.type.value_or(in.type()));
   Image converted;
   const Image& image = type == in.type() ? in : (converted = convert_pixels(in, type));
   check_writable_size(path, image.size());
-  switch (format) {
-    case OutFormat::Jpeg: return encode_jpeg(image, path, options, blocks_for(options, image.size()));
-    case OutFormat::Png: return encode_png(image, path, options, blocks_for(options, image.size()));
-    case OutFormat::Pnm:
-      // 8-bit samples as stored need no copy: the header, then the image's rows.
-      if (&image == &in && pnm_as_stored(image))
-        return Encoded(pnm_header(image), {reinterpret_cast<const char*>(image.data()), image.row_bytes() * static_cast<size_t>(image.height())});
-      return encode_pnm(image, path);
-    case OutFormat::Oiio: break;
+  if (format.raw_header && &image == &in) {
+    // Samples the format stores as they are need no copy: the header, then the image's rows.
+    if (std::string head = format.raw_header(image); !head.empty())
+      return Encoded(std::move(head), {reinterpret_cast<const char*>(image.data()), image.row_bytes() * static_cast<size_t>(image.height())});
   }
+  if (format.encode) return format.encode(image, path, options, blocks_for(options, image.size()));
   OiioBackend& oiio = oiio_backend("writing " + path);
   const EmbeddedMetadata blocks = carried_blocks(options, image.size());
   return oiio.encode(image, path, options, blocks.empty() ? Metadata{} : oiio.attributes_of(blocks));
@@ -170,10 +139,8 @@ struct Opened {
 
 Opened open_input(const std::string& path) {
   Opened o{probe_input(path), nullptr};
-  if (o.file.format == "jpeg") o.decoder = open_jpeg(path, o.file);
-  else if (o.file.format == "png") o.decoder = open_png(path, o.file);
-  else if (o.file.format == "pnm") o.decoder = open_pnm(path, o.file);
-  if (!o.decoder) o.decoder = oiio_backend("reading " + path).open(path, o.file);
+  if (const ImageFormat& f = format_named(o.file.format); f.built_in()) o.decoder = f.open(path, o.file);
+  else o.decoder = oiio_backend("reading " + path).open(path, o.file);
   return o;
 }
 
@@ -224,7 +191,7 @@ Image read_image(const std::string& path, int64_t memory_limit) {
 
 Metadata read_metadata(const std::string& path) {
   const InputFile file = probe_input(path);
-  const bool built_in = file.format == "jpeg" || file.format == "png" || file.format == "pnm";
+  const bool built_in = format_named(file.format).built_in();
   const bool all = built_in && !oiio_available();
   Metadata out;
   if (!all) out = oiio_backend("reading the metadata of " + path).metadata(path, file);
@@ -287,7 +254,7 @@ StreamedOutput::StreamedOutput(std::string path, WriteOptions options, Size size
   check_write_options(options_);
   check_writable_size(path_, size);
   // (A JPEG takes uint8 samples as they are; others are converted first, in encode.)
-  if (out_format(path_) == OutFormat::Jpeg && type == PixelType::U8 && options_.type.value_or(type) == type)
+  if (format_of_path(path_).streams_blocks && type == PixelType::U8 && options_.type.value_or(type) == type)
     jpeg_ = std::make_unique<JpegBlockEncoder>(size, channels, path_, options_, blocks_for(options_, size));
 }
 

@@ -3,6 +3,7 @@
 // manager that longjmps back to `guarded` (it must never exit the process); corrupt data it would
 // paper over with grey (a warning) is an error too.
 #include <cerrno>
+#include <cmath>
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
@@ -18,6 +19,7 @@
 #include <new>
 #include <thread>
 
+#include "io/formats.hpp"
 #include "panoproj/error.hpp"
 #include "io/codec.hpp"
 #include "base/parallel.hpp"
@@ -487,5 +489,46 @@ FileBytes encode_jpeg(const Image& image, const std::string& path, const WriteOp
                       const EmbeddedMetadata& meta) {
   return JpegBlockEncoder(image.size(), image.channels(), path, options, meta).finish(image);
 }
+
+namespace {
+
+// Whether a JPEG's frame header (SOFn before the first scan) is arithmetic-coded: SOF9..11, 13..15.
+bool arithmetic_jpeg(const std::string& b) {
+  for (size_t i = 2; i + 4 <= b.size() && static_cast<unsigned char>(b[i]) == 0xFF;) {
+    const auto m = static_cast<unsigned char>(b[i + 1]);
+    if (m == 0xDA || m == 0xD9) break;
+    if (m >= 0xC9 && m <= 0xCF && m != 0xCC) return true;
+    const size_t len = (static_cast<unsigned char>(b[i + 2]) << 8) | static_cast<unsigned char>(b[i + 3]);
+    if (len < 2) break;
+    i += 2 + len;
+  }
+  return false;
+}
+
+}  // namespace
+
+// A Huffman-coded JPEG spends at least one bit per 8x8 luma block (its DC code); arithmetic
+// coding can spend far less on flat areas (1/512 bit allowed). Sides up to libjpeg's 65500.
+const ImageFormat kJpegFormat{
+    .name = "jpeg",
+    .title = "JPEG",
+    .extensions = {".jpg", ".jpeg"},
+    .sniff = [](const std::string& head, InputFile& file) {
+      if (head.compare(0, 3, "\xFF\xD8\xFF") != 0) return false;
+      file.arithmetic = arithmetic_jpeg(head);
+      return true;
+    },
+    .most_stored = [](const InputFile& file, Size window, const std::string&) {
+      const double blocks = static_cast<double>((window.width + 7) / 8) * static_cast<double>((window.height + 7) / 8);
+      return static_cast<double>(file.bytes) * 8.0 * (file.arithmetic ? 512.0 : 1.0) >= blocks ? HUGE_VAL : 0.0;
+    },
+    .max_side = 65500,
+    .deepest = PixelType::U8,
+    .embedded_metadata = true,
+    .decodes_scaled = true,
+    .streams_blocks = true,
+    .web = true,
+    .open = open_jpeg,
+    .encode = encode_jpeg};
 
 }  // namespace panoproj

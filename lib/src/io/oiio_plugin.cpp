@@ -1,3 +1,4 @@
+#include "io/formats.hpp"
 #include "io/oiio_plugin.hpp"
 
 #include <dlfcn.h>
@@ -106,5 +107,39 @@ bool oiio_available() {
   std::string why_not;
   return loaded().backend != nullptr || (g_fallback && g_fallback(why_not) != nullptr);
 }
+
+// The formats read and written through OpenImageIO: floats in any channels for TIFF and OpenEXR,
+// RGB for Radiance HDR (whose run-length coding expands at most 256:1: runs of 127 in 2 bytes a
+// channel, against 12 bytes of float RGB; its reader decodes scaled by block means).
+const ImageFormat kTiffFormat{
+    .name = "tiff",
+    .title = "TIFF",
+    .extensions = {".tif", ".tiff"},
+    .sniff = [](const std::string& head, InputFile&) {
+      const std::string_view h(head.data(), std::min<size_t>(head.size(), 4));
+      return h == std::string_view("II*\0", 4) || h == std::string_view("MM\0*", 4) || h == std::string_view("II+\0", 4) ||
+             h == std::string_view("MM\0+", 4);
+    },
+    .most_stored = most_stored_by_compression,
+    .float_channels = true};
+
+const ImageFormat kOpenExrFormat{
+    .name = "openexr",
+    .title = "OpenEXR",
+    .extensions = {".exr"},
+    .sniff = [](const std::string& head, InputFile&) { return head.compare(0, 4, "\x76\x2f\x31\x01") == 0; },
+    .most_stored = most_stored_by_compression,
+    .float_channels = true};
+
+const ImageFormat kHdrFormat{
+    .name = "hdr",
+    .title = "Radiance HDR",
+    .extensions = {".hdr"},
+    .sniff = [](const std::string& head, InputFile&) { return head.compare(0, 2, "#?") == 0; },
+    .most_stored = [](const InputFile& file, Size, const std::string&) {
+      return static_cast<double>(file.bytes) * 256 + 65536;
+    },
+    .floats_only = true,
+    .decodes_scaled = true};
 
 }  // namespace panoproj

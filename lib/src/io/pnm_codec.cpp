@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "io/formats.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
 #include "io/codec.hpp"
@@ -167,5 +168,23 @@ FileBytes encode_pnm(const Image& image, const std::string& path) {
   }
   return bytes;
 }
+
+// Binary PPM and PGM (P6, P5): samples stored as they are, no metadata.
+const ImageFormat kPnmFormat{
+    .name = "pnm",
+    .title = "PPM/PGM",
+    .extensions = {".ppm", ".pgm", ".pnm"},
+    .sniff = [](const std::string& head, InputFile&) {
+      return head.size() >= 3 && head[0] == 'P' && (head[1] == '5' || head[1] == '6') &&
+             std::isspace(static_cast<unsigned char>(head[2]));
+    },
+    .most_stored = most_stored_by_compression,
+    .deepest = PixelType::U16,
+    .holds_metadata = false,
+    .open = open_pnm,
+    .encode = [](const Image& image, const std::string& path, const WriteOptions&, const EmbeddedMetadata&) {
+      return encode_pnm(image, path);
+    },
+    .raw_header = [](const Image& image) { return pnm_as_stored(image) ? pnm_header(image) : std::string(); }};
 
 }  // namespace panoproj

@@ -18,6 +18,7 @@
 #include "io/region_read.hpp"
 #include "io/streamed_output.hpp"
 #include "jobs/frame_pipeline.hpp"
+#include "io/formats.hpp"
 
 namespace panoproj {
 namespace fs = std::filesystem;
@@ -74,23 +75,24 @@ Metadata carried_metadata(const std::string& input) {
   static const char* const kDropped[] = {"Orientation", "Exif:PixelXDimension", "Exif:PixelYDimension",
                                          "PixelAspectRatio", "screenWindowCenter", "screenWindowWidth",
                                          "compression", "planarconfig"};
-  static const char* const kDroppedPrefixes[] = {"thumbnail", "jpeg:", "png:", "tiff:", "openexr:", "hdr:", "rla:"};
   Metadata kept;
   for (Attribute& a : read_metadata(input)) {
     const std::string& n = a.name;
-    bool drop = false;
+    bool drop = n.rfind("thumbnail", 0) == 0 || n.rfind("rla:", 0) == 0;  // (RLA: a format OpenImageIO reads)
     for (const char* d : kDropped) drop |= n == d;
-    for (const char* d : kDroppedPrefixes) drop |= n.rfind(d, 0) == 0;
+    for (const ImageFormat* f : image_formats()) drop |= n.rfind(std::string(f->name) + ":", 0) == 0;
     if (!drop) kept.push_back(std::move(a));
   }
   return kept;
 }
 
-// JPEG and PNG inputs pass their blocks as stored (the writer resets EXIF's orientation, rewrites
-// its dimensions and drops its thumbnail; a Photo Sphere packet is not carried); PPM has none.
+// Inputs whose blocks panoproj reads itself (JPEG, PNG) pass them as stored (the writer resets
+// EXIF's orientation, rewrites its dimensions and drops its thumbnail; a Photo Sphere packet is
+// not carried); formats without metadata (PPM) have none.
 void carry_metadata(const std::string& input, const std::string& format, WriteOptions& write) {
-  if (format == "jpeg" || format == "png") write.embedded = read_embedded_metadata(input);
-  else if (format != "pnm") write.metadata = carried_metadata(input);
+  const ImageFormat& f = format_named(format);
+  if (f.embedded_metadata) write.embedded = read_embedded_metadata(input);
+  else if (f.holds_metadata) write.metadata = carried_metadata(input);
 }
 
 const char* layout_name(StereoLayout l) {
@@ -350,9 +352,12 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
 }
 
 Size run_maps(const MapsJob& job) {
-  const std::string ext = fs::path(job.output).extension().string();
-  if (ext != ".exr" && ext != ".tif" && ext != ".tiff")
-    throw Error("output " + job.output + " cannot hold float maps (use .exr or .tif)");
+  if (!format_of_path(job.output).float_channels) {
+    std::string holding;
+    for (const ImageFormat* f : image_formats())
+      if (f->float_channels) holding += (holding.empty() ? "" : " or ") + std::string(f->extensions[0]);
+    throw Error("output " + job.output + " cannot hold float maps (use " + holding + ")");
+  }
   check_output_path(job.output, job.write.overwrite);
   const ConversionGeometry geometry =
       make_geometry(job.source_size, parse_spec(job.from), parse_spec(job.to), job.options);

@@ -6,6 +6,7 @@
 
 #include "base/sample_io.hpp"
 #include "io/codec.hpp"
+#include "io/formats.hpp"
 
 namespace panoproj {
 
@@ -52,14 +53,13 @@ Flat flatten(const Image& part, int64_t x0, int64_t y0, int64_t w, int64_t h, bo
   return f;
 }
 
-std::string encoded(const Image& image, const std::string& format, const WriteOptions& write, const std::string& path) {
+std::string encoded(const Image& image, const ImageFormat& f, const WriteOptions& write, const std::string& path) {
   WriteOptions w = write;
   w.threads = 1;
-  const bool jpeg = format == "jpg";
+  const PixelType type = f.stored_type(image.type());
   Image converted;
-  const bool convert = jpeg ? image.type() != PixelType::U8 : (image.type() == PixelType::F16 || image.type() == PixelType::F32);
-  const Image& in = convert ? (converted = convert_pixels(image, jpeg ? PixelType::U8 : PixelType::U16)) : image;
-  const FileBytes b = jpeg ? encode_jpeg(in, path, w, {}) : encode_png(in, path, w, {});
+  const Image& in = type != image.type() ? (converted = convert_pixels(image, type)) : image;
+  const FileBytes b = f.encode(in, path, w, {});
   return std::string(reinterpret_cast<const char*>(b.data()), b.size());
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "panoproj/image.hpp"
+#include "io/formats.hpp"
 #include "panoproj/io.hpp"
 
 namespace panoproj {
@@ -16,8 +17,8 @@ struct Flat {
 };
 Flat flatten(const Image& part, int64_t x0, int64_t y0, int64_t w, int64_t h, bool partial);
 
-// The file bytes of `image` as format "jpg" (8-bit) or "png" (8 or 16-bit; float converted);
+// The file bytes of `image` in `format` (a built-in one), its samples converted to what it stores;
 // `path` names the file in errors.
-std::string encoded(const Image& image, const std::string& format, const WriteOptions& write, const std::string& path);
+std::string encoded(const Image& image, const ImageFormat& format, const WriteOptions& write, const std::string& path);
 
 }  // namespace panoproj

@@ -6,6 +6,7 @@
 
 #include "panoproj/error.hpp"
 #include "base/json_text.hpp"
+#include "io/formats.hpp"
 
 namespace panoproj {
 namespace {
@@ -146,8 +147,7 @@ TilePyramid make_pyramid(const TilesJob& job, double density) {
     if (c < 0x21 || c == '"' || c == '<' || c == '>' || c == '\'' || c == '\\' || c == 0x7f)
       throw Error(option_text("script-url", job.script_url) + " has a character a page cannot hold in an attribute "
                   "(quote, angle bracket, space or control: percent-encode it)");
-  if (job.format != "jpg" && job.format != "png")
-    throw Error(option_text("format", job.format) + " is not a tile format (use jpg or png)");
+  web_format(job.format, "format");
   if (job.tile < 16 || job.tile > kMaxTile)
     throw Error(option_text("tile", std::to_string(job.tile)) + " is out of range (16 to " + std::to_string(kMaxTile) + " px)");
   if (job.levels < 0 || job.levels > 32)

@@ -18,6 +18,7 @@
 #include "jobs/camera_files.hpp"
 #include "jobs/file_source.hpp"
 #include "jobs/rendered_parts.hpp"
+#include "io/formats.hpp"
 
 namespace panoproj {
 namespace {
@@ -77,7 +78,7 @@ void check_job(const ViewsJob& job) {
   if (job.layout != "flat" && job.layout != "folders") throw Error("layout: '" + job.layout + "' (expected flat or folders)");
   if (job.inputs.empty()) throw Error("no input given (expected one or more panoramas)");
   if (job.output.empty()) throw Error("no output folder given");
-  if (job.format != "jpg" && job.format != "png") throw Error("format: '" + job.format + "' (expected jpg or png)");
+  web_format(job.format, "format");
   check_write_options(job.write);
   if (const auto& s = job.options.size; s && (s->width < 1 || s->height < 1 || s->width > kMaxViewSide || s->height > kMaxViewSide))
     throw Error("size: " + size_text(*s) + " (expected 1 to " + std::to_string(kMaxViewSide) + " pixels a side)");
@@ -161,10 +162,10 @@ std::array<int64_t, 2> render_frame(const ViewsJob& job, const std::vector<ViewC
     if (frame.partial) flat = flatten(out, 0, 0, out.width(), out.height(), true);
     if (flat.empty) flat.image = Image(out.size(), out.channels() - 1, out.type());
     const std::string path = files.image_path(stem, cams[v].name);
-    folder.write(path, encoded(frame.partial ? flat.image : out, job.format, job.write, job.output + "/" + path));
+    folder.write(path, encoded(frame.partial ? flat.image : out, web_format(job.format, "format"), job.write, job.output + "/" + path));
     if (frame.partial) {
       const std::string mpath = files.mask_path(stem, cams[v].name);
-      folder.write(mpath, encoded(mask_of(out), "png", job.write, job.output + "/" + mpath));
+      folder.write(mpath, encoded(mask_of(out), kPngFormat, job.write, job.output + "/" + mpath));
     }
     ++counts[0];
     counts[1] += flat.empty ? 1 : 0;
