@@ -10,7 +10,8 @@ venv="$root/.venv"
 if [[ ! -x "$venv/bin/python" ]]; then
   python3 -m venv "$venv"
 fi
-if ! "$venv/bin/python" -c "import pybind11, numpy, pytest, xdist, cv2, dask.distributed, scikit_build_core, OpenImageIO, mypy, pyright, py360convert, pyproj, pycolmap" 2>/dev/null; then
+if ! "$venv/bin/python" -c "import pybind11, numpy, pytest, xdist, cv2, dask.distributed, scikit_build_core, OpenImageIO, mypy, pyright, py360convert, pyproj, pycolmap" 2>/dev/null \
+  || [[ ! -x "$venv/bin/clang-format" ]]; then
   "$venv/bin/python" -m pip install -q -r "$root/python/requirements-test.txt" >&2
 fi
 if [[ ${1:-} == --cmake-args ]]; then

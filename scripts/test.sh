@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Every test: installs what is missing, builds (with the Python module), runs ctest and pytest.
+# Every test: installs what is missing, checks the source's habits (scripts/check-source.sh),
+# builds (with the Python module), runs ctest and pytest.
 # Usage: scripts/test.sh [BUILD_DIR]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -10,6 +11,7 @@ build=${1:-"$root/build"}
 # (python/tests/test_v360_oracle.py). Test oracles only.
 bash "$root/scripts/install-deps.sh" libimage-exiftool-perl strace ffmpeg
 read -ra py_args < <(bash "$root/scripts/python-env.sh" --cmake-args)
+bash "$root/scripts/check-source.sh"
 bash "$root/scripts/build.sh" "$build" "${py_args[@]}"
 ctest --test-dir "$build" --output-on-failure -j 2
 PYTHONPATH="$build/python" PANOPROJ_CLI="$build/tools/panoproj" "$root/.venv/bin/python" -m pytest -q -n 2 "$root/python/tests"

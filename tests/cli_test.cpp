@@ -473,7 +473,9 @@ TEST_F(Cli, AccuracyWeighsScaledDecodes) {
     EXPECT_NE(r.out.find("| " + file + " 1/4 | bilinear | mip | simd |"), std::string::npos) << r.out;
   }
   expect_refused(base + "--decode-scale 3", "--decode-scale: 3 (expected memory, 1, 2, 4 or 8");
-  expect_refused(base + "--decode-scale 4 --type uint16", "no file format decodes uint16 samples at 1/2 to 1/8 scale (JPEG: uint8, Radiance HDR: float)");
+  expect_refused(base + "--decode-scale 4 --type uint16",
+                 "no file format decodes uint16 samples at 1/2 to 1/8 scale (JPEG: uint8, Radiance "
+                 "HDR: float)");
   expect_refused("accuracy --from-size 500x250 --to fisheye --size 32x32 --runs 1 --decode-scale 4",
                  "needs the source's sides (500x250) to be multiples of it");
 }

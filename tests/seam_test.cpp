@@ -47,12 +47,14 @@ std::optional<Turn> whole_turn(const Projection& p) {
   while (c1 > c0 && std::isnan(lon_of(p, static_cast<double>(c1) - 0.5, ym))) --c1;
   if (c1 - c0 < 16 || r1 - r0 < 8) return std::nullopt;
   // Rows of one latitude, columns of one longitude, longitude linear in x (every ray there).
-  const double step = kTwoPi / static_cast<double>(c1 - c0), l0 = lon_of(p, static_cast<double>(c0) + 0.5, ym);
+  const double step = kTwoPi / static_cast<double>(c1 - c0),
+               l0 = lon_of(p, static_cast<double>(c0) + 0.5, ym);
   for (double fy : {0.05, 0.3, 0.5, 0.7, 0.95}) {
     const double y = static_cast<double>(r0) + fy * static_cast<double>(r1 - r0);
     const double lat = lat_of(p, static_cast<double>(c0) + 0.5, y);
     for (int64_t x = c0; x < c1; x += std::max<int64_t>(1, (c1 - c0) / 32)) {
-      const double lon = lon_of(p, static_cast<double>(x) + 0.5, y), expect = l0 + step * static_cast<double>(x - c0);
+      const double lon = lon_of(p, static_cast<double>(x) + 0.5, y),
+                   expect = l0 + step * static_cast<double>(x - c0);
       if (!(std::fabs(lat_of(p, static_cast<double>(x) + 0.5, y) - lat) < 1e-9) ||
           !(std::fabs(std::remainder(lon - expect, kTwoPi)) < 1e-6 * step))
         return std::nullopt;
@@ -78,7 +80,8 @@ std::vector<Wrapping> wrapping_rows() {
     const ProjectionSpec spec = parse_spec(row.spec);
     std::optional<Wrapping> found;
     for (Size s : row.sizes) {
-      while (s.width % 2 == 0 && s.height % 2 == 0 && s.width > 2048) s = {s.width / 2, s.height / 2};
+      while (s.width % 2 == 0 && s.height % 2 == 0 && s.width > 2048)
+        s = {s.width / 2, s.height / 2};
       if (s.width > 2048 || s.height > 4096) continue;
       std::optional<Turn> t;
       std::optional<Projection> p;
@@ -102,7 +105,8 @@ std::vector<Wrapping> wrapping_rows() {
 Image noise(Size s, uint32_t seed) {
   Image im(s, 3, PixelType::U8, -1);
   std::mt19937 rng(seed);
-  for (size_t i = 0; i < im.byte_size(); ++i) im.data()[i] = static_cast<unsigned char>(rng() & 255);
+  for (size_t i = 0; i < im.byte_size(); ++i)
+    im.data()[i] = static_cast<unsigned char>(rng() & 255);
   return im;
 }
 Image rolled(const Image& im, const Turn& t) {
@@ -110,24 +114,28 @@ Image rolled(const Image& im, const Turn& t) {
   const int64_t half = (t.c1 - t.c0) / 2;
   for (int64_t y = 0; y < im.height(); ++y)
     for (int64_t x = t.c0; x < t.c1; ++x)
-      std::memcpy(const_cast<unsigned char*>(out.at(t.c0 + (x - t.c0 + half) % (t.c1 - t.c0), y)), im.at(x, y), 3);
+      std::memcpy(const_cast<unsigned char*>(out.at(t.c0 + (x - t.c0 + half) % (t.c1 - t.c0), y)),
+                  im.at(x, y), 3);
   return out;
 }
 
 int worst_level(const Image& a, const Image& b) {
   int worst = 0;
-  for (size_t i = 0; i < a.byte_size(); ++i) worst = std::max(worst, std::abs(int(a.data()[i]) - int(b.data()[i])));
+  for (size_t i = 0; i < a.byte_size(); ++i)
+    worst = std::max(worst, std::abs(int(a.data()[i]) - int(b.data()[i])));
   return worst;
 }
 
 TEST(Seam, EveryWrappingCaseRowEqualsItsRolledSource) {
   const std::vector<Wrapping> rows = wrapping_rows();
   // The forms known to hold a turn must be among those found (the finder is not the code tested).
-  for (const char* name : {"equirect", "cylindrical", "mercator", "miller", "cylindrical-equal-area"})
-    EXPECT_TRUE(std::any_of(rows.begin(), rows.end(), [&](const Wrapping& w) { return w.spec.rfind(name, 0) == 0; }))
-        << name;
-  const Interp kernels[] = {Interp::Nearest, Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3, Interp::BicubicDering,
-                            Interp::Lanczos3Dering};
+  for (const char* name :
+       {"equirect", "cylindrical", "mercator", "miller", "cylindrical-equal-area"})
+    EXPECT_TRUE(std::any_of(rows.begin(), rows.end(), [&](const Wrapping& w) {
+      return w.spec.rfind(name, 0) == 0;
+    })) << name;
+  const Interp kernels[] = {Interp::Nearest,  Interp::Bilinear,      Interp::Bicubic,
+                            Interp::Lanczos3, Interp::BicubicDering, Interp::Lanczos3Dering};
   struct Run {
     Engine engine;
     Antialias aa;
@@ -138,7 +146,8 @@ TEST(Seam, EveryWrappingCaseRowEqualsItsRolledSource) {
   // Straddling: the odd-width view's middle column on the seam, shrinking a 2048-px source about
   // 4.6x; magnifying: 512 px over 20 degrees. (Wider views shrinking more also differ by the
   // interpolated maps' error, which grows with the cells' angle: up to 8 levels of raw noise on
-  // an equirect at 41 px over 90 degrees, interpolated on one side of the seam, exact on the other.)
+  // an equirect at 41 px over 90 degrees, interpolated on one side of the seam, exact on the
+  // other.)
   const struct {
     const char* spec;
     Size size;
@@ -153,13 +162,17 @@ TEST(Seam, EveryWrappingCaseRowEqualsItsRolledSource) {
       // a turn away. (A quarter pixel off it, so that no sample lies on a pixel edge, where the
       // two would pick their nearest pixel by rounding.)
       const double yaw = seam + 0.25 * 360.0 / static_cast<double>(w.turn.c1 - w.turn.c0);
-      const Eigen::Matrix3d across = rotation_from_ypr(yaw, 0, 0), middle = rotation_from_ypr(yaw + 180, 0, 0);
+      const Eigen::Matrix3d across = rotation_from_ypr(yaw, 0, 0),
+                            middle = rotation_from_ypr(yaw + 180, 0, 0);
       for (Interp k : kernels)
         for (const Run& r : runs) {
-          const Image a = Converter(w.p, view, across, k, r.engine, 2, Keep::Nothing, r.aa).run(src);
-          const Image b = Converter(w.p, view, middle, k, r.engine, 2, Keep::Nothing, r.aa).run(roll);
-          EXPECT_LE(worst_level(a, b), 1) << w.spec << " " << size_text(size_of(w.p)) << " -> " << v.spec << " "
-                                          << name_of(k) << " " << name_of(r.engine) << " antialias " << name_of(r.aa);
+          const Image a =
+              Converter(w.p, view, across, k, r.engine, 2, Keep::Nothing, r.aa).run(src);
+          const Image b =
+              Converter(w.p, view, middle, k, r.engine, 2, Keep::Nothing, r.aa).run(roll);
+          EXPECT_LE(worst_level(a, b), 1)
+              << w.spec << " " << size_text(size_of(w.p)) << " -> " << v.spec << " " << name_of(k)
+              << " " << name_of(r.engine) << " antialias " << name_of(r.aa);
           ++n;
         }
     }
@@ -174,7 +187,8 @@ TEST(Seam, EveryWrappingCaseRowEqualsItsRolledSource) {
 TEST(Seam, FractionalOutlinesWrapAgainstTheTruth) {
   const test::Scene scene = test::band_limited_scene(0.05, 1024);
   const Projection view = make_projection(parse_spec("pinhole:hfov=40"), {121, 121});
-  for (const char* spec : {"miller", "cylindrical-equal-area:lat_ts=45", "cylindrical-equal-area", "mercator:lat_max=80"}) {
+  for (const char* spec : {"miller", "cylindrical-equal-area:lat_ts=45", "cylindrical-equal-area",
+                           "mercator:lat_max=80"}) {
     const Projection p = make_projection(parse_spec(spec), {1024, 512});
     const SamplingFacts f = sampling_facts(p);
     const Image src = test::render(p, scene, PixelType::F32);
@@ -189,14 +203,18 @@ TEST(Seam, FractionalOutlinesWrapAgainstTheTruth) {
           double sx, sy;
           if (!to_pixel(p, r * d, sx, sy)) continue;
           scene(r * d, rgb);
-          for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, std::fabs(get(out, x, y, ch) - rgb[ch]));
+          for (int ch = 0; ch < 3; ++ch)
+            worst = std::max(worst, std::fabs(get(out, x, y, ch) - rgb[ch]));
         }
       return worst;
     };
     for (Engine e : {Engine::Simd, Engine::Reference}) {
-      const double middle = error(0, 0, e, Interp::Bilinear), seam = error(180, 0, e, Interp::Bicubic);
-      std::printf("[seam] %-36s box x %.3f..%.3f y %.3f..%.3f  %s: bilinear middle %.2e, bicubic seam %.2e\n", spec,
-                  f.x0, f.x1, f.y0, f.y1, name_of(e), middle, seam);
+      const double middle = error(0, 0, e, Interp::Bilinear),
+                   seam = error(180, 0, e, Interp::Bicubic);
+      std::printf(
+          "[seam] %-36s box x %.3f..%.3f y %.3f..%.3f  %s: bilinear middle %.2e, bicubic seam "
+          "%.2e\n",
+          spec, f.x0, f.x1, f.y0, f.y1, name_of(e), middle, seam);
       EXPECT_LT(seam, middle) << spec << " " << name_of(e);
     }
   }
@@ -225,14 +243,17 @@ TEST(Seam, MillerContinuesOverItsPole) {
           double sx, sy;
           if (!to_ray(view, x + 0.5, y + 0.5, d) || !to_pixel(p, r * d, sx, sy)) continue;
           scene(r * d, rgb);
-          for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, std::fabs(get(out, x, y, ch) - rgb[ch]));
+          for (int ch = 0; ch < 3; ++ch)
+            worst = std::max(worst, std::fabs(get(out, x, y, ch) - rgb[ch]));
         }
       return worst;
     };
-    const double beside = on_edge ? 2 * error(30, 60, Interp::Bicubic) : error(30, 60, Interp::Bilinear);
+    const double beside =
+        on_edge ? 2 * error(30, 60, Interp::Bicubic) : error(30, 60, Interp::Bilinear);
     const double north = error(30, 90, Interp::Bicubic), south = error(30, -90, Interp::Bicubic);
-    std::printf("[seam] miller %s, pole rows %.3f, %.3f: bound %.2e, north pole %.2e, south pole %.2e\n",
-                size_text(size).c_str(), f.y0, f.y1, beside, north, south);
+    std::printf(
+        "[seam] miller %s, pole rows %.3f, %.3f: bound %.2e, north pole %.2e, south pole %.2e\n",
+        size_text(size).c_str(), f.y0, f.y1, beside, north, south);
     EXPECT_LT(north, beside);
     EXPECT_LT(south, beside);
   }

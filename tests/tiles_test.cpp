@@ -103,14 +103,20 @@ TEST(TileLayout, BadValuesAreRefusedNamingThem) {
   const Case cases[] = {
       {[](TilesJob& j) { j.tile = 8; }, "--tile 8 is out of range"},
       {[](TilesJob& j) { j.tile = 100000; }, "--tile 100000 is out of range"},
-      {[](TilesJob& j) { j.levels = 9; }, "--levels 9: a 1296 px face in 512 px tiles has 3 levels"},
+      {[](TilesJob& j) { j.levels = 9; },
+       "--levels 9: a 1296 px face in 512 px tiles has 3 levels"},
       {[](TilesJob& j) { j.levels = -1; }, "--levels -1 is out of range"},
       {[](TilesJob& j) { j.cube_size = 1 << 20; }, "--cube-size 1048576 is out of range"},
-      {[](TilesJob& j) { j.viewer = Viewer::Marzipano, j.cube_size = 1000; }, "--cube-size 1000 is not 512 x 2^k"},
-      {[](TilesJob& j) { j.viewer = Viewer::Marzipano, j.preview = 100; }, "--preview 100 does not divide"},
-      {[](TilesJob& j) { j.format = "bmp"; }, "--format bmp is not a format web viewers show (use jpg or png)"},
-      {[](TilesJob& j) { j.script_url = "x\"onload=\"alert(1)"; }, "has a character a page cannot hold"},
-      {[](TilesJob& j) { j.cube_size = 65536; }, "--cube-size 65536 is over 4x the source's resolution (1303 px a face)"},
+      {[](TilesJob& j) { j.viewer = Viewer::Marzipano, j.cube_size = 1000; },
+       "--cube-size 1000 is not 512 x 2^k"},
+      {[](TilesJob& j) { j.viewer = Viewer::Marzipano, j.preview = 100; },
+       "--preview 100 does not divide"},
+      {[](TilesJob& j) { j.format = "bmp"; },
+       "--format bmp is not a format web viewers show (use jpg or png)"},
+      {[](TilesJob& j) { j.script_url = "x\"onload=\"alert(1)"; },
+       "has a character a page cannot hold"},
+      {[](TilesJob& j) { j.cube_size = 65536; },
+       "--cube-size 65536 is over 4x the source's resolution (1303 px a face)"},
   };
   for (const Case& c : cases) {
     TilesJob job;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "panoproj/image.hpp"
+#include "panoproj/projections/cubemap.hpp"
 
 namespace panoproj {
 
@@ -122,14 +123,8 @@ Image convert_pixels(const Image& image, PixelType type);
 
 // Six cube faces as separate files: a pattern containing {face} (front, right, back, left,
 // up, down), {index} (0..5) and/or {axis} (px nx py ny pz nz). In memory the faces form the 6x1
-// strip. File k (the strip's slot k) holds face[k] (the cubemap's order= key): {index} is k,
-// {face} that face's name, {axis} the axis it looks along, axis[k] (in the frame of the
-// cubemap's preset=; without one, panoproj's: x right, y down, z forward).
-struct FaceOrder {
-  std::array<int, 6> face{0, 1, 2, 3, 4, 5};
-  std::array<int, 6> axis{4, 0, 5, 1, 3, 2};  // index into kAxisNames: front is +z, up -y
-};
-inline constexpr FaceOrder kDefaultFaceOrder{};
+// strip. File k (the strip's slot k) holds the face and axis of slot k of the FaceOrder
+// (projections/cubemap.hpp): {index} is k, {face} that face's name, {axis} its axis's.
 bool is_face_pattern(std::string_view path);
 std::string face_path(std::string_view pattern, int slot, const FaceOrder& order = kDefaultFaceOrder);
 Image read_cube_faces(const std::string& pattern, int64_t memory_limit = 0, const FaceOrder& order = kDefaultFaceOrder);
@@ -137,8 +132,5 @@ Image read_cube_faces(const std::string& pattern, int64_t memory_limit = 0, cons
 // every one succeeded (old files restored if a rename fails).
 void write_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options,
                       const FaceOrder& order = kDefaultFaceOrder);
-
-extern const char* const kFaceNames[6];
-extern const char* const kAxisNames[6];  // px nx py ny pz nz
 
 }  // namespace panoproj

@@ -58,7 +58,6 @@ std::string read_fd(int fd, size_t most) {
   return b;
 }
 
-
 std::string read_head(const std::string& path, size_t most, const char* what, const char* expected) {
   uint64_t bytes = 0;
   const int fd = open_regular(path, bytes, what, expected);

@@ -1,24 +1,24 @@
 #include "panoproj/diagnostics/accuracy.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cerrno>
+#include <chrono>
 #include <climits>
-#include <cstring>
-#include <filesystem>
-#include <memory>
+#include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <memory>
 #include <numeric>
-#include <cmath>
 #include <string>
 
+#include "base/sample_io.hpp"
+#include "io/formats.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/limits.hpp"
-#include "base/sample_io.hpp"
-#include "io/formats.hpp"
 
 namespace panoproj {
 

@@ -15,11 +15,13 @@ SimdSource simd_source(const Image& src, const Projection& sp, const SourceTaps&
   if (c && c->uniform()) cw = ch = c->face_size();
   if (f.dual) cw = f.dual->cell_width(), ch = f.dual->cell_height();
   // The pixels held that are the image's (taps beyond them are misses, for the tap rules).
-  const int64_t x0 = std::max(src.origin_x(), taps.col0()), y0 = std::max(src.origin_y(), taps.row0());
+  const int64_t x0 = std::max(src.origin_x(), taps.col0()),
+                y0 = std::max(src.origin_y(), taps.row0());
   const int64_t x1 = std::max(x0, std::min(src.origin_x() + src.width(), taps.col1()));
   const int64_t y1 = std::max(y0, std::min(src.origin_y() + src.height(), taps.row1()));
   const auto row = static_cast<int64_t>(src.row_bytes());
-  const unsigned char* base = src.data() + (y0 - src.origin_y()) * row + (x0 - src.origin_x()) * static_cast<int64_t>(src.pixel_bytes());
+  const unsigned char* base = src.data() + (y0 - src.origin_y()) * row +
+                              (x0 - src.origin_x()) * static_cast<int64_t>(src.pixel_bytes());
   SimdSource s{base, row, src.channels(), src.alpha_channel(), src.type(), x0, y0, x1, y1, cw, ch};
   if (c && !c->uniform()) s.cells_x = &c->x_axis(), s.cells_y = &c->y_axis();
   return s;
@@ -29,9 +31,16 @@ std::vector<LensSource> lens_sources(const DualFisheye& d, const Eigen::Matrix3d
   return {{d.lens(0), d.rotation(0).transpose() * rotation}, {d.lens(1), d.rotation(1).transpose() * rotation}};
 }
 
-TileSampling::TileSampling(const Image& src, const Projection& source, const std::vector<LensSource>& lenses,
-                           const Eigen::Matrix3d& rotation, Interp interp, bool simd)
-    : src_(src), source_(source), lenses_(lenses), rotation_(rotation), interp_(interp), simd_(simd), taps_(source),
+TileSampling::TileSampling(const Image& src, const Projection& source,
+                           const std::vector<LensSource>& lenses, const Eigen::Matrix3d& rotation,
+                           Interp interp, bool simd)
+    : src_(src),
+      source_(source),
+      lenses_(lenses),
+      rotation_(rotation),
+      interp_(interp),
+      simd_(simd),
+      taps_(source),
       simd_src_(simd_source(src, source, taps_)) {}
 
 void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,

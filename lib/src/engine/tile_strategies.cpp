@@ -138,7 +138,8 @@ class Mip final : public TileStrategy {
                               static_cast<int64_t>(std::min(1e15, std::ceil(y1))) + reach + 1);
           const Pyramid::Level& l = pyramid_.level(k);
           const Image& im = pyramid_.image(k);
-          job_.sampling.map(im, l.taps, simd_source(im, l.projection, l.taps), m, o, st, wk, nullptr);
+          job_.sampling.map(im, l.taps, simd_source(im, l.projection, l.taps), m, o, st, wk,
+                            nullptr);
         },
         corner, stride, wk.mip);
   }

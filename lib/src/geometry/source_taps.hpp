@@ -31,7 +31,9 @@ class SourceTaps {
   int64_t row1() const { return row1_; }
   // Face under a sample position (cubemap sources), lens (dual fisheye), else 0.
   int face_at(double sx, double sy) const {
-    return facts_.cube ? facts_.cube->face_at(sx, sy) : facts_.dual ? facts_.dual->lens_at(sx, sy) : 0;
+    return facts_.cube   ? facts_.cube->face_at(sx, sy)
+           : facts_.dual ? facts_.dual->lens_at(sx, sy)
+                         : 0;
   }
   // A source pixel and its share of one tap.
   struct Part {

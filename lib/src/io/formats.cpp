@@ -13,7 +13,8 @@ namespace panoproj {
 PixelType ImageFormat::stored_type(PixelType wanted) const {
   if (deepest == PixelType::U8) return PixelType::U8;
   if (floats_only) return PixelType::F32;
-  if (deepest == PixelType::U16 && (wanted == PixelType::F16 || wanted == PixelType::F32)) return PixelType::U16;
+  if (deepest == PixelType::U16 && (wanted == PixelType::F16 || wanted == PixelType::F32))
+    return PixelType::U16;
   return wanted;
 }
 
@@ -31,7 +32,8 @@ const ImageFormat& format_named(std::string_view name) {
 
 const ImageFormat* format_of_extension(std::string_view extension) {
   std::string ext(extension);
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   for (const ImageFormat* f : image_formats())
     if (std::find(f->extensions.begin(), f->extensions.end(), ext) != f->extensions.end()) return f;
   return nullptr;
@@ -40,8 +42,11 @@ const ImageFormat* format_of_extension(std::string_view extension) {
 const ImageFormat& format_of_path(const std::string& path) {
   const size_t slash = path.find_last_of('/'), dot = path.find_last_of('.');
   const bool has = dot != std::string::npos && (slash == std::string::npos || dot > slash + 1);
-  if (const ImageFormat* f = has ? format_of_extension(std::string_view(path).substr(dot)) : nullptr) return *f;
-  throw Error("cannot write " + path + ": no image format for its extension (use " + format_extensions() + ")",
+  if (const ImageFormat* f =
+          has ? format_of_extension(std::string_view(path).substr(dot)) : nullptr)
+    return *f;
+  throw Error("cannot write " + path + ": no image format for its extension (use " +
+                  format_extensions() + ")",
               ErrorKind::File);
 }
 
@@ -50,9 +55,11 @@ const ImageFormat& scaled_format_for(PixelType type) {
   for (const ImageFormat* f : image_formats()) {
     if (!f->decodes_scaled) continue;
     if (f->stored_type(type) == type) return *f;
-    which += (which.empty() ? "" : ", ") + std::string(f->title) + ": " + name_of(f->stored_type(type));
+    which +=
+        (which.empty() ? "" : ", ") + std::string(f->title) + ": " + name_of(f->stored_type(type));
   }
-  throw Error(std::string("no file format decodes ") + name_of(type) + " samples at 1/2 to 1/8 scale (" + which + ")");
+  throw Error(std::string("no file format decodes ") + name_of(type) +
+              " samples at 1/2 to 1/8 scale (" + which + ")");
 }
 
 const ImageFormat& web_format(const std::string& value, std::string_view option) {
@@ -68,7 +75,8 @@ const ImageFormat& web_format(const std::string& value, std::string_view option)
 std::string format_titles() {
   std::string t;
   const auto& all = image_formats();
-  for (size_t i = 0; i < all.size(); ++i) t += (i == 0 ? "" : i + 1 == all.size() ? " or " : ", ") + std::string(all[i]->title);
+  for (size_t i = 0; i < all.size(); ++i)
+    t += (i == 0 ? "" : i + 1 == all.size() ? " or " : ", ") + std::string(all[i]->title);
   return t;
 }
 
@@ -85,27 +93,37 @@ InputFile probe_input(const std::string& path) {
   // The header segments of a JPEG (for its SOF marker): EXIF and ICC come first, 256 kB suffice.
   const std::string head = read_fd(fd, 256 * 1024);
   ::close(fd);
-  if (head.empty()) throw Error("cannot read " + path + ": the file is empty (expected an image file)", ErrorKind::File);
+  if (head.empty())
+    throw Error("cannot read " + path + ": the file is empty (expected an image file)",
+                ErrorKind::File);
   for (const ImageFormat* format : image_formats())
     if (format->sniff(head, f)) {
       f.format = format->name;
       return f;
     }
-  throw Error("cannot read " + path + ": not a " + format_titles() + " image (by its first bytes)", ErrorKind::File);
+  throw Error("cannot read " + path + ": not a " + format_titles() + " image (by its first bytes)",
+              ErrorKind::File);
 }
 
 double most_stored_by_compression(const InputFile& file, Size, const std::string& compression) {
   double ratio = 10000;
-  if (compression == "zip" || compression == "deflate" || compression == "zips" || compression == "pxr24") ratio = 1040;
-  else if (compression == "none" || compression.empty()) ratio = 1.01;
-  else if (compression == "packbits" || compression == "rle") ratio = 130;
-  else if (compression == "lzw") ratio = 2000;
-  else if (compression == "b44" || compression == "b44a") ratio = 16;
+  if (compression == "zip" || compression == "deflate" || compression == "zips" ||
+      compression == "pxr24")
+    ratio = 1040;
+  else if (compression == "none" || compression.empty())
+    ratio = 1.01;
+  else if (compression == "packbits" || compression == "rle")
+    ratio = 130;
+  else if (compression == "lzw")
+    ratio = 2000;
+  else if (compression == "b44" || compression == "b44a")
+    ratio = 16;
   return static_cast<double>(file.bytes) * ratio + 65536;
 }
 
-void check_plausible(const std::string& path, const InputFile& f, Size size, int channels, int sample_bits,
-                     const std::string& compression, Size window, uint64_t decoded_bytes, int64_t memory_limit) {
+void check_plausible(const std::string& path, const InputFile& f, Size size, int channels,
+                     int sample_bits, const std::string& compression, Size window,
+                     uint64_t decoded_bytes, int64_t memory_limit) {
   const int bits = f.bits_per_pixel > 0 ? f.bits_per_pixel : channels * sample_bits;
   const uint64_t stored = image_bytes(window, 1, static_cast<uint64_t>(bits)) / 8;
   if (static_cast<double>(stored) > format_named(f.format).most_stored(f, window, compression))

@@ -32,9 +32,9 @@ struct ImageFormat {
   bool float_channels = false;         // float samples in any number of channels (maps)
   bool embedded_metadata = false;      // EXIF, ICC and XMP blocks panoproj reads and writes itself
   bool holds_metadata = true;
-  bool decodes_scaled = false;         // its reader decodes at 1/2, 1/4 and 1/8
-  bool streams_blocks = false;         // its writer encodes parts as they are final (JpegBlockEncoder)
-  bool web = false;                    // browsers show it (tiles and views for viewers and trainers)
+  bool decodes_scaled = false;  // its reader decodes at 1/2, 1/4 and 1/8
+  bool streams_blocks = false;  // its writer encodes parts as they are final (JpegBlockEncoder)
+  bool web = false;             // browsers show it (tiles and views for viewers and trainers)
   // Built in: its reader and writer (and, where its samples can follow a header as they are, the
   // header, or "" where they cannot); null: OpenImageIO's, through the plugin.
   std::unique_ptr<Decoder> (*open)(const std::string& path, const InputFile& file) = nullptr;
@@ -49,7 +49,8 @@ struct ImageFormat {
 };
 
 // Each codec's rows.
-extern const ImageFormat kJpegFormat, kPngFormat, kPnmFormat, kTiffFormat, kOpenExrFormat, kHdrFormat;
+extern const ImageFormat kJpegFormat, kPngFormat, kPnmFormat, kTiffFormat, kOpenExrFormat,
+    kHdrFormat;
 
 // Every format, in the order files are sniffed and messages list them.
 const std::vector<const ImageFormat*>& image_formats();
@@ -62,8 +63,8 @@ const ImageFormat& format_of_path(const std::string& path);
 // The first format whose reader decodes scaled and that holds `type` (accuracy's files); throws
 // Error naming those that do where none holds it.
 const ImageFormat& scaled_format_for(PixelType type);
-// The web format (ImageFormat::web) whose usual extension is `value` without its dot ("jpg"); throws
-// Error naming option_text(option, value) and those formats.
+// The web format (ImageFormat::web) whose usual extension is `value` without its dot ("jpg");
+// throws Error naming option_text(option, value) and those formats.
 const ImageFormat& web_format(const std::string& value, std::string_view option);
 // "JPEG, PNG, PPM/PGM, TIFF, OpenEXR or Radiance HDR"; ".jpg .jpeg .png ...".
 std::string format_titles();
@@ -76,12 +77,14 @@ InputFile probe_input(const std::string& path);
 // Throws Error unless a file of f.bytes can hold the `window` (of an image of `size`) to be
 // decoded, channels x sample_bits bits a pixel stored with `compression` (its format's
 // most_stored), and unless the decoded samples (decoded_bytes) fit the memory budget.
-void check_plausible(const std::string& path, const InputFile& f, Size size, int channels, int sample_bits,
-                     const std::string& compression, Size window, uint64_t decoded_bytes, int64_t memory_limit);
+void check_plausible(const std::string& path, const InputFile& f, Size size, int channels,
+                     int sample_bits, const std::string& compression, Size window,
+                     uint64_t decoded_bytes, int64_t memory_limit);
 
 // A coding's most expansion, decoded bytes per file byte (deflate 1032:1, LZW ~1500:1, PackBits
 // 64:1, none 1:1, B44 16:1; others 10000:1), with 64 kB for headers: most_stored for the formats
 // whose header names their coding.
-double most_stored_by_compression(const InputFile& file, Size window, const std::string& compression);
+double most_stored_by_compression(const InputFile& file, Size window,
+                                  const std::string& compression);
 
 }  // namespace panoproj

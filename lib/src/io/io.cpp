@@ -6,8 +6,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cmath>
 #include <climits>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -18,31 +18,29 @@
 #include <variant>
 #include <vector>
 
-#include "panoproj/error.hpp"
-#include "panoproj/limits.hpp"
-#include "panoproj/photo_sphere.hpp"
+#include "base/input_check.hpp"
+#include "base/parallel.hpp"
 #include "io/atomic_output.hpp"
 #include "io/codec.hpp"
-#include "io/region_read.hpp"
-#include "io/streamed_output.hpp"
 #include "io/exif.hpp"
 #include "io/formats.hpp"
 #include "io/oiio_plugin.hpp"
-#include "base/input_check.hpp"
-#include "base/parallel.hpp"
+#include "io/region_read.hpp"
+#include "io/streamed_output.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/limits.hpp"
+#include "panoproj/photo_sphere.hpp"
 
 namespace panoproj {
-
-const char* const kFaceNames[6] = {"front", "right", "back", "left", "up", "down"};
-const char* const kAxisNames[6] = {"px", "nx", "py", "ny", "pz", "nz"};
 
 namespace fs = std::filesystem;
 
 void check_writable_size(const std::string& path, Size size) {
   const ImageFormat& f = format_of_path(path);
   if (size.width > f.max_side || size.height > f.max_side)
-    throw Error("cannot write " + path + ": " + size_text(size) + " pixels, over the " + f.title + " limit of " +
-                std::to_string(f.max_side) + " a side (choose a smaller size or another format)");
+    throw Error("cannot write " + path + ": " + size_text(size) + " pixels, over the " + f.title +
+                " limit of " + std::to_string(f.max_side) +
+                " a side (choose a smaller size or another format)");
 }
 
 ChromaSubsampling parse_subsampling(std::string_view text) {
@@ -121,7 +119,8 @@ Encoded encode(const Image& in, const std::string& path, const WriteOptions& opt
   if (format.raw_header && &image == &in) {
     // Samples the format stores as they are need no copy: the header, then the image's rows.
     if (std::string head = format.raw_header(image); !head.empty())
-      return Encoded(std::move(head), {reinterpret_cast<const char*>(image.data()), image.row_bytes() * static_cast<size_t>(image.height())});
+      return Encoded(std::move(head), {reinterpret_cast<const char*>(image.data()),
+                                       image.row_bytes() * static_cast<size_t>(image.height())});
   }
   if (format.encode) return format.encode(image, path, options, blocks_for(options, image.size()));
   OiioBackend& oiio = oiio_backend("writing " + path);
@@ -139,8 +138,10 @@ struct Opened {
 
 Opened open_input(const std::string& path) {
   Opened o{probe_input(path), nullptr};
-  if (const ImageFormat& f = format_named(o.file.format); f.built_in()) o.decoder = f.open(path, o.file);
-  else o.decoder = oiio_backend("reading " + path).open(path, o.file);
+  if (const ImageFormat& f = format_named(o.file.format); f.built_in())
+    o.decoder = f.open(path, o.file);
+  else
+    o.decoder = oiio_backend("reading " + path).open(path, o.file);
   return o;
 }
 
@@ -254,7 +255,8 @@ StreamedOutput::StreamedOutput(std::string path, WriteOptions options, Size size
   check_write_options(options_);
   check_writable_size(path_, size);
   // (A JPEG takes uint8 samples as they are; others are converted first, in encode.)
-  if (format_of_path(path_).streams_blocks && type == PixelType::U8 && options_.type.value_or(type) == type)
+  if (format_of_path(path_).streams_blocks && type == PixelType::U8 &&
+      options_.type.value_or(type) == type)
     jpeg_ = std::make_unique<JpegBlockEncoder>(size, channels, path_, options_, blocks_for(options_, size));
 }
 

@@ -19,10 +19,10 @@
 #include <new>
 #include <thread>
 
+#include "base/parallel.hpp"
+#include "io/codec.hpp"
 #include "io/formats.hpp"
 #include "panoproj/error.hpp"
-#include "io/codec.hpp"
-#include "base/parallel.hpp"
 
 namespace panoproj {
 namespace {
@@ -498,7 +498,8 @@ bool arithmetic_jpeg(const std::string& b) {
     const auto m = static_cast<unsigned char>(b[i + 1]);
     if (m == 0xDA || m == 0xD9) break;
     if (m >= 0xC9 && m <= 0xCF && m != 0xCC) return true;
-    const size_t len = (static_cast<unsigned char>(b[i + 2]) << 8) | static_cast<unsigned char>(b[i + 3]);
+    const size_t len =
+        (static_cast<unsigned char>(b[i + 2]) << 8) | static_cast<unsigned char>(b[i + 3]);
     if (len < 2) break;
     i += 2 + len;
   }
@@ -513,15 +514,20 @@ const ImageFormat kJpegFormat{
     .name = "jpeg",
     .title = "JPEG",
     .extensions = {".jpg", ".jpeg"},
-    .sniff = [](const std::string& head, InputFile& file) {
-      if (head.compare(0, 3, "\xFF\xD8\xFF") != 0) return false;
-      file.arithmetic = arithmetic_jpeg(head);
-      return true;
-    },
-    .most_stored = [](const InputFile& file, Size window, const std::string&) {
-      const double blocks = static_cast<double>((window.width + 7) / 8) * static_cast<double>((window.height + 7) / 8);
-      return static_cast<double>(file.bytes) * 8.0 * (file.arithmetic ? 512.0 : 1.0) >= blocks ? HUGE_VAL : 0.0;
-    },
+    .sniff =
+        [](const std::string& head, InputFile& file) {
+          if (head.compare(0, 3, "\xFF\xD8\xFF") != 0) return false;
+          file.arithmetic = arithmetic_jpeg(head);
+          return true;
+        },
+    .most_stored =
+        [](const InputFile& file, Size window, const std::string&) {
+          const double blocks = static_cast<double>((window.width + 7) / 8) *
+                                static_cast<double>((window.height + 7) / 8);
+          return static_cast<double>(file.bytes) * 8.0 * (file.arithmetic ? 512.0 : 1.0) >= blocks
+                     ? HUGE_VAL
+                     : 0.0;
+        },
     .max_side = 65500,
     .deepest = PixelType::U8,
     .embedded_metadata = true,

@@ -1,4 +1,3 @@
-#include "io/formats.hpp"
 #include "io/oiio_plugin.hpp"
 
 #include <dlfcn.h>
@@ -8,6 +7,7 @@
 #include <filesystem>
 #include <mutex>
 
+#include "io/formats.hpp"
 #include "panoproj/error.hpp"
 
 #ifndef PANOPROJ_PLUGIN_DIRS
@@ -115,11 +115,12 @@ const ImageFormat kTiffFormat{
     .name = "tiff",
     .title = "TIFF",
     .extensions = {".tif", ".tiff"},
-    .sniff = [](const std::string& head, InputFile&) {
-      const std::string_view h(head.data(), std::min<size_t>(head.size(), 4));
-      return h == std::string_view("II*\0", 4) || h == std::string_view("MM\0*", 4) || h == std::string_view("II+\0", 4) ||
-             h == std::string_view("MM\0+", 4);
-    },
+    .sniff =
+        [](const std::string& head, InputFile&) {
+          const std::string_view h(head.data(), std::min<size_t>(head.size(), 4));
+          return h == std::string_view("II*\0", 4) || h == std::string_view("MM\0*", 4) ||
+                 h == std::string_view("II+\0", 4) || h == std::string_view("MM\0+", 4);
+        },
     .most_stored = most_stored_by_compression,
     .float_channels = true};
 
@@ -127,7 +128,8 @@ const ImageFormat kOpenExrFormat{
     .name = "openexr",
     .title = "OpenEXR",
     .extensions = {".exr"},
-    .sniff = [](const std::string& head, InputFile&) { return head.compare(0, 4, "\x76\x2f\x31\x01") == 0; },
+    .sniff = [](const std::string& head,
+                InputFile&) { return head.compare(0, 4, "\x76\x2f\x31\x01") == 0; },
     .most_stored = most_stored_by_compression,
     .float_channels = true};
 
@@ -136,9 +138,8 @@ const ImageFormat kHdrFormat{
     .title = "Radiance HDR",
     .extensions = {".hdr"},
     .sniff = [](const std::string& head, InputFile&) { return head.compare(0, 2, "#?") == 0; },
-    .most_stored = [](const InputFile& file, Size, const std::string&) {
-      return static_cast<double>(file.bytes) * 256 + 65536;
-    },
+    .most_stored = [](const InputFile& file, Size,
+                      const std::string&) { return static_cast<double>(file.bytes) * 256 + 65536; },
     .floats_only = true,
     .decodes_scaled = true};
 

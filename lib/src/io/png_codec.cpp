@@ -8,9 +8,9 @@
 #include <cstdio>
 #include <cstring>
 
+#include "io/codec.hpp"
 #include "io/formats.hpp"
 #include "panoproj/error.hpp"
-#include "io/codec.hpp"
 
 namespace panoproj {
 namespace {
@@ -207,26 +207,30 @@ FileBytes encode_png(const Image& image, const std::string& path, const WriteOpt
 // Deflate expands at most about 1032:1. A palette image decodes to 3 or 4 channels, so the bits a
 // pixel that deflate compressed come from IHDR (bit depth and colour type: gray, -, RGB, palette,
 // gray + alpha, -, RGBA).
-const ImageFormat kPngFormat{
-    .name = "png",
-    .title = "PNG",
-    .extensions = {".png"},
-    .sniff = [](const std::string& head, InputFile& file) {
-      if (head.compare(0, 8, std::string("\x89PNG\r\n\x1a\n", 8)) != 0) return false;
-      if (head.size() >= 26) {
-        static const int kSamples[7] = {1, 0, 3, 1, 2, 0, 4};
-        const int depth = static_cast<unsigned char>(head[24]), type = static_cast<unsigned char>(head[25]);
-        if (type < 7 && kSamples[type]) file.bits_per_pixel = depth * kSamples[type];
-      }
-      return true;
-    },
-    .most_stored = [](const InputFile& file, Size, const std::string&) {
-      return static_cast<double>(file.bytes) * 1040 + 65536;
-    },
-    .deepest = PixelType::U16,
-    .embedded_metadata = true,
-    .web = true,
-    .open = open_png,
-    .encode = encode_png};
+const ImageFormat kPngFormat{.name = "png",
+                             .title = "PNG",
+                             .extensions = {".png"},
+                             .sniff =
+                                 [](const std::string& head, InputFile& file) {
+                                   if (head.compare(0, 8, std::string("\x89PNG\r\n\x1a\n", 8)) != 0)
+                                     return false;
+                                   if (head.size() >= 26) {
+                                     static const int kSamples[7] = {1, 0, 3, 1, 2, 0, 4};
+                                     const int depth = static_cast<unsigned char>(head[24]),
+                                               type = static_cast<unsigned char>(head[25]);
+                                     if (type < 7 && kSamples[type])
+                                       file.bits_per_pixel = depth * kSamples[type];
+                                   }
+                                   return true;
+                                 },
+                             .most_stored =
+                                 [](const InputFile& file, Size, const std::string&) {
+                                   return static_cast<double>(file.bytes) * 1040 + 65536;
+                                 },
+                             .deepest = PixelType::U16,
+                             .embedded_metadata = true,
+                             .web = true,
+                             .open = open_png,
+                             .encode = encode_png};
 
 }  // namespace panoproj

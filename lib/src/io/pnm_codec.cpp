@@ -8,10 +8,10 @@
 #include <cerrno>
 #include <cstring>
 
+#include "io/codec.hpp"
 #include "io/formats.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
-#include "io/codec.hpp"
 
 namespace panoproj {
 namespace {
@@ -174,17 +174,20 @@ const ImageFormat kPnmFormat{
     .name = "pnm",
     .title = "PPM/PGM",
     .extensions = {".ppm", ".pgm", ".pnm"},
-    .sniff = [](const std::string& head, InputFile&) {
-      return head.size() >= 3 && head[0] == 'P' && (head[1] == '5' || head[1] == '6') &&
-             std::isspace(static_cast<unsigned char>(head[2]));
-    },
+    .sniff =
+        [](const std::string& head, InputFile&) {
+          return head.size() >= 3 && head[0] == 'P' && (head[1] == '5' || head[1] == '6') &&
+                 std::isspace(static_cast<unsigned char>(head[2]));
+        },
     .most_stored = most_stored_by_compression,
     .deepest = PixelType::U16,
     .holds_metadata = false,
     .open = open_pnm,
-    .encode = [](const Image& image, const std::string& path, const WriteOptions&, const EmbeddedMetadata&) {
-      return encode_pnm(image, path);
-    },
-    .raw_header = [](const Image& image) { return pnm_as_stored(image) ? pnm_header(image) : std::string(); }};
+    .encode = [](const Image& image, const std::string& path, const WriteOptions&,
+                 const EmbeddedMetadata&) { return encode_pnm(image, path); },
+    .raw_header =
+        [](const Image& image) {
+          return pnm_as_stored(image) ? pnm_header(image) : std::string();
+        }};
 
 }  // namespace panoproj

@@ -4,9 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "panoproj/views.hpp"
 #include "io/atomic_output.hpp"
 #include "io/formats.hpp"
+#include "panoproj/views.hpp"
 
 namespace panoproj {
 
@@ -19,7 +19,9 @@ struct ViewFiles {
   std::string image_name(const std::string& stem, const std::string& view) const;
   // Within the output folder.
   std::string image_path(const std::string& stem, const std::string& view) const { return "images/" + image_name(stem, view); }
-  std::string mask_path(const std::string& stem, const std::string& view) const { return "masks/" + image_name(stem, view) + std::string(kPngFormat.extensions[0]); }
+  std::string mask_path(const std::string& stem, const std::string& view) const {
+    return "masks/" + image_name(stem, view) + std::string(kPngFormat.extensions[0]);
+  }
 };
 
 // sparse/0/{cameras,images,points3D,rigs,frames}.txt, transforms.json and, with folders,

@@ -9,16 +9,16 @@
 #include <sstream>
 #include <vector>
 
+#include "base/pixel_buffers.hpp"
+#include "io/atomic_output.hpp"
+#include "io/formats.hpp"
+#include "io/region_read.hpp"
+#include "io/streamed_output.hpp"
+#include "jobs/frame_pipeline.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/photo_sphere.hpp"
-#include "base/pixel_buffers.hpp"
-#include "io/atomic_output.hpp"
-#include "io/region_read.hpp"
-#include "io/streamed_output.hpp"
-#include "jobs/frame_pipeline.hpp"
-#include "io/formats.hpp"
 
 namespace panoproj {
 namespace fs = std::filesystem;
@@ -72,15 +72,17 @@ std::string batch_output(const std::string& pattern, const std::string& input, s
 // EXR's lossy DWAB must not pass to its output). By OpenImageIO's names, for TIFF, EXR and HDR
 // inputs.
 Metadata carried_metadata(const std::string& input) {
-  static const char* const kDropped[] = {"Orientation", "Exif:PixelXDimension", "Exif:PixelYDimension",
-                                         "PixelAspectRatio", "screenWindowCenter", "screenWindowWidth",
-                                         "compression", "planarconfig"};
+  static const char* const kDropped[] = {
+      "Orientation",        "Exif:PixelXDimension", "Exif:PixelYDimension", "PixelAspectRatio",
+      "screenWindowCenter", "screenWindowWidth",    "compression",          "planarconfig"};
   Metadata kept;
   for (Attribute& a : read_metadata(input)) {
     const std::string& n = a.name;
-    bool drop = n.rfind("thumbnail", 0) == 0 || n.rfind("rla:", 0) == 0;  // (RLA: a format OpenImageIO reads)
+    bool drop = n.rfind("thumbnail", 0) == 0 ||
+                n.rfind("rla:", 0) == 0;  // (RLA: a format OpenImageIO reads)
     for (const char* d : kDropped) drop |= n == d;
-    for (const ImageFormat* f : image_formats()) drop |= n.rfind(std::string(f->name) + ":", 0) == 0;
+    for (const ImageFormat* f : image_formats())
+      drop |= n.rfind(std::string(f->name) + ":", 0) == 0;
     if (!drop) kept.push_back(std::move(a));
   }
   return kept;
@@ -91,8 +93,10 @@ Metadata carried_metadata(const std::string& input) {
 // not carried); formats without metadata (PPM) have none.
 void carry_metadata(const std::string& input, const std::string& format, WriteOptions& write) {
   const ImageFormat& f = format_named(format);
-  if (f.embedded_metadata) write.embedded = read_embedded_metadata(input);
-  else if (f.holds_metadata) write.metadata = carried_metadata(input);
+  if (f.embedded_metadata)
+    write.embedded = read_embedded_metadata(input);
+  else if (f.holds_metadata)
+    write.metadata = carried_metadata(input);
 }
 
 const char* layout_name(StereoLayout l) {
@@ -355,7 +359,8 @@ Size run_maps(const MapsJob& job) {
   if (!format_of_path(job.output).float_channels) {
     std::string holding;
     for (const ImageFormat* f : image_formats())
-      if (f->float_channels) holding += (holding.empty() ? "" : " or ") + std::string(f->extensions[0]);
+      if (f->float_channels)
+        holding += (holding.empty() ? "" : " or ") + std::string(f->extensions[0]);
     throw Error("output " + job.output + " cannot hold float maps (use " + holding + ")");
   }
   check_output_path(job.output, job.write.overwrite);

@@ -53,7 +53,8 @@ Flat flatten(const Image& part, int64_t x0, int64_t y0, int64_t w, int64_t h, bo
   return f;
 }
 
-std::string encoded(const Image& image, const ImageFormat& f, const WriteOptions& write, const std::string& path) {
+std::string encoded(const Image& image, const ImageFormat& f, const WriteOptions& write,
+                    const std::string& path) {
   WriteOptions w = write;
   w.threads = 1;
   const PixelType type = f.stored_type(image.type());

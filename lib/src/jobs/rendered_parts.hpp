@@ -3,8 +3,8 @@
 // flattened over black by its coverage (alpha), and the part encoded as the job's format.
 #include <string>
 
-#include "panoproj/image.hpp"
 #include "io/formats.hpp"
+#include "panoproj/image.hpp"
 #include "panoproj/io.hpp"
 
 namespace panoproj {
@@ -19,6 +19,7 @@ Flat flatten(const Image& part, int64_t x0, int64_t y0, int64_t w, int64_t h, bo
 
 // The file bytes of `image` in `format` (a built-in one), its samples converted to what it stores;
 // `path` names the file in errors.
-std::string encoded(const Image& image, const ImageFormat& format, const WriteOptions& write, const std::string& path);
+std::string encoded(const Image& image, const ImageFormat& format, const WriteOptions& write,
+                    const std::string& path);
 
 }  // namespace panoproj

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <string_view>
 
-#include "panoproj/error.hpp"
 #include "base/json_text.hpp"
 #include "io/formats.hpp"
+#include "panoproj/error.hpp"
 
 namespace panoproj {
 namespace {

@@ -160,7 +160,8 @@ std::array<int64_t, 2> render_rows(const TilesJob& job, const Source& src, const
         return;
       }
       const std::string path = p.tile_path(r.level, r.face, row, col);
-      folder.write(path, encoded(f.image, web_format(job.format, "format"), job.write, job.output + "/" + path));
+      folder.write(path, encoded(f.image, web_format(job.format, "format"), job.write,
+                                 job.output + "/" + path));
       ++written;
     });
     if (progress) progress(static_cast<double>(++finished) / static_cast<double>(parts.size()));
@@ -236,8 +237,10 @@ TilesReport finish(const TilesJob& job, const Source& src, OutputFolder& folder,
   render_parts(job, src, parts, true, [&](size_t i, const Image& face) {
     Flat flat = flatten(face, 0, 0, p.preview, p.preview, src.partial);
     if (p.viewer == Viewer::Pannellum) {
-      if (!flat.empty) folder.writer().write(preview_path(p, parts[i].face),
-                                                encoded(flat.image, web_format(job.format, "format"), job.write, job.output + "/" + preview_path(p, parts[i].face)));
+      if (!flat.empty)
+        folder.writer().write(preview_path(p, parts[i].face),
+                              encoded(flat.image, web_format(job.format, "format"), job.write,
+                                      job.output + "/" + preview_path(p, parts[i].face)));
       return;
     }
     if (strip.width() == 0) strip = Image(Size{p.preview, 6 * p.preview}, flat.image.channels(), flat.image.type());
@@ -246,7 +249,9 @@ TilesReport finish(const TilesJob& job, const Source& src, OutputFolder& folder,
       std::memcpy(strip.row(slot * p.preview + y), flat.image.row(y), flat.image.row_bytes());
   });
   if (p.viewer == Viewer::Marzipano)
-    folder.writer().write(preview_path(p, 0), encoded(strip, web_format(job.format, "format"), job.write, job.output + "/" + preview_path(p, 0)));
+    folder.writer().write(preview_path(p, 0),
+                          encoded(strip, web_format(job.format, "format"), job.write,
+                                  job.output + "/" + preview_path(p, 0)));
   const ViewRange range = view_range(src);
   for (const TextFile& f : viewer_files(job, p, range)) folder.writer().write(f.path, f.text);
   folder.commit();

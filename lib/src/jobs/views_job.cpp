@@ -7,18 +7,18 @@
 #include <set>
 #include <type_traits>
 
+#include "base/sample_io.hpp"
+#include "io/atomic_output.hpp"
+#include "io/formats.hpp"
+#include "jobs/camera_files.hpp"
+#include "jobs/file_source.hpp"
+#include "jobs/rendered_parts.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/interrupt.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/rotation.hpp"
 #include "panoproj/views.hpp"
-#include "base/sample_io.hpp"
-#include "io/atomic_output.hpp"
-#include "jobs/camera_files.hpp"
-#include "jobs/file_source.hpp"
-#include "jobs/rendered_parts.hpp"
-#include "io/formats.hpp"
 
 namespace panoproj {
 namespace {
@@ -162,7 +162,8 @@ std::array<int64_t, 2> render_frame(const ViewsJob& job, const std::vector<ViewC
     if (frame.partial) flat = flatten(out, 0, 0, out.width(), out.height(), true);
     if (flat.empty) flat.image = Image(out.size(), out.channels() - 1, out.type());
     const std::string path = files.image_path(stem, cams[v].name);
-    folder.write(path, encoded(frame.partial ? flat.image : out, web_format(job.format, "format"), job.write, job.output + "/" + path));
+    folder.write(path, encoded(frame.partial ? flat.image : out, web_format(job.format, "format"),
+                               job.write, job.output + "/" + path));
     if (frame.partial) {
       const std::string mpath = files.mask_path(stem, cams[v].name);
       folder.write(mpath, encoded(mask_of(out), kPngFormat, job.write, job.output + "/" + mpath));

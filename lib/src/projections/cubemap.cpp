@@ -2,12 +2,14 @@
 // cross, YouTube's EAC) or six files; face order, turns and padding; the layouts' cells.
 #include <sstream>
 
-#include "projections/module.hpp"
 #include "panoproj/error.hpp"
-#include "panoproj/io.hpp"
+#include "projections/module.hpp"
 #include "projections/spec_support.hpp"
 
 namespace panoproj {
+
+const char* const kFaceNames[6] = {"front", "right", "back", "left", "up", "down"};
+const char* const kAxisNames[6] = {"px", "nx", "py", "ny", "pz", "nz"};
 
 namespace {
 
@@ -294,6 +296,7 @@ SamplingFacts sampling(const Projection& p) {
 
 }  // namespace
 
-const ProjectionModule kCubemapModule{catalog, check, make, size_for, rescale, cases, always, sampling};
+const ProjectionModule kCubemapModule{catalog, check, make,   size_for,
+                                      rescale, cases, always, sampling};
 
 }  // namespace panoproj

@@ -47,7 +47,10 @@ std::vector<ProjectionCase> cases() {
 
 }  // namespace
 
-const ProjectionModule kCylindricalModule{catalog, [](const ProjectionSpec& s) { check_latitude_span(s, true); }, make,
-                                          size_for, rescale, cases, nullptr, sampling};
+const ProjectionModule kCylindricalModule{
+    catalog, [](const ProjectionSpec& s) { check_latitude_span(s, true); },
+    make,    size_for,
+    rescale, cases,
+    nullptr, sampling};
 
 }  // namespace panoproj

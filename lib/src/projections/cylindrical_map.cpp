@@ -45,7 +45,8 @@ SamplingFacts sampling(const Projection& p) {
   f.x0 = fr.pixel_x(-kPi), f.x1 = fr.pixel_x(kPi);
   f.y0 = fr.pixel_y(m.y_max()), f.y1 = fr.pixel_y(-m.y_max());
   f.wraps_x = true;
-  f.north_pole = f.south_pole = m.law() != CylindricalLaw::Mercator && m.phi_max() >= kHalfPi * (1.0 - 1e-12);
+  f.north_pole = f.south_pole =
+      m.law() != CylindricalLaw::Mercator && m.phi_max() >= kHalfPi * (1.0 - 1e-12);
   return f;
 }
 
@@ -64,6 +65,7 @@ std::vector<ProjectionCase> cases() {
 
 }  // namespace
 
-const ProjectionModule kCylindricalMapModule{catalog, nullptr, make, size_for, rescale, cases, always, sampling};
+const ProjectionModule kCylindricalMapModule{catalog, nullptr, make,   size_for,
+                                             rescale, cases,   always, sampling};
 
 }  // namespace panoproj

@@ -133,8 +133,14 @@ std::vector<ProjectionCase> cases() {
 
 }  // namespace
 
-const ProjectionModule kDualFisheyeModule{catalog, [](const ProjectionSpec& s) { lenses_of(s); }, make, size_for, rescale, cases,
-                                          nullptr, [](const Projection& p) {
+const ProjectionModule kDualFisheyeModule{catalog,
+                                          [](const ProjectionSpec& s) { lenses_of(s); },
+                                          make,
+                                          size_for,
+                                          rescale,
+                                          cases,
+                                          nullptr,
+                                          [](const Projection& p) {
                                             SamplingFacts f = framed_facts(p);
                                             f.dual = &std::get<DualFisheye>(p);
                                             return f;

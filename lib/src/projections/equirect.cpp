@@ -55,6 +55,9 @@ std::vector<ProjectionCase> cases() {
 }  // namespace
 
 const ProjectionModule kEquirectModule{
-    catalog, [](const ProjectionSpec& s) { check_latitude_span(s, false); }, make, size_for, rescale, cases, whole_sphere, sampling};
+    catalog,      [](const ProjectionSpec& s) { check_latitude_span(s, false); },
+    make,         size_for,
+    rescale,      cases,
+    whole_sphere, sampling};
 
 }  // namespace panoproj

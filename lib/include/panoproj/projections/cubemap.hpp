@@ -93,10 +93,20 @@ struct CubeAxis {
   CubeAxis scaled(double s) const;  // throws Error unless the edges stay whole pixels
 };
 
+// The faces' names (front, right, back, left, up, down) and the axes' (px nx py ny pz nz).
+extern const char* const kFaceNames[6];
+extern const char* const kAxisNames[6];
+
+// The face in each slot of a cube's six (the cubemap's order= key) and the axis it looks along (in
+// the frame of its preset=; without one, panoproj's: x right, y down, z forward).
+struct FaceOrder {
+  std::array<int, 6> face{0, 1, 2, 3, 4, 5};
+  std::array<int, 6> axis{4, 0, 5, 1, 3, 2};  // index into kAxisNames: front is +z, up -y
+};
+inline constexpr FaceOrder kDefaultFaceOrder{};
+
 class ProjectionSpec;
-struct FaceOrder;
-// The face in each slot and the axis it looks along (io.hpp) by a cubemap spec's layout, order
-// and preset keys.
+// The FaceOrder of a cubemap spec's layout, order and preset keys.
 FaceOrder cube_face_order(const ProjectionSpec& spec);
 
 class Cubemap {
