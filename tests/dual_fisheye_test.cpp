@@ -174,7 +174,7 @@ TEST(DualFisheye, HardCutMatchesTheReferenceEngine) {
   EXPECT_EQ(differ, 0);
 }
 
-// The must-show: Jordan Pond -> dual fisheye (two 200-degree lenses, 2048x2048 each, side
+// Jordan Pond -> dual fisheye (two 200-degree lenses, 2048x2048 each, side
 // by side) -> equirect 4096x2048, bicubic; PSNR against the photo overall and in the overlap band
 // (80 to 100 degrees from lens 0's axis), and the band rebuilt from each lens alone.
 TEST(DualFisheye, JordanPondThroughTwoLensesAndBack) {

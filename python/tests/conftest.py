@@ -54,7 +54,7 @@ def smooth_equirect(w, h, dtype=np.uint8, channels=3):
 
 
 def pytest_configure(config):
-    config.addinivalue_line("markers", "why: reproduces a failure listed under 'Why' in issue 15 (test_robustness.py)")
+    config.addinivalue_line("markers", "why: reproduces a failure the code once had (test_robustness.py)")
 
 
 # Hostile files: small, declaring gigapixel images (test_robustness.py, test_io_paths.py).

@@ -1,5 +1,5 @@
 """Arrays as users hold them (panoproj/_arrays.py): dtypes, labels, batches, many channels,
-other libraries' arrays, cube faces as lists and dicts; and the traps of issue 19, each a test."""
+other libraries' arrays, cube faces as lists and dicts; and the traps users fell into with them, each a test."""
 
 import warnings
 

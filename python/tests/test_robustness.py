@@ -11,7 +11,8 @@ tests/robustness_test.cpp). Table-driven; every case asserts
 Write faults are injected below every library: RLIMIT_FSIZE (the kernel fails each write past an
 offset with EFBIG), strace's syscall injection (ENOSPC, EDQUOT, EIO on write; EIO on fsync; EROFS
 on rename) and, where a mount is permitted, a 1 MiB tmpfs. Each case checks that its fault fired.
-Cases marked ``why`` reproduce the failures listed under "Why" in issue 15.
+Cases marked ``why`` reproduce failures the code once had (data lost or written half), each
+fixed at its mechanism.
 """
 import json
 import os
@@ -254,7 +255,7 @@ PARAMS = [
     ("unknown_projection", ["--to", "mercatorish"], "mercatorish", False),
     ("fov_400", ["--to", "fisheye:fov=400"], "fov", False),
     ("fov_nan", ["--to", "fisheye:fov=nan"], "fov", False),
-    # issue 20: the map and lens forms' keys
+    # the map and lens forms' keys
     ("mercator_lat_max_90", ["--to", "mercator:lat_max=90"], "lat_max=90 is out of range (expected 0 < lat_max < 90)", False),
     ("tm_x_max_nan", ["--to", "transverse-mercator:x_max=nan"], "x_max=nan is not finite", False),
     ("cea_lat_ts_90", ["--to", "cylindrical-equal-area:lat_ts=90"], "lat_ts=90 is out of range", False),
@@ -269,7 +270,7 @@ PARAMS = [
      False),
     ("k2_without_thoby", ["--to", "fisheye:k2=0.5"], "k2 applies to model=thoby", False),
     ("k2_huge", ["--to", "fisheye:model=thoby,k2=1e300"], "k2=1e300 is out of range (expected 0 < k2 <= 10)", False),
-    # issue 21: cube formats and stereo frames
+    # cube formats and stereo frames
     ("cube_order_letters", ["--to", "cubemap:order=frbluu"], "order=frbluu is not six distinct letters of f r b l u d", False),
     ("cube_rot_digit", ["--to", "cubemap:rot=00004"], "rot=00004 is not six digits 0-3", False),
     ("cube_pad_and_pad_px", ["--to", "cubemap:pad=0.1,pad_px=2"], "pad and pad_px both given", False),
@@ -544,7 +545,7 @@ def test_temporaries_are_created_exclusively_under_unpredictable_names(cli, file
 def test_planted_links_at_temporary_names_are_never_followed(cli, files, tmp_path):
     # Without knowing the random name, an attacker can only plant many: none is followed (the
     # temporary is created with O_EXCL | O_NOFOLLOW, so a planted name would be skipped).
-    # The names the code before issue 15 used (.o.panoproj-tmp-PID.png), for the next 300 PIDs.
+    # The temporary names an earlier panoproj used (.o.panoproj-tmp-PID.png), for the next 300 PIDs.
     (tmp_path / "root-only").write_bytes(b"secret")
     last = int(pathlib.Path("/proc/sys/kernel/ns_last_pid").read_text())
     for k in range(1, 301):
@@ -859,8 +860,8 @@ def test_plan_run_refuses_an_out_that_shares_the_images_memory(case):
 PY_IMG = "np.zeros((32, 64, 3), np.uint8)"
 PONDS = str(pathlib.Path(__file__).resolve().parents[2] / "samples" / "images" / "jordan_pond_4096x2048.jpg")
 PY_CALLS = [
-    # (id, call, exception class, needle, why); each runs in a fresh interpreter (the code before
-    # issue 15 crashed on some: a segfault must not end the suite).
+    # (id, call, exception class, needle, why); each runs in a fresh interpreter (earlier code
+    # crashed on some: a segfault must not end the suite).
     ("convert_2e32", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', size=(2**32, 2**32))", "ValueError",
      "4294967296x4294967296", True),
     ("convert_huge", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', size=(2**31 - 1, 2**31 - 1))", "MemoryError",
@@ -872,7 +873,7 @@ PY_CALLS = [
     ("build_map_huge", "pp.build_map('equirect', 'fisheye', (64, 32), size=(100000, 100000))", "MemoryError",
      "map 100000x100000 needs 160 GB", False),
     ("plan_huge", "pp.Plan('equirect', 'fisheye', (64, 32), size=(1 << 30, 1 << 30))", "MemoryError", "needs", False),
-    # convert fits 12 MB; a plan also keeps up to 17 bytes a pixel for its later runs (issue 22)
+    # convert fits 12 MB; a plan also keeps up to 17 bytes a pixel for its later runs (kept taps)
     ("plan_kept_limit", f"pp.Plan('equirect', 'pinhole', (64, 32), size=(1000, 1000), memory_limit='12M')({PY_IMG})",
      "MemoryError", "with the maps and taps the plan keeps", False),
     ("size_2e70", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', size=(2**70, 1))", "ValueError",
@@ -902,7 +903,7 @@ PY_CALLS = [
     ("read_limit", f"pp.read({PONDS!r}, memory_limit='10M')", "MemoryError", "memory_limit=", False),
     ("faces_strip", "pp.write('/tmp/pp-never-{face}.png', np.zeros((256, 300, 3), np.uint8))", "ValueError",
      "300x256", True),
-    # issue 19: arrays as users hold them, conventions, panoproj.compat
+    # arrays as users hold them, conventions, panoproj.compat
     ("batch_huge", "pp.convert(np.broadcast_to(np.zeros((1, 64, 128, 3), np.uint8), (10**7, 64, 128, 3)), 'equirect', "
                    "'pinhole', size=(64, 64))", "MemoryError", "batch output 10000000 x 64x64x3 needs", False),
     ("batch_empty", "pp.convert(np.zeros((0, 64, 128, 3), np.uint8), 'equirect', 'pinhole')", "ValueError",
@@ -1273,8 +1274,8 @@ def test_python_folder_job_refusals(files, tmp_path, case):
 
 
 # ---------------------------------------------------------------------------------------------
-# 9. Nothing lost, round 3: output folders reached only through opened folders, identities by
-#    device and inode, no removal into mounts, --overwrite only on panoproj's folders, stale
+# 9. Output folders reached only through opened folders, identities by device and inode, no
+#    removal into mounts, --overwrite only on panoproj's folders, stale
 #    temporaries, degenerate geometry, Python's copies and Ctrl-C, memory limits, HDR in bands.
 
 def _earlier_layout(tmp_path, command):

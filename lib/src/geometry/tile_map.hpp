@@ -9,8 +9,7 @@
 //     square's edge midpoints);
 //   - otherwise (seams, face changes, field boundaries, singular points) exact per pixel.
 // Interpolated pixels are then checked with contains() on both sides, so validity is exact.
-// Bilinear over 8-px cells was tried first: it errs by h^2 f''/8 ~ 0.05 px on equirect -> cube,
-// so most cells fell back to exact. Tested for every projection in tests/tile_map_test.cpp.
+// Tested for every projection in tests/tile_map_test.cpp.
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>

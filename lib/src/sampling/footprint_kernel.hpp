@@ -13,10 +13,7 @@
 // clamped to [1, kFootprintReach]; wider footprints are split into sub-pixels (the engine).
 // The widths come from the exact steps at 3 x 3 points of each output tile (corners, edge
 // middles, centre), bilinear in between: the footprint changes slowly, and the fused SIMD
-// geometry then needs no map. Kernels tried first, on the chart scene (README "Error against run
-// time"): 4 taps, the mean of two bilinear tents at +-a (2x2 sub-pixels without their geometry),
-// 1.7 dB lower (its taps skip the centre pixel at some phases: a comb that lets fine detail
-// alias); 4 taps with this box, cut to the taps past e = 3, 2.7 dB lower. Internal.
+// geometry then needs no map (docs/decisions.md: the kernels measured before this one).
 #include <cstdint>
 
 #include "sampling/interpolator.hpp"
