@@ -65,7 +65,8 @@ const char* name_of(Engine e);
 //               neighbours does not count); the pixel samples with the chosen kernel the two
 //               levels around r = rho / 2, 2^k <= r < 2^(k+1), blended linearly in r. Bilinear at
 //               level log2(rho / 2) spans rho source pixels: for a uniform shrink by 2^(k+1) it is
-//               exactly the area average (docs/decisions.md: the alternatives measured). Pixels with r <= 1 (rho <= 2) are sampled as without antialiasing, bit for bit.
+//               exactly the area average (docs/decisions.md: the alternatives measured). Pixels
+//               with r <= 1 (rho <= 2) are sampled as without antialiasing, bit for bit.
 //   off         one sample at the pixel centre.
 struct Antialias {
   enum class Mode { Off, Auto, Supersample, Mip };

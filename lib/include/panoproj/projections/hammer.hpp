@@ -15,9 +15,17 @@ namespace panoproj {
 class Hammer : public MapProjection<Hammer> {
  public:
   static constexpr bool kConvexOutline = false;  // not shown for every W
+  // The box: |X| to the outline's equator point (X grows with lambda there); |Y| to the pole's
+  // sqrt 2 for W <= 1/2, else to the outline's highest point, where (with c = cos(pi W) < 0)
+  // Y^2 = 2 sin^2 phi / (1 + c cos phi) peaks at cos phi = (sqrt(1 - c^2) - 1) / c.
   Hammer(Size size, double w, double lon0) : MapProjection(lon0), w_(w) {
-    const double x_max = forward_x(kPi, 0.0);
-    frame_ = {size, -x_max, x_max, -std::sqrt(2.0), std::sqrt(2.0)};
+    const double x_max = forward_x(kPi, 0.0), c = std::cos(kPi * w);
+    double y_max = std::sqrt(2.0);
+    if (c < 0) {
+      const double u = (std::sqrt(1.0 - c * c) - 1.0) / c;
+      y_max = std::sqrt(2.0 * (1.0 - u * u) / (1.0 + c * u));
+    }
+    frame_ = {size, -x_max, x_max, -y_max, y_max};
   }
 
   double w() const { return w_; }
