@@ -296,7 +296,7 @@ TEST(Antialias, FootprintHoldsWhatItReads) {
   const Eigen::Matrix3d r = rotation_from_ypr(70, 20, 0);
   for (Antialias aa : {kAuto, kMip, Antialias{Antialias::Mode::Supersample, 3}}) {
     const Converter c(s, d, r, Interp::Lanczos3, Engine::Simd, 2, Keep::Nothing, aa);
-    const Converter::Region g = c.source_footprint();
+    const PixelRect g = c.source_footprint();
     ASSERT_LT((g.x1 - g.x0) * (g.y1 - g.y0), 2048 * 1024 / 4) << "a small part of the source";
     Image win({g.x1 - g.x0, g.y1 - g.y0}, 3, PixelType::U8);
     for (int64_t y = 0; y < win.height(); ++y) std::memcpy(win.row(y), im.pixel(g.x0, g.y0 + y), win.row_bytes());
@@ -315,7 +315,7 @@ TEST(Antialias, FootprintHoldsWhatItReads) {
     for (Antialias aa : {kAuto, kMip, Antialias{Antialias::Mode::Supersample, 8}}) {
       const Converter c(s, make(v.to, v.size), rotation_from_ypr(v.yaw, v.pitch, v.roll), Interp::Bilinear, Engine::Simd, 2,
                         Keep::Nothing, aa);
-      const Converter::Region g = c.source_footprint();
+      const PixelRect g = c.source_footprint();
       Image win({g.x1 - g.x0, g.y1 - g.y0}, 3, PixelType::U8);
       for (int64_t y = 0; y < win.height(); ++y) std::memcpy(win.row(y), im.pixel(g.x0, g.y0 + y), win.row_bytes());
       win.set_window(g.x0, g.y0, {2048, 1024});

@@ -97,7 +97,7 @@ TEST(PlannedTaps, OnlyTheFirstSourcesLayoutReplays) {
   const Image whole = frame(src, 1);
   EXPECT_TRUE(kept.run(whole, &st) == lean.run(whole));
   // A window of the frame (as a file's region read gives): other offsets from its first pixel.
-  const Converter::Region g = kept.source_footprint();
+  const PixelRect g = kept.source_footprint();
   ASSERT_GT(g.x0, 0);
   Image window({g.x1 - g.x0, g.y1 - g.y0}, 3, PixelType::U8);
   const Image other = frame(src, 2);

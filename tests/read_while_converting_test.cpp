@@ -66,7 +66,7 @@ void trickle(const Image& from, Image& into, const RowsArrived& arrived, int64_t
 
 // The window of whole that c reads, as a source frame's window.
 Image window_of(const Image& whole, const Converter& c) {
-  const Converter::Region r = c.source_footprint();
+  const PixelRect r = c.source_footprint();
   Image w({r.x1 - r.x0, r.y1 - r.y0}, whole.channels(), whole.type(), whole.alpha_channel());
   for (int64_t y = r.y0; y < r.y1; ++y)
     std::memcpy(w.row(y - r.y0), whole.pixel(r.x0, y), static_cast<size_t>(r.x1 - r.x0) * whole.pixel_bytes());
@@ -166,15 +166,17 @@ TEST(ReadWhileConverting, FinishedPartsAreFinalWhenReportedAndCoverTheOutputOnce
         std::mutex m;
         std::vector<int> times(static_cast<size_t>(expected.width() * expected.height()), 0);
         int64_t wrong = 0;
-        conv.run_reading(arriving, out, [&](const RowsArrived& a) { trickle(whole, arriving, a); }, nullptr, {},
-                         [&](const Converter::Region& r) {
-                           const std::lock_guard<std::mutex> lock(m);
-                           for (int64_t y = r.y0; y < r.y1; ++y)
-                             for (int64_t x = r.x0; x < r.x1; ++x) {
-                               ++times[static_cast<size_t>(y * expected.width() + x)];
-                               wrong += std::memcmp(out.pixel(x, y), expected.pixel(x, y), out.pixel_bytes()) != 0;
-                             }
-                         });
+        conv.run_reading(
+            arriving, out, [&](const RowsArrived& a) { trickle(whole, arriving, a); }, nullptr, {},
+            [&](const PixelRect& r) {
+              const std::lock_guard<std::mutex> lock(m);
+              for (int64_t y = r.y0; y < r.y1; ++y)
+                for (int64_t x = r.x0; x < r.x1; ++x) {
+                  ++times[static_cast<size_t>(y * expected.width() + x)];
+                  wrong +=
+                      std::memcmp(out.pixel(x, y), expected.pixel(x, y), out.pixel_bytes()) != 0;
+                }
+            });
         EXPECT_TRUE(out == expected) << what;
         EXPECT_EQ(wrong, 0) << what;
         const int want = fill ? 0 : 1;

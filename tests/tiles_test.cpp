@@ -308,12 +308,13 @@ TEST_F(Tiles, PartsInAnyOrderEqualTheWholeRun) {
   job.output = path("parts");
   const TilesStaging s = begin_tiles(job, 64 * 64 * 3);  // small bands: many parts, each its own region
   ASSERT_GT(s.work.size(), 12u);
-  std::vector<TileRows> work = s.work;
+  std::vector<TileBand> work = s.work;
   std::shuffle(work.begin(), work.end(), std::mt19937(3));
   std::array<int64_t, 2> counts{0, 0};
   for (size_t i = 0; i < work.size(); i += 5) {
-    const std::vector<TileRows> some(work.begin() + static_cast<std::ptrdiff_t>(i),
-                                     work.begin() + static_cast<std::ptrdiff_t>(std::min(work.size(), i + 5)));
+    const std::vector<TileBand> some(
+        work.begin() + static_cast<std::ptrdiff_t>(i),
+        work.begin() + static_cast<std::ptrdiff_t>(std::min(work.size(), i + 5)));
     const auto c = render_tiles(job, s.folder, some);
     counts[0] += c[0], counts[1] += c[1];
   }

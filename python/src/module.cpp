@@ -438,13 +438,13 @@ PYBIND11_MODULE(_core, m) {
       s = begin_tiles(j, band_pixels);
     }
     py::list work;
-    for (const TileRows& r : s.work) work.append(py::make_tuple(r.level, r.face, r.row0, r.row1));
+    for (const TileBand& r : s.work) work.append(py::make_tuple(r.level, r.face, r.row0, r.row1));
     return py::make_tuple(staged_handle(s.folder), work);
   });
   m.def("tiles_render", [](const py::dict& job, const py::dict& options, const py::tuple& folder,
                            const std::vector<std::tuple<size_t, int, int64_t, int64_t>>& rows) {
     const TilesJob j = tiles_job(job, options);
-    std::vector<TileRows> work;
+    std::vector<TileBand> work;
     for (const auto& [level, face, row0, row1] : rows) work.push_back({level, face, row0, row1});
     const StagedFolder staged = staged_of(folder);
     Unlocked unlocked;

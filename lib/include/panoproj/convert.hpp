@@ -78,10 +78,6 @@ enum class Keep {
 // simd or scalar engine; mip builds the source's levels on each run, as far as they are read.
 class Converter {
  public:
-  // Pixels [x0, x1) x [y0, y1).
-  struct Region {
-    int64_t x0, y0, x1, y1;
-  };
   // edges: what pixels without a source, or on the field's edge, get (EdgeFill, options.hpp; by default
   // 0, decided at pixel centres).
   // stereo: src and out are frames of both eyes where it says so; each eye converts alone
@@ -98,7 +94,7 @@ class Converter {
   // (video frames, batches: no new memory per frame). finished: as run_reading's, below.
   void run(const Image& src, Image& out, EngineStats* stats = nullptr,
            const std::function<void(double)>& progress = {},
-           const std::function<void(const Region&)>& finished = {}) const;
+           const std::function<void(const PixelRect&)>& finished = {}) const;
   // The same while src is read: read(arrived) runs once, first, on one of the run's threads; it
   // fills src (its buffer already the window's size) from the top, calling arrived as its rows
   // come in (RowsArrived, image.hpp). Tiles go in the order their source rows come, each once
@@ -107,16 +103,17 @@ class Converter {
   // is called from the run's threads with each part of out once its pixels are final (each pixel
   // once; out is allocated by then): to encode it while the rest is made. Parts an edge fill
   // (EdgeFill) or the reference engine finishes later are not reported.
-  void run_reading(const Image& src, Image& out, const std::function<void(const RowsArrived&)>& read,
+  void run_reading(const Image& src, Image& out,
+                   const std::function<void(const RowsArrived&)>& read,
                    EngineStats* stats = nullptr, const std::function<void(double)>& progress = {},
-                   const std::function<void(const Region&)>& finished = {}) const;
+                   const std::function<void(const PixelRect&)>& finished = {}) const;
 
   // The source pixels [x0, x1) x [y0, y1) that run() reads (with the kernel's taps and the
   // tap rules: a seam or pole crossing widens it to the full width; cubemap sources and targets
   // showing the whole sphere (cubemap, full equirect, the world maps) read all). Read
   // only this part of a large source. With Keep::Maps or more it builds and keeps the tile maps (run()
   // then reuses them); without, it maps tile by tile and keeps nothing.
-  Region source_footprint() const;
+  PixelRect source_footprint() const;
 
   const Projection& source() const;
   const Projection& target() const;

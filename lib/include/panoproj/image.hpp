@@ -17,6 +17,13 @@ struct Size {
   bool operator==(const Size&) const = default;
 };
 
+// Pixels [x0, x1) x [y0, y1) of a frame.
+struct PixelRect {
+  int64_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  Size size() const { return {x1 - x0, y1 - y0}; }
+  bool operator==(const PixelRect&) const = default;
+};
+
 enum class PixelType { U8, U16, F16, F32 };
 
 // (Inline: the SIMD sampler's planning loop asks per vector.)

@@ -79,7 +79,7 @@ struct TilePyramid {
 TilePyramid tile_pyramid(const TilesJob& job);
 
 // Rows of tiles of one face at one level: a unit of work.
-struct TileRows {
+struct TileBand {
   size_t level = 0;  // index into TilePyramid::levels
   int face = 0;      // 0..5: f r b l u d
   int64_t row0 = 0, row1 = 0;
@@ -103,11 +103,12 @@ TilesReport run_tiles(const TilesJob& job, const std::function<void(double)>& pr
 // finish writes the rest (config, index.html, preview) and lands the folder; abandon removes it.
 struct TilesStaging {
   StagedFolder folder;  // the temporary folder
-  std::vector<TileRows> work;  // every face's rows, in bands of at most band_pixels output pixels
+  std::vector<TileBand> work;  // every face's rows, in bands of at most band_pixels output pixels
 };
 TilesStaging begin_tiles(const TilesJob& job, int64_t band_pixels = int64_t{1} << 24);
 // Returns {tiles written, empty tiles}.
-std::array<int64_t, 2> render_tiles(const TilesJob& job, const StagedFolder& folder, const std::vector<TileRows>& rows);
+std::array<int64_t, 2> render_tiles(const TilesJob& job, const StagedFolder& folder,
+                                    const std::vector<TileBand>& rows);
 TilesReport finish_tiles(const TilesJob& job, const StagedFolder& folder, std::array<int64_t, 2> counts);
 void abandon_tiles(const StagedFolder& folder);
 

@@ -55,9 +55,9 @@ int footprint_reach_beyond(Interp interp) { return std::max(0, kFootprintTaps / 
 struct Converter::Impl {
   Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
        int threads, Keep keep, Antialias antialias, EdgeFill edges, Stereo stereo);
-  Region source_footprint() const;
+  PixelRect source_footprint() const;
   using Reader = std::function<void(const RowsArrived&)>;
-  using Finished = std::function<void(const Region&)>;
+  using Finished = std::function<void(const PixelRect&)>;
   void run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress,
            const Reader* read, const Finished& finished = {}) const;
   // One eye's frame (or a mono conversion's).
@@ -117,14 +117,18 @@ const Antialias& Converter::antialias() const { return impl_->antialias_; }
 const Stereo& Converter::stereo() const { return impl_->stereo_; }
 Size Converter::source_frame() const { return stereo_frame(size_of(impl_->source_), impl_->stereo_.source); }
 Size Converter::target_frame() const { return stereo_frame(size_of(impl_->target_), impl_->stereo_.target); }
-Converter::Region Converter::source_footprint() const { return impl_->source_footprint(); }
-void Converter::run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress,
-                    const std::function<void(const Region&)>& finished) const {
+PixelRect Converter::source_footprint() const {
+  return impl_->source_footprint();
+}
+void Converter::run(const Image& src, Image& out, EngineStats* stats,
+                    const std::function<void(double)>& progress,
+                    const std::function<void(const PixelRect&)>& finished) const {
   impl_->run(src, out, stats, progress, nullptr, finished);
 }
-void Converter::run_reading(const Image& src, Image& out, const std::function<void(const RowsArrived&)>& read,
-                            EngineStats* stats, const std::function<void(double)>& progress,
-                            const std::function<void(const Region&)>& finished) const {
+void Converter::run_reading(const Image& src, Image& out,
+                            const std::function<void(const RowsArrived&)>& read, EngineStats* stats,
+                            const std::function<void(double)>& progress,
+                            const std::function<void(const PixelRect&)>& finished) const {
   impl_->run(src, out, stats, progress, &read, finished);
 }
 
@@ -201,9 +205,9 @@ const TileMap* Converter::Impl::cached(int64_t t) const {
   return tm.rect.w > 0 ? &tm : nullptr;
 }
 
-Converter::Region Converter::Impl::source_footprint() const {
+PixelRect Converter::Impl::source_footprint() const {
   const Size frame = size_of(source_);
-  const Region all{0, 0, frame.width, frame.height};
+  const PixelRect all{0, 0, frame.width, frame.height};
   if (stereo_.any()) {  // both eyes' frame, read whole
     const Size both = stereo_frame(frame, stereo_.source);
     return {0, 0, both.width, both.height};
@@ -236,8 +240,8 @@ Converter::Region Converter::Impl::source_footprint() const {
   if (x0 > x1) return {0, 0, 0, 0};  // no pixel has a source
   const int n = support(interp_);
   // Taps (first_tap is monotonic), one pixel of margin for the 1/256 px map tolerance.
-  Region r{first_tap(interp_, x0) - 1, first_tap(interp_, y0) - 1, first_tap(interp_, x1) + n + 1,
-           first_tap(interp_, y1) + n + 1};
+  PixelRect r{first_tap(interp_, x0) - 1, first_tap(interp_, y0) - 1,
+              first_tap(interp_, x1) + n + 1, first_tap(interp_, y1) + n + 1};
   if (antialias_.mode != Antialias::Mode::Off) {
     // rho: the largest step from one output pixel to the next, in source pixels. Mip level k
     // (2^k <= rho / 2) reaches its taps' n / 2 level pixels of 2^k source px, and one more for a

@@ -13,8 +13,8 @@ namespace {
 // The tile's n x n sub-pixels in the n-times target (in parts of at most kTile x kTile, the
 // samplers' rect; with fp, the tile's footprint field, each through the footprint kernel), then
 // their means.
-void subpixels(const TileJob& job, int n, const TileRect& rect, unsigned char* corner, int64_t stride, TileScratch& wk,
-               const FootprintField* fp) {
+void subpixels(const StrategyInputs& job, int n, const TileRect& rect, unsigned char* corner,
+               int64_t stride, TileScratch& wk, const FootprintField* fp) {
   const Image& src = job.sampling.image();
   const TileRect sub{rect.x0 * n, rect.y0 * n, rect.w * n, rect.h * n};
   const auto pb = static_cast<int64_t>(src.pixel_bytes()), sub_stride = sub.w * pb;
@@ -31,14 +31,15 @@ void subpixels(const TileJob& job, int n, const TileRect& rect, unsigned char* c
 }
 
 // Widens b to the positions of the tile's n x n sub-pixels (its centres for n = 1).
-void widen_to_subpixels(const TileJob& job, int n, const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) {
+void widen_to_subpixels(const StrategyInputs& job, int n, const TileRect& rect, TileScratch& wk,
+                        std::array<double, 4>& b) {
   job.sampling.widen_to_positions(job.sub_targets[static_cast<size_t>(n)], {rect.x0 * n, rect.y0 * n, rect.w * n, rect.h * n},
                                   wk, b);
 }
 
 class Plain final : public TileStrategy {
  public:
-  explicit Plain(const TileJob& job) : job_(job) {}
+  explicit Plain(const StrategyInputs& job) : job_(job) {}
   void tile(const TileRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
     job_.sampling.rect(job_.target, rect, kept, corner, stride, wk);
@@ -49,12 +50,12 @@ class Plain final : public TileStrategy {
   }
 
  private:
-  TileJob job_;
+  StrategyInputs job_;
 };
 
 class Supersample final : public TileStrategy {
  public:
-  Supersample(const TileJob& job, int n) : job_(job), n_(n) {}
+  Supersample(const StrategyInputs& job, int n) : job_(job), n_(n) {}
   void tile(const TileRect& rect, const KeptTile&, unsigned char* corner, int64_t stride, TileScratch& wk) const override {
     subpixels(job_, n_, rect, corner, stride, wk, nullptr);
   }
@@ -64,7 +65,7 @@ class Supersample final : public TileStrategy {
   }
 
  private:
-  TileJob job_;
+  StrategyInputs job_;
   int n_;
 };
 
@@ -73,7 +74,7 @@ class Supersample final : public TileStrategy {
 // kernel reaches (footprint_kernel.hpp).
 class Footprint final : public TileStrategy {
  public:
-  explicit Footprint(const TileJob& job) : job_(job) {}
+  explicit Footprint(const StrategyInputs& job) : job_(job) {}
   void tile(const TileRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
     KeptFootprint* const k = kept.footprint;
@@ -104,14 +105,14 @@ class Footprint final : public TileStrategy {
     return wk.field_n;
   }
 
-  TileJob job_;
+  StrategyInputs job_;
 };
 
 // Each tile's positions (kept, the fused path's, or mapped), then mip_sampler.hpp over the
 // source's levels, each level's rows built as the taps reach them.
 class Mip final : public TileStrategy {
  public:
-  explicit Mip(const TileJob& job) : job_(job), pyramid_(job.sampling.image(), job.source) {}
+  explicit Mip(const StrategyInputs& job) : job_(job), pyramid_(job.sampling.image(), job.source) {}
   void tile(const TileRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
     const TileMap* tm = kept.map;
@@ -147,13 +148,13 @@ class Mip final : public TileStrategy {
   bool widen_to_samples(const TileRect&, TileScratch&, std::array<double, 4>&) const override { return false; }
 
  private:
-  TileJob job_;
+  StrategyInputs job_;
   Pyramid pyramid_;  // levels built as tiles read them (build_rows: const, thread-safe)
 };
 
 }  // namespace
 
-std::unique_ptr<TileStrategy> tile_strategy(const Antialias& antialias, const TileJob& job) {
+std::unique_ptr<TileStrategy> tile_strategy(const Antialias& antialias, const StrategyInputs& job) {
   switch (antialias.mode) {
     case Antialias::Mode::Supersample: return std::make_unique<Supersample>(job, antialias.n);
     case Antialias::Mode::Auto: return std::make_unique<Footprint>(job);

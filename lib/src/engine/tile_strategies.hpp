@@ -15,13 +15,14 @@
 namespace panoproj {
 
 // What the strategies share over a run.
-struct TileJob {
+struct StrategyInputs {
   const TileSampling& sampling;
   const Projection& source;
   const Projection& target;
   const std::vector<Projection>& sub_targets;  // [n]: the target at n times its size
   const Eigen::Matrix3d& rotation;
-  double wrap;  // the source's width where x wraps (footprints measure across the seam), else 0
+  double wrap;  // a turn's length in source pixels where x wraps (footprints measure across the
+                // seam), else 0
 };
 
 class TileStrategy {
@@ -36,6 +37,6 @@ class TileStrategy {
 };
 
 // The strategy for antialias (mip builds the source's levels as its tiles read them).
-std::unique_ptr<TileStrategy> tile_strategy(const Antialias& antialias, const TileJob& job);
+std::unique_ptr<TileStrategy> tile_strategy(const Antialias& antialias, const StrategyInputs& job);
 
 }  // namespace panoproj

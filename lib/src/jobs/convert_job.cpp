@@ -229,7 +229,7 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
   const auto t_map = std::chrono::steady_clock::now();
   const Converter converter =
       converter_for(geometry, options, !cache ? Keep::Nothing : job.inputs.size() > 1 ? Keep::MapsAndTaps : Keep::Maps);
-  const Converter::Region need = converter.source_footprint();
+  const PixelRect need = converter.source_footprint();
   // The output and maps, counted with the source's needed part when it is read (from its header,
   // before any pixel is decoded; a forged header is refused by the file's size first).
   const int out_channels = channels + (options.add_alpha ? 1 : 0);
@@ -274,9 +274,8 @@ std::vector<ConvertReport> run_convert(const ConvertJob& job,
     // A single JPEG output encodes its parts as they are done (while the source is still read).
     std::optional<StreamedOutput> single;
     if (!out_faces) single.emplace(outputs[n], write, out_size, out_channels, type);
-    std::function<void(const Converter::Region&)> finished;
-    if (single && single->streams())
-      finished = [&](const Converter::Region& r) { single->done(out, {r.x0, r.y0, r.x1, r.y1}); };
+    std::function<void(const PixelRect&)> finished;
+    if (single && single->streams()) finished = [&](const PixelRect& r) { single->done(out, r); };
     if (reading) converter.run_reading(source, out, [&](const RowsArrived& arrived) { f.file->read(arrived); }, nullptr, report, finished);
     else converter.run(source, out, nullptr, report, finished);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +

@@ -85,7 +85,7 @@ void render_parts(const TilesJob& job, const Source& src, const std::vector<Part
   for (size_t i = 0; i < parts.size(); ++i) by_scale[parts[i].scale].push_back(i);
   for (const auto& [scale, members] : by_scale) {
     const Size frame{src.info.size.width / scale, src.info.size.height / scale};
-    Converter::Region need{frame.width, frame.height, 0, 0};
+    PixelRect need{frame.width, frame.height, 0, 0};
     std::vector<Converter> converters;
     // A part of a partial source whose footprint is empty has no pixel with a source (nor,
     // with its margin of rows, one on the field's edge): it is not rendered.
@@ -94,7 +94,7 @@ void render_parts(const TilesJob& job, const Source& src, const std::vector<Part
       converters.push_back(converter_for(parts[i].geometry, o));
       seen.push_back(1);
       if (whole && !src.partial) continue;
-      const Converter::Region r = converters.back().source_footprint();
+      const PixelRect r = converters.back().source_footprint();
       if (r.x1 <= r.x0 || r.y1 <= r.y0) {
         seen.back() = 0;
         continue;
@@ -119,11 +119,12 @@ void render_parts(const TilesJob& job, const Source& src, const std::vector<Part
   }
 }
 
-std::vector<Part> parts_of(const TilesJob& job, const Source& src, const std::vector<TileRows>& rows) {
+std::vector<Part> parts_of(const TilesJob& job, const Source& src,
+                           const std::vector<TileBand>& rows) {
   std::map<std::pair<size_t, int>, int> scales;
   std::vector<Part> parts;
   const TilePyramid& p = src.pyramid;
-  for (const TileRows& r : rows) {
+  for (const TileBand& r : rows) {
     if (r.level >= p.levels.size() || r.face < 0 || r.face > 5 || r.row0 < 0 || r.row1 <= r.row0 || r.row1 > p.levels[r.level].tiles)
       throw Error("tile rows " + std::to_string(r.row0) + " to " + std::to_string(r.row1) + " of face " + std::to_string(r.face) +
                   " at level index " + std::to_string(r.level) + " are not in the pyramid");
@@ -139,15 +140,15 @@ std::vector<Part> parts_of(const TilesJob& job, const Source& src, const std::ve
   return parts;
 }
 
-std::array<int64_t, 2> render_rows(const TilesJob& job, const Source& src, const FolderWriter& folder,
-                                   const std::vector<TileRows>& rows, bool whole,
-                                   const std::function<void(double)>& progress) {
+std::array<int64_t, 2> render_rows(const TilesJob& job, const Source& src,
+                                   const FolderWriter& folder, const std::vector<TileBand>& rows,
+                                   bool whole, const std::function<void(double)>& progress) {
   const std::vector<Part> parts = parts_of(job, src, rows);
   const TilePyramid& p = src.pyramid;
   std::atomic<int64_t> written{0}, empty{0};
   size_t finished = 0;
   render_parts(job, src, parts, whole, [&](size_t i, const Image& band) {
-    const TileRows& r = rows[i];
+    const TileBand& r = rows[i];
     const int64_t s = parts[i].size, across = p.levels[r.level].tiles;
     const int64_t n = (r.row1 - r.row0) * across;
     parallel_tasks(n, job.options.threads, [&](int64_t t, int) {
@@ -170,8 +171,8 @@ std::array<int64_t, 2> render_rows(const TilesJob& job, const Source& src, const
 }
 
 // Every face's tile rows, in bands of at most band_pixels output pixels (at least one row).
-std::vector<TileRows> all_rows(const TilePyramid& p, int64_t band_pixels) {
-  std::vector<TileRows> rows;
+std::vector<TileBand> all_rows(const TilePyramid& p, int64_t band_pixels) {
+  std::vector<TileBand> rows;
   for (size_t l = p.levels.size(); l-- > 0;) {
     const TileLevel& level = p.levels[l];
     const int64_t per = std::max<int64_t>(1, band_pixels / std::max<int64_t>(1, level.size * p.tile));
@@ -291,7 +292,7 @@ TilesReport run_tiles(const TilesJob& job, const std::function<void(double)>& pr
   const Source src = open_source(job);
   OutputFolder folder(job.output, job.write.overwrite, std::vector<std::string>{job.input}, "tiles");
   // One tile row a part: in flight, the source at one scale and one row of tiles.
-  const std::vector<TileRows> rows = all_rows(src.pyramid, 1);
+  const std::vector<TileBand> rows = all_rows(src.pyramid, 1);
   const auto counts = render_rows(job, src, folder.writer(), rows, true, progress);
   TilesReport report = finish(job, src, folder, counts);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -306,7 +307,8 @@ TilesStaging begin_tiles(const TilesJob& job, int64_t band_pixels) {
   return {folder.staged(), all_rows(src.pyramid, band_pixels)};
 }
 
-std::array<int64_t, 2> render_tiles(const TilesJob& job, const StagedFolder& staged, const std::vector<TileRows>& rows) {
+std::array<int64_t, 2> render_tiles(const TilesJob& job, const StagedFolder& staged,
+                                    const std::vector<TileBand>& rows) {
   const Source src = open_source(job);
   return render_rows(job, src, FolderWriter(staged, job.output), rows, false, {});
 }
