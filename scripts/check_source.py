@@ -125,18 +125,21 @@ def code_of(line):
     return "".join(out)
 
 
-def check_formats():
-    bad = []
-    for folder in ("lib/src", "tools", "python/src"):
-        for f in (ROOT / folder).rglob("*.[ch]pp"):
+def code_lines(folders, skip=None):
+    """(path relative to the root, line number, the line without its comment) of the C++ sources
+    under folders, less the paths skip matches."""
+    for folder in folders:
+        for f in sorted((ROOT / folder).rglob("*.[ch]pp")):
             rel = str(f.relative_to(ROOT))
-            if FORMAT_FILES.search(rel):
-                continue
-            for n, line in enumerate(f.read_text().splitlines(), 1):
-                m = FORMAT_LITERAL.search(code_of(line))
-                if m:
-                    bad.append(f"{rel}:{n}: format literal {m.group(0)} outside the format table (io/formats.hpp)")
-    return bad
+            if skip is None or not skip.search(rel):
+                for n, line in enumerate(f.read_text().splitlines(), 1):
+                    yield rel, n, code_of(line)
+
+
+def check_formats():
+    return [f"{rel}:{n}: format literal {m.group(0)} outside the format table (io/formats.hpp)"
+            for rel, n, code in code_lines(("lib/src", "tools", "python/src"), FORMAT_FILES)
+            if (m := FORMAT_LITERAL.search(code))]
 
 
 def projection_types():
@@ -145,16 +148,10 @@ def projection_types():
 
 
 def check_variants():
-    types = projection_types()
-    pattern = re.compile(r"std::(get_if|holds_alternative|get)<\s*(" + "|".join(sorted(types)) + r")\s*>")
-    bad = []
-    for folder in ("engine", "sampling", "geometry"):
-        for f in (LIB / "src" / folder).rglob("*.[ch]pp"):
-            for n, line in enumerate(f.read_text().splitlines(), 1):
-                m = pattern.search(code_of(line))
-                if m:
-                    bad.append(f"{f.relative_to(ROOT)}:{n}: {m.group(0)} (ask the projection's module: sampling_facts)")
-    return bad
+    pattern = re.compile(r"std::(get_if|holds_alternative|get)<\s*(" + "|".join(sorted(projection_types())) + r")\s*>")
+    return [f"{rel}:{n}: {m.group(0)} (ask the projection's module: sampling_facts)"
+            for rel, n, code in code_lines(("lib/src/engine", "lib/src/sampling", "lib/src/geometry"))
+            if (m := pattern.search(code))]
 
 
 def main():
