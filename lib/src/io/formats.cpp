@@ -19,8 +19,10 @@ PixelType ImageFormat::stored_type(PixelType wanted) const {
 }
 
 const std::vector<const ImageFormat*>& image_formats() {
-  static const std::vector<const ImageFormat*> formats{&kJpegFormat, &kPngFormat,     &kPnmFormat,
-                                                       &kTiffFormat, &kOpenExrFormat, &kHdrFormat};
+#define PANOPROJ_FORMAT_ADDRESS_(Name) &k##Name##Format,
+  static const std::vector<const ImageFormat*> formats{
+      PANOPROJ_IMAGE_FORMATS(PANOPROJ_FORMAT_ADDRESS_)};
+#undef PANOPROJ_FORMAT_ADDRESS_
   return formats;
 }
 

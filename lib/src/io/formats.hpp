@@ -1,7 +1,7 @@
 #pragma once
 // The image formats, one row each: how a file is recognised, what a file of its size can hold,
-// its reader and writer, what it stores. Each codec file declares its formats' rows; formats.cpp
-// lists them. Whatever recognises, chooses, checks or lists formats asks this table, so a new
+// its reader and writer, what it stores. Each codec file defines its formats' rows; the list below
+// names them once. Whatever recognises, chooses, checks or lists formats asks this table, so a new
 // format is its codec file, its line in the list, and its tests.
 #include <climits>
 #include <cstdint>
@@ -48,11 +48,15 @@ struct ImageFormat {
   PixelType stored_type(PixelType wanted) const;
 };
 
-// Each codec's rows.
-extern const ImageFormat kJpegFormat, kPngFormat, kPnmFormat, kTiffFormat, kOpenExrFormat,
-    kHdrFormat;
+// Every format, in the order files are sniffed and messages list them: X(Name) for the row
+// kNameFormat that its codec file defines.
+#define PANOPROJ_IMAGE_FORMATS(X) X(Jpeg) X(Png) X(Pnm) X(Tiff) X(OpenExr) X(Hdr)
 
-// Every format, in the order files are sniffed and messages list them.
+#define PANOPROJ_FORMAT_ROW_(Name) extern const ImageFormat k##Name##Format;
+PANOPROJ_IMAGE_FORMATS(PANOPROJ_FORMAT_ROW_)
+#undef PANOPROJ_FORMAT_ROW_
+
+// The rows of PANOPROJ_IMAGE_FORMATS, in its order.
 const std::vector<const ImageFormat*>& image_formats();
 // The row OpenImageIO calls `name`; InternalError if none.
 const ImageFormat& format_named(std::string_view name);
