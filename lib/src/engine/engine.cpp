@@ -89,7 +89,7 @@ struct Converter::Impl {
   void build_cache() const;
   // planned_ where src's taps may be kept (keeps_taps) and src has the layout of the first
   // such source run, else null.
-  PlannedTaps* planned_for(const Image& src) const;
+  PlannedTaps* planned_for(const Image& src, const SourceTaps& taps) const;
   TileRect tile(int64_t t) const;  // tiles in row-major order
   int64_t tile_count() const;
   // True (and g filled) where the tile's geometry runs in registers fused with the sampling.
@@ -190,9 +190,9 @@ void Converter::Impl::build_cache() const {
   if (antialias_.mode == Antialias::Mode::Auto) footprints_ = std::make_unique<KeptFootprint[]>(static_cast<size_t>(tile_count()));
 }
 
-PlannedTaps* Converter::Impl::planned_for(const Image& src) const {
+PlannedTaps* Converter::Impl::planned_for(const Image& src, const SourceTaps& taps) const {
   if (!planned_) return nullptr;
-  const SimdSource s = simd_source(src, source_, SourceTaps(source_));
+  const SimdSource s = simd_source(src, taps);
   if (!keeps_taps(s)) return nullptr;
   const std::lock_guard<std::mutex> lock(layout_mutex_);
   if (!planned_layout_) planned_layout_ = s;
@@ -390,7 +390,7 @@ void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats
   const int64_t n_tiles = tile_count();
   if (keep_ != Keep::Nothing) std::call_once(cache_once_, [this] { build_cache(); });
   const TileSampling sampling(src, source_, lenses_, rotation_, interp_, engine_ == Engine::Simd);
-  PlannedTaps* const planned = planned_for(src);
+  PlannedTaps* const planned = planned_for(src, sampling.taps());
   // Where x wraps, footprints measure steps across the seam the short way.
   const double wrap = sampling.taps().wrap_period();
   const auto strategy = tile_strategy(antialias_, {sampling, source_, target_, sub_targets_, rotation_, wrap});

@@ -8,13 +8,12 @@
 
 namespace panoproj {
 
-SimdSource simd_source(const Image& src, const Projection& sp, const SourceTaps& taps) {
-  const SamplingFacts f = sampling_facts(sp);
+SimdSource simd_source(const Image& src, const SourceTaps& taps) {
+  const SamplingFacts& f = taps.facts();
   int64_t cw = 0, ch = 0;
   const Cubemap* c = f.cube;
   if (c && c->uniform()) cw = ch = c->face_size();
   if (f.dual) cw = f.dual->cell_width(), ch = f.dual->cell_height();
-  // The pixels held that are the image's (taps beyond them are misses, for the tap rules).
   const int64_t x0 = std::max(src.origin_x(), taps.col0()),
                 y0 = std::max(src.origin_y(), taps.row0());
   const int64_t x1 = std::max(x0, std::min(src.origin_x() + src.width(), taps.col1()));
@@ -41,7 +40,7 @@ TileSampling::TileSampling(const Image& src, const Projection& source,
       interp_(interp),
       simd_(simd),
       taps_(source),
-      simd_src_(simd_source(src, source, taps_)) {}
+      simd_src_(simd_source(src, taps_)) {}
 
 void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
                         const TileMap* tm, bool simd, TileMap& scratch, std::array<double, 4>& b) {
@@ -130,7 +129,7 @@ void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Pr
 void TileSampling::rect(const Projection& t, const TileRect& rect, const KeptTile& kept, unsigned char* out,
                         int64_t stride, TileScratch& wk, const FootprintField* fp) const {
   if (lenses_.empty()) return from(source_, rotation_, t, rect, kept, out, stride, wk, fp);
-  const int side = dual_weights(*sampling_facts(source_).dual, t, rotation_, rect, wk.weights);
+  const int side = dual_weights(*taps_.facts().dual, t, rotation_, rect, wk.weights);
   if (side >= 0) {
     const LensSource& l = lenses_[static_cast<size_t>(side)];
     return from(l.lens, l.rotation, t, rect, {}, out, stride, wk, fp);

@@ -62,7 +62,9 @@ inline bool exact_for(Interp interp, SimdGeometry& g) {
   return true;
 }
 
-SimdSource simd_source(const Image& src, const Projection& sp, const SourceTaps& taps);
+// src as the SIMD sampler reads it: the pixels held that are the image's (taps.col0() .. row1():
+// taps beyond are misses, for the tap rules), and its cells.
+SimdSource simd_source(const Image& src, const SourceTaps& taps);
 
 // One lens of a dual-fisheye source alone: its fisheye on the whole frame (its circle inside its
 // half), and the rotation to it, R_k^T times the conversion's (lens ray = R_k^T camera ray). Its

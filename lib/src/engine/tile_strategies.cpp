@@ -124,7 +124,7 @@ class Mip final : public TileStrategy {
         map_tile(job_.source, job_.target, job_.rotation, rect, wk.map, job_.sampling.interp() == Interp::Nearest);
       tm = &wk.map;
     }
-    const bool cube_source = sampling_facts(job_.source).cube != nullptr;
+    const bool cube_source = job_.sampling.taps().facts().cube != nullptr;
     const int reach = support(job_.sampling.interp()) / 2 + 1;
     sample_mip_tile(
         pyramid_, *tm, job_.wrap,
@@ -139,8 +139,7 @@ class Mip final : public TileStrategy {
                               static_cast<int64_t>(std::min(1e15, std::ceil(y1))) + reach + 1);
           const Pyramid::Level& l = pyramid_.level(k);
           const Image& im = pyramid_.image(k);
-          job_.sampling.map(im, l.taps, simd_source(im, l.projection, l.taps), m, o, st, wk,
-                            nullptr);
+          job_.sampling.map(im, l.taps, simd_source(im, l.taps), m, o, st, wk, nullptr);
         },
         corner, stride, wk.mip);
   }

@@ -21,6 +21,8 @@ class SourceTaps {
  public:
   explicit SourceTaps(const Projection& source);
 
+  // The source's facts (its module's, read once).
+  const SamplingFacts& facts() const { return facts_; }
   // The length of a turn in pixels where x wraps (so that steps across the seam can be taken the
   // short way), else 0.
   double wrap_period() const { return facts_.wraps_x ? facts_.x1 - facts_.x0 : 0.0; }

@@ -145,6 +145,7 @@ std::array<int64_t, 2> render_rows(const TilesJob& job, const Source& src,
                                    bool whole, const std::function<void(double)>& progress) {
   const std::vector<Part> parts = parts_of(job, src, rows);
   const TilePyramid& p = src.pyramid;
+  const ImageFormat& format = web_format(job.format, "format");
   std::atomic<int64_t> written{0}, empty{0};
   size_t finished = 0;
   render_parts(job, src, parts, whole, [&](size_t i, const Image& band) {
@@ -161,8 +162,7 @@ std::array<int64_t, 2> render_rows(const TilesJob& job, const Source& src,
         return;
       }
       const std::string path = p.tile_path(r.level, r.face, row, col);
-      folder.write(path, encoded(f.image, web_format(job.format, "format"), job.write,
-                                 job.output + "/" + path));
+      folder.write(path, encoded(f.image, format, job.write, job.output + "/" + path));
       ++written;
     });
     if (progress) progress(static_cast<double>(++finished) / static_cast<double>(parts.size()));
@@ -228,6 +228,7 @@ ViewRange view_range(const Source& src) {
 
 TilesReport finish(const TilesJob& job, const Source& src, OutputFolder& folder, std::array<int64_t, 2> counts) {
   const TilePyramid& p = src.pyramid;
+  const ImageFormat& format = web_format(job.format, "format");
   // The preview: Pannellum's fallback faces, Marzipano's faces stacked in its order.
   std::vector<Part> parts;
   for (int f = 0; f < 6; ++f) {
@@ -240,7 +241,7 @@ TilesReport finish(const TilesJob& job, const Source& src, OutputFolder& folder,
     if (p.viewer == Viewer::Pannellum) {
       if (!flat.empty)
         folder.writer().write(preview_path(p, parts[i].face),
-                              encoded(flat.image, web_format(job.format, "format"), job.write,
+                              encoded(flat.image, format, job.write,
                                       job.output + "/" + preview_path(p, parts[i].face)));
       return;
     }
@@ -251,8 +252,7 @@ TilesReport finish(const TilesJob& job, const Source& src, OutputFolder& folder,
   });
   if (p.viewer == Viewer::Marzipano)
     folder.writer().write(preview_path(p, 0),
-                          encoded(strip, web_format(job.format, "format"), job.write,
-                                  job.output + "/" + preview_path(p, 0)));
+                          encoded(strip, format, job.write, job.output + "/" + preview_path(p, 0)));
   const ViewRange range = view_range(src);
   for (const TextFile& f : viewer_files(job, p, range)) folder.writer().write(f.path, f.text);
   folder.commit();

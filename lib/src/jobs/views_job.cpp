@@ -151,6 +151,7 @@ std::array<int64_t, 2> render_frame(const ViewsJob& job, const std::vector<ViewC
   const Image& in = source_for(source, o, with_alpha);
   const std::string stem = stem_of(input);
   const ViewFiles files = files_of(job, frame.partial);
+  const ImageFormat& format = web_format(job.format, "format");
   std::array<int64_t, 2> counts{0, 0};
   for (size_t v = 0; v < views.size(); ++v) {
     check_interrupt();
@@ -162,8 +163,8 @@ std::array<int64_t, 2> render_frame(const ViewsJob& job, const std::vector<ViewC
     if (frame.partial) flat = flatten(out, 0, 0, out.width(), out.height(), true);
     if (flat.empty) flat.image = Image(out.size(), out.channels() - 1, out.type());
     const std::string path = files.image_path(stem, cams[v].name);
-    folder.write(path, encoded(frame.partial ? flat.image : out, web_format(job.format, "format"),
-                               job.write, job.output + "/" + path));
+    folder.write(path, encoded(frame.partial ? flat.image : out, format, job.write,
+                               job.output + "/" + path));
     if (frame.partial) {
       const std::string mpath = files.mask_path(stem, cams[v].name);
       folder.write(mpath, encoded(mask_of(out), kPngFormat, job.write, job.output + "/" + mpath));
