@@ -34,15 +34,14 @@ unsigned char pattern(int64_t x, int64_t y, int c) {
 }  // namespace
 
 // Converts in a child process; returns its peak RSS in GB and prints its report.
-double convert_in_child(const ConvertJob& job) {
+double convert_in_child(const Arguments& job) {
   std::fflush(stdout);
   const pid_t pid = fork();
   if (pid == 0) {
     try {
-      for (const auto& r : run_convert(job))
-        std::printf("  %s -> %lldx%lld %s: %.2f s, read %.0f%% of the source\n", job.inputs[0].c_str(),
-                    static_cast<long long>(r.output_size.width), static_cast<long long>(r.output_size.height),
-                    r.to.c_str(), r.seconds, 100 * r.read_fraction);
+      job_named("convert").run(job, {.progress = {}, .line = [](const std::string& line) {
+                                       std::printf("  %s\n", line.c_str());
+                                     }});
       std::fflush(stdout);
       _exit(0);
     } catch (const std::exception& e) {
@@ -80,18 +79,19 @@ void region_reads(const std::string& dir, int threads) {
   std::printf("\nregion reads: 32768x16384 RGB equirect, decoded 1.61 GB, written as %s and %s\n", tif.c_str(), jpg.c_str());
   for (const std::string& in : {tif, jpg}) {
     for (const char* view : {"pinhole:hfov=90", "pinhole:hfov=90,vfov=90"}) {
-      ConvertJob job;
-      job.inputs = {in};
-      job.output = dir + "/panoproj_big_view.png";
-      job.to = view;
-      job.options.size = Size{2048, 2048};
-      job.options.pitch = std::string(view).find("vfov") != std::string::npos ? 70 : 0;  // at the pole, or level
-      job.options.yaw = 30;
-      job.options.threads = threads;
-      job.write.overwrite = true;
+      const double pitch =
+          std::string(view).find("vfov") != std::string::npos ? 70 : 0;  // at the pole, or level
+      Arguments job(job_named("convert").rows());
+      job.set("inputs", std::vector<std::string>{in}).set("output", dir + "/panoproj_big_view.png");
+      job.set("dst", std::string(view))
+          .set("size", std::string("2048x2048"))
+          .set("pitch", pitch)
+          .set("yaw", 30.0);
+      job.set("threads", int64_t{threads}).set("overwrite", true);
       const double gb = convert_in_child(job);
-      std::printf("  pitch %.0f: peak memory of the converting process %.2f GB (decoded source 1.61 GB)\n",
-                  job.options.pitch, gb);
+      std::printf(
+          "  pitch %.0f: peak memory of the converting process %.2f GB (decoded source 1.61 GB)\n",
+          pitch, gb);
     }
   }
   std::remove(tif.c_str());

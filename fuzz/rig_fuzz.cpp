@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "jobs/views/views.hpp"
 #include "panoproj/error.hpp"
-#include "panoproj/views.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

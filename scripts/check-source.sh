@@ -3,7 +3,9 @@
 # .ci/format-base names are as the pinned clang-format (python/requirements-test.txt) formats
 # them; includes follow the library's layers; format names and extensions live in the format
 # table; the engine, samplers and tap rules never switch on a projection's type
-# (scripts/check_source.py says each rule). Exits 1 listing what breaks them.
+# (scripts/check_source.py says each rule); no function of the front ends and jobs is over 100
+# lines (lizard, pinned beside clang-format; lambdas count in their function). Exits 1 listing
+# what breaks them.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -20,4 +22,9 @@ if [[ -n $diff ]]; then
   status=1
 fi
 python3 scripts/check_source.py || status=1
+if ! long=$(.venv/bin/lizard -L 100 -C 1000 -w tools python/src lib/src/jobs); then
+  echo "$long"
+  echo "check-source: functions over 100 lines in the front ends or jobs (split them)" >&2
+  status=1
+fi
 exit $status

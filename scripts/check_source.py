@@ -5,7 +5,8 @@
             a public header's layer is that of the source whose own header it is, else the highest
             layer it includes.
   formats   no image format name or extension literal outside the format table's files (the
-            table, the codecs and OpenImageIO's backends), in lib/src, tools and python/src.
+            table, the codecs and OpenImageIO's backends), in lib/, tools/, python/src and
+            python/panoproj (less the files generate_api.py makes from the tables).
   variants  no std::get_if / std::holds_alternative / std::get on a projection alternative in
             lib/src/engine, lib/src/sampling and lib/src/geometry: they ask a projection's module
             (its sampling facts). lib/src/simd/geometry.cpp's pair table (which fused kernel
@@ -110,7 +111,8 @@ def check_layers():
 
 
 FORMAT_FILES = re.compile(r"lib/src/io/(formats\.[ch]pp|\w+_codec\.cpp|oiio_plugin\.cpp|oiio/backend\.cpp)$|python/src/oiio_package\.cpp$")
-FORMAT_LITERAL = re.compile(r'"\.?(jpe?g|png|pnm|ppm|pgm|tiff?|openexr|exr|hdr)"', re.I)
+FORMAT_LITERAL = re.compile(r'(["\'])\.?(jpe?g|png|pnm|ppm|pgm|tiff?|openexr|exr|hdr)\1', re.I)
+GENERATED = re.compile(r"python/panoproj/(_declared|_jobs)\.py$")  # made from the tables (generate_api.py)
 
 
 def code_of(line):
@@ -136,10 +138,20 @@ def code_lines(folders, skip=None):
                     yield rel, n, code_of(line)
 
 
+def python_lines(folder, skip):
+    """(path, line number, the line without a # comment) of the Python files under folder."""
+    for f in sorted((ROOT / folder).rglob("*.py")):
+        rel = str(f.relative_to(ROOT))
+        if not skip.search(rel):
+            for n, line in enumerate(f.read_text().splitlines(), 1):
+                yield rel, n, line.split("#")[0]
+
+
 def check_formats():
+    lines = [*code_lines(("lib/src", "lib/include", "tools", "python/src"), FORMAT_FILES),
+             *python_lines("python/panoproj", GENERATED)]
     return [f"{rel}:{n}: format literal {m.group(0)} outside the format table (io/formats.hpp)"
-            for rel, n, code in code_lines(("lib/src", "tools", "python/src"), FORMAT_FILES)
-            if (m := FORMAT_LITERAL.search(code))]
+            for rel, n, code in lines if (m := FORMAT_LITERAL.search(code))]
 
 
 def projection_types():

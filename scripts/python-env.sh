@@ -11,7 +11,7 @@ if [[ ! -x "$venv/bin/python" ]]; then
   python3 -m venv "$venv"
 fi
 if ! "$venv/bin/python" -c "import pybind11, numpy, pytest, xdist, cv2, dask.distributed, scikit_build_core, OpenImageIO, mypy, pyright, py360convert, pyproj, pycolmap" 2>/dev/null \
-  || [[ ! -x "$venv/bin/clang-format" ]]; then
+  || [[ ! -x "$venv/bin/clang-format" || ! -x "$venv/bin/lizard" ]]; then
   "$venv/bin/python" -m pip install -q -r "$root/python/requirements-test.txt" >&2
 fi
 if [[ ${1:-} == --cmake-args ]]; then

@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "jobs/frame_pipeline.hpp"
+#include "jobs/convert/frame_pipeline.hpp"
 
 namespace panoproj {
 namespace {

@@ -16,6 +16,7 @@
 
 #include "base/row_feed.hpp"
 #include "io/region_read.hpp"
+#include "job_support.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
@@ -252,14 +253,14 @@ TEST_F(RowsFromFiles, AJpegOutputEncodedWhileConvertingDecodesAsOneWrittenAfter)
   const Projection p = make("equirect", {1024, 512});
   write_image(test::render(p, test::band_limited_scene(0.1, 1024), PixelType::U8), path("in.jpg"), {});
   auto convert = [&](const std::string& in, const std::string& out, int threads, bool soft) {
-    ConvertJob job;
-    job.inputs = {in};
-    job.output = path(out);
-    job.to = "cubemap";
-    job.options.size = Size{6 * 512, 512};  // 1.5 Mpx: three columns of blocks, four bands
-    job.options.threads = threads;
-    job.options.edges.soft = soft;
-    run_convert(job);
+    // 1.5 Mpx: three columns of blocks, four bands; an edge fill (soft edges, black) or not.
+    Arguments args = test::job_args("convert", {{"inputs", std::vector<std::string>{in}},
+                                                {"output", path(out)},
+                                                {"dst", std::string("cubemap")},
+                                                {"size", std::string("3072x512")},
+                                                {"threads", int64_t{threads}}});
+    if (soft) args.set("fill", std::string("0,0,0"));
+    test::run_job("convert", args);
   };
   convert(path("in.jpg"), "two.jpg", 2, false);
   convert(path("in.jpg"), "one.jpg", 1, false);

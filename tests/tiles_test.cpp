@@ -1,22 +1,25 @@
-// Tile pyramids (tiles.hpp): each viewer's levels against its own rules (generate.py's flooring,
-// Marzipano's multiples), every tile against its face rendered directly at its level, partial
-// panoramas, parts in any order against the whole run, and the folder landing whole.
+// Tile pyramids (jobs/tiles/tiles.hpp): each viewer's levels against its own rules (generate.py's
+// flooring, Marzipano's multiples), every tile against its face rendered directly at its level,
+// partial panoramas, parts in any order against the whole run, and the folder landing whole.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
+#include <optional>
 #include <random>
 #include <sstream>
 
+#include "io/atomic_output.hpp"
+#include "io/codec.hpp"
+#include "job_support.hpp"
+#include "jobs/tiles/tile_layouts.hpp"
+#include "jobs/tiles/tiles.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
-#include "panoproj/tiles.hpp"
-#include "io/atomic_output.hpp"
-#include "io/codec.hpp"
-#include "jobs/tile_layouts.hpp"
 #include "test_support.hpp"
 
 namespace panoproj {
@@ -48,10 +51,50 @@ std::vector<int64_t> generate_py_sizes(int64_t width, int64_t tile, int64_t& til
   return sizes;
 }
 
+// The layout rows' defaults (the tiles job's rows).
+TileSettings settings() {
+  return {Viewer::Pannellum, 512, 0, 0, "jpg", 0, ""};
+}
+
+// The tiles job's arguments as these tests set them.
+struct TilesJob {
+  std::string input, output;
+  std::optional<std::string> from;
+  Viewer viewer = Viewer::Pannellum;
+  int64_t tile = 512;
+  std::string format = "jpg";
+  double yaw = 0;
+  bool overwrite = false;
+  int64_t band_pixels = 0;
+  Arguments args() const {
+    Arguments a = job_args("tiles", {{"image", input},
+                                     {"out_dir", output},
+                                     {"viewer", std::string(name_of(viewer))},
+                                     {"tile", tile},
+                                     {"format", format},
+                                     {"yaw", yaw},
+                                     {"overwrite", overwrite}});
+    if (from) a.set("src", *from);
+    if (band_pixels) a.set("band_pixels", band_pixels);
+    return a;
+  }
+  ConvertOptions options() const { return args().options(); }
+};
+
+// A run's pyramid and counts.
+struct TilesRun {
+  TilePyramid pyramid;
+  int64_t written = 0, empty = 0;
+};
+TilesRun run_tiles(const TilesJob& job) {
+  const Report r = run_job("tiles", job.args());
+  return {tile_pyramid(job.args()), integer(r, "written"), integer(r, "empty")};
+}
+
 TEST(TileLayout, PannellumLevelsFollowGeneratePy) {
   for (int64_t width : {256, 1000, 4096, 8000, 10000, 32768, 100000})
     for (int tile : {256, 512, 1024}) {
-      TilesJob job;
+      TileSettings job = settings();
       job.tile = tile;
       const TilePyramid p = make_pyramid(job, static_cast<double>(width) / (2 * kPi));
       int64_t t = 0;
@@ -73,7 +116,7 @@ TEST(TileLayout, PannellumLevelsFollowGeneratePy) {
 TEST(TileLayout, MarzipanoLevelsAreMultiplesOfTheirTileAndTheirParent) {
   for (int64_t width : {300, 1000, 4096, 32768})
     for (int tile : {256, 384, 512}) {
-      TilesJob job;
+      TileSettings job = settings();
       job.viewer = Viewer::Marzipano;
       job.tile = tile;
       const TilePyramid p = make_pyramid(job, static_cast<double>(width) / (2 * kPi));
@@ -97,29 +140,29 @@ TEST(TileLayout, MarzipanoLevelsAreMultiplesOfTheirTileAndTheirParent) {
 
 TEST(TileLayout, BadValuesAreRefusedNamingThem) {
   struct Case {
-    void (*set)(TilesJob&);
+    void (*set)(TileSettings&);
     const char* needle;
   };
   const Case cases[] = {
-      {[](TilesJob& j) { j.tile = 8; }, "--tile 8 is out of range"},
-      {[](TilesJob& j) { j.tile = 100000; }, "--tile 100000 is out of range"},
-      {[](TilesJob& j) { j.levels = 9; },
+      {[](TileSettings& j) { j.tile = 8; }, "--tile 8 is out of range"},
+      {[](TileSettings& j) { j.tile = 100000; }, "--tile 100000 is out of range"},
+      {[](TileSettings& j) { j.levels = 9; },
        "--levels 9: a 1296 px face in 512 px tiles has 3 levels"},
-      {[](TilesJob& j) { j.levels = -1; }, "--levels -1 is out of range"},
-      {[](TilesJob& j) { j.cube_size = 1 << 20; }, "--cube-size 1048576 is out of range"},
-      {[](TilesJob& j) { j.viewer = Viewer::Marzipano, j.cube_size = 1000; },
+      {[](TileSettings& j) { j.levels = -1; }, "--levels -1 is out of range"},
+      {[](TileSettings& j) { j.cube_size = 1 << 20; }, "--cube-size 1048576 is out of range"},
+      {[](TileSettings& j) { j.viewer = Viewer::Marzipano, j.cube_size = 1000; },
        "--cube-size 1000 is not 512 x 2^k"},
-      {[](TilesJob& j) { j.viewer = Viewer::Marzipano, j.preview = 100; },
+      {[](TileSettings& j) { j.viewer = Viewer::Marzipano, j.preview = 100; },
        "--preview 100 does not divide"},
-      {[](TilesJob& j) { j.format = "bmp"; },
+      {[](TileSettings& j) { j.format = "bmp"; },
        "--format bmp is not a format web viewers show (use jpg or png)"},
-      {[](TilesJob& j) { j.script_url = "x\"onload=\"alert(1)"; },
+      {[](TileSettings& j) { j.script_url = "x\"onload=\"alert(1)"; },
        "has a character a page cannot hold"},
-      {[](TilesJob& j) { j.cube_size = 65536; },
+      {[](TileSettings& j) { j.cube_size = 65536; },
        "--cube-size 65536 is over 4x the source's resolution (1303 px a face)"},
   };
   for (const Case& c : cases) {
-    TilesJob job;
+    TileSettings job = settings();
     c.set(job);
     try {
       make_pyramid(job, 4096 / (2 * kPi));
@@ -130,7 +173,7 @@ TEST(TileLayout, BadValuesAreRefusedNamingThem) {
   }
   EXPECT_THROW(parse_viewer("krpano"), Error);
   // Millions of files: a 100000-px panorama in 16-px tiles.
-  TilesJob job;
+  TileSettings job = settings();
   job.tile = 16;
   try {
     make_pyramid(job, 100000 / (2 * kPi));
@@ -166,7 +209,7 @@ class Tiles : public TempDirTest {
   Image face(const Image& src, const std::string& spec, const TilesJob& job, char letter, int64_t s, bool alpha) {
     const std::map<char, std::pair<double, double>> views{{'f', {0, 0}},   {'r', {90, 0}}, {'b', {180, 0}},
                                                           {'l', {-90, 0}}, {'u', {0, 90}}, {'d', {0, -90}}};
-    ConvertOptions o = job.options;
+    ConvertOptions o = job.options();
     o.size = Size{s, s};
     o.yaw += views.at(letter).first, o.pitch += views.at(letter).second;
     if (alpha) o.add_alpha = true, o.edges.soft = true;
@@ -183,9 +226,8 @@ TEST_P(EveryViewer, EveryTileEqualsItsFaceRenderedDirectlyAtItsLevel) {
   job.viewer = GetParam();
   job.tile = 128;
   job.format = "png";
-  job.options.yaw = 30;  // the front turned: faces turn with it
-  job.options.antialias = Antialias{Antialias::Mode::Auto};
-  const TilesReport r = run_tiles(job);
+  job.yaw = 30;  // the front turned: faces turn with it (antialias: auto, the job's default)
+  const TilesRun r = run_tiles(job);
   const Image src = read_image(job.input);
   ASSERT_GE(r.pyramid.levels.size(), 2u);
   EXPECT_EQ(r.written, r.pyramid.tile_count());
@@ -226,11 +268,11 @@ TEST_F(Tiles, JpegTilesAreThePngTilesEncoded) {
   job.tile = 128;
   job.format = "png";
   job.output = path("png");
-  const TilesReport r = run_tiles(job);
+  const TilesRun r = run_tiles(job);
   job.format = "jpg";
   job.output = path("jpg");
   run_tiles(job);
-  WriteOptions w = job.write;
+  WriteOptions w;
   w.threads = 1;
   for (size_t l = 0; l < r.pyramid.levels.size(); ++l)
     for (int f = 0; f < 6; ++f) {
@@ -254,7 +296,7 @@ TEST_F(Tiles, PartialPanoramasSkipEmptyTilesAndLimitTheView) {
   job.output = path("out");
   job.tile = 64;
   job.format = "png";
-  const TilesReport r = run_tiles(job);
+  const TilesRun r = run_tiles(job);
   const Image src = read_image(job.input);
   EXPECT_GT(r.empty, 0);
   EXPECT_EQ(r.written + r.empty, r.pyramid.tile_count());
@@ -306,20 +348,24 @@ TEST_F(Tiles, PartsInAnyOrderEqualTheWholeRun) {
   job.tile = 64;
   run_tiles(job);
   job.output = path("parts");
-  const TilesStaging s = begin_tiles(job, 64 * 64 * 3);  // small bands: many parts, each its own region
-  ASSERT_GT(s.work.size(), 12u);
-  std::vector<TileBand> work = s.work;
+  job.band_pixels = 64 * 64 * 3;  // small bands: many parts, each its own region
+  const JobDef& tiles = job_named("tiles");
+  const Staged s = tiles.begin(job.args());
+  ASSERT_GT(s.parts, 12);
+  std::vector<int64_t> work(static_cast<size_t>(s.parts));
+  std::iota(work.begin(), work.end(), 0);
   std::shuffle(work.begin(), work.end(), std::mt19937(3));
-  std::array<int64_t, 2> counts{0, 0};
+  PartCounts counts;
   for (size_t i = 0; i < work.size(); i += 5) {
-    const std::vector<TileBand> some(
+    const std::vector<int64_t> some(
         work.begin() + static_cast<std::ptrdiff_t>(i),
         work.begin() + static_cast<std::ptrdiff_t>(std::min(work.size(), i + 5)));
-    const auto c = render_tiles(job, s.folder, some);
-    counts[0] += c[0], counts[1] += c[1];
+    const PartCounts c = tiles.render(job.args(), s.folder, some);
+    counts.written += c.written, counts.empty += c.empty;
   }
-  const TilesReport r = finish_tiles(job, s.folder, counts);
-  EXPECT_EQ(r.written, r.pyramid.tile_count());
+  const Report r = tiles.finish(job.args(), s.folder, counts);
+  EXPECT_EQ(integer(r, "written"), tile_pyramid(job.args()).tile_count());
+  EXPECT_THROW(tiles.render(job.args(), s.folder, {s.parts}), Error);  // no such part
   EXPECT_FALSE(fs::exists(s.folder.path));
   EXPECT_EQ(files_below(path("parts")), files_below(path("whole")));
 }
@@ -332,7 +378,7 @@ TEST_F(Tiles, TheFolderLandsWholeOrNotAtAll) {
   std::ofstream(fs::path(job.output) / "mine.txt") << "keep";
   // A folder panoproj did not make is replaced neither without overwrite nor with it.
   for (const bool overwrite : {false, true}) {
-    job.write.overwrite = overwrite;
+    job.overwrite = overwrite;
     try {
       run_tiles(job);
       ADD_FAILURE() << "an existing folder was replaced, overwrite " << overwrite;
@@ -345,7 +391,7 @@ TEST_F(Tiles, TheFolderLandsWholeOrNotAtAll) {
   // One it made (its marker at the root): a source that fails while decoding leaves nothing and
   // the old folder intact.
   job.output = path("pyramid");
-  job.write.overwrite = false;
+  job.overwrite = false;
   run_tiles(job);
   EXPECT_EQ(slurp(fs::path(job.output) / kFolderMarker), "{\"made_by\": \"panoproj\", \"job\": \"tiles\"}\n");
   std::ofstream(fs::path(job.output) / "mine.txt") << "keep";
@@ -354,13 +400,13 @@ TEST_F(Tiles, TheFolderLandsWholeOrNotAtAll) {
   const std::string broken = path("broken.png");
   std::ofstream(broken, std::ios::binary) << bytes.substr(0, bytes.size() * 2 / 3);
   job.input = broken;
-  job.write.overwrite = true;
+  job.overwrite = true;
   EXPECT_THROW(run_tiles(job), Error);
   EXPECT_EQ(files_below(job.output).size(), before);
   for (const auto& e : fs::directory_iterator(dir_)) EXPECT_EQ(e.path().filename().string().rfind(".panoproj-", 0), std::string::npos) << e.path();
   // With overwrite a good source replaces it whole.
   job.input = path("src.png");
-  const TilesReport r = run_tiles(job);
+  const TilesRun r = run_tiles(job);
   EXPECT_FALSE(fs::exists(fs::path(job.output) / "mine.txt"));
   EXPECT_EQ(static_cast<int64_t>(files_below(job.output).size()), r.pyramid.tile_count() + 6 + 3);
   for (const auto& e : fs::directory_iterator(dir_)) EXPECT_EQ(e.path().filename().string().rfind(".panoproj-", 0), std::string::npos) << e.path();

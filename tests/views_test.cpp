@@ -1,7 +1,7 @@
-// Perspective views (views.hpp): rig texts parsed to the views they name, bad rigs refused naming
-// the value, every view equal to convert() to its pinhole, the camera files' numbers, and the
-// folder landing whole. (The cameras through independent readers, pycolmap and nerfstudio's
-// convention, against the panorama: python/tests/test_views.py.)
+// Perspective views (jobs/views/views.hpp): rig texts parsed to the views they name, bad rigs
+// refused naming the value, every view equal to convert() to its pinhole, the camera files'
+// numbers, and the folder landing whole. (The cameras through independent readers, pycolmap and
+// nerfstudio's convention, against the panorama: python/tests/test_views.py.)
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,11 +9,12 @@
 #include <fstream>
 #include <sstream>
 
+#include "job_support.hpp"
+#include "jobs/views/views.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/rotation.hpp"
-#include "panoproj/views.hpp"
 #include "test_support.hpp"
 
 namespace panoproj {
@@ -119,17 +120,36 @@ class Views : public TempDirTest {
   }
 };
 
+// The views a run's report lists.
+std::vector<ViewCamera> views_of(const Report& r) {
+  std::vector<ViewCamera> out;
+  for (const ReportValue& v : list(r, "views")) {
+    const Report& c = item(v);
+    ViewCamera cam{text(c, "name"), size(c, "size"), std::get<double>(field(c, "focal").value), {}};
+    const auto& rows = list(c, "world_from_camera");
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        cam.world_from_camera(i, j) =
+            std::get<double>(std::get<std::vector<ReportValue>>(rows[i].value)[j].value);
+    out.push_back(cam);
+  }
+  return out;
+}
+
 TEST_F(Views, EachViewIsTheConversionToItsPinholeTurnedByItsAngles) {
-  ViewsJob job;
-  job.inputs = {source("pano.png", "equirect", {1024, 512})};
-  job.output = path("out");
-  job.rig = "- {name: a, yaw: 30, pitch: 20, roll: -10, hfov: 80, size: 200x150}\n- {name: b, yaw: -150, pitch: -70, hfov: 60}";
-  job.format = "png";
-  const ViewsReport r = run_views(job);
-  ASSERT_EQ(r.views.size(), 2u);
-  const Image src = read_image(job.inputs[0]);
-  for (const ViewCamera& c : r.views) {
-    const ViewSpec v = parse_rig(job.rig)[c.name == "a" ? 0 : 1];
+  const std::string input = source("pano.png", "equirect", {1024, 512});
+  const std::string rig =
+      "- {name: a, yaw: 30, pitch: 20, roll: -10, hfov: 80, size: 200x150}\n- {name: b, yaw: -150, "
+      "pitch: -70, hfov: 60}";
+  const std::vector<ViewCamera> views =
+      views_of(run_job("views", job_args("views", {{"images", std::vector<std::string>{input}},
+                                                   {"out_dir", path("out")},
+                                                   {"rig", rig},
+                                                   {"format", std::string("png")}})));
+  ASSERT_EQ(views.size(), 2u);
+  const Image src = read_image(input);
+  for (const ViewCamera& c : views) {
+    const ViewSpec v = parse_rig(rig)[c.name == "a" ? 0 : 1];
     ConvertOptions o;
     o.size = c.size;
     o.yaw = v.yaw, o.pitch = v.pitch, o.roll = v.roll;
@@ -155,7 +175,7 @@ TEST_F(Views, EachViewIsTheConversionToItsPinholeTurnedByItsAngles) {
     std::string model;
     double w, h, fx, fy, cx, cy;
     l >> id >> model >> w >> h >> fx >> fy >> cx >> cy;
-    const ViewCamera& c = r.views[static_cast<size_t>(id - 1)];
+    const ViewCamera& c = views[static_cast<size_t>(id - 1)];
     EXPECT_EQ(model, "PINHOLE");
     EXPECT_EQ(w, static_cast<double>(c.size.width));
     EXPECT_EQ(fx, c.focal);
@@ -170,10 +190,19 @@ TEST_F(Views, EachViewIsTheConversionToItsPinholeTurnedByItsAngles) {
 }
 
 TEST_F(Views, NothingLandsWhenAFrameFails) {
-  ViewsJob job;
+  struct {
+    std::vector<std::string> inputs;
+    std::string output;
+    bool overwrite = false;
+  } job;
+  const auto run_views = [&](const auto& j) {
+    return run_job("views", job_args("views", {{"images", j.inputs},
+                                               {"out_dir", j.output},
+                                               {"size", std::string("32x32")},
+                                               {"overwrite", j.overwrite}}));
+  };
   job.inputs = {source("a.png", "equirect", {256, 128}), source("b.png", "equirect", {256, 128})};
   job.output = path("out");
-  job.options.size = Size{32, 32};
   // b's pixels damaged after its header was checked: the job fails at frame 2, nothing lands.
   std::string bytes = slurp(job.inputs[1]);
   bytes.resize(bytes.size() / 2);
@@ -193,7 +222,7 @@ TEST_F(Views, NothingLandsWhenAFrameFails) {
   // An input inside the folder that --overwrite would replace.
   fs::create_directories(path("out"));
   job.inputs = {source("out/in.png", "equirect", {256, 128})};
-  job.write.overwrite = true;
+  job.overwrite = true;
   EXPECT_THROW(run_views(job), Error);
   EXPECT_TRUE(fs::exists(path("out/in.png")));
 }

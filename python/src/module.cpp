@@ -19,18 +19,16 @@
 #include <string>
 #include <vector>
 
+#include "attribute_values.hpp"
+#include "oiio_package.hpp"
 #include "panoproj/convert.hpp"
-#include "panoproj/options.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/interrupt.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/jobs.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/maps.hpp"
-#include "panoproj/tiles.hpp"
-#include "panoproj/views.hpp"
-#include "attribute_values.hpp"
-#include "oiio_package.hpp"
+#include "panoproj/options.hpp"
 
 namespace py = pybind11;
 using namespace panoproj;
@@ -185,23 +183,35 @@ ConvertOptions options_from(const py::dict& given, unsigned use) {
   return o;
 }
 
-// A tile job from Python's arguments (panoproj/_tiles.py hands them over checked for type).
-TilesJob tiles_job(const py::dict& job, const py::dict& options) {
-  TilesJob j;
-  j.input = job["input"].cast<std::string>();
-  j.output = job["output"].cast<std::string>();
-  if (!job["src"].is_none()) j.from = job["src"].cast<std::string>();
-  j.viewer = parse_viewer(job["viewer"].cast<std::string>());
-  j.tile = job["tile"].cast<int>();
-  j.levels = job["levels"].cast<int>();
-  j.cube_size = job["cube_size"].cast<int64_t>();
-  j.format = job["format"].cast<std::string>();
-  j.preview = job["preview"].cast<int>();
-  j.script_url = job["script_url"].cast<std::string>();
-  j.write.quality = job["quality"].cast<int>();
-  j.write.overwrite = job["overwrite"].cast<bool>();
-  j.options = options_from(options, kUseTiles);
-  return j;
+// A job's arguments from Python's (panoproj/_job.py hands over those given, each already of its
+// row's type: float, int, bool, str or a list of str).
+Arguments job_arguments(const JobDef& job, const py::dict& given) {
+  Arguments args(job.rows());
+  for (const auto& [key, value] : given) {
+    const std::string name = key.cast<std::string>();
+    OptionType type = OptionType::Text;
+    for (const OptionDef& d : job.rows())
+      if (name == d.name) type = d.type;
+    switch (type) {
+      case OptionType::Angle:
+        args.set(name, value.cast<double>());
+        break;
+      case OptionType::Integer:
+        args.set(name, value.cast<int64_t>());
+        break;
+      case OptionType::Flag:
+        args.set(name, value.cast<bool>());
+        break;
+      case OptionType::Paths:
+        args.set(name, value.cast<std::vector<std::string>>());
+        break;
+      case OptionType::Text:
+      case OptionType::Path:
+        args.set(name, value.cast<std::string>());
+        break;
+    }
+  }
+  return args;
 }
 
 // A folder job's temporary folder as the tasks carry it (picklable): (path, device, inode).
@@ -211,46 +221,54 @@ StagedFolder staged_of(const py::tuple& t) {
   return {t[0].cast<std::string>(), t[1].cast<uint64_t>(), t[2].cast<uint64_t>()};
 }
 
-py::dict tiles_report(const TilesReport& r) {
-  py::list levels;
-  for (const TileLevel& l : r.pyramid.levels)
-    levels.append(py::dict(py::arg("name") = l.name, py::arg("size") = l.size, py::arg("tiles") = l.tiles));
-  return py::dict(py::arg("viewer") = name_of(r.pyramid.viewer), py::arg("tile") = r.pyramid.tile,
-                  py::arg("levels") = levels, py::arg("preview") = r.pyramid.preview,
-                  py::arg("tile_count") = r.pyramid.tile_count(), py::arg("written") = r.written,
-                  py::arg("empty") = r.empty, py::arg("src") = r.from,
-                  py::arg("source_size") = py::make_tuple(r.source_size.width, r.source_size.height),
-                  py::arg("seconds") = r.seconds, py::arg("notes") = r.notes);
+py::object report_value(const ReportValue& v);
+
+// A report as a dict (its order kept); lists as lists, tuples as tuples.
+py::dict python_report(const Report& r) {
+  py::dict out;
+  for (const ReportField& f : r) out[py::str(f.key)] = report_value(f.value);
+  return out;
 }
 
-// A views job from Python's arguments (panoproj/_views.py hands them over checked for type).
-ViewsJob views_job(const py::dict& job, const py::dict& options) {
-  ViewsJob j;
-  j.inputs = job["inputs"].cast<std::vector<std::string>>();
-  j.output = job["output"].cast<std::string>();
-  if (!job["src"].is_none()) j.from = job["src"].cast<std::string>();
-  j.rig = job["rig"].cast<std::string>();
-  j.format = job["format"].cast<std::string>();
-  j.layout = job["layout"].cast<std::string>();
-  j.write.quality = job["quality"].cast<int>();
-  j.write.overwrite = job["overwrite"].cast<bool>();
-  j.options = options_from(options, kUseViews);
-  return j;
+py::object report_value(const ReportValue& v) {
+  return std::visit(
+      [&](const auto& x) -> py::object {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, std::vector<ReportValue>>) {
+          py::list items;
+          for (const ReportValue& e : x) items.append(report_value(e));
+          return v.tuple ? py::object(py::tuple(items)) : py::object(items);
+        } else if constexpr (std::is_same_v<T, Report>) {
+          return python_report(x);
+        } else {
+          return py::cast(x);
+        }
+      },
+      v.value);
 }
 
-py::dict views_report(const ViewsReport& r) {
-  py::list views;
-  for (const ViewCamera& c : r.views) {
-    py::list rotation;
-    for (int i = 0; i < 3; ++i)
-      rotation.append(py::make_tuple(c.world_from_camera(i, 0), c.world_from_camera(i, 1), c.world_from_camera(i, 2)));
-    views.append(py::dict(py::arg("name") = c.name, py::arg("size") = py::make_tuple(c.size.width, c.size.height),
-                          py::arg("focal") = c.focal, py::arg("world_from_camera") = rotation));
-  }
-  return py::dict(py::arg("views") = views, py::arg("frames") = r.stems, py::arg("src") = r.from,
-                  py::arg("source_size") = py::make_tuple(r.source_size.width, r.source_size.height),
-                  py::arg("masks") = r.masks, py::arg("images") = r.images, py::arg("empty") = r.empty,
-                  py::arg("seconds") = r.seconds);
+// A row as Python reads it (panoproj/_options.py, python/generate_api.py).
+py::dict row_dict(const OptionDef& d) {
+  py::list use;
+  for (auto [bit, name] : {std::pair{kUseConvert, "convert"},
+                           {kUseMaps, "maps"},
+                           {kUseAccuracy, "accuracy"},
+                           {kUseTiles, "tiles"},
+                           {kUseViews, "views"}})
+    if (d.use & bit) use.append(name);
+  const char* types[] = {"angle", "integer", "flag", "text", "path", "paths"};
+  return py::dict(py::arg("name") = d.name, py::arg("type") = types[static_cast<int>(d.type)],
+                  py::arg("use") = use, py::arg("default") = d.default_text,
+                  py::arg("help") = d.help, py::arg("choices") = d.choices ? d.choices : "",
+                  py::arg("conversion") = d.set != nullptr,
+                  py::arg("positional") = (d.traits & kPositional) != 0,
+                  py::arg("python") = (d.traits & (kCommandOnly | kNeither)) == 0);
+}
+
+const JobDef& staged_job(const std::string& name) {
+  const JobDef& job = job_named(name);
+  if (!job.begin) throw Error("job " + name + " has no parts");
+  return job;
 }
 
 Size size_pair(std::pair<int64_t, int64_t> s) {
@@ -339,42 +357,22 @@ std::pair<py::array, py::array> split_map(Image&& map) {
 // Finite x, y arrays of one shape as flat double vectors.
 using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-}  // namespace
-
-PYBIND11_MODULE(_core, m) {
-  m.doc() = "panoproj's compiled core; use the panoproj package.";
-  m.attr("__version__") = PANOPROJ_VERSION;  // CMake's project version, as is the package's
-  use_python_option_names();
-  use_oiio_package();  // TIFF, EXR, HDR through `pip install openimageio` where the system has no OpenImageIO
-  py::register_exception_translator([](std::exception_ptr p) {
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const Error& e) {
-      PyObject* type = PyExc_ValueError;
-      switch (e.kind()) {
-        case ErrorKind::Value: type = PyExc_ValueError; break;
-        case ErrorKind::File: type = PyExc_OSError; break;
-        case ErrorKind::Exists: type = PyExc_FileExistsError; break;
-        case ErrorKind::Missing: type = PyExc_FileNotFoundError; break;
-        case ErrorKind::Memory: type = PyExc_MemoryError; break;
-      }
-      PyErr_SetString(type, e.what());
-    } catch (const std::bad_alloc&) {
-      PyErr_SetString(PyExc_MemoryError, "out of memory (ask for a smaller size, or pass memory_limit= to be refused "
-                                         "before the work starts)");
-    }
-  });
-
+// The tables the Python side is made from (options, jobs, the catalogue), and small helpers.
+void bind_tables(py::module_& m) {
   m.def("options", [] {
     py::list out;
-    for (const OptionDef& d : conversion_options()) {
-      py::list use;
-      for (auto [bit, name] : {std::pair{kUseConvert, "convert"}, {kUseMaps, "maps"}, {kUseAccuracy, "accuracy"}, {kUseTiles, "tiles"}, {kUseViews, "views"}})
-        if (d.use & bit) use.append(name);
-      const char* types[] = {"angle", "integer", "flag", "text"};
-      out.append(py::dict(py::arg("name") = d.name, py::arg("type") = types[static_cast<int>(d.type)],
-                          py::arg("use") = use, py::arg("default") = d.default_text, py::arg("help") = d.help,
-                          py::arg("choices") = d.choices ? d.choices : ""));
+    for (const OptionDef& d : conversion_options()) out.append(row_dict(d));
+    return out;
+  });
+  m.def("jobs", [] {
+    py::list out;
+    for (const JobDef* j : jobs()) {
+      py::list rows;
+      for (const OptionDef& d : j->rows()) rows.append(row_dict(d));
+      out.append(
+          py::dict(py::arg("name") = j->name, py::arg("summary") = j->summary,
+                   py::arg("python") = j->python ? py::object(py::str(j->python)) : py::none(),
+                   py::arg("staged") = j->begin != nullptr, py::arg("rows") = rows));
     }
     return out;
   });
@@ -400,7 +398,10 @@ PYBIND11_MODULE(_core, m) {
   m.def("parse_memory_limit", [](const std::string& text) { return parse_memory_limit(text); }, py::arg("text"));
   m.def("require_memory", &require_memory, py::arg("what"), py::arg("bytes"), py::arg("limit"),
         "Raises MemoryError when `bytes` would not fit the budget (limit 0: the memory available now).");
+}
 
+// Conversions in memory: convert, build_map and Plan.
+void bind_conversions(py::module_& m) {
   m.def(
       "convert",
       [](const py::object& src_image, const std::string& src, const std::string& dst, const py::dict& options,
@@ -419,88 +420,6 @@ PYBIND11_MODULE(_core, m) {
         return array_of(std::move(out), flat);
       },
       py::arg("image"), py::arg("src"), py::arg("dst"), py::arg("options"), py::arg("has_alpha") = true);
-
-  // Tile pyramids (tiles.hpp): whole, or begun, rendered in parts (any process) and finished.
-  m.def("tiles", [](const py::dict& job, const py::dict& options) {
-    const TilesJob j = tiles_job(job, options);
-    TilesReport r;
-    {
-      Unlocked unlocked;
-      r = run_tiles(j);
-    }
-    return tiles_report(r);
-  });
-  m.def("tiles_begin", [](const py::dict& job, const py::dict& options, int64_t band_pixels) {
-    const TilesJob j = tiles_job(job, options);
-    TilesStaging s;
-    {
-      Unlocked unlocked;
-      s = begin_tiles(j, band_pixels);
-    }
-    py::list work;
-    for (const TileBand& r : s.work) work.append(py::make_tuple(r.level, r.face, r.row0, r.row1));
-    return py::make_tuple(staged_handle(s.folder), work);
-  });
-  m.def("tiles_render", [](const py::dict& job, const py::dict& options, const py::tuple& folder,
-                           const std::vector<std::tuple<size_t, int, int64_t, int64_t>>& rows) {
-    const TilesJob j = tiles_job(job, options);
-    std::vector<TileBand> work;
-    for (const auto& [level, face, row0, row1] : rows) work.push_back({level, face, row0, row1});
-    const StagedFolder staged = staged_of(folder);
-    Unlocked unlocked;
-    return render_tiles(j, staged, work);
-  });
-  m.def("tiles_finish", [](const py::dict& job, const py::dict& options, const py::tuple& folder,
-                           std::array<int64_t, 2> counts) {
-    const TilesJob j = tiles_job(job, options);
-    const StagedFolder staged = staged_of(folder);
-    TilesReport r;
-    {
-      Unlocked unlocked;
-      r = finish_tiles(j, staged, counts);
-    }
-    return tiles_report(r);
-  });
-  m.def("tiles_abandon", [](const py::tuple& folder) { abandon_tiles(staged_of(folder)); });
-
-  // Perspective views with cameras (views.hpp): whole, or begun, rendered by frames and finished.
-  m.def("views", [](const py::dict& job, const py::dict& options) {
-    const ViewsJob j = views_job(job, options);
-    ViewsReport r;
-    {
-      Unlocked unlocked;
-      r = run_views(j);
-    }
-    return views_report(r);
-  });
-  m.def("views_begin", [](const py::dict& job, const py::dict& options) {
-    const ViewsJob j = views_job(job, options);
-    StagedFolder s;
-    {
-      Unlocked unlocked;
-      s = begin_views(j);
-    }
-    return staged_handle(s);
-  });
-  m.def("views_render", [](const py::dict& job, const py::dict& options, const py::tuple& folder,
-                           const std::vector<int64_t>& frames) {
-    const ViewsJob j = views_job(job, options);
-    const StagedFolder staged = staged_of(folder);
-    Unlocked unlocked;
-    return render_views(j, staged, frames);
-  });
-  m.def("views_finish", [](const py::dict& job, const py::dict& options, const py::tuple& folder,
-                           std::array<int64_t, 2> counts) {
-    const ViewsJob j = views_job(job, options);
-    const StagedFolder staged = staged_of(folder);
-    ViewsReport r;
-    {
-      Unlocked unlocked;
-      r = finish_views(j, staged, counts);
-    }
-    return views_report(r);
-  });
-  m.def("views_abandon", [](const py::tuple& folder) { abandon_views(staged_of(folder)); });
 
   m.def(
       "build_map",
@@ -535,7 +454,56 @@ PYBIND11_MODULE(_core, m) {
         const Size s = size_of(p.geometry().target);
         return std::pair{s.width, s.height};
       });
+}
 
+// Jobs (jobs.hpp): whole, or begun, rendered in parts (any process) and finished.
+void bind_jobs(py::module_& m) {
+  m.def("job_run", [](const std::string& name, const py::dict& given) {
+    const JobDef& job = job_named(name);
+    const Arguments args = job_arguments(job, given);
+    Report r;
+    {
+      Unlocked unlocked;
+      r = job.run(args, {});
+    }
+    return python_report(r);
+  });
+  m.def("job_begin", [](const std::string& name, const py::dict& given) {
+    const JobDef& job = staged_job(name);
+    const Arguments args = job_arguments(job, given);
+    Staged s;
+    {
+      Unlocked unlocked;
+      s = job.begin(args);
+    }
+    return py::make_tuple(staged_handle(s.folder), s.parts);
+  });
+  m.def("job_render", [](const std::string& name, const py::dict& given, const py::tuple& folder,
+                         const std::vector<int64_t>& parts) {
+    const JobDef& job = staged_job(name);
+    const Arguments args = job_arguments(job, given);
+    const StagedFolder staged = staged_of(folder);
+    Unlocked unlocked;
+    const PartCounts c = job.render(args, staged, parts);
+    return std::pair{c.written, c.empty};
+  });
+  m.def("job_finish", [](const std::string& name, const py::dict& given, const py::tuple& folder,
+                         std::array<int64_t, 2> counts) {
+    const JobDef& job = staged_job(name);
+    const Arguments args = job_arguments(job, given);
+    const StagedFolder staged = staged_of(folder);
+    Report r;
+    {
+      Unlocked unlocked;
+      r = job.finish(args, staged, {counts[0], counts[1]});
+    }
+    return python_report(r);
+  });
+  m.def("job_abandon", [](const py::tuple& folder) { abandon_staged(staged_of(folder)); });
+}
+
+// Image files: read, read_faces, read_metadata, write.
+void bind_files(py::module_& m) {
   m.def(
       "read", [](const std::string& path, int64_t limit) { return read_array([&] { return read_image(path, limit); }); },
       py::arg("path"), py::arg("memory_limit") = 0);
@@ -581,7 +549,10 @@ PYBIND11_MODULE(_core, m) {
       },
       py::arg("path"), py::arg("array"), py::arg("overwrite"), py::arg("dtype"), py::arg("metadata"),
       py::arg("quality"), py::arg("subsampling"));
+}
 
+// Pixel coordinates and rays, cube faces, and a test hook.
+void bind_coordinates(py::module_& m) {
   m.def(
       "to_ray",
       [](const std::string& spec, std::pair<int64_t, int64_t> size, const Doubles& x, const Doubles& y) {
@@ -656,4 +627,48 @@ PYBIND11_MODULE(_core, m) {
     py::object keep;
     return reinterpret_cast<uintptr_t>(image_of(a, keep).data());
   });
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "panoproj's compiled core; use the panoproj package.";
+  m.attr("__version__") = PANOPROJ_VERSION;  // CMake's project version, as is the package's
+  use_python_option_names();
+  use_oiio_package();  // TIFF, EXR, HDR through `pip install openimageio` where the system has no
+                       // OpenImageIO
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const Error& e) {
+      PyObject* type = PyExc_ValueError;
+      switch (e.kind()) {
+        case ErrorKind::Value:
+          type = PyExc_ValueError;
+          break;
+        case ErrorKind::File:
+          type = PyExc_OSError;
+          break;
+        case ErrorKind::Exists:
+          type = PyExc_FileExistsError;
+          break;
+        case ErrorKind::Missing:
+          type = PyExc_FileNotFoundError;
+          break;
+        case ErrorKind::Memory:
+          type = PyExc_MemoryError;
+          break;
+      }
+      PyErr_SetString(type, e.what());
+    } catch (const std::bad_alloc&) {
+      PyErr_SetString(PyExc_MemoryError,
+                      "out of memory (ask for a smaller size, or pass memory_limit= to be refused "
+                      "before the work starts)");
+    }
+  });
+  bind_tables(m);
+  bind_conversions(m);
+  bind_jobs(m);
+  bind_files(m);
+  bind_coordinates(m);
 }

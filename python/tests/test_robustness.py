@@ -1406,21 +1406,20 @@ def test_a_swapped_temporary_folder_never_redirects_a_write(cli, files, command)
 def test_a_worker_refuses_a_staged_folder_swapped_after_begin(files, tmp_path):
     # The staged handle carries the folder's device and inode: a folder swapped in at its path is
     # refused by every task and by finish, and the one made is left to abandon.
-    job = pp._tiles.job_of(files["png"], tmp_path / "out", viewer="pannellum", src=None, tile=512, levels=None,
-                           cube_size=None, format="jpg", quality=95, preview=None, script_url=None, overwrite=False)
-    options = {}
-    staged, work = pp._core.tiles_begin(job, options, 1 << 24)
+    args = pp._job.arguments("tiles", {"image": files["png"], "out_dir": tmp_path / "out"}, {})
+    staged, parts = pp._core.job_begin("tiles", args)
+    assert parts > 0
     moved = staged[0] + ".moved"
     os.rename(staged[0], moved)
     os.mkdir(staged[0])
     with pytest.raises(OSError, match="is not the one the job made"):
-        pp._core.tiles_render(job, options, staged, [work[0]])
+        pp._core.job_render("tiles", args, staged, [0])
     with pytest.raises(FileNotFoundError, match="is not beside"):
-        pp._core.tiles_finish(job, options, staged, [0, 0])
+        pp._core.job_finish("tiles", args, staged, [0, 0])
     assert os.listdir(staged[0]) == [] and not (tmp_path / "out").exists()
     os.rmdir(staged[0])
     os.rename(moved, staged[0])
-    pp._core.tiles_abandon(staged)
+    pp._core.job_abandon(staged)
     assert listing(tmp_path) == []
 
 

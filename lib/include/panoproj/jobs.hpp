@@ -1,80 +1,115 @@
 #pragma once
-// The CLI's file jobs (and later Python's): convert (read, infer the source projection, plan,
-// remap, write atomically) and maps (plan, build the source-coordinate map, write). Rules:
-//   - no --from: an input path with {face}/{index}/{axis} is a cubemap in files; a 2:1 image is a
-//     full equirect; anything else is an error asking for --from.
-//   - the output must not be an input (same file by path or inode), and an existing output is
-//     replaced only with overwrite; nothing is written when anything fails.
-//   - several inputs (a batch, video frames): all of one size, an output pattern with {stem}
-//     (the input's file name without extension) and/or {n} (its position, from 0); every input
-//     header and output path is checked before the first conversion; the map is built once.
+// Jobs: what the command's subcommands and Python's folder functions run (convert, maps, tiles,
+// views, accuracy, stability, info; the list: lib/src/jobs/list.hpp). A job is a module: its
+// name, its parameter rows (OptionDef, options.hpp: the conversion options' row type), a run,
+// and for jobs that a scheduler may share out, staged parts. The front ends are made from the
+// rows: the command adds a flag (or positional) per row, python/generate_api.py writes Python's
+// function, signature, TypedDict and stub; both hand the given values over as Arguments.
+//
+// Staged jobs (tiles, views) run in parts for a scheduler (Python's client=): begin checks
+// everything, creates the temporary folder beside the output and says how many parts there are;
+// render writes the given parts into it (any process, any order: each file's bytes depend only on
+// the arguments); finish writes the rest and lands the folder; abandon_staged removes it. A local
+// run gives the same bytes.
+#include <array>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <variant>
 #include <vector>
 
-#include "panoproj/convert.hpp"
 #include "panoproj/io.hpp"
-#include "panoproj/maps.hpp"
-#include "panoproj/photo_sphere.hpp"
+#include "panoproj/options.hpp"
 
 namespace panoproj {
 
-// Largest map the file jobs keep in memory (about 30 Mpx of output).
+// Largest map the file jobs and Python's Plan keep in memory (about 30 Mpx of output).
 inline constexpr int64_t kMapCacheBudget = int64_t{512} << 20;
 
-struct ConvertJob {
-  std::vector<std::string> inputs;  // one image or face pattern, or several images (a batch)
-  std::string output;               // a path, a face pattern, or a batch pattern
-  std::optional<std::string> from;  // spec text; see the rules above when absent
-  std::string to;
-  ConvertOptions options;
-  WriteOptions write;
-  // Each output carries its input's metadata (EXIF, ICC profile, XMP ... where OpenImageIO reads
-  // and the output format holds them), less what describes the old pixels: their orientation,
-  // dimensions and thumbnail.
-  bool keep_metadata = true;
+// The values given for a job's rows, by row name, in the order given. set() checks the name
+// against the rows and the value's alternative against the row's type; the getters return the
+// given value, else the row's default (std::nullopt / empty for a default of None).
+class Arguments {
+ public:
+  explicit Arguments(const std::vector<OptionDef>& rows) : rows_(&rows) {}
+  Arguments& set(std::string_view name, OptionValue value);  // throws Error naming an unknown row
+  bool given(std::string_view name) const;
+  std::string text(std::string_view name) const;
+  std::optional<std::string> optional_text(std::string_view name) const;
+  int64_t integer(std::string_view name) const;
+  bool flag(std::string_view name) const;
+  double angle(std::string_view name) const;
+  std::vector<std::string> paths(std::string_view name) const;
+  // The conversion options (conversion_options()) given, through their setters, in order.
+  ConvertOptions options() const;
+  // The write options (write_options()) given.
+  WriteOptions write() const;
+  const std::vector<OptionDef>& rows() const { return *rows_; }
+
+ private:
+  const OptionValue* find(std::string_view name) const;
+  const OptionDef& row(std::string_view name) const;
+  const std::vector<OptionDef>* rows_;
+  std::vector<std::pair<std::string, OptionValue>> values_;
 };
 
-struct ConvertReport {
-  std::string input, output;
-  std::string from, to;  // canonical specs used
-  Size input_size, output_size;  // one face's size where input/output_faces
-  bool input_faces = false, output_faces = false;
-  double seconds = 0;    // map (first input of a batch) and remap, with the source's decoding and the
-                         // JPEG blocks encoded as they are made (which they overlap); not the rest of the write,
-                         // nor in a pipelined batch the decoding (done ahead, on other threads)
-  double read_fraction = 1;  // share of the source's pixels read (only what the view needs)
-  std::string source_format;  // jpeg, png, pnm, tiff, openexr, hdr ("" for face sets)
-  int decode_scale = 1;       // the source decoded at 1/decode_scale (JPEG DCT scaling)
-  std::string stereo;         // "" (mono), else how the eyes went, e.g. "stereo tb -> sbs, eyes 2048x1024 -> 1024x1024"
+// The write options' rows: overwrite, depth, quality, subsampling (a job lists those it takes).
+const std::vector<OptionDef>& write_options();
+const OptionDef& write_option(std::string_view name);
+// The command's own rows (quiet, verbose): read by the command, not by the job.
+const OptionDef& command_option(std::string_view name);
+
+// A report: ordered key/values, each a number, flag, text, list (or tuple) or a nested report.
+struct ReportField;
+struct ReportValue {
+  std::variant<bool, int64_t, double, std::string, std::vector<ReportValue>,
+               std::vector<ReportField>>
+      value;
+  bool tuple = false;  // a list of fixed length (Python's tuple), e.g. a size
+};
+struct ReportField {
+  std::string key;
+  ReportValue value;
+};
+using Report = std::vector<ReportField>;
+ReportValue report_size(Size size);  // (width, height) as a tuple
+const ReportValue* report_find(const Report& report, std::string_view key);
+
+// What a run tells its caller as it goes: progress (the fraction done) and the lines the command
+// prints (each a result, e.g. a converted file; none with --quiet), both from the calling thread.
+struct JobEvents {
+  std::function<void(double)> progress;
+  std::function<void(const std::string&)> line;
 };
 
-// Converts every input; on_frame (if given) is called after each one is written, progress with
-// the overall fraction done (from the calling thread).
-std::vector<ConvertReport> run_convert(const ConvertJob& job,
-                                       const std::function<void(const ConvertReport&)>& on_frame = {},
-                                       const std::function<void(double)>& progress = {});
-
-struct MapsJob {
-  std::string output;  // a float format: .exr or .tif
-  std::string from, to;
-  Size source_size;
-  ConvertOptions options;  // size, rotation, threads (interp and engine do not apply)
-  MapConvention convention = MapConvention::OpenCV;
-  WriteOptions write;
+// The written and empty files of staged parts (summed over parts by the scheduler).
+struct PartCounts {
+  int64_t written = 0, empty = 0;
 };
 
-// Writes the 2-channel float map (channels x, y; see maps.hpp); returns the output size.
-Size run_maps(const MapsJob& job);
+struct Staged {
+  StagedFolder folder;
+  int64_t parts = 0;  // render takes part numbers 0 .. parts - 1
+};
 
-// The source spec to use for an image of this size (rules above); photo_sphere: the input's
-// packet (read_photo_sphere), if any.
-ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const std::string& input, Size size,
-                                 const std::optional<PhotoSphere>& photo_sphere);
+struct JobDef {
+  const char* name;                         // the subcommand; Python's function
+  const char* summary;                      // the command's one line
+  const char* python;                       // Python's docstring; nullptr: the command only
+  const std::vector<OptionDef>& (*rows)();  // in the order the command and Python list them
+  // A report whose "ok" is false makes the command exit 1 (e.g. a stability bound failed).
+  Report (*run)(const Arguments& args, const JobEvents& events);
+  Staged (*begin)(const Arguments& args) = nullptr;  // nullptr: not staged
+  PartCounts (*render)(const Arguments& args, const StagedFolder& folder,
+                       const std::vector<int64_t>& parts) = nullptr;
+  Report (*finish)(const Arguments& args, const StagedFolder& folder, PartCounts counts) = nullptr;
+};
 
-// A Photo Sphere taken tilted is levelled by its pose (read_photo_sphere; none when --from
-// overrides the metadata): geometry's rotation turned; returns from_text with the pose named.
-std::string level_by_pose(ConversionGeometry& geometry, const std::optional<PhotoSphere>& ps, std::string from_text);
+const std::vector<const JobDef*>& jobs();
+const JobDef& job_named(std::string_view name);  // throws Error listing the jobs
+// Removes a staged job's temporary folder (after a failed part; nothing if already gone).
+void abandon_staged(const StagedFolder& folder);
 
 }  // namespace panoproj

@@ -115,33 +115,48 @@ struct ConvertOptions {
                                         // 2, 4, 8); 0 (auto): coarsest_decode_scale (convert.hpp)
 };
 
-// How front ends hand a value over: a number of degrees, an integer, a flag, or text the row's
-// setter parses (sizes "WxH", choices, colours, byte counts).
-enum class OptionType { Angle, Integer, Flag, Text };
-using OptionValue = std::variant<double, int64_t, bool, std::string>;
+// How front ends hand a value over: a number of degrees, an integer, a flag, text the row's
+// setter or job parses (sizes "WxH", choices, colours, byte counts), a path, or several paths.
+enum class OptionType { Angle, Integer, Flag, Text, Path, Paths };
+using OptionValue = std::variant<double, int64_t, bool, std::string, std::vector<std::string>>;
 
-// Which calls take an option (bits).
+// Which calls take a conversion option (bits).
 // kUseFiles: only conversions between files (the command's convert), e.g. how a file is decoded.
-// kUseTiles: tile pyramids (tiles.hpp), which render from a file too.
-// kUseViews: perspective views with cameras (views.hpp); size is each view's.
+// kUseTiles: tile pyramids, which render from a file too.
+// kUseViews: perspective views with cameras; size is each view's.
 enum OptionUse : unsigned { kUseConvert = 1, kUseMaps = 2, kUseAccuracy = 4, kUseFiles = 8, kUseTiles = 16, kUseViews = 32 };
 
+// How a front end shows a row (bits): positional (the command's positional, Python's positional
+// argument), required, and rows only one front end has.
+enum OptionTrait : unsigned {
+  kPositional = 1,
+  kRequired = 2,
+  kCommandOnly = 4,
+  kPythonOnly = 8,
+  kNeither = 16
+};
+
+// One row type for the conversion options and every job's parameters (jobs.hpp).
 struct OptionDef {
   const char* name;          // Python's keyword; the command's flag is --name with '-' for '_'
   OptionType type;
-  unsigned use;              // OptionUse bits
+  unsigned use;              // OptionUse bits (conversion options; 0 for a job's own rows)
   const char* default_text;  // the default as Python writes it ("None": derived or unset)
   const char* help;          // one line, for --help and docstrings
-  // Stores the value; throws Error naming the option and what it expects. A value of the wrong
-  // alternative is an InternalError (the front ends convert by `type`).
-  void (*set)(ConvertOptions& options, const OptionValue& value);
+  // A conversion option stores the value; throws Error naming the option and what it expects. A
+  // value of the wrong alternative is an InternalError (the front ends convert by `type`). A
+  // job's own rows have none: the job reads them (Arguments).
+  void (*set)(ConvertOptions& options, const OptionValue& value) = nullptr;
   const char* choices = nullptr;  // "a|b|c" for a Text option that takes names (Python's Literal)
+  const char* flag = nullptr;     // the command's spelling where not from the name ("from",
+                                  // "-q,--quiet"; a positional's name)
+  unsigned traits = 0;            // OptionTrait bits
 };
 
 const std::vector<OptionDef>& conversion_options();
 // The row named `name` (Python's spelling); throws Error listing the names `use` allows.
 const OptionDef& conversion_option(std::string_view name, unsigned use);
-// "--memory-limit" for "memory_limit".
+// "--memory-limit" for "memory_limit", "--from" for src (its flag); a positional's name.
 std::string flag_of(const OptionDef& option);
 // The command's text of a value option as its type's value ("nan" and "inf" pass as numbers: the
 // plan names them); throws Error naming the flag for text that is not one. (Flags have no text.)

@@ -101,6 +101,10 @@ const OptionDef& conversion_option(std::string_view name, unsigned use) {
 }
 
 std::string flag_of(const OptionDef& option) {
+  if (option.flag)
+    return option.flag[0] == '-' || (option.traits & kPositional) ? option.flag
+                                                                  : std::string("--") + option.flag;
+  if (option.traits & kPositional) return option.name;
   std::string flag = std::string("--") + option.name;
   std::replace(flag.begin(), flag.end(), '_', '-');
   return flag;
@@ -122,7 +126,11 @@ OptionValue option_value(const OptionDef& option, const std::string& text) {
         throw Error(flag_of(option) + ": " + text + " is not a 64-bit integer");
       return static_cast<int64_t>(v);
     }
-    case OptionType::Text: return text;
+    case OptionType::Text:
+    case OptionType::Path:
+      return text;
+    case OptionType::Paths:
+      return std::vector<std::string>{text};
     case OptionType::Flag: break;
   }
   throw InternalError(flag_of(option) + " is a flag: it has no text to parse");

@@ -1,9 +1,31 @@
 #include "jobs/file_source.hpp"
 
-#include "panoproj/jobs.hpp"
-#include "panoproj/photo_sphere.hpp"
+#include <sstream>
+
+#include "panoproj/error.hpp"
 
 namespace panoproj {
+
+ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const std::string& input,
+                                 Size size, const std::optional<PhotoSphere>& photo_sphere) {
+  if (from) return parse_spec(*from);
+  if (is_face_pattern(input)) return parse_spec("cubemap:layout=files");
+  if (photo_sphere) return parse_spec(photo_sphere_spec(*photo_sphere, size));
+  if (size.width == 2 * size.height) return parse_spec("equirect");
+  throw Error("cannot tell the projection of " + input + " (" + std::to_string(size.width) + "x" +
+              std::to_string(size.height) + " is not a 2:1 equirect): give " + option_text("from") +
+              " SPEC");
+}
+
+std::string level_by_pose(ConversionGeometry& geometry, const std::optional<PhotoSphere>& ps,
+                          std::string from_text) {
+  if (!ps || (ps->pose_pitch == 0 && ps->pose_roll == 0)) return from_text;
+  geometry.rotation = photo_sphere_pose(*ps).transpose() * geometry.rotation;
+  std::ostringstream o;
+  o << from_text << ", levelled by its Photo Sphere pose: pitch " << ps->pose_pitch << ", roll "
+    << ps->pose_roll;
+  return o.str();
+}
 
 FileSource open_file_source(const std::string& input, const std::optional<std::string>& from, const ConvertOptions& options,
                             const char* what) {

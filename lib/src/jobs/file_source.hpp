@@ -7,8 +7,21 @@
 
 #include "panoproj/convert.hpp"
 #include "panoproj/io.hpp"
+#include "panoproj/photo_sphere.hpp"
 
 namespace panoproj {
+
+// The source spec of an image of this size: `from` if given; else an input path with
+// {face}/{index}/{axis} is a cubemap in files, a Photo Sphere (photo_sphere: the input's packet,
+// read_photo_sphere) its own, a 2:1 image a full equirect; anything else is an error asking for
+// --from.
+ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const std::string& input,
+                                 Size size, const std::optional<PhotoSphere>& photo_sphere);
+
+// A Photo Sphere taken tilted is levelled by its pose (none when --from overrides the metadata):
+// geometry's rotation turned; returns from_text with the pose named.
+std::string level_by_pose(ConversionGeometry& geometry, const std::optional<PhotoSphere>& ps,
+                          std::string from_text);
 
 struct FileSource {
   ImageInfo info;

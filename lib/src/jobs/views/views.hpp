@@ -31,7 +31,8 @@
 //                                       view's sensor_from_rig its rotation from the first
 //   sparse/0/frames.txt                 one frame per panorama: rig_from_world = the first view's
 //                                       rotation, no translation
-//   sparse/0/images.txt                 cam_from_world = each view's rotation (world: the panorama's
+//   sparse/0/images.txt                 cam_from_world = each view's rotation (world: the
+//   panorama's
 //                                       frame, translation 0). With several panoramas every one is
 //                                       put at the origin, levelled the same: the rig is known,
 //                                       the frames' poses are what SfM solves
@@ -41,15 +42,13 @@
 //   rig_config.json                     layout folders: COLMAP's rig_configurator input (each
 //                                       view's image_prefix "{view}/", cam_from_rig, PINHOLE
 //                                       intrinsics), for SfM from a feature database
-//   transforms.json                     nerfstudio: camera-to-world in OpenGL's camera axes (x right,
+//   transforms.json                     nerfstudio: camera-to-world in OpenGL's camera axes (x
+//   right,
 //                                       y up, looking down -z), world x right, y forward (the
 //                                       panorama's centre), z up; intrinsics as OPENCV without
 //                                       distortion (shared at the top when all views share them);
 //                                       every camera at the origin (nerfstudio: --auto-scale-poses
 //                                       False, it divides by the largest translation)
-#include <array>
-#include <functional>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -57,33 +56,19 @@
 #include <Eigen/Core>
 
 #include "panoproj/image.hpp"
-#include "panoproj/io.hpp"
-#include "panoproj/options.hpp"
 
 namespace panoproj {
 
 struct ViewSpec {
-  std::string name;                   // [A-Za-z0-9_-], 1 to 64 characters
+  std::string name;                     // [A-Za-z0-9_-], 1 to 64 characters
   double yaw = 0, pitch = 0, roll = 0;  // degrees
-  double hfov = 90;                   // degrees, (0, 179]
-  double vfov = 0;                    // degrees; 0: from the height, else hfov
-  int64_t width = 0, height = 0;      // 0: from the job's size or the source's resolution
+  double hfov = 90;                     // degrees, (0, 179]
+  double vfov = 0;                      // degrees; 0: from the height, else hfov
+  int64_t width = 0, height = 0;        // 0: from the job's size or the source's resolution
 };
 
 // The views a rig's text names (throws panoproj::Error naming the value and what was expected).
 std::vector<ViewSpec> parse_rig(std::string_view text);
-
-struct ViewsJob {
-  std::vector<std::string> inputs;   // panoramas (one size and projection), each a frame
-  std::string output;                // the folder to make
-  std::optional<std::string> from;   // source spec; default as convert infers it
-  std::string rig = "cube";
-  std::string format = "jpg";        // jpg | png
-  std::string layout = "flat";       // flat: images/{stem}_{view}; folders: images/{view}/{stem}
-  ConvertOptions options;            // size (each view's, unless the rig gives one; none: from the
-                                     // source), interp, antialias, engine, threads, decode scale, memory
-  WriteOptions write;                // quality, overwrite (the folder)
-};
 
 // A view as written: size, focal (pixels) and its rotation (world from camera; OpenCV's camera
 // axes: x right, y down, z forward).
@@ -93,27 +78,5 @@ struct ViewCamera {
   double focal = 0;
   Eigen::Matrix3d world_from_camera = Eigen::Matrix3d::Identity();
 };
-
-struct ViewsReport {
-  std::vector<ViewCamera> views;
-  std::vector<std::string> stems;  // the frames' names, in order
-  std::string from;                // the source spec (the first frame's)
-  Size source_size;
-  bool masks = false;              // a partial source: masks written
-  int64_t images = 0, empty = 0;   // view images written; of them, views without a source pixel
-  double seconds = 0;
-};
-
-// Renders every view of every frame (one source decoded at a time).
-ViewsReport run_views(const ViewsJob& job, const std::function<void(double)>& progress = {});
-
-// The same in parts, for a scheduler (Python's client=): begin checks every input and creates the
-// temporary folder; render_views writes the given frames' views into it (any process, any order);
-// finish writes the camera files and lands the folder; abandon removes it.
-StagedFolder begin_views(const ViewsJob& job);
-// Returns {images written, of them empty}.
-std::array<int64_t, 2> render_views(const ViewsJob& job, const StagedFolder& folder, const std::vector<int64_t>& frames);
-ViewsReport finish_views(const ViewsJob& job, const StagedFolder& folder, std::array<int64_t, 2> counts);
-void abandon_views(const StagedFolder& folder);
 
 }  // namespace panoproj

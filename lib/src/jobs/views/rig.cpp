@@ -6,11 +6,11 @@
 #include <set>
 #include <string>
 
-#include "panoproj/error.hpp"
-#include "panoproj/options.hpp"
-#include "panoproj/views.hpp"
 #include "base/input_check.hpp"
 #include "base/text.hpp"
+#include "jobs/views/views.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/options.hpp"
 
 namespace panoproj {
 namespace {
@@ -31,57 +31,75 @@ double number(const std::string& text, const std::string& what) {
 int64_t whole(const std::string& text, const std::string& what, int64_t lo, int64_t hi) {
   const double v = number(text, what);
   if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi))
-    throw Error(what + ": " + text + " (expected a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ")");
+    throw Error(what + ": " + text + " (expected a whole number from " + std::to_string(lo) +
+                " to " + std::to_string(hi) + ")");
   return static_cast<int64_t>(v);
 }
 
 void check_view(const ViewSpec& v, const std::string& where) {
   if (v.name.empty() || v.name.size() > 64 ||
-      v.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") != std::string::npos)
-    throw Error(where + "name '" + v.name + "' (expected 1 to 64 letters, digits, '_' or '-': it goes into file names)");
+      v.name.find_first_not_of(
+          "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") != std::string::npos)
+    throw Error(where + "name '" + v.name +
+                "' (expected 1 to 64 letters, digits, '_' or '-': it goes into file names)");
   const std::string of = where + "view " + v.name + ": ";
   for (auto [angle, key] : {std::pair{v.yaw, "yaw"}, {v.pitch, "pitch"}, {v.roll, "roll"}})
-    if (!(std::abs(angle) <= 360)) throw Error(of + key + " " + std::to_string(angle) + " (expected -360 to 360 degrees)");
+    if (!(std::abs(angle) <= 360))
+      throw Error(of + key + " " + std::to_string(angle) + " (expected -360 to 360 degrees)");
   if (!(v.hfov > 0 && v.hfov <= 179))
-    throw Error(of + "hfov " + std::to_string(v.hfov) + " (expected more than 0, at most 179 degrees: a pinhole sees less than 180)");
+    throw Error(of + "hfov " + std::to_string(v.hfov) +
+                " (expected more than 0, at most 179 degrees: a pinhole sees less than 180)");
   if (!(v.vfov == 0 || (v.vfov > 0 && v.vfov <= 179)))
-    throw Error(of + "vfov " + std::to_string(v.vfov) + " (expected more than 0, at most 179 degrees)");
+    throw Error(of + "vfov " + std::to_string(v.vfov) +
+                " (expected more than 0, at most 179 degrees)");
   if (v.width == 0 && v.height != 0)
     throw Error(of + "a height without a width (give size WxH, or the width alone)");
   if (v.width < 0 || v.height < 0 || v.width > kMaxViewSide || v.height > kMaxViewSide)
-    throw Error(of + "size " + std::to_string(v.width) + "x" + std::to_string(v.height) + " (expected 1 to " +
-                std::to_string(kMaxViewSide) + " pixels a side)");
+    throw Error(of + "size " + std::to_string(v.width) + "x" + std::to_string(v.height) +
+                " (expected 1 to " + std::to_string(kMaxViewSide) + " pixels a side)");
   if (v.vfov > 0 && v.height > 0)
     throw Error(of + "both vfov and a height (the height follows from vfov: give one)");
 }
 
 // One key of a view (from a YAML mapping).
-void set_key(ViewSpec& v, const std::string& key, std::string value, std::set<std::string>& seen, const std::string& where) {
-  if (value.size() >= 2 && (value.front() == '"' || value.front() == '\'') && value.back() == value.front())
+void set_key(ViewSpec& v, const std::string& key, std::string value, std::set<std::string>& seen,
+             const std::string& where) {
+  if (value.size() >= 2 && (value.front() == '"' || value.front() == '\'') &&
+      value.back() == value.front())
     value = value.substr(1, value.size() - 2);
   const std::string k = key == "fov" ? "hfov" : key;
   if (!seen.insert(k).second) throw Error(where + "'" + key + "' given twice in one view");
   const std::string what = where + key;
-  if (k == "name") v.name = value;
-  else if (k == "yaw") v.yaw = number(value, what);
-  else if (k == "pitch") v.pitch = number(value, what);
-  else if (k == "roll") v.roll = number(value, what);
-  else if (k == "hfov") v.hfov = number(value, what);
-  else if (k == "vfov") v.vfov = number(value, what);
+  if (k == "name")
+    v.name = value;
+  else if (k == "yaw")
+    v.yaw = number(value, what);
+  else if (k == "pitch")
+    v.pitch = number(value, what);
+  else if (k == "roll")
+    v.roll = number(value, what);
+  else if (k == "hfov")
+    v.hfov = number(value, what);
+  else if (k == "vfov")
+    v.vfov = number(value, what);
   else if (k == "size") {
     const Size s = parse_size(value, what);
     v.width = s.width, v.height = s.height;  // (the sides' range: check_view)
-  }
-  else if (k == "width") v.width = whole(value, what, 1, kMaxViewSide);
-  else if (k == "height") v.height = whole(value, what, 1, kMaxViewSide);
-  else throw Error(where + "unknown key '" + key + "' (expected name, yaw, pitch, roll, hfov or fov, vfov, size, width, height)");
+  } else if (k == "width")
+    v.width = whole(value, what, 1, kMaxViewSide);
+  else if (k == "height")
+    v.height = whole(value, what, 1, kMaxViewSide);
+  else
+    throw Error(where + "unknown key '" + key +
+                "' (expected name, yaw, pitch, roll, hfov or fov, vfov, size, width, height)");
 }
 
 std::vector<ViewSpec> cube() {
   constexpr const char* kNames[6] = {"front", "right", "back", "left", "up", "down"};
   constexpr double kAngles[6][2] = {{0, 0}, {90, 0}, {180, 0}, {-90, 0}, {0, 90}, {0, -90}};
   std::vector<ViewSpec> views;
-  for (int f = 0; f < 6; ++f) views.push_back({kNames[f], kAngles[f][0], kAngles[f][1], 0, 90, 0, 0, 0});
+  for (int f = 0; f < 6; ++f)
+    views.push_back({kNames[f], kAngles[f][0], kAngles[f][1], 0, 90, 0, 0, 0});
   return views;
 }
 
@@ -95,22 +113,31 @@ std::vector<ViewSpec> ring(const std::string& keys) {
     const std::string kv = trim(std::string_view(keys).substr(at, comma - at));
     at = comma + 1;
     const size_t eq = kv.find('=');
-    if (eq == std::string::npos) throw Error("rig ring: '" + kv + "' (expected key=value, e.g. ring:n=8,fov=90,pitch=0)");
+    if (eq == std::string::npos)
+      throw Error("rig ring: '" + kv + "' (expected key=value, e.g. ring:n=8,fov=90,pitch=0)");
     const std::string k = kv.substr(0, eq), v = kv.substr(eq + 1), what = "rig ring: " + k;
-    if (k == "n") n = whole(v, what, 1, 360);
-    else if (k == "fov" || k == "hfov") fov = number(v, what);
-    else if (k == "vfov") vfov = number(v, what);
-    else if (k == "pitch") pitch = number(v, what);
-    else if (k == "yaw") yaw = number(v, what);
-    else throw Error("rig ring: unknown key '" + k + "' (expected n, fov, vfov, pitch, yaw)");
+    if (k == "n")
+      n = whole(v, what, 1, 360);
+    else if (k == "fov" || k == "hfov")
+      fov = number(v, what);
+    else if (k == "vfov")
+      vfov = number(v, what);
+    else if (k == "pitch")
+      pitch = number(v, what);
+    else if (k == "yaw")
+      yaw = number(v, what);
+    else
+      throw Error("rig ring: unknown key '" + k + "' (expected n, fov, vfov, pitch, yaw)");
   }
   std::vector<ViewSpec> views;
   for (int64_t i = 0; i < n; ++i) {
     const double y = yaw + 360.0 * static_cast<double>(i) / static_cast<double>(n);
     char name[48];
     const long named = std::lround(std::fmod(std::fmod(y, 360) + 360, 360)) % 360;
-    if (pitch == 0) std::snprintf(name, sizeof name, "y%03ld", named);
-    else std::snprintf(name, sizeof name, "y%03ld_p%ld", named, std::lround(pitch));
+    if (pitch == 0)
+      std::snprintf(name, sizeof name, "y%03ld", named);
+    else
+      std::snprintf(name, sizeof name, "y%03ld_p%ld", named, std::lround(pitch));
     views.push_back({name, y > 180 ? y - 360 : y, pitch, 0, fov, vfov, 0, 0});
   }
   return views;
@@ -120,8 +147,10 @@ std::vector<ViewSpec> ring(const std::string& keys) {
 // top key "views:".
 // read_head refuses directories, FIFOs and devices before reading.
 std::string read_rig_file(const std::string& path) {
-  std::string text = read_head(path, kMaxRigFile + 1, "the rig file", "a YAML list of views after @");
-  if (text.size() > kMaxRigFile) throw Error("rig file '" + path + "': over 1 MB (expected a list of views)");
+  std::string text =
+      read_head(path, kMaxRigFile + 1, "the rig file", "a YAML list of views after @");
+  if (text.size() > kMaxRigFile)
+    throw Error("rig file '" + path + "': over 1 MB (expected a list of views)");
   return text;
 }
 
@@ -137,9 +166,11 @@ std::vector<ViewSpec> yaml_views(const std::string& text, const std::string& lab
     at = nl + 1;
     ++line_no;
     const std::string where = label + " line " + std::to_string(line_no) + ": ";
-    if (line.find('\0') != std::string::npos) throw Error(where + "a NUL byte (expected YAML text)");
+    if (line.find('\0') != std::string::npos)
+      throw Error(where + "a NUL byte (expected YAML text)");
     if (const size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
-    if (line.find('\t') != std::string::npos) throw Error(where + "a tab (YAML indents with spaces)");
+    if (line.find('\t') != std::string::npos)
+      throw Error(where + "a tab (YAML indents with spaces)");
     std::string s = trim(line);
     if (!s.empty() && s.back() == '\r') s = trim(s.substr(0, s.size() - 1));
     if (s.empty() || s == "---") continue;
@@ -148,14 +179,16 @@ std::vector<ViewSpec> yaml_views(const std::string& text, const std::string& lab
       continue;
     }
     if (s == "-" || s.rfind("- ", 0) == 0) {
-      if (views.size() == kMaxViews) throw Error(where + "more than " + std::to_string(kMaxViews) + " views");
+      if (views.size() == kMaxViews)
+        throw Error(where + "more than " + std::to_string(kMaxViews) + " views");
       views.emplace_back();
       views.back().name.clear();
       seen.emplace_back();
       s = trim(s.substr(1));
       if (s.empty()) continue;
       if (s.front() == '{') {
-        if (s.back() != '}') throw Error(where + "'" + s + "' (a flow mapping ends with '}' on its line)");
+        if (s.back() != '}')
+          throw Error(where + "'" + s + "' (a flow mapping ends with '}' on its line)");
         const std::string inner = s.substr(1, s.size() - 2);
         size_t p = 0;
         while (p < inner.size()) {
@@ -165,20 +198,24 @@ std::vector<ViewSpec> yaml_views(const std::string& text, const std::string& lab
           if (kv.empty()) continue;
           const size_t colon = kv.find(':');
           if (colon == std::string::npos) throw Error(where + "'" + kv + "' (expected key: value)");
-          set_key(views.back(), trim(kv.substr(0, colon)), trim(kv.substr(colon + 1)), seen.back(), where);
+          set_key(views.back(), trim(kv.substr(0, colon)), trim(kv.substr(colon + 1)), seen.back(),
+                  where);
         }
         continue;
       }
     } else if (views.empty()) {
-      throw Error(where + "'" + s + "' (expected a list of views: lines starting '- ', optionally under 'views:')");
+      throw Error(where + "'" + s +
+                  "' (expected a list of views: lines starting '- ', optionally under 'views:')");
     }
     const size_t colon = s.find(':');
     if (colon == std::string::npos) throw Error(where + "'" + s + "' (expected key: value)");
     set_key(views.back(), trim(s.substr(0, colon)), trim(s.substr(colon + 1)), seen.back(), where);
   }
-  if (views.empty()) throw Error(label + ": no views (expected a list: - {name: front, yaw: 0, hfov: 90})");
+  if (views.empty())
+    throw Error(label + ": no views (expected a list: - {name: front, yaw: 0, hfov: 90})");
   for (size_t i = 0; i < views.size(); ++i)
-    if (views[i].name.empty()) throw Error(label + ": view " + std::to_string(i + 1) + " has no name");
+    if (views[i].name.empty())
+      throw Error(label + ": view " + std::to_string(i + 1) + " has no name");
   return views;
 }
 
@@ -199,18 +236,26 @@ std::vector<ViewSpec> parse_rig(std::string_view text) {
       const std::string part = trim(std::string_view(t).substr(at, plus - at));
       at = plus + 1;
       std::vector<ViewSpec> more;
-      if (part == "cube") more = cube();
-      else if (part == "ring") more = ring("");
-      else if (part.rfind("ring:", 0) == 0) more = ring(part.substr(5));
-      else throw Error("rig: '" + part + "' (expected cube, ring:n=8,fov=90,pitch=0, a sum of them with '+', or @rig.yaml)");
+      if (part == "cube")
+        more = cube();
+      else if (part == "ring")
+        more = ring("");
+      else if (part.rfind("ring:", 0) == 0)
+        more = ring(part.substr(5));
+      else
+        throw Error(
+            "rig: '" + part +
+            "' (expected cube, ring:n=8,fov=90,pitch=0, a sum of them with '+', or @rig.yaml)");
       views.insert(views.end(), more.begin(), more.end());
-      if (views.size() > kMaxViews) throw Error("rig: more than " + std::to_string(kMaxViews) + " views");
+      if (views.size() > kMaxViews)
+        throw Error("rig: more than " + std::to_string(kMaxViews) + " views");
     }
   }
   std::set<std::string> names;
   for (const ViewSpec& v : views) {
     check_view(v, label + ": ");
-    if (!names.insert(v.name).second) throw Error("rig: two views named " + v.name + " (names must differ: they name the files)");
+    if (!names.insert(v.name).second)
+      throw Error("rig: two views named " + v.name + " (names must differ: they name the files)");
   }
   return views;
 }

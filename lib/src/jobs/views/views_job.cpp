@@ -1,0 +1,404 @@
+// The views job: panoramas to perspective views with their cameras (jobs/views/views.hpp).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <set>
+#include <type_traits>
+
+#include "base/sample_io.hpp"
+#include "io/atomic_output.hpp"
+#include "io/formats.hpp"
+#include "jobs/file_source.hpp"
+#include "jobs/list.hpp"
+#include "jobs/rendered_parts.hpp"
+#include "jobs/views/camera_files.hpp"
+#include "jobs/views/views.hpp"
+#include "panoproj/convert.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/interrupt.hpp"
+#include "panoproj/limits.hpp"
+#include "panoproj/rotation.hpp"
+
+namespace panoproj {
+namespace {
+
+const std::vector<OptionDef>& rows() {
+  static const std::vector<OptionDef> rows = job_rows(
+      {
+          {"images", OptionType::Paths, 0, "None",
+           "panoramas (one size and projection; each a frame), then the folder to make", nullptr,
+           nullptr, "files", kPositional | kRequired},
+          {"out_dir", OptionType::Path, 0, "None", "the folder to make", nullptr, nullptr, nullptr,
+           kPositional | kRequired},
+          {"rig", OptionType::Text, 0, "'cube'",
+           "cube (default) | ring:n=8,fov=90,pitch=0[,vfov=,yaw=] | A+B | @rig.yaml (views: name, "
+           "yaw, pitch, roll, "
+           "hfov, vfov, size)"},
+          {"src", OptionType::Text, 0, "None",
+           "source projection spec (default as convert infers it)", nullptr, nullptr, "from"},
+          web_format_option(),
+          {"layout", OptionType::Text, 0, "'flat'",
+           "flat (default: images/{stem}_{view}) | folders (images/{view}/{stem} and "
+           "rig_config.json for COLMAP's "
+           "rig_configurator)",
+           nullptr, "flat|folders"},
+          with_help(write_option("quality"), "JPEG quality, 1 to 100 (default 95)"),
+      },
+      kUseViews,
+      {with_help(write_option("overwrite"), "replace an existing output folder"),
+       command_option("quiet")});
+  return rows;
+}
+
+struct ViewsJob {
+  std::vector<std::string> inputs;  // panoramas (one size and projection), each a frame
+  std::string output;               // the folder to make
+  std::optional<std::string> from;  // source spec; default as convert infers it
+  std::string rig;
+  std::string format;      // a web format (formats.hpp)
+  std::string layout;      // flat: images/{stem}_{view}; folders: images/{view}/{stem}
+  ConvertOptions options;  // size (each view's, unless the rig gives one; none: from the
+                           // source), interp, antialias, engine, threads, decode scale, memory
+  WriteOptions write;      // quality, overwrite (the folder)
+};
+
+ViewsJob job_of(const Arguments& a) {
+  return {a.paths("images"), a.text("out_dir"), a.optional_text("src"),
+          a.text("rig"),     a.text("format"),  a.text("layout"),
+          a.options(),       a.write()};
+}
+
+constexpr int64_t kMaxViewSide = 65536;
+constexpr size_t kMaxImages = 1000000;  // images.txt and transforms.json are held in memory
+
+// One panorama as the job sees it.
+using Frame = FileSource;
+
+Frame open_frame(const ViewsJob& job, const std::string& input) {
+  return open_file_source(input, job.from, job.options, "views");
+}
+
+std::string stem_of(const std::string& input) {
+  return std::filesystem::path(input).stem().string();
+}
+
+// tan(fov / 2), exactly 1 at 90 degrees (so a cube face's focal is exactly W / 2).
+double tan_half(double fov_deg) {
+  return fov_deg == 90 ? 1.0 : std::tan(fov_deg * kPi / 360);
+}
+
+// Sizes and focals: a view's own size, else the job's, else the source's resolution at its centre.
+std::vector<ViewCamera> cameras_for(const ViewsJob& job, const Frame& frame) {
+  std::vector<ViewCamera> cams;
+  for (const ViewSpec& v : parse_rig(job.rig)) {
+    const double th = tan_half(v.hfov);
+    int64_t w = v.width, h = v.height;
+    if (w == 0 && job.options.size) {
+      w = job.options.size->width, h = job.options.size->height;
+      if (v.vfov > 0)
+        throw Error("view " + v.name + ": vfov " + std::to_string(v.vfov) + " and a size " +
+                    size_text(*job.options.size) +
+                    " both given (the height follows from vfov: give one)");
+    }
+    double focal;
+    if (w > 0) {
+      focal = 0.5 * static_cast<double>(w) / th;
+    } else {
+      focal = center_density(frame.base.source);
+      const double wide = std::round(2 * focal * th);
+      if (!(wide <= kMaxViewSide))
+        throw Error("view " + v.name + ": " +
+                    std::to_string(static_cast<int64_t>(std::min(wide, 1e15))) +
+                    " px wide at the source's resolution (at most " + std::to_string(kMaxViewSide) +
+                    "): give a size, or a smaller hfov");
+      w = std::max<int64_t>(1, static_cast<int64_t>(wide));
+      focal = 0.5 * static_cast<double>(w) / th;
+    }
+    if (h == 0) {
+      const double tall = std::round(2 * focal * tan_half(v.vfov > 0 ? v.vfov : v.hfov));
+      if (!(tall <= kMaxViewSide))
+        throw Error("view " + v.name + ": " +
+                    std::to_string(static_cast<int64_t>(std::min(tall, 1e15))) +
+                    " px tall (at most " + std::to_string(kMaxViewSide) +
+                    "): give a size, or a smaller vfov");
+      h = std::max<int64_t>(1, static_cast<int64_t>(tall));
+    }
+    cams.push_back({v.name, Size{w, h}, focal, rotation_from_ypr(v.yaw, v.pitch, v.roll)});
+  }
+  return cams;
+}
+
+ViewFiles files_of(const ViewsJob& job, bool partial) {
+  return {job.format, job.layout == "folders", partial};
+}
+
+void check_job(const ViewsJob& job) {
+  if (job.layout != "flat" && job.layout != "folders")
+    throw Error("layout: '" + job.layout + "' (expected flat or folders)");
+  if (job.inputs.empty()) throw Error("no input given (expected one or more panoramas)");
+  if (job.output.empty()) throw Error("no output folder given");
+  web_format(job.format, "format");
+  check_write_options(job.write);
+  if (const auto& s = job.options.size;
+      s && (s->width < 1 || s->height < 1 || s->width > kMaxViewSide || s->height > kMaxViewSide))
+    throw Error("size: " + size_text(*s) + " (expected 1 to " + std::to_string(kMaxViewSide) +
+                " pixels a side)");
+}
+
+// Every input's header, name and projection, before anything is written: one size and projection
+// (the rig's cameras are the same for all), names COLMAP can hold, none twice.
+void check_inputs(const ViewsJob& job, const Frame& first, size_t views) {
+  if (job.inputs.size() * views > kMaxImages)
+    throw Error(std::to_string(job.inputs.size()) + " panoramas of " + std::to_string(views) +
+                " views are over " + std::to_string(kMaxImages) +
+                " images (split the sequence, or use fewer views)");
+  std::set<std::string> seen;
+  for (size_t i = 0; i < job.inputs.size(); ++i) {
+    const std::string& in = job.inputs[i];
+    const std::string stem = stem_of(in);
+    for (char c : stem)
+      if (static_cast<unsigned char>(c) <= ' ' || c == 0x7f)
+        throw Error("input " + in +
+                    ": a space or control character in its name, which COLMAP's images.txt cannot "
+                    "hold (rename it)");
+    if (stem.empty()) throw Error("input " + in + ": no file name");
+    if (!seen.insert(stem).second)
+      throw Error("input " + in + ": a second input named " + stem +
+                  " (the views are named by the input's name: rename one)");
+    if (i == 0) continue;
+    const Frame f = open_frame(job, in);
+    if (f.info.size != first.info.size || f.base.source.index() != first.base.source.index() ||
+        f.partial != first.partial ||
+        center_density(f.base.source) != center_density(first.base.source))
+      throw Error("input " + in + " is " + size_text(f.info.size) + " " + f.from_text +
+                  ", the first " + size_text(first.info.size) + " " + first.from_text +
+                  " (a rig's frames need one size and projection)");
+  }
+}
+
+// 255 where the view is wholly covered, else 0 (COLMAP and nerfstudio skip the zeros).
+Image mask_of(const Image& view) {
+  const int a = view.alpha_channel();
+  Image mask(view.size(), 1, PixelType::U8);
+  with_sample_type(view.type(), [&](auto sample) {
+    using T = decltype(sample);
+    const double full =
+        std::is_integral_v<T> ? static_cast<double>(std::numeric_limits<T>::max()) : 1.0;
+    for (int64_t y = 0; y < view.height(); ++y) {
+      uint8_t* out = mask.row(y);
+      for (int64_t x = 0; x < view.width(); ++x)
+        out[x] = load<T>(view.pixel(x, y) + a * sizeof(T)) >= full ? 255 : 0;
+    }
+  });
+  return mask;
+}
+
+// Renders frame k's views into the temporary folder; returns {written, empty}.
+PartCounts render_frame(const ViewsJob& job, const std::vector<ViewCamera>& cams,
+                        const FolderWriter& folder, int64_t k,
+                        const std::function<void()>& view_done) {
+  const std::string& input = job.inputs[static_cast<size_t>(k)];
+  const Frame frame = open_frame(job, input);
+  ConvertOptions o = job.options;
+  if (frame.partial) o.add_alpha = true, o.edges.soft = true;
+  std::vector<ConversionGeometry> views;
+  uint64_t out_bytes = 0;
+  int scale = job.options.decode_scale > 0 ? job.options.decode_scale : 8;
+  for (const ViewCamera& c : cams) {
+    ConversionGeometry g = frame.base;
+    const double w = static_cast<double>(c.size.width), h = static_cast<double>(c.size.height);
+    g.target = Pinhole(c.size, c.focal, c.focal, 0.5 * w, 0.5 * h);
+    g.rotation = frame.base.rotation * c.world_from_camera;
+    if (job.options.decode_scale == 0)
+      scale = std::min(
+          scale, frame.info.scalable ? coarsest_decode_scale(g, finest_source_step(g, 4)) : 1);
+    out_bytes = std::max(
+        out_bytes, image_bytes(c.size, frame.info.channels + 1, 2 * bytes_of(frame.info.type)));
+    views.push_back(std::move(g));
+  }
+  if (!frame.info.scalable) scale = 1;
+  require_memory("a view", out_bytes, job.options.memory_limit);
+  const Size at{frame.info.size.width / scale, frame.info.size.height / scale};
+  const Image source = read_image_region(input, 0, 0, at.width, at.height, job.options.memory_limit,
+                                         out_bytes, scale);
+  Image with_alpha;
+  const Image& in = source_for(source, o, with_alpha);
+  const std::string stem = stem_of(input);
+  const ViewFiles files = files_of(job, frame.partial);
+  const ImageFormat& format = web_format(job.format, "format");
+  PartCounts counts;
+  for (size_t v = 0; v < views.size(); ++v) {
+    check_interrupt();
+    if (scale > 1) views[v].source = rescaled(views[v].source, at);
+    Image out;
+    converter_for(views[v], o).run(in, out);
+    // A partial source's view flattened over black by coverage (none: black); a whole one as made.
+    Flat flat;
+    if (frame.partial) flat = flatten(out, 0, 0, out.width(), out.height(), true);
+    if (flat.empty) flat.image = Image(out.size(), out.channels() - 1, out.type());
+    const std::string path = files.image_path(stem, cams[v].name);
+    folder.write(path, encoded(frame.partial ? flat.image : out, format, job.write,
+                               job.output + "/" + path));
+    if (frame.partial) {
+      const std::string mpath = files.mask_path(stem, cams[v].name);
+      folder.write(mpath, encoded(mask_of(out), kPngFormat, job.write, job.output + "/" + mpath));
+    }
+    ++counts.written;
+    counts.empty += flat.empty ? 1 : 0;
+    if (view_done) view_done();
+  }
+  return counts;
+}
+
+Report finish(const ViewsJob& job, OutputFolder& folder, PartCounts counts) {
+  const Frame first = open_frame(job, job.inputs[0]);
+  const std::vector<ViewCamera> cams = cameras_for(job, first);
+  std::vector<std::string> stems;
+  for (const std::string& in : job.inputs) stems.push_back(stem_of(in));
+  for (const TextFile& f : camera_files(cams, stems, files_of(job, first.partial)))
+    folder.writer().write(f.path, f.text);
+  folder.commit();
+  std::vector<ReportValue> views, frames;
+  for (const ViewCamera& c : cams) {
+    std::vector<ReportValue> rotation;
+    for (int i = 0; i < 3; ++i)
+      rotation.push_back({std::vector<ReportValue>{{c.world_from_camera(i, 0)},
+                                                   {c.world_from_camera(i, 1)},
+                                                   {c.world_from_camera(i, 2)}},
+                          true});
+    views.push_back({Report{{"name", {c.name}},
+                            {"size", report_size(c.size)},
+                            {"focal", {c.focal}},
+                            {"world_from_camera", {rotation}}}});
+  }
+  for (const std::string& s : stems) frames.push_back({s});
+  return {{"views", {views}},         {"frames", {frames}},
+          {"src", {first.from_text}}, {"source_size", report_size(first.info.size)},
+          {"masks", {first.partial}}, {"images", {counts.written}},
+          {"empty", {counts.empty}},  {"seconds", {0.0}}};
+}
+
+// Everything checked before any view is rendered; the cameras.
+std::vector<ViewCamera> begin_job(const ViewsJob& job) {
+  check_job(job);
+  const Frame first = open_frame(job, job.inputs[0]);
+  std::vector<ViewCamera> cams = cameras_for(job, first);
+  check_inputs(job, first, cams.size());
+  return cams;
+}
+
+std::string summary(const ViewsJob& job, const Report& r, const std::vector<ViewCamera>& cams,
+                    PartCounts counts, double seconds) {
+  std::string sizes;
+  for (const ViewCamera& c : cams)
+    if (sizes.find(size_text(c.size)) == std::string::npos)
+      sizes += (sizes.empty() ? "" : ", ") + size_text(c.size);
+  const Size source =
+      Size{std::get<int64_t>(
+               std::get<std::vector<ReportValue>>(report_find(r, "source_size")->value)[0].value),
+           std::get<int64_t>(
+               std::get<std::vector<ReportValue>>(report_find(r, "source_size")->value)[1].value)};
+  const bool masks = std::get<bool>(report_find(r, "masks")->value);
+  char b[2048];
+  std::snprintf(b, sizeof b,
+                "%zu panorama%s (%s, %s) -> %s: %zu views each (%s), %lld images%s, COLMAP model "
+                "in sparse/0, "
+                "transforms.json, %.3f s",
+                job.inputs.size(), job.inputs.size() == 1 ? "" : "s", size_text(source).c_str(),
+                std::get<std::string>(report_find(r, "src")->value).c_str(), job.output.c_str(),
+                cams.size(), sizes.c_str(), static_cast<long long>(counts.written),
+                masks ? " with masks" : "", seconds);
+  std::string line = b;
+  if (counts.empty)
+    line += "\n  " + std::to_string(counts.empty) +
+            " views see no part of the panorama (written black, masked)";
+  return line;
+}
+
+Report run(const Arguments& args, const JobEvents& events) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const ViewsJob job = job_of(args);
+  const std::vector<ViewCamera> cams = begin_job(job);
+  OutputFolder folder(job.output, job.write.overwrite, job.inputs, "views");
+  PartCounts counts;
+  const double total = static_cast<double>(job.inputs.size() * cams.size());
+  double done = 0;
+  for (size_t k = 0; k < job.inputs.size(); ++k) {
+    const PartCounts c = render_frame(job, cams, folder.writer(), static_cast<int64_t>(k), [&] {
+      if (events.progress) events.progress(++done / total);
+    });
+    counts.written += c.written, counts.empty += c.empty;
+  }
+  Report r = finish(job, folder, counts);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (ReportField& f : r)
+    if (f.key == "seconds") f.value = {seconds};
+  if (events.line) events.line(summary(job, r, cams, counts, seconds));
+  return r;
+}
+
+Staged begin(const Arguments& args) {
+  const ViewsJob job = job_of(args);
+  begin_job(job);
+  OutputFolder folder(job.output, job.write.overwrite, job.inputs, "views");
+  folder.keep();
+  return {folder.staged(), static_cast<int64_t>(job.inputs.size())};
+}
+
+PartCounts render(const Arguments& args, const StagedFolder& staged,
+                  const std::vector<int64_t>& frames) {
+  const ViewsJob job = job_of(args);
+  check_job(job);
+  const FolderWriter folder(staged, job.output);
+  const std::vector<ViewCamera> cams = cameras_for(job, open_frame(job, job.inputs.at(0)));
+  PartCounts counts;
+  for (int64_t k : frames) {
+    if (k < 0 || k >= static_cast<int64_t>(job.inputs.size()))
+      throw Error("frame " + std::to_string(k) + " is not in the job (" +
+                  std::to_string(job.inputs.size()) + " inputs)");
+    const PartCounts c = render_frame(job, cams, folder, k, {});
+    counts.written += c.written, counts.empty += c.empty;
+  }
+  return counts;
+}
+
+Report finish_staged(const Arguments& args, const StagedFolder& staged, PartCounts counts) {
+  const ViewsJob job = job_of(args);
+  check_job(job);
+  OutputFolder folder(job.output, job.write.overwrite, staged, "views");
+  return finish(job, folder, counts);
+}
+
+}  // namespace
+
+const JobDef views_job{
+    .name = "views",
+    .summary = "split panoramas into perspective views with COLMAP and nerfstudio cameras",
+    .python =
+        R"(Splits each panorama file of ``images`` (one path, or a sequence: one size and projection,
+each a frame) into perspective views and writes them with their cameras into the new folder
+``out_dir`` (as ``panoproj views``): ``images/{stem}_{view}.jpg`` (or PNG; ``layout="folders"``:
+``images/{view}/{stem}.jpg`` and ``rig_config.json`` for COLMAP's rig_configurator), for a
+partial panorama ``masks/<image's name>.png``, COLMAP's text model in ``sparse/0`` (PINHOLE
+cameras with cx = W/2 by COLMAP's pixel convention, images, one rig whose sensors are the
+views, one frame per panorama) and nerfstudio's ``transforms.json``. The world is the
+panorama's frame (x right, y down, z forward; transforms.json turns it z up).
+
+``rig``: ``"cube"``, ``"ring:n=8,fov=90,pitch=0"``, a sum ``"A+B"``, ``"@rig.yaml"``, or a
+sequence of mappings with name, yaw, pitch, roll, hfov, vfov, size. ``size``: each view's
+(W, H) unless the rig gives one; default: the source's resolution.
+
+``client``: a ``dask.distributed`` Client; each frame is then a task (the workers must see
+the inputs and the output's parent folder at the same paths), with the same bytes as a local
+run. Returns a report: the views (size, focal, world_from_camera), frames, source spec.)",
+    .rows = rows,
+    .run = run,
+    .begin = begin,
+    .render = render,
+    .finish = finish_staged,
+};
+
+}  // namespace panoproj
