@@ -348,8 +348,10 @@ def write(path: PathLike, array: Array, *, overwrite: bool = False, dtype: Optio
     permission) the old file is intact and no temporary is left. JPEG: ``quality`` 1 to 100,
     ``subsampling`` of the chroma "420" (half width and height), "422" (half width) or "444"."""
     a = _arrays.as_array(array, "array")
-    _core.write(os.fspath(path), a, bool(overwrite), dtype, dict(metadata or {}),
-                _int("quality", quality, 1, 100, "1 to 100"), str(subsampling))
+    # The write options' rows (the command's --overwrite, --quality, --subsampling), checked there.
+    options = {"overwrite": bool(overwrite), "quality": _int("quality", quality, -2**63, 2**63 - 1, "1 to 100"),
+               "subsampling": str(subsampling)}
+    _core.write(os.fspath(path), a, options, dtype, dict(metadata or {}))
 
 
 @_one_line_type_errors

@@ -528,14 +528,20 @@ void bind_files(py::module_& m) {
       py::arg("path"));
   m.def(
       "write",
-      [](const std::string& path, const py::array& array, bool overwrite, std::optional<std::string> dtype,
-         const py::dict& metadata, int quality, const std::string& subsampling) {
+      [](const std::string& path, const py::array& array, const py::dict& options, std::optional<std::string> dtype,
+         const py::dict& metadata) {
         py::object keep;
         const Image im = image_of(array, keep);
-        WriteOptions w;
-        w.overwrite = overwrite;
-        w.quality = quality;
-        w.subsampling = parse_subsampling(subsampling);
+        // The write options' rows (jobs.hpp), as the command's and the jobs' writes take them.
+        Arguments args(write_options());
+        for (const auto& [k, v] : options) {
+          const std::string name = k.cast<std::string>();
+          const OptionType type = write_option(name).type;
+          if (type == OptionType::Flag) args.set(name, v.cast<bool>());
+          else if (type == OptionType::Integer) args.set(name, v.cast<int64_t>());
+          else args.set(name, v.cast<std::string>());
+        }
+        WriteOptions w = args.write();
         if (dtype) w.type = pixel_type(py::dtype(*dtype));
         for (const auto& [k, v] : metadata) {
           auto value = attribute_value(v);
@@ -547,8 +553,12 @@ void bind_files(py::module_& m) {
         Unlocked unlocked;
         is_face_pattern(path) ? write_cube_faces(im, path, w) : write_image(im, path, w);
       },
-      py::arg("path"), py::arg("array"), py::arg("overwrite"), py::arg("dtype"), py::arg("metadata"),
-      py::arg("quality"), py::arg("subsampling"));
+      py::arg("path"), py::arg("array"), py::arg("options"), py::arg("dtype"), py::arg("metadata"));
+  m.def("write_options", [] {
+    py::list out;
+    for (const OptionDef& d : write_options()) out.append(row_dict(d));
+    return out;
+  });
 }
 
 // Pixel coordinates and rays, cube faces, and a test hook.

@@ -265,3 +265,21 @@ def test_jpeg_quality_and_subsampling(tmp_path):
     with pytest.raises(ValueError, match="subsampling 411"):
         pp.write(str(tmp_path / "bad.jpg"), a, subsampling="411")
     assert not (tmp_path / "bad.jpg").exists()
+
+
+def test_write_and_the_folder_jobs_take_their_defaults_from_the_rows():
+    # write's options are the write rows (the command's --overwrite, --quality, --subsampling);
+    # tiles' and views' arguments are their jobs' rows (generated: python/generate_api.py).
+    import ast
+    import inspect
+    rows = {r["name"]: r for r in pp._core.write_options()}
+    write = inspect.signature(pp.write).parameters
+    for name in ("overwrite", "quality", "subsampling"):
+        assert write[name].default == ast.literal_eval(rows[name]["default"]), name
+    for job in pp._core.jobs():
+        if not job["python"]:
+            continue
+        params = inspect.signature(getattr(pp, job["name"])).parameters
+        for r in job["rows"]:
+            if r["python"] and not r["positional"]:
+                assert params[r["name"]].default == ast.literal_eval(r["default"]), (job["name"], r["name"])

@@ -52,7 +52,7 @@ ChromaSubsampling parse_subsampling(std::string_view text) {
 
 void check_write_options(const WriteOptions& options) {
   if (options.quality < 1 || options.quality > 100)
-    throw Error("quality " + std::to_string(options.quality) + " (expected 1 to 100)");
+    throw Error("quality: " + std::to_string(options.quality) + " (expected 1 to 100)");
 }
 
 namespace {

@@ -230,7 +230,7 @@ WriteOptions Arguments::write() const {
       w.overwrite = flag(n);
     else if (n == "quality") {
       const int64_t q = integer(n);
-      if (q < 1 || q > 100) throw Error("quality " + std::to_string(q) + " (expected 1 to 100)");
+      if (q < 1 || q > 100) throw Error("quality: " + std::to_string(q) + " (expected 1 to 100)");
       w.quality = static_cast<int>(q);
     } else if (n == "subsampling")
       w.subsampling = parse_subsampling(text(n));
