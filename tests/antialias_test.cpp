@@ -28,7 +28,7 @@ Projection make(const char* spec, Size size) { return make_projection(parse_spec
 
 Image convert(const Image& im, const Projection& s, const Projection& d, Interp k, Antialias aa,
               Engine e = Engine::Simd, const Eigen::Matrix3d& r = Eigen::Matrix3d::Identity()) {
-  return Converter(s, d, r, k, e, 2, Keep::Nothing, aa).run(im);
+  return test::converter(s, d, r, k, e, 2, Keep::Nothing, aa).run(im);
 }
 
 const Antialias kOff{}, kAuto{Antialias::Mode::Auto, 1}, kMip{Antialias::Mode::Mip, 1};
@@ -47,8 +47,9 @@ TEST(Antialias, ParsesAndNames) {
       EXPECT_NE(std::string(e.what()).find("antialias '" + std::string(bad) + "'"), std::string::npos) << e.what();
     }
   }
-  EXPECT_THROW(Converter(make("equirect", {64, 32}), make("pinhole", {16, 16}), Eigen::Matrix3d::Identity(),
-                         Interp::Bilinear, Engine::Reference, 1, Keep::Nothing, kAuto),
+  EXPECT_THROW(test::converter(make("equirect", {64, 32}), make("pinhole", {16, 16}),
+                               Eigen::Matrix3d::Identity(), Interp::Bilinear, Engine::Reference, 1,
+                               Keep::Nothing, kAuto),
                Error);
 }
 
@@ -185,9 +186,9 @@ TEST(Antialias, IntegerSubpixelMeansRoundTheExactMeans) {
   std::mt19937 rng(7);
   for (PixelType t : {PixelType::U8, PixelType::U16})
     for (int n : {2, 3, 4}) {
-      const TileRect rect{0, 0, 13, 5};
+      const PixelRect rect{0, 0, 13, 5};
       const int nc = 3;
-      Image sub({rect.w * n, rect.h * n}, nc, t, -1);
+      Image sub({rect.width() * n, rect.height() * n}, nc, t, -1);
       const uint32_t top = t == PixelType::U8 ? 255 : 65535;
       for (int64_t y = 0; y < sub.height(); ++y)
         for (int64_t x = 0; x < sub.width(); ++x)
@@ -196,12 +197,12 @@ TEST(Antialias, IntegerSubpixelMeansRoundTheExactMeans) {
             if (t == PixelType::U8) sub.pixel(x, y)[c] = static_cast<unsigned char>(v);
             else std::memcpy(sub.pixel(x, y) + 2 * c, &v, 2);
           }
-      Image out({rect.w, rect.h}, nc, t, -1);
+      Image out({rect.width(), rect.height()}, nc, t, -1);
       average_subpixels(sub, sub.data(), static_cast<int64_t>(sub.row_bytes()), rect, n, out.data(),
                         static_cast<int64_t>(out.row_bytes()));
       int wrong = 0;
-      for (int64_t y = 0; y < rect.h; ++y)
-        for (int64_t x = 0; x < rect.w; ++x)
+      for (int64_t y = 0; y < rect.height(); ++y)
+        for (int64_t x = 0; x < rect.width(); ++x)
           for (int c = 0; c < nc; ++c) {
             double sum = 0;
             for (int b = 0; b < n; ++b)
@@ -295,7 +296,8 @@ TEST(Antialias, FootprintHoldsWhatItReads) {
   const Image im = render_scene(Scene::Chart, s, PixelType::U8, 1, 2);
   const Eigen::Matrix3d r = rotation_from_ypr(70, 20, 0);
   for (Antialias aa : {kAuto, kMip, Antialias{Antialias::Mode::Supersample, 3}}) {
-    const Converter c(s, d, r, Interp::Lanczos3, Engine::Simd, 2, Keep::Nothing, aa);
+    const Converter c =
+        test::converter(s, d, r, Interp::Lanczos3, Engine::Simd, 2, Keep::Nothing, aa);
     const PixelRect g = c.source_footprint();
     ASSERT_LT((g.x1 - g.x0) * (g.y1 - g.y0), 2048 * 1024 / 4) << "a small part of the source";
     Image win({g.x1 - g.x0, g.y1 - g.y0}, 3, PixelType::U8);
@@ -313,8 +315,9 @@ TEST(Antialias, FootprintHoldsWhatItReads) {
   for (const View& v : {View{"pinhole:hfov=120", {32, 24}, 0, -80, 0}, View{"pinhole:hfov=120", {24, 16}, 10, 85, 30},
                         View{"pinhole:hfov=90", {16, 16}, 0, -89, 0}, View{"fisheye:fov=180", {24, 24}, 0, -70, 0}})
     for (Antialias aa : {kAuto, kMip, Antialias{Antialias::Mode::Supersample, 8}}) {
-      const Converter c(s, make(v.to, v.size), rotation_from_ypr(v.yaw, v.pitch, v.roll), Interp::Bilinear, Engine::Simd, 2,
-                        Keep::Nothing, aa);
+      const Converter c =
+          test::converter(s, make(v.to, v.size), rotation_from_ypr(v.yaw, v.pitch, v.roll),
+                          Interp::Bilinear, Engine::Simd, 2, Keep::Nothing, aa);
       const PixelRect g = c.source_footprint();
       Image win({g.x1 - g.x0, g.y1 - g.y0}, 3, PixelType::U8);
       for (int64_t y = 0; y < win.height(); ++y) std::memcpy(win.row(y), im.pixel(g.x0, g.y0 + y), win.row_bytes());

@@ -69,16 +69,19 @@ TEST(DualFisheye, InterpolatedWeightsMatchTheExactOnes) {
     std::vector<float> w;
     for (int64_t y0 = 0; y0 < 512; y0 += kTile)
       for (int64_t x0 = 0; x0 < 1024; x0 += kTile) {
-        const TileRect rect{x0, y0, std::min<int64_t>(kTile, 1024 - x0), std::min<int64_t>(kTile, 512 - y0)};
+        const PixelRect rect{x0, y0, std::min<int64_t>(x0 + kTile, 1024),
+                             std::min<int64_t>(y0 + kTile, 512)};
         const int side = dual_weights(d, t, rot, rect, w);
         (side < 0 ? blended : alone) += 1;
-        for (int64_t j = 0; j < rect.h; ++j)
-          for (int64_t i = 0; i < rect.w; ++i) {
+        for (int64_t j = 0; j < rect.height(); ++j)
+          for (int64_t i = 0; i < rect.width(); ++i) {
             Ray r;
             if (!to_ray(t, x0 + i + 0.5, y0 + j + 0.5, r)) continue;
             r = rot * r;
             const double exact = d.weight0(d.margin(0, r), d.margin(1, r));
-            const double got = side < 0 ? w[static_cast<size_t>(j * rect.w + i)] : side == 0 ? 1.0 : 0.0;
+            const double got = side < 0    ? w[static_cast<size_t>(j * rect.width() + i)]
+                               : side == 0 ? 1.0
+                                           : 0.0;
             worst = std::max(worst, std::fabs(got - exact));
           }
       }
@@ -100,7 +103,7 @@ TEST(DualFisheye, BlendIsTheWeightedMeanOfTheLenses) {
       for (int64_t x = 0; x < 1024; ++x) *reinterpret_cast<float*>(src.pixel(x, y)) = x < 512 ? 0.25f : 0.75f;
     const Projection t = make_projection(parse_spec("equirect"), {720, 360});
     for (Engine e : {Engine::Simd, Engine::Scalar}) {
-      const Image out = Converter(d, t, kIdentity, Interp::Bilinear, e, 2).run(src);
+      const Image out = test::converter(d, t, kIdentity, Interp::Bilinear, e, 2).run(src);
       double worst = 0;
       for (int64_t y = 0; y < 360; ++y)
         for (int64_t x = 0; x < 720; ++x) {
@@ -127,7 +130,7 @@ TEST(DualFisheye, TapsStayInTheirLensHalf) {
     for (int64_t x = 256; x < 512; ++x) std::memset(src.pixel(x, y), 255, 3);
   const Projection t = make_projection(parse_spec("equirect"), {1440, 720});
   for (Engine e : {Engine::Simd, Engine::Scalar, Engine::Reference}) {
-    const Image out = Converter(d, t, kIdentity, Interp::Bicubic, e, 2).run(src);
+    const Image out = test::converter(d, t, kIdentity, Interp::Bicubic, e, 2).run(src);
     int64_t wrong = 0, lens0 = 0;
     for (int64_t y = 0; y < 720; ++y)
       for (int64_t x = 0; x < 1440; ++x) {
@@ -149,10 +152,11 @@ TEST(DualFisheye, SimdMatchesScalarBothWays) {
   const DualFisheye d = dual("dual-fisheye:fov=200,roll2=90,pitch=3", {1026, 514});
   const Eigen::Matrix3d rot = rotation_from_ypr(30, -10, 5);
   for (Interp k : {Interp::Bilinear, Interp::Bicubic}) {
-    const Image fish = Converter(e, d, rot, k, Engine::Simd, 2).run(pano);
-    const Image fish_scalar = Converter(e, d, rot, k, Engine::Scalar, 2).run(pano);
-    const Image back = Converter(d, e, rot.transpose(), k, Engine::Simd, 2).run(fish);
-    const Image back_scalar = Converter(d, e, rot.transpose(), k, Engine::Scalar, 2).run(fish);
+    const Image fish = test::converter(e, d, rot, k, Engine::Simd, 2).run(pano);
+    const Image fish_scalar = test::converter(e, d, rot, k, Engine::Scalar, 2).run(pano);
+    const Image back = test::converter(d, e, rot.transpose(), k, Engine::Simd, 2).run(fish);
+    const Image back_scalar =
+        test::converter(d, e, rot.transpose(), k, Engine::Scalar, 2).run(fish);
     for (const auto& [a, b] : {std::pair{&fish, &fish_scalar}, std::pair{&back, &back_scalar}}) {
       int worst = 0;
       for (size_t i = 0; i < a->byte_size(); ++i) worst = std::max(worst, std::abs(a->data()[i] - b->data()[i]));
@@ -166,9 +170,11 @@ TEST(DualFisheye, HardCutMatchesTheReferenceEngine) {
   const Image pano = test::render(make_projection(parse_spec("equirect"), {1024, 512}), test::smooth_scene(), PixelType::U8);
   const Projection e = make_projection(parse_spec("equirect"), {1024, 512});
   const Projection d = make_projection(parse_spec("dual-fisheye:fov=200,feather=0"), {1024, 512});
-  const Image fish = Converter(e, d, kIdentity, Interp::Bilinear, Engine::Reference, 2).run(pano);
-  const Image ours = Converter(d, e, kIdentity, Interp::Bilinear, Engine::Simd, 2).run(fish);
-  const Image ref = Converter(d, e, kIdentity, Interp::Bilinear, Engine::Reference, 2).run(fish);
+  const Image fish =
+      test::converter(e, d, kIdentity, Interp::Bilinear, Engine::Reference, 2).run(pano);
+  const Image ours = test::converter(d, e, kIdentity, Interp::Bilinear, Engine::Simd, 2).run(fish);
+  const Image ref =
+      test::converter(d, e, kIdentity, Interp::Bilinear, Engine::Reference, 2).run(fish);
   int64_t differ = 0;
   for (size_t i = 0; i < ours.byte_size(); ++i) differ += std::abs(ours.data()[i] - ref.data()[i]) > 1;
   EXPECT_EQ(differ, 0);
@@ -181,18 +187,20 @@ TEST(DualFisheye, JordanPondThroughTwoLensesAndBack) {
   const Image photo = read_image(test::samples_dir() + "/jordan_pond_4096x2048.jpg");
   const Projection e = make_projection(parse_spec("equirect"), {4096, 2048});
   const DualFisheye d = dual("dual-fisheye:fov=200", {4096, 2048});
-  const Image fish = Converter(e, d, kIdentity, Interp::Bicubic, Engine::Simd, 2).run(photo);
+  const Image fish = test::converter(e, d, kIdentity, Interp::Bicubic, Engine::Simd, 2).run(photo);
   auto in_band = [&](int64_t x, int64_t y) {
     Ray r;
     to_ray(e, x + 0.5, y + 0.5, r);
     return d.margin(0, r) >= 0 && d.margin(1, r) >= 0;
   };
   const auto t0 = std::chrono::steady_clock::now();
-  const Image back = Converter(d, e, kIdentity, Interp::Bicubic, Engine::Simd, 2).run(fish);
+  const Image back = test::converter(d, e, kIdentity, Interp::Bicubic, Engine::Simd, 2).run(fish);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   // Each lens alone: a fisheye on the whole frame, turned by R_k^T.
   auto alone = [&](int k) {
-    return Converter(d.lens(k), e, d.rotation(k).transpose(), Interp::Bicubic, Engine::Simd, 2).run(fish);
+    return test::converter(d.lens(k), e, d.rotation(k).transpose(), Interp::Bicubic, Engine::Simd,
+                           2)
+        .run(fish);
   };
   const Image lens0 = alone(0), lens1 = alone(1);
   const double all = test::psnr(back, photo), band = test::psnr(back, photo, in_band);
@@ -225,8 +233,10 @@ TEST(DualFisheye, BadSpecsAndFramesAreOneLineErrors) {
   EXPECT_NE(message("dual-fisheye:model=orthographic,fov=180,fov2=200", {1000, 500}).find("fov2=200 is too wide"), std::string::npos);
   const Projection e = make_projection(parse_spec("equirect"), {64, 32});
   const Projection d = make_projection(parse_spec("dual-fisheye:fov=200"), {64, 32});
-  EXPECT_THROW(Converter(d, e, kIdentity, Interp::Bilinear, Engine::Reference, 1), Error);
-  EXPECT_THROW(Converter(d, e, kIdentity, Interp::Bilinear, Engine::Simd, 1, Keep::Nothing, parse_antialias("mip")), Error);
+  EXPECT_THROW(test::converter(d, e, kIdentity, Interp::Bilinear, Engine::Reference, 1), Error);
+  EXPECT_THROW(test::converter(d, e, kIdentity, Interp::Bilinear, Engine::Simd, 1, Keep::Nothing,
+                               parse_antialias("mip")),
+               Error);
 }
 
 }  // namespace

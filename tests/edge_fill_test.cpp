@@ -46,8 +46,9 @@ TEST(EdgeFill, SoftAlphaFollowsTheCirclesCoverage) {
   for (int64_t y = 0; y < 201; ++y)
     for (int64_t x = 0; x < 201; ++x) coverage[static_cast<size_t>(y * 201 + x)] = circle_coverage(x, y, 100.5, 100.5);
   for (Engine eng : {Engine::Simd, Engine::Scalar, Engine::Reference}) {
-    const Image plain = Converter(e, f, kIdentity, Interp::Bicubic, eng, 2).run(src);
-    const Image out = Converter(e, f, kIdentity, Interp::Bicubic, eng, 2, Keep::Nothing, {}, soft).run(src);
+    const Image plain = test::converter(e, f, kIdentity, Interp::Bicubic, eng, 2).run(src);
+    const Image out =
+        test::converter(e, f, kIdentity, Interp::Bicubic, eng, 2, Keep::Nothing, {}, soft).run(src);
     double worst = 0, sum = 0;
     int64_t rim = 0, changed_inside = 0;
     for (int64_t y = 0; y < 201; ++y)
@@ -84,8 +85,12 @@ TEST(EdgeFill, FillIsTheAlphaOutputOverTheColour) {
     for (int64_t x = 0; x < 512; ++x) std::memcpy(rgb.pixel(x, y), rgba.pixel(x, y), 3);
   const std::array<double, 4> colour = parse_fill_colour("0.25,0.5,0.75");
   for (Engine eng : {Engine::Simd, Engine::Reference}) {
-    const Image alpha = Converter(e, f, kIdentity, Interp::Bilinear, eng, 2, Keep::Nothing, {}, {true, std::nullopt}).run(rgba);
-    const Image filled = Converter(e, f, kIdentity, Interp::Bilinear, eng, 2, Keep::Nothing, {}, {true, colour}).run(rgb);
+    const Image alpha = test::converter(e, f, kIdentity, Interp::Bilinear, eng, 2, Keep::Nothing,
+                                        {}, {true, std::nullopt})
+                            .run(rgba);
+    const Image filled = test::converter(e, f, kIdentity, Interp::Bilinear, eng, 2, Keep::Nothing,
+                                         {}, {true, colour})
+                             .run(rgb);
     int worst = 0;
     for (int64_t y = 0; y < 120; ++y)
       for (int64_t x = 0; x < 160; ++x) {
@@ -121,8 +126,8 @@ TEST(EdgeFill, TransparentPixelsNeverBleed) {
   const Eigen::Matrix3d r = rotation_from_ypr(40, 8, 0);  // the horizon across the view
   for (Engine eng : {Engine::Simd, Engine::Scalar, Engine::Reference})
     for (Interp k : {Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3, Interp::Lanczos3Dering}) {
-      const Image a = Converter(e, view, r, k, eng, 2).run(mars);
-      const Image b = Converter(e, view, r, k, eng, 2).run(painted);
+      const Image a = test::converter(e, view, r, k, eng, 2).run(mars);
+      const Image b = test::converter(e, view, r, k, eng, 2).run(painted);
       int worst = 0;
       int64_t partial = 0;
       for (int64_t y = 0; y < 240; ++y)

@@ -200,7 +200,8 @@ TEST(Engine, CachedMapGivesTheSameBytesAndChecksSizes) {
   const Projection src = make("equirect", {600, 300});
   const Projection dst = make("cubemap:layout=cross", {4 * 100, 3 * 100});
   const Eigen::Matrix3d r = rotation_from_ypr(10, 5, 0);
-  const Converter cached(src, dst, r, Interp::Bicubic, Engine::Simd, 2, Keep::Maps);
+  const Converter cached =
+      test::converter(src, dst, r, Interp::Bicubic, Engine::Simd, 2, Keep::Maps);
   for (uint32_t seed : {1u, 2u}) {  // two frames through one cached map
     const Image im = test::render(src, test::band_limited_scene(0.1, 600, seed), PixelType::U8);
     EXPECT_TRUE(cached.run(im) == test::fast_remap(im, src, dst, r, Interp::Bicubic, Engine::Simd, 1));
@@ -216,8 +217,10 @@ TEST(Engine, FootprintIsTheSameWithOrWithoutAKeptMap) {
                              {"fisheye:fov=100", -30.0}}) {
     const Projection dst = make(spec, {400, 300});
     const Eigen::Matrix3d r = rotation_from_ypr(40, pitch, 0);
-    const Converter kept(src, dst, r, Interp::Bicubic, Engine::Simd, 2, Keep::Maps);
-    const Converter lean(src, dst, r, Interp::Bicubic, Engine::Simd, 2, Keep::Nothing);
+    const Converter kept =
+        test::converter(src, dst, r, Interp::Bicubic, Engine::Simd, 2, Keep::Maps);
+    const Converter lean =
+        test::converter(src, dst, r, Interp::Bicubic, Engine::Simd, 2, Keep::Nothing);
     const auto a = kept.source_footprint(), b = lean.source_footprint();
     EXPECT_EQ(a.x0, b.x0);
     EXPECT_EQ(a.y0, b.y0);
@@ -225,7 +228,8 @@ TEST(Engine, FootprintIsTheSameWithOrWithoutAKeptMap) {
     EXPECT_EQ(a.y1, b.y1);
     // Fused tiles take their bounds from the vector geometry (float where allowed); the tile
     // mapper's (scalar engine) may differ only by the rounding of a tap index.
-    const auto c = Converter(src, dst, r, Interp::Bicubic, Engine::Scalar, 2).source_footprint();
+    const auto c =
+        test::converter(src, dst, r, Interp::Bicubic, Engine::Scalar, 2).source_footprint();
     EXPECT_LE(std::abs(a.x0 - c.x0), 1) << spec;
     EXPECT_LE(std::abs(a.y0 - c.y0), 1) << spec;
     EXPECT_LE(std::abs(a.x1 - c.x1), 1) << spec;
@@ -240,11 +244,13 @@ TEST(Engine, TargetsShowingTheWholeSphereNeedTheWholeSource) {
   const Eigen::Matrix3d r = rotation_from_ypr(30, 10, 0);
   for (const char* spec : {"cubemap", "equirect", "aitoff", "hammer", "bonne"}) {
     const Size size = std::string(spec) == "cubemap" ? Size{600, 100} : Size{600, 300};
-    const auto f = Converter(pin, make(spec, size), r, Interp::Bilinear, Engine::Simd, 2).source_footprint();
+    const auto f = test::converter(pin, make(spec, size), r, Interp::Bilinear, Engine::Simd, 2)
+                       .source_footprint();
     EXPECT_TRUE(f.x0 == 0 && f.y0 == 0 && f.x1 == 400 && f.y1 == 300) << spec;
   }
   // A partial equirect view shows part of the sphere: only part of the source.
-  const auto f = Converter(pano, make("equirect:hfov=90,vfov=60", {300, 200}), r, Interp::Bilinear, Engine::Simd, 2)
+  const auto f = test::converter(pano, make("equirect:hfov=90,vfov=60", {300, 200}), r,
+                                 Interp::Bilinear, Engine::Simd, 2)
                      .source_footprint();
   EXPECT_LT((f.x1 - f.x0) * (f.y1 - f.y0), 2048 * 1024 / 4);
 }

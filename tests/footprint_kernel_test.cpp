@@ -96,33 +96,39 @@ TEST(FootprintKernel, FieldFollowsTheExactFootprints) {
     int64_t compared = 0;
     for (int64_t y0 = 0; y0 < c.to_size.height; y0 += kTile)
       for (int64_t x0 = 0; x0 < c.to_size.width; x0 += kTile) {
-        const TileRect rect{x0, y0, std::min(kTile, c.to_size.width - x0), std::min(kTile, c.to_size.height - y0)};
+        const PixelRect rect{x0, y0, std::min(x0 + kTile, c.to_size.width),
+                             std::min(y0 + kTile, c.to_size.height)};
         FootprintField field;
         if (footprint_field(s, d, c.r, rect, wrap, field).side <= 0.0) continue;
         if (const auto* cube = std::get_if<Cubemap>(&s)) {
           std::set<int> faces;
           for (int q = 0; q < 9; ++q) {
             double x, y;
-            if (source_pixel(s, d, c.r, static_cast<double>(x0) + 0.5 + 0.5 * (q % 3) * static_cast<double>(rect.w - 1),
-                             static_cast<double>(y0) + 0.5 + 0.5 * (q / 3) * static_cast<double>(rect.h - 1), x, y))
+            if (source_pixel(s, d, c.r,
+                             static_cast<double>(x0) + 0.5 +
+                                 0.5 * (q % 3) * static_cast<double>(rect.width() - 1),
+                             static_cast<double>(y0) + 0.5 +
+                                 0.5 * (q / 3) * static_cast<double>(rect.height() - 1),
+                             x, y))
               faces.insert(cube->face_at(x, y));
           }
           if (faces.size() > 1) continue;
         }
         TileMap tm;
         map_tile(s, d, c.r, rect, tm);
-        for (int64_t j = 0; j < rect.h; ++j)
-          for (int64_t i = 0; i < rect.w; ++i) {
+        for (int64_t j = 0; j < rect.height(); ++j)
+          for (int64_t i = 0; i < rect.width(); ++i) {
             float ux, uy, vx, vy, ex, ey;
             if (!pixel_steps(tm, i, j, static_cast<float>(wrap), ux, uy, vx, vy)) continue;
             const double want_x = std::sqrt(ux * ux + vx * vx), want_y = std::sqrt(uy * uy + vy * vy);
             // Unclamped pixels away from face edges (where one side's steps jump).
             if (want_x < 1.05 || want_x > kFootprintReach - 0.05 || want_y < 1.05 || want_y > kFootprintReach - 0.05) continue;
             if (const auto* cube = std::get_if<Cubemap>(&s)) {
-              const int64_t k = j * rect.w + i, face = cube->face_at(tm.xs[k], tm.ys[k]);
+              const int64_t k = j * rect.width() + i, face = cube->face_at(tm.xs[k], tm.ys[k]);
               bool edge = false;
-              for (const int64_t q : {k - 1, k + 1, k - rect.w, k + rect.w})
-                edge |= q < 0 || q >= rect.w * rect.h || !tm.ok[q] || cube->face_at(tm.xs[q], tm.ys[q]) != face;
+              for (const int64_t q : {k - 1, k + 1, k - rect.width(), k + rect.width()})
+                edge |= q < 0 || q >= rect.width() * rect.height() || !tm.ok[q] ||
+                        cube->face_at(tm.xs[q], tm.ys[q]) != face;
               if (edge) continue;
             }
             field.at(i, j, ex, ey);
@@ -141,16 +147,17 @@ TEST(FootprintKernel, SubpixelFieldIsTheTilesScaled) {
   // The middle sub-pixel of each output pixel (n odd) sits at the pixel's centre: its width is
   // the pixel's divided by n, while neither is clamped.
   const Projection s = make("equirect", {4096, 2048}), d = make("fisheye:fov=180", {512, 512});
-  const TileRect tile{128, 128, 64, 64};  // footprints of about 4 source pixels
+  const PixelRect tile{128, 128, 192, 192};  // footprints of about 4 source pixels
   FootprintField field;
   ASSERT_GT(footprint_field(s, d, Eigen::Matrix3d::Identity(), tile, 4096, field).side, 3.0);
   constexpr int n = 3;
-  const TileRect part{tile.x0 * n + 64, tile.y0 * n + 128, 64, 64};  // one kTile part of the 3-times rect
+  const PixelRect part{tile.x0 * n + 64, tile.y0 * n + 128, tile.x0 * n + 128,
+                       tile.y0 * n + 192};  // one kTile part of the 3-times rect
   const FootprintField sub = field.for_rect(tile, part, n);
   int compared = 0;
   // Output pixel (tile.x0 + x, tile.y0 + y)'s middle sub-pixel: n (tile.x0 + x) + n / 2.
-  for (int64_t j = (n / 2 - part.y0 % n + n) % n; j < part.h; j += n)
-    for (int64_t i = (n / 2 - part.x0 % n + n) % n; i < part.w; i += n) {
+  for (int64_t j = (n / 2 - part.y0 % n + n) % n; j < part.height(); j += n)
+    for (int64_t i = (n / 2 - part.x0 % n + n) % n; i < part.width(); i += n) {
       const int64_t x = (part.x0 + i) / n - tile.x0, y = (part.y0 + j) / n - tile.y0;
       float ex, ey, sx, sy;
       field.at(x, y, ex, ey);
@@ -169,8 +176,10 @@ TEST(FootprintKernel, EquirectRowsNearThePolesDoNotSplit) {
   // toward the poles.
   const Projection s = make("equirect", {4096, 2048}), d = make("equirect", {1024, 512});
   FootprintField field;
-  const FootprintSides equator = footprint_field(s, d, Eigen::Matrix3d::Identity(), {512, 224, 64, 64}, 4096, field);
-  const FootprintSides polar = footprint_field(s, d, Eigen::Matrix3d::Identity(), {512, 0, 64, 64}, 4096, field);
+  const FootprintSides equator =
+      footprint_field(s, d, Eigen::Matrix3d::Identity(), {512, 224, 576, 288}, 4096, field);
+  const FootprintSides polar =
+      footprint_field(s, d, Eigen::Matrix3d::Identity(), {512, 0, 576, 64}, 4096, field);
   EXPECT_NEAR(equator.side, 4.0, 1e-3);
   EXPECT_NEAR(polar.side, 4.0, 1e-3);
   // The points' rows lie within 11 degrees of the equator (the split within 1% of the side),
@@ -205,11 +214,15 @@ TEST(FootprintKernel, SimdMatchesTheReferenceOnEveryTarget) {
       }
       for (const Case& c : cases) {
         const Projection d = make(c.to, c.size);
-        const Image want = Converter(s, d, r, Interp::Bilinear, Engine::Scalar, 2, Keep::Nothing, kAuto).run(im);
+        const Image want =
+            test::converter(s, d, r, Interp::Bilinear, Engine::Scalar, 2, Keep::Nothing, kAuto)
+                .run(im);
         const double bound = t == PixelType::U8 || t == PixelType::U16 ? 1.0 : t == PixelType::F16 ? 2e-3 : 1e-5;
         for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
           hwy::SetSupportedTargetsForTest(target);
-          const Image got = Converter(s, d, r, Interp::Bilinear, Engine::Simd, 2, Keep::Nothing, kAuto).run(im);
+          const Image got =
+              test::converter(s, d, r, Interp::Bilinear, Engine::Simd, 2, Keep::Nothing, kAuto)
+                  .run(im);
           double worst = 0;
           for (int64_t y = 0; y < c.size.height; ++y)
             for (int64_t x = 0; x < c.size.width; ++x)

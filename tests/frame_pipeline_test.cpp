@@ -1,6 +1,6 @@
-// A batch's pipeline (jobs/frame_pipeline.hpp): each stage takes the frames in order, a frame's
-// buffers are reused only once the stage before is done with them, the stages do overlap, and a
-// failure anywhere ends the batch as one frame after another would: the frames before it
+// A batch's pipeline (jobs/convert/frame_pipeline.hpp): each stage takes the frames in order, a
+// frame's buffers are reused only once the stage before is done with them, the stages do overlap,
+// and a failure anywhere ends the batch as one frame after another would: the frames before it
 // written, none after it, its exception rethrown (the earliest frame's of several).
 #include <gtest/gtest.h>
 

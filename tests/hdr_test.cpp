@@ -48,8 +48,10 @@ TEST(Hdr, RealHdriSurvivesEquirectCubeEquirect) {
   const std::vector<float> in = samples_of(src);
   const auto in_neg = std::count_if(in.begin(), in.end(), [](float v) { return v < 0; });
   for (Interp k : {Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3}) {
-    const Image faces = Converter(e, cube, Eigen::Matrix3d::Identity(), k, Engine::Simd, 2).run(src);
-    const Image back = Converter(cube, e, Eigen::Matrix3d::Identity(), k, Engine::Simd, 2).run(faces);
+    const Image faces =
+        test::converter(e, cube, Eigen::Matrix3d::Identity(), k, Engine::Simd, 2).run(src);
+    const Image back =
+        test::converter(cube, e, Eigen::Matrix3d::Identity(), k, Engine::Simd, 2).run(faces);
     const std::vector<float> out = samples_of(back);
     // Relative error |out - in| / max(|in|, 0.01) (0.01: the darkest values that matter here).
     std::vector<double> rel(out.size());
@@ -93,9 +95,12 @@ TEST(Hdr, DeringingKernelsKeepTheSunsRingsOut) {
   const Projection cube = make_projection(parse_spec("aitoff"), {1024, 512});
   const Eigen::Matrix3d r = rotation_from_ypr(10, 5, 0);
   for (auto [plain, dering] : {std::pair{Interp::Bicubic, Interp::BicubicDering}, {Interp::Lanczos3, Interp::Lanczos3Dering}}) {
-    const std::vector<float> p = samples_of(Converter(e, cube, r, plain, Engine::Simd, 2).run(src));
-    const std::vector<float> d = samples_of(Converter(e, cube, r, dering, Engine::Simd, 2).run(src));
-    const std::vector<float> ds = samples_of(Converter(e, cube, r, dering, Engine::Scalar, 2).run(src));
+    const std::vector<float> p =
+        samples_of(test::converter(e, cube, r, plain, Engine::Simd, 2).run(src));
+    const std::vector<float> d =
+        samples_of(test::converter(e, cube, r, dering, Engine::Simd, 2).run(src));
+    const std::vector<float> ds =
+        samples_of(test::converter(e, cube, r, dering, Engine::Scalar, 2).run(src));
     int64_t below = 0, below_d = 0, changed = 0;
     double worst = 0, ring = 0;
     for (size_t i = 0; i < p.size(); ++i) {
@@ -127,9 +132,9 @@ TEST(Hdr, DeringingUint8MatchesTheReference) {
   const Projection pin = make_projection(parse_spec("pinhole:hfov=70"), {301, 203});
   const Eigen::Matrix3d r = rotation_from_ypr(33, 12, 7);
   for (Interp k : {Interp::BicubicDering, Interp::Lanczos3Dering}) {
-    const Image a = Converter(e, pin, r, k, Engine::Simd, 2).run(src);
-    const Image b = Converter(e, pin, r, k, Engine::Scalar, 2).run(src);
-    const Image plain = Converter(e, pin, r, kernel_of(k), Engine::Simd, 2).run(src);
+    const Image a = test::converter(e, pin, r, k, Engine::Simd, 2).run(src);
+    const Image b = test::converter(e, pin, r, k, Engine::Scalar, 2).run(src);
+    const Image plain = test::converter(e, pin, r, kernel_of(k), Engine::Simd, 2).run(src);
     int worst = 0, outside = 0, plain_outside = 0;
     for (size_t i = 0; i < a.byte_size(); ++i) {
       worst = std::max(worst, std::abs(a.data()[i] - b.data()[i]));

@@ -44,23 +44,36 @@ TEST(Jobs, EveryJobsRowsAreWellFormed) {
     const Arguments args(job->rows());
     for (const OptionDef& d : job->rows()) {
       EXPECT_TRUE(rows.insert(d.name).second) << job->name << ": " << d.name << " twice";
-      if (!(d.traits & (kPythonOnly | kNeither))) EXPECT_TRUE(flags.insert(flag_of(d)).second) << flag_of(d);
-      if (d.traits & kPositional) EXPECT_FALSE(named) << job->name << ": positional " << d.name << " after flags";
+      if (!(d.traits & (kPythonOnly | kNeither)))
+        EXPECT_TRUE(flags.insert(flag_of(d)).second) << flag_of(d);
+      if (d.traits & kPositional)
+        EXPECT_FALSE(named) << job->name << ": positional " << d.name << " after flags";
       named = named || !(d.traits & kPositional);
       EXPECT_TRUE(d.help && *d.help) << d.name;
       // The default reads as the row's type, and is one of its choices.
       std::string value;
       switch (d.type) {
-        case OptionType::Angle: EXPECT_NO_THROW(args.angle(d.name)) << d.name; break;
-        case OptionType::Integer: EXPECT_NO_THROW(args.integer(d.name)) << d.name; break;
-        case OptionType::Flag: EXPECT_NO_THROW(args.flag(d.name)) << d.name; break;
-        case OptionType::Paths: EXPECT_TRUE(args.paths(d.name).empty()) << d.name; break;
+        case OptionType::Angle:
+          EXPECT_NO_THROW(args.angle(d.name)) << d.name;
+          break;
+        case OptionType::Integer:
+          EXPECT_NO_THROW(args.integer(d.name)) << d.name;
+          break;
+        case OptionType::Flag:
+          EXPECT_NO_THROW(args.flag(d.name)) << d.name;
+          break;
+        case OptionType::Paths:
+          EXPECT_TRUE(args.paths(d.name).empty()) << d.name;
+          break;
         case OptionType::Text:
-        case OptionType::Path: value = args.text(d.name); break;
+        case OptionType::Path:
+          value = args.text(d.name);
+          break;
       }
       const auto choices = choices_of(d);
       if (!choices.empty() && std::string_view(d.default_text) != "None")
-        EXPECT_NE(std::find(choices.begin(), choices.end(), value), choices.end()) << job->name << ": " << d.name;
+        EXPECT_NE(std::find(choices.begin(), choices.end(), value), choices.end())
+            << job->name << ": " << d.name;
     }
   }
 }
@@ -95,7 +108,8 @@ TEST(Jobs, ArgumentsRefuseUnknownNamesAndWrongTypes) {
     args.set("tiles", int64_t{1});
     ADD_FAILURE() << "an unknown name accepted";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("unknown option 'tiles' (expected one of: image, out_dir, viewer"),
+    EXPECT_NE(std::string(e.what()).find(
+                  "unknown option 'tiles' (expected one of: image, out_dir, viewer"),
               std::string::npos)
         << e.what();
   }

@@ -69,8 +69,10 @@ TEST(PlannedTaps, ReplayedRunsGiveTheBytesOfPlannedOnesOnEveryTarget) {
           const Projection src = make(p.from, p.from_size), dst = make(p.to, p.to_size);
           const Eigen::Matrix3d r = rotation_from_ypr(p.yaw, p.pitch, p.roll);
           const Antialias a = aa ? parse_antialias("auto") : Antialias{};
-          const Converter kept(src, dst, r, Interp::Bilinear, Engine::Simd, 2, Keep::MapsAndTaps, a);
-          const Converter lean(src, dst, r, Interp::Bilinear, Engine::Simd, 2, Keep::Nothing, a);
+          const Converter kept =
+              test::converter(src, dst, r, Interp::Bilinear, Engine::Simd, 2, Keep::MapsAndTaps, a);
+          const Converter lean =
+              test::converter(src, dst, r, Interp::Bilinear, Engine::Simd, 2, Keep::Nothing, a);
           int64_t misses = 0;
           for (uint32_t seed : {1u, 2u, 3u}) {  // the first run plans, the others replay
             const Image& im = frames[pi][seed - 1][nc == 1 ? 0 : nc == 3 ? 1 : 2];
@@ -91,8 +93,10 @@ TEST(PlannedTaps, ReplayedRunsGiveTheBytesOfPlannedOnesOnEveryTarget) {
 TEST(PlannedTaps, OnlyTheFirstSourcesLayoutReplays) {
   const Projection src = make("equirect", {512, 256}), dst = make("pinhole:hfov=60", {200, 150});
   const Eigen::Matrix3d r = rotation_from_ypr(30, 20, 0);
-  const Converter kept(src, dst, r, Interp::Bilinear, Engine::Simd, 2, Keep::MapsAndTaps);
-  const Converter lean(src, dst, r, Interp::Bilinear, Engine::Simd, 2, Keep::Nothing);
+  const Converter kept =
+      test::converter(src, dst, r, Interp::Bilinear, Engine::Simd, 2, Keep::MapsAndTaps);
+  const Converter lean =
+      test::converter(src, dst, r, Interp::Bilinear, Engine::Simd, 2, Keep::Nothing);
   EngineStats st;
   const Image whole = frame(src, 1);
   EXPECT_TRUE(kept.run(whole, &st) == lean.run(whole));
@@ -139,8 +143,8 @@ TEST(PlannedTaps, EveryKernelTypeAndAlphaReplaysOnEveryTarget) {
                           Case{Interp::BicubicDering, &rgb}, Case{Interp::Bilinear, &rgba}, Case{Interp::Bicubic, &rgba},
                           Case{Interp::Bilinear, &wide}, Case{Interp::Lanczos3, &half}, Case{Interp::Bicubic, &single}}) {
       SCOPED_TRACE(std::string(name_of(c.k)) + ", " + name_of(c.im->type()) + " x " + std::to_string(c.im->channels()));
-      const Converter kept(src, dst, r, c.k, Engine::Simd, 2, Keep::MapsAndTaps);
-      const Image want = Converter(src, dst, r, c.k, Engine::Simd, 2).run(*c.im);
+      const Converter kept = test::converter(src, dst, r, c.k, Engine::Simd, 2, Keep::MapsAndTaps);
+      const Image want = test::converter(src, dst, r, c.k, Engine::Simd, 2).run(*c.im);
       for (int run = 0; run < 2; ++run) {
         EngineStats st;
         EXPECT_TRUE(kept.run(*c.im, &st) == want);
@@ -154,8 +158,10 @@ TEST(PlannedTaps, EveryKernelTypeAndAlphaReplaysOnEveryTarget) {
 TEST(PlannedTaps, TilesWithManyMissesAreNotKept) {
   // An 8x4 source seen whole: most taps cross the seam or a pole (the reference's tap rules).
   const Projection src = make("equirect", {8, 4}), dst = make("equirect", {128, 64});
-  const Converter kept(src, dst, Eigen::Matrix3d::Identity(), Interp::Bilinear, Engine::Simd, 1, Keep::MapsAndTaps);
-  const Converter lean(src, dst, Eigen::Matrix3d::Identity(), Interp::Bilinear, Engine::Simd, 1, Keep::Nothing);
+  const Converter kept = test::converter(src, dst, Eigen::Matrix3d::Identity(), Interp::Bilinear,
+                                         Engine::Simd, 1, Keep::MapsAndTaps);
+  const Converter lean = test::converter(src, dst, Eigen::Matrix3d::Identity(), Interp::Bilinear,
+                                         Engine::Simd, 1, Keep::Nothing);
   EngineStats st;
   for (uint32_t seed : {1u, 2u}) {
     const Image im = frame(src, seed);
@@ -168,8 +174,10 @@ TEST(PlannedTaps, TilesWithManyMissesAreNotKept) {
 TEST(PlannedTaps, ConcurrentFirstRunsShareOnePlan) {
   const Projection src = make("equirect", {512, 256}), dst = make("cubemap:layout=cross", {4 * 64, 3 * 64});
   const Eigen::Matrix3d r = rotation_from_ypr(5, 15, 0);
-  const Converter kept(src, dst, r, Interp::Bilinear, Engine::Simd, 2, Keep::MapsAndTaps);
-  const Converter lean(src, dst, r, Interp::Bilinear, Engine::Simd, 2, Keep::Nothing);
+  const Converter kept =
+      test::converter(src, dst, r, Interp::Bilinear, Engine::Simd, 2, Keep::MapsAndTaps);
+  const Converter lean =
+      test::converter(src, dst, r, Interp::Bilinear, Engine::Simd, 2, Keep::Nothing);
   std::vector<Image> in, out(4);
   for (uint32_t seed = 1; seed <= 4; ++seed) in.push_back(frame(src, seed));
   std::vector<std::thread> runs;

@@ -115,7 +115,8 @@ TEST(ReadWhileConverting, EqualsTheConversionOfTheWholeSource) {
       rendered[c.from] = test::render(src, test::band_limited_scene(0.1, c.from_size.width), PixelType::U8);
     const Image& whole = rendered[c.from];
     for (int threads : {1, 2, 3}) {
-      const Converter conv(src, dst, r, c.interp, Engine::Simd, threads, Keep::Nothing, c.antialias);
+      const Converter conv =
+          test::converter(src, dst, r, c.interp, Engine::Simd, threads, Keep::Nothing, c.antialias);
       const Image from = window_of(whole, conv);
       const Image expected = conv.run(from);
       Image arriving(from.size(), from.channels(), from.type(), from.alpha_channel(), Image::Unfilled{});
@@ -126,7 +127,8 @@ TEST(ReadWhileConverting, EqualsTheConversionOfTheWholeSource) {
       EXPECT_TRUE(out == expected) << what << ", " << threads << " threads";
     }
     // A batch's converter: later frames wait for the rows kept from the first and replay its taps.
-    const Converter kept(src, dst, r, c.interp, Engine::Simd, 2, Keep::MapsAndTaps, c.antialias);
+    const Converter kept =
+        test::converter(src, dst, r, c.interp, Engine::Simd, 2, Keep::MapsAndTaps, c.antialias);
     const Image from = window_of(whole, kept);
     const Image expected = kept.run(from);
     for (int frame = 0; frame < 2; ++frame) {
@@ -141,7 +143,8 @@ TEST(ReadWhileConverting, EqualsTheConversionOfTheWholeSource) {
   // The reference engine reads first, then converts.
   const Projection src = make("equirect", {512, 256}), dst = make("pinhole:hfov=90", {160, 120});
   const Image whole = test::render(src, test::band_limited_scene(0.1, 512), PixelType::U8);
-  const Converter ref(src, dst, Eigen::Matrix3d::Identity(), Interp::Bilinear, Engine::Reference, 2);
+  const Converter ref = test::converter(src, dst, Eigen::Matrix3d::Identity(), Interp::Bilinear,
+                                        Engine::Reference, 2);
   Image arriving(whole.size(), 3, PixelType::U8), out;
   ref.run_reading(arriving, out, [&](const RowsArrived& arrived) { trickle(whole, arriving, arrived); });
   EXPECT_TRUE(out == ref.run(whole));
@@ -160,8 +163,9 @@ TEST(ReadWhileConverting, FinishedPartsAreFinalWhenReportedAndCoverTheOutputOnce
         const Projection dst = make(to, std::string(to) == "cubemap" ? Size{6 * 128, 128} : Size{300, 200});
         EdgeFill edges;
         edges.soft = fill;
-        const Converter conv(src, dst, rotation_from_ypr(10, 20, 0), Interp::Bicubic, Engine::Simd, threads, Keep::Nothing,
-                             {Antialias::Mode::Auto, 1}, edges);
+        const Converter conv =
+            test::converter(src, dst, rotation_from_ypr(10, 20, 0), Interp::Bicubic, Engine::Simd,
+                            threads, Keep::Nothing, {Antialias::Mode::Auto, 1}, edges);
         const Image expected = conv.run(whole);
         Image arriving(whole.size(), 3, PixelType::U8), out;
         std::mutex m;
@@ -190,7 +194,8 @@ TEST(ReadWhileConverting, AFailedReadEndsTheRunWithItsError) {
   const Image whole = test::render(src, test::band_limited_scene(0.1, 1024), PixelType::U8);
   for (int threads : {1, 2, 3})
     for (int64_t fail_at : {0, 200, 511}) {
-      const Converter conv(src, dst, Eigen::Matrix3d::Identity(), Interp::Bilinear, Engine::Simd, threads);
+      const Converter conv = test::converter(src, dst, Eigen::Matrix3d::Identity(),
+                                             Interp::Bilinear, Engine::Simd, threads);
       Image arriving(whole.size(), 3, PixelType::U8), out;
       try {
         conv.run_reading(arriving, out, [&](const RowsArrived& a) { trickle(whole, arriving, a, fail_at); });

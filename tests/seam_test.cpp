@@ -166,10 +166,12 @@ TEST(Seam, EveryWrappingCaseRowEqualsItsRolledSource) {
                             middle = rotation_from_ypr(yaw + 180, 0, 0);
       for (Interp k : kernels)
         for (const Run& r : runs) {
+          // (nearest never averages: antialiasing is refused with it, as in every front end)
+          if (k == Interp::Nearest && r.aa.mode != Antialias::Mode::Off) continue;
           const Image a =
-              Converter(w.p, view, across, k, r.engine, 2, Keep::Nothing, r.aa).run(src);
+              test::converter(w.p, view, across, k, r.engine, 2, Keep::Nothing, r.aa).run(src);
           const Image b =
-              Converter(w.p, view, middle, k, r.engine, 2, Keep::Nothing, r.aa).run(roll);
+              test::converter(w.p, view, middle, k, r.engine, 2, Keep::Nothing, r.aa).run(roll);
           EXPECT_LE(worst_level(a, b), 1)
               << w.spec << " " << size_text(size_of(w.p)) << " -> " << v.spec << " " << name_of(k)
               << " " << name_of(r.engine) << " antialias " << name_of(r.aa);
@@ -194,7 +196,7 @@ TEST(Seam, FractionalOutlinesWrapAgainstTheTruth) {
     const Image src = test::render(p, scene, PixelType::F32);
     auto error = [&](double yaw, double pitch, Engine e, Interp k) {
       const Eigen::Matrix3d r = rotation_from_ypr(yaw, pitch, 0);
-      const Image out = Converter(p, view, r, k, e, 2).run(src);
+      const Image out = test::converter(p, view, r, k, e, 2).run(src);
       double worst = 0, rgb[3];
       for (int64_t y = 0; y < 121; ++y)
         for (int64_t x = 0; x < 121; ++x) {
@@ -235,7 +237,7 @@ TEST(Seam, MillerContinuesOverItsPole) {
     const Image src = test::render(p, scene, PixelType::F32);
     auto error = [&](double yaw, double pitch, Interp k) {
       const Eigen::Matrix3d r = rotation_from_ypr(yaw, pitch, 0);
-      const Image out = Converter(p, view, r, k, Engine::Simd, 2).run(src);
+      const Image out = test::converter(p, view, r, k, Engine::Simd, 2).run(src);
       double worst = 0, rgb[3];
       for (int64_t y = 0; y < 121; ++y)
         for (int64_t x = 0; x < 121; ++x) {

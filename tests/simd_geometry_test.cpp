@@ -44,10 +44,11 @@ PairRun run_pair(const Projection& sp, const Projection& dp, const Eigen::Matrix
   TileMap tm;
   for (int64_t ty = 0; ty < ds.height; ty += kTile)
     for (int64_t tx = 0; tx < ds.width; tx += kTile) {
-      const TileRect rect{tx, ty, std::min(kTile, ds.width - tx), std::min(kTile, ds.height - ty)};
+      const PixelRect rect{tx, ty, std::min(tx + kTile, ds.width), std::min(ty + kTile, ds.height)};
       bool any = false;
-      for (int64_t j = 0; j < rect.h && !any; j += 4)
-        for (int64_t i = 0; i < rect.w && !any; i += 4) any = contains(dp, tx + i + 0.5, ty + j + 0.5);
+      for (int64_t j = 0; j < rect.height() && !any; j += 4)
+        for (int64_t i = 0; i < rect.width() && !any; i += 4)
+          any = contains(dp, tx + i + 0.5, ty + j + 0.5);
       run.tiles += any;
       SimdGeometry g;
       if (!simd_geometry_for(sp, dp, r, rect, g)) continue;
@@ -271,8 +272,9 @@ TEST(SimdGeometry, SeparableFormOnlyForTurnsAboutTheVertical) {
   const Projection pin = make_projection(parse_spec("pinhole"), {256, 256});
   const Projection cube = make_projection(parse_spec("cubemap"), {6 * 64, 64});
   const Projection fish = make_projection(parse_spec("fisheye"), {256, 256});
-  const TileRect first{0, 0, 64, 64}, up{4 * 64, 0, 64, 64};  // the front and the up face
-  auto separable = [&](const Projection& dst, const TileRect& rect, double yaw, double pitch, double roll) {
+  const PixelRect first{0, 0, 64, 64}, up{4 * 64, 0, 5 * 64, 64};  // the front and the up face
+  auto separable = [&](const Projection& dst, const PixelRect& rect, double yaw, double pitch,
+                       double roll) {
     SimdGeometry g;
     EXPECT_TRUE(simd_geometry_for(e, dst, rotation_from_ypr(yaw, pitch, roll), rect, g));
     return g.separable;

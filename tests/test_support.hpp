@@ -24,12 +24,22 @@
 
 namespace panoproj::test {
 
+// A Converter from its parts, as the engine tests name them (antialiasing off unless given).
+inline Converter converter(Projection source, Projection target, const Eigen::Matrix3d& rotation,
+                           Interp interp, Engine engine, int threads, Keep keep = Keep::Nothing,
+                           Antialias antialias = {}, EdgeFill edges = {}) {
+  ConvertOptions o;
+  o.interp = interp, o.engine = engine, o.threads = threads, o.antialias = antialias,
+  o.edges = edges;
+  return Converter(ConversionGeometry{std::move(source), std::move(target), rotation}, o, keep);
+}
+
 inline std::string source_dir() { return PANOPROJ_SOURCE_DIR; }
 
 // A one-off conversion (a Converter without kept maps or antialiasing).
 inline Image fast_remap(const Image& src, const Projection& sp, const Projection& dp, const Eigen::Matrix3d& rotation,
                         Interp interp, Engine engine, int threads, EngineStats* stats = nullptr) {
-  return Converter(sp, dp, rotation, interp, engine, threads).run(src, stats);
+  return converter(sp, dp, rotation, interp, engine, threads).run(src, stats);
 }
 inline std::string samples_dir() { return source_dir() + "/samples/images"; }
 
@@ -208,9 +218,9 @@ struct MapComparison {
 template <class TileMapT, class RectT>
 void compare_with_exact(const Projection& sp, const Projection& dp, const Eigen::Matrix3d& r,
                         const RectT& rect, const TileMapT& tm, double tolerance, MapComparison& acc) {
-  for (int64_t j = 0; j < rect.h; ++j)
-    for (int64_t i = 0; i < rect.w; ++i) {
-      const size_t k = static_cast<size_t>(j * rect.w + i);
+  for (int64_t j = 0; j < rect.height(); ++j)
+    for (int64_t i = 0; i < rect.width(); ++i) {
+      const size_t k = static_cast<size_t>(j * rect.width() + i);
       Ray d;
       double sx = 0, sy = 0;
       const bool ok = to_ray(dp, rect.x0 + i + 0.5, rect.y0 + j + 0.5, d) && to_pixel(sp, r * d, sx, sy);

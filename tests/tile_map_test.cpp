@@ -34,7 +34,8 @@ TEST_P(TileMapAccuracy, MatchesTheExactMap) {
   const int64_t tile = 64;
   for (int64_t ty = 0; ty < c.dst_size.height; ty += tile)
     for (int64_t tx = 0; tx < c.dst_size.width; tx += tile) {
-      const TileRect rect{tx, ty, std::min(tile, c.dst_size.width - tx), std::min(tile, c.dst_size.height - ty)};
+      const PixelRect rect{tx, ty, std::min(tx + tile, c.dst_size.width),
+                           std::min(ty + tile, c.dst_size.height)};
       map_tile(src, dst, r, rect, tm);
       cells += tm.exact_cells + tm.interpolated_cells;
       interpolated += tm.interpolated_cells;

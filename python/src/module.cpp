@@ -283,13 +283,17 @@ Size size_pair(std::pair<int64_t, int64_t> s) {
 // called from several threads.
 class PyPlan {
  public:
-  PyPlan(const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size, const py::dict& options)
+  PyPlan(const std::string& src, const std::string& dst, std::pair<int64_t, int64_t> source_size,
+         const py::dict& options)
       : src_(src),
         options_(options_from(options, kUseConvert)),
-        geometry_(make_geometry(size_pair(source_size), parse_spec(src), parse_spec(dst), options_)),
+        geometry_(
+            make_geometry(size_pair(source_size), parse_spec(src), parse_spec(dst), options_)),
         kept_bytes_(image_bytes(geometry_.target_frame(), 1, kCachedMapBytesPerPixel)),
-        converter_(converter_for(geometry_, options_,
-                                 kept_bytes_ <= static_cast<uint64_t>(kMapCacheBudget) ? Keep::MapsAndTaps : Keep::Nothing)) {
+        converter_(Converter(geometry_, options_,
+                             kept_bytes_ <= static_cast<uint64_t>(kMapCacheBudget)
+                                 ? Keep::MapsAndTaps
+                                 : Keep::Nothing)) {
     if (kept_bytes_ > static_cast<uint64_t>(kMapCacheBudget)) kept_bytes_ = 0;
   }
   const ConversionGeometry& geometry() const { return geometry_; }
@@ -528,8 +532,8 @@ void bind_files(py::module_& m) {
       py::arg("path"));
   m.def(
       "write",
-      [](const std::string& path, const py::array& array, const py::dict& options, std::optional<std::string> dtype,
-         const py::dict& metadata) {
+      [](const std::string& path, const py::array& array, const py::dict& options,
+         std::optional<std::string> dtype, const py::dict& metadata) {
         py::object keep;
         const Image im = image_of(array, keep);
         // The write options' rows (jobs.hpp), as the command's and the jobs' writes take them.
@@ -537,9 +541,12 @@ void bind_files(py::module_& m) {
         for (const auto& [k, v] : options) {
           const std::string name = k.cast<std::string>();
           const OptionType type = write_option(name).type;
-          if (type == OptionType::Flag) args.set(name, v.cast<bool>());
-          else if (type == OptionType::Integer) args.set(name, v.cast<int64_t>());
-          else args.set(name, v.cast<std::string>());
+          if (type == OptionType::Flag)
+            args.set(name, v.cast<bool>());
+          else if (type == OptionType::Integer)
+            args.set(name, v.cast<int64_t>());
+          else
+            args.set(name, v.cast<std::string>());
         }
         WriteOptions w = args.write();
         if (dtype) w.type = pixel_type(py::dtype(*dtype));

@@ -45,6 +45,16 @@ Size stereo_frame(Size eye, StereoLayout layout);
 Size stereo_eye(Size frame, StereoLayout layout, const char* what);
 std::array<int64_t, 2> stereo_origin(Size eye, StereoLayout layout, int e);
 
+// A conversion's geometry: both projections bound to their frames (one eye's where stereo), the
+// rotation, and the stereo frames.
+struct ConversionGeometry {
+  Projection source, target;
+  Eigen::Matrix3d rotation;
+  Stereo stereo = {};
+  Size source_frame() const { return stereo_frame(size_of(source), stereo.source); }
+  Size target_frame() const { return stereo_frame(size_of(target), stereo.target); }
+};
+
 struct EngineStats {
   int64_t tiles = 0;
   int64_t fused_tiles = 0;   // geometry in registers, no map (simd engine, the common pairs)
@@ -73,18 +83,18 @@ enum class Keep {
 };
 
 // One geometry (projections, rotation, kernel), applied to any number of images of the source's
-// size, keeping what `keep` says for later runs. run() may be called from several threads at once. antialias
-// (options.hpp: Antialias; off by default here, auto in the command and the Python module) needs the
-// simd or scalar engine; mip builds the source's levels on each run, as far as they are read.
+// size, keeping what `keep` says for later runs. run() may be called from several threads at once.
+// Antialiasing (options.hpp: Antialias) needs the simd or scalar engine; mip builds the source's
+// levels on each run, as far as they are read.
 class Converter {
  public:
-  // edges: what pixels without a source, or on the field's edge, get (EdgeFill, options.hpp; by default
-  // 0, decided at pixel centres).
-  // stereo: src and out are frames of both eyes where it says so; each eye converts alone
-  // (source and target are one eye's projections), so no tap crosses between eyes.
-  Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
-            Engine engine, int threads, Keep keep = Keep::Nothing, Antialias antialias = {}, EdgeFill edges = {},
-            Stereo stereo = {});
+  // The geometry's projections (each eye's where stereo: src and out are frames of both eyes
+  // where it says so; each eye converts alone, so no tap crosses between eyes) and rotation; the
+  // options' kernel, engine, threads, antialiasing (antialias_of) and edges (EdgeFill: what
+  // pixels without a source, or on the field's edge, get; by default 0, decided at pixel
+  // centres). Its size and rotation options are the geometry's already (make_geometry).
+  Converter(const ConversionGeometry& geometry, const ConvertOptions& options,
+            Keep keep = Keep::Nothing);
 
   // Throws panoproj::Error if src's size is not the source projection's. progress, if given,
   // is called from the calling thread with the fraction of tiles done.
@@ -144,16 +154,6 @@ const Image& source_for(const Image& source, const ConvertOptions& options, Imag
 // the source has alpha already (2 or 4 channels).
 int output_channels(int channels, const ConvertOptions& options);
 
-// A conversion's geometry: both projections bound to their frames (one eye's where stereo), the
-// rotation, and the stereo frames.
-struct ConversionGeometry {
-  Projection source, target;
-  Eigen::Matrix3d rotation;
-  Stereo stereo = {};
-  Size source_frame() const { return stereo_frame(size_of(source), stereo.source); }
-  Size target_frame() const { return stereo_frame(size_of(target), stereo.target); }
-};
-
 // Throws Error naming `what` (maps, accuracy: one eye's work) where the geometry is stereo.
 void require_mono(const ConversionGeometry& geometry, const char* what);
 
@@ -181,10 +181,5 @@ double finest_source_step(const ConversionGeometry& geometry, double stop_below 
 // resolves (2 s <= finest_step) and that divides the source's sides (the 1/s frame is then the
 // same field exactly: its pixel i covers pixels s i .. s i + s - 1).
 int coarsest_decode_scale(const ConversionGeometry& geometry, double finest_step);
-
-// The geometry's Converter with the options' kernel, engine, threads, antialiasing and edge
-// fill, keeping what keep says for many runs.
-Converter converter_for(const ConversionGeometry& geometry, const ConvertOptions& options,
-                        Keep keep = Keep::Nothing);
 
 }  // namespace panoproj

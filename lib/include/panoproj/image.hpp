@@ -20,6 +20,8 @@ struct Size {
 // Pixels [x0, x1) x [y0, y1) of a frame.
 struct PixelRect {
   int64_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  int64_t width() const { return x1 - x0; }
+  int64_t height() const { return y1 - y0; }
   Size size() const { return {x1 - x0, y1 - y0}; }
   bool operator==(const PixelRect&) const = default;
 };

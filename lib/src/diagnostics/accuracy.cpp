@@ -164,7 +164,10 @@ std::vector<SweepResult> run_sweep(const Projection& sp, const Projection& dp, c
     const Projection from = s > 1 ? rescaled(sp, {size.width / s, size.height / s}) : sp;
     for (int r = 0; r < setup.runs; ++r) {
       const auto t0 = std::chrono::steady_clock::now();
-      const Converter c(from, dp, rotation, o.interp, o.engine, setup.threads, Keep::Nothing, o.antialias);
+      ConvertOptions options;
+      options.interp = o.interp, options.engine = o.engine, options.threads = setup.threads;
+      options.antialias = o.antialias;
+      const Converter c(ConversionGeometry{from, dp, rotation}, options);
       if (o.decode_scale > 0) c.run(read_image_region(file->path(), 0, 0, INT64_MAX, INT64_MAX, 0, 0, s), out);
       else c.run(source, out);
       ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());

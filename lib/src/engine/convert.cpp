@@ -249,12 +249,7 @@ Image convert(const Image& source, const ProjectionSpec& from, const ProjectionS
   const ConversionGeometry geometry = make_geometry(source.size(), from, to, options);
   require_job_memory(geometry, source.channels(), source.type(), options, 0);
   Image storage;
-  return converter_for(geometry, options).run(source_for(source, options, storage));
-}
-
-Converter converter_for(const ConversionGeometry& geometry, const ConvertOptions& options, Keep keep) {
-  return Converter(geometry.source, geometry.target, geometry.rotation, options.interp, options.engine,
-                   options.threads, keep, antialias_of(options), options.edges, geometry.stereo);
+  return Converter(geometry, options).run(source_for(source, options, storage));
 }
 
 }  // namespace panoproj

@@ -90,10 +90,10 @@ struct Converter::Impl {
   // planned_ where src's taps may be kept (keeps_taps) and src has the layout of the first
   // such source run, else null.
   PlannedTaps* planned_for(const Image& src, const SourceTaps& taps) const;
-  TileRect tile(int64_t t) const;  // tiles in row-major order
+  PixelRect tile(int64_t t) const;  // tiles in row-major order
   int64_t tile_count() const;
   // True (and g filled) where the tile's geometry runs in registers fused with the sampling.
-  bool fused(const TileRect& rect, SimdGeometry& g) const;
+  bool fused(const PixelRect& rect, SimdGeometry& g) const;
   const TileMap* cached(int64_t t) const;  // the kept map of a tile that has one, else null
   // Whether run_reading can start tiles before the whole source is in.
   bool streams() const;
@@ -104,10 +104,9 @@ struct Converter::Impl {
   int64_t rows_read(const TileStrategy& s, int64_t t, TileScratch& wk) const;
 };
 
-Converter::Converter(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp,
-                     Engine engine, int threads, Keep keep, Antialias antialias, EdgeFill edges, Stereo stereo)
-    : impl_(std::make_unique<Impl>(std::move(source), std::move(target), rotation, interp, engine, threads, keep,
-                                   antialias, edges, stereo)) {}
+Converter::Converter(const ConversionGeometry& g, const ConvertOptions& o, Keep keep)
+    : impl_(std::make_unique<Impl>(g.source, g.target, g.rotation, o.interp, o.engine, o.threads,
+                                   keep, antialias_of(o), o.edges, g.stereo)) {}
 Converter::~Converter() = default;
 Converter::Converter(Converter&&) noexcept = default;
 Converter& Converter::operator=(Converter&&) noexcept = default;
@@ -156,11 +155,11 @@ Converter::Impl::Impl(Projection source, Projection target, const Eigen::Matrix3
     sub_targets_.push_back(n < 2 ? target_ : rescaled(target_, {s.width * n, s.height * n}));
 }
 
-TileRect Converter::Impl::tile(int64_t t) const {
+PixelRect Converter::Impl::tile(int64_t t) const {
   const Size size = size_of(target_);
   const int64_t tiles_x = (size.width + kTile - 1) / kTile;
   const int64_t x0 = (t % tiles_x) * kTile, y0 = (t / tiles_x) * kTile;
-  return {x0, y0, std::min(kTile, size.width - x0), std::min(kTile, size.height - y0)};
+  return {x0, y0, std::min(x0 + kTile, size.width), std::min(y0 + kTile, size.height)};
 }
 
 int64_t Converter::Impl::tile_count() const {
@@ -168,10 +167,9 @@ int64_t Converter::Impl::tile_count() const {
   return ((size.width + kTile - 1) / kTile) * ((size.height + kTile - 1) / kTile);
 }
 
-bool Converter::Impl::fused(const TileRect& rect, SimdGeometry& g) const {
+bool Converter::Impl::fused(const PixelRect& rect, SimdGeometry& g) const {
   return engine_ == Engine::Simd && simd_geometry_for(source_, target_, rotation_, rect, g) && exact_for(interp_, g);
 }
-
 
 void Converter::Impl::build_cache() const {
   // Fused tiles recompute their geometry in registers faster than they could read a map: only the
@@ -179,7 +177,7 @@ void Converter::Impl::build_cache() const {
   std::vector<TileMap> maps(static_cast<size_t>(tile_count()));
   parallel_tasks(tile_count(), threads_, [&](int64_t t, int) {
     SimdGeometry g;
-    const TileRect rect = tile(t);
+    const PixelRect rect = tile(t);
     if (!fused(rect, g)) map_tile(source_, target_, rotation_, rect, maps[static_cast<size_t>(t)], interp_ == Interp::Nearest);
   });
   cache_ = std::move(maps);
@@ -202,7 +200,7 @@ PlannedTaps* Converter::Impl::planned_for(const Image& src, const SourceTaps& ta
 const TileMap* Converter::Impl::cached(int64_t t) const {
   if (keep_ == Keep::Nothing) return nullptr;
   const TileMap& tm = cache_[static_cast<size_t>(t)];
-  return tm.rect.w > 0 ? &tm : nullptr;
+  return tm.rect.width() > 0 ? &tm : nullptr;
 }
 
 PixelRect Converter::Impl::source_footprint() const {
@@ -225,14 +223,15 @@ PixelRect Converter::Impl::source_footprint() const {
   std::vector<TileMap> local(static_cast<size_t>(n_workers));
   parallel_tasks(n_tiles, threads_, [&](int64_t t, int w) {
     std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};  // this tile's
-    const TileRect rect = tile(t);
+    const PixelRect rect = tile(t);
     widen_to_positions(source_, rotation_, target_, rect, cached(t), engine_ == Engine::Simd, local[static_cast<size_t>(w)], b);
     if (b[0] > b[2]) return;
     auto& all = box[static_cast<size_t>(w)];
     all = {std::min(all[0], b[0]), std::min(all[1], b[1]), std::max(all[2], b[2]), std::max(all[3], b[3])};
     // The tile's extent over its size bounds its mean step (antialiasing's reach below).
-    const double s = std::max((b[2] - b[0]) / static_cast<double>(std::max<int64_t>(rect.w - 1, 1)),
-                              (b[3] - b[1]) / static_cast<double>(std::max<int64_t>(rect.h - 1, 1)));
+    const double s =
+        std::max((b[2] - b[0]) / static_cast<double>(std::max<int64_t>(rect.width() - 1, 1)),
+                 (b[3] - b[1]) / static_cast<double>(std::max<int64_t>(rect.height() - 1, 1)));
     spread[static_cast<size_t>(w)] = std::max(spread[static_cast<size_t>(w)], s);
   });
   double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
@@ -274,10 +273,11 @@ std::vector<int64_t> Converter::Impl::tiles_by_source_row() const {
   const int64_t n = tile_count();
   std::vector<double> row(static_cast<size_t>(n), 0.0);  // no source at the centre: first
   for (int64_t t = 0; t < n; ++t) {
-    const TileRect r = tile(t);
+    const PixelRect r = tile(t);
     double x = 0, y = 0;
-    if (source_pixel(source_, target_, rotation_, static_cast<double>(r.x0) + 0.5 * static_cast<double>(r.w),
-                     static_cast<double>(r.y0) + 0.5 * static_cast<double>(r.h), x, y))
+    if (source_pixel(source_, target_, rotation_,
+                     static_cast<double>(r.x0) + 0.5 * static_cast<double>(r.width()),
+                     static_cast<double>(r.y0) + 0.5 * static_cast<double>(r.height()), x, y))
       row[static_cast<size_t>(t)] = y;
   }
   std::vector<int64_t> order(static_cast<size_t>(n));
@@ -415,7 +415,7 @@ void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats
       return;
     }
     const int64_t t = stream ? order[static_cast<size_t>(task - first)] : task - first;
-    const TileRect rect = tile(t);
+    const PixelRect rect = tile(t);
     // (A tile waits for the rows its positions reach; they come in the order taken.)
     if (read && !feed.has(all_rows) &&
         !feed.wait(stream ? std::min(all_rows, rows_read(*strategy, t, workers[static_cast<size_t>(w)])) : all_rows))
@@ -423,7 +423,8 @@ void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats
     strategy->tile(rect, {cached(t), planned ? &planned[t] : nullptr, footprints_ ? &footprints_[t] : nullptr},
                    out.pixel(rect.x0, rect.y0),
                    static_cast<int64_t>(out.row_bytes()), workers[static_cast<size_t>(w)]);
-    if (finished && !edges_.active()) finished({rect.x0, rect.y0, rect.x0 + rect.w, rect.y0 + rect.h});
+    if (finished && !edges_.active())
+      finished({rect.x0, rect.y0, rect.x0 + rect.width(), rect.y0 + rect.height()});
     const int64_t d = ++done;
     if (w == 0 && progress && d * 100 / n_tiles != last_percent) {
       last_percent = d * 100 / n_tiles;

@@ -21,12 +21,13 @@ Image build_map(const Projection& src, const Projection& dst, const Eigen::Matri
     TileMap tm;
     for (int64_t ty = r0 * kTile; ty < std::min(size.height, r1 * kTile); ty += kTile)
       for (int64_t tx = 0; tx < size.width; tx += kTile) {
-        const TileRect rect{tx, ty, std::min(kTile, size.width - tx), std::min(kTile, size.height - ty)};
+        const PixelRect rect{tx, ty, std::min(tx + kTile, size.width),
+                             std::min(ty + kTile, size.height)};
         map_tile(src, dst, rotation, rect, tm);
-        for (int64_t j = 0; j < rect.h; ++j) {
+        for (int64_t j = 0; j < rect.height(); ++j) {
           float* row = reinterpret_cast<float*>(map.pixel(tx, ty + j));
-          for (int64_t i = 0; i < rect.w; ++i) {
-            const size_t k = static_cast<size_t>(j * rect.w + i);
+          for (int64_t i = 0; i < rect.width(); ++i) {
+            const size_t k = static_cast<size_t>(j * rect.width() + i);
             row[2 * i] = tm.ok[k] ? static_cast<float>(tm.xs[k] - shift) : none;
             row[2 * i + 1] = tm.ok[k] ? static_cast<float>(tm.ys[k] - shift) : none;
           }

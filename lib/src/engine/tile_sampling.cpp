@@ -42,8 +42,9 @@ TileSampling::TileSampling(const Image& src, const Projection& source,
       taps_(source),
       simd_src_(simd_source(src, taps_)) {}
 
-void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
-                        const TileMap* tm, bool simd, TileMap& scratch, std::array<double, 4>& b) {
+void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t,
+                        const PixelRect& rect, const TileMap* tm, bool simd, TileMap& scratch,
+                        std::array<double, 4>& b) {
   SimdGeometry g;
   if (!tm && simd && simd_geometry_for(sp, t, r, rect, g)) return simd_tile_bounds(g, rect, b);
   if (!tm) map_tile(sp, t, r, rect, scratch), tm = &scratch;
@@ -52,17 +53,18 @@ void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Pr
       b = {std::min(b[0], tm->xs[i]), std::min(b[1], tm->ys[i]), std::max(b[2], tm->xs[i]), std::max(b[3], tm->ys[i])};
 }
 
-bool TileSampling::fused(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
-                         SimdGeometry& g) const {
+bool TileSampling::fused(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t,
+                         const PixelRect& rect, SimdGeometry& g) const {
   return simd_ && simd_geometry_for(sp, t, r, rect, g) && exact_for(interp_, g);
 }
 
-void TileSampling::resolve_misses(const Image& im, const SourceTaps& taps, const TileRect& r, const SimdMisses& m,
-                                  unsigned char* out, int64_t stride, TileScratch& wk, const FootprintField* fp) const {
+void TileSampling::resolve_misses(const Image& im, const SourceTaps& taps, const PixelRect& r,
+                                  const SimdMisses& m, unsigned char* out, int64_t stride,
+                                  TileScratch& wk, const FootprintField* fp) const {
   const uint8_t one = 1;
   const auto pb = static_cast<int64_t>(im.pixel_bytes());
   for (size_t q = 0; q < m.index.size(); ++q) {
-    const int64_t i = m.index[q] % r.w, j = m.index[q] / r.w;
+    const int64_t i = m.index[q] % r.width(), j = m.index[q] / r.width();
     unsigned char* o = out + j * stride + i * pb;
     if (!fp) {
       sample_reference(im, taps, interp_, &m.xs[q], &m.ys[q], &one, 1, o);
@@ -78,16 +80,19 @@ void TileSampling::resolve_misses(const Image& im, const SourceTaps& taps, const
 void TileSampling::map(const Image& im, const SourceTaps& taps, const SimdSource& ss, const TileMap& m,
                        unsigned char* out, int64_t stride, TileScratch& wk, const FootprintField* fp) const {
   if (!simd_) {
-    wk.ex.resize(static_cast<size_t>(m.rect.w)), wk.ey.resize(static_cast<size_t>(m.rect.w));
-    for (int64_t j = 0; j < m.rect.h; ++j) {
-      const size_t k = static_cast<size_t>(j * m.rect.w);
+    wk.ex.resize(static_cast<size_t>(m.rect.width())),
+        wk.ey.resize(static_cast<size_t>(m.rect.width()));
+    for (int64_t j = 0; j < m.rect.height(); ++j) {
+      const size_t k = static_cast<size_t>(j * m.rect.width());
       if (!fp) {
-        sample_reference(im, taps, interp_, m.xs.data() + k, m.ys.data() + k, m.ok.data() + k, m.rect.w, out + j * stride);
+        sample_reference(im, taps, interp_, m.xs.data() + k, m.ys.data() + k, m.ok.data() + k,
+                         m.rect.width(), out + j * stride);
         continue;
       }
-      for (int64_t i = 0; i < m.rect.w; ++i) fp->at(i, j, wk.ex[static_cast<size_t>(i)], wk.ey[static_cast<size_t>(i)]);
-      sample_footprint_reference(im, taps, m.xs.data() + k, m.ys.data() + k, wk.ex.data(), wk.ey.data(), m.ok.data() + k,
-                                 m.rect.w, out + j * stride);
+      for (int64_t i = 0; i < m.rect.width(); ++i)
+        fp->at(i, j, wk.ex[static_cast<size_t>(i)], wk.ey[static_cast<size_t>(i)]);
+      sample_footprint_reference(im, taps, m.xs.data() + k, m.ys.data() + k, wk.ex.data(),
+                                 wk.ey.data(), m.ok.data() + k, m.rect.width(), out + j * stride);
     }
     return;
   }
@@ -96,9 +101,9 @@ void TileSampling::map(const Image& im, const SourceTaps& taps, const SimdSource
   resolve_misses(im, taps, m.rect, wk.misses, out, stride, wk, fp);
 }
 
-void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
-                        const KeptTile& kept, unsigned char* out, int64_t stride, TileScratch& wk,
-                        const FootprintField* fp) const {
+void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t,
+                        const PixelRect& rect, const KeptTile& kept, unsigned char* out,
+                        int64_t stride, TileScratch& wk, const FootprintField* fp) const {
   PlannedTaps* const planned = kept.taps;
   if (planned && planned->ready()) {  // the geometry and planning of an earlier run
     wk.stats.fused_tiles++, wk.stats.replayed_tiles++;
@@ -114,11 +119,13 @@ void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Pr
   if (!in_registers) return map(src_, taps_, simd_src_, *tm, out, stride, wk, fp);
   wk.misses.clear();
   PlannedTaps* const record = planned && planned->claim() ? planned : nullptr;
-  if (record) record->allocate(rect.w * rect.h, keeps_compact_taps(simd_src_, interp_, fp));
+  if (record)
+    record->allocate(rect.width() * rect.height(), keeps_compact_taps(simd_src_, interp_, fp));
   simd_convert(g, rect, simd_src_, interp_, out, stride, wk.misses, fp, record);
   resolve_misses(src_, taps_, rect, wk.misses, out, stride, wk, fp);
   if (!record) return;
-  if (static_cast<double>(wk.misses.index.size()) > PlannedTaps::kMostMisses * static_cast<double>(rect.w * rect.h)) {
+  if (static_cast<double>(wk.misses.index.size()) >
+      PlannedTaps::kMostMisses * static_cast<double>(rect.width() * rect.height())) {
     record->release();
     return record->decline();
   }
@@ -126,8 +133,9 @@ void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Pr
   record->publish();
 }
 
-void TileSampling::rect(const Projection& t, const TileRect& rect, const KeptTile& kept, unsigned char* out,
-                        int64_t stride, TileScratch& wk, const FootprintField* fp) const {
+void TileSampling::rect(const Projection& t, const PixelRect& rect, const KeptTile& kept,
+                        unsigned char* out, int64_t stride, TileScratch& wk,
+                        const FootprintField* fp) const {
   if (lenses_.empty()) return from(source_, rotation_, t, rect, kept, out, stride, wk, fp);
   const int side = dual_weights(*taps_.facts().dual, t, rotation_, rect, wk.weights);
   if (side >= 0) {
@@ -135,11 +143,12 @@ void TileSampling::rect(const Projection& t, const TileRect& rect, const KeptTil
     return from(l.lens, l.rotation, t, rect, {}, out, stride, wk, fp);
   }
   const auto pb = static_cast<int64_t>(src_.pixel_bytes());
-  wk.other.resize(static_cast<size_t>(rect.w * rect.h * pb));
+  wk.other.resize(static_cast<size_t>(rect.width() * rect.height() * pb));
   from(lenses_[0].lens, lenses_[0].rotation, t, rect, {}, out, stride, wk, fp);
-  from(lenses_[1].lens, lenses_[1].rotation, t, rect, {}, wk.other.data(), rect.w * pb, wk, fp);
-  blend_lenses(wk.weights.data(), rect, src_.type(), src_.channels(), src_.alpha_channel(), out, stride,
-               wk.other.data(), rect.w * pb);
+  from(lenses_[1].lens, lenses_[1].rotation, t, rect, {}, wk.other.data(), rect.width() * pb, wk,
+       fp);
+  blend_lenses(wk.weights.data(), rect, src_.type(), src_.channels(), src_.alpha_channel(), out,
+               stride, wk.other.data(), rect.width() * pb);
 }
 
 }  // namespace panoproj

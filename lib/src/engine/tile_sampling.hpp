@@ -78,8 +78,9 @@ std::vector<LensSource> lens_sources(const DualFisheye& d, const Eigen::Matrix3d
 // Widens box {x0, y0, x1, y1} to the valid source positions of rect of target t, from source sp
 // through rotation r: those of its kept map tm if given, else the fused geometry's (simd, nothing
 // stored), else those of a map made in scratch.
-void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
-                        const TileMap* tm, bool simd, TileMap& scratch, std::array<double, 4>& b);
+void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t,
+                        const PixelRect& rect, const TileMap* tm, bool simd, TileMap& scratch,
+                        std::array<double, 4>& b);
 
 class TileSampling {
  public:
@@ -90,18 +91,19 @@ class TileSampling {
 
   // rect of target t into out (rows of stride bytes); kept: what is kept of it. fp: the
   // footprint kernel and its widths over the rect, else the interpolator (kept taps are of that).
-  void rect(const Projection& t, const TileRect& rect, const KeptTile& kept, unsigned char* out, int64_t stride,
-            TileScratch& wk, const FootprintField* fp = nullptr) const;
+  void rect(const Projection& t, const PixelRect& rect, const KeptTile& kept, unsigned char* out,
+            int64_t stride, TileScratch& wk, const FootprintField* fp = nullptr) const;
   // Positions m of image im (its taps, SIMD view ss: the source or one of its mip levels).
   void map(const Image& im, const SourceTaps& taps, const SimdSource& ss, const TileMap& m, unsigned char* out,
            int64_t stride, TileScratch& wk, const FootprintField* fp) const;
   // Widens b to the source positions rect of target t samples (a dual-fisheye source's: those of
   // its whole-frame map).
-  void widen_to_positions(const Projection& t, const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const {
+  void widen_to_positions(const Projection& t, const PixelRect& rect, TileScratch& wk,
+                          std::array<double, 4>& b) const {
     panoproj::widen_to_positions(source_, rotation_, t, rect, nullptr, simd_, wk.map, b);
   }
   // Whether rect of target t from the source runs fused (g filled).
-  bool fused(const Projection& t, const TileRect& rect, SimdGeometry& g) const {
+  bool fused(const Projection& t, const PixelRect& rect, SimdGeometry& g) const {
     return fused(source_, rotation_, t, rect, g);
   }
 
@@ -111,13 +113,15 @@ class TileSampling {
 
  private:
   // From source projection sp through rotation r (the source, or one lens).
-  void from(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
-            const KeptTile& kept, unsigned char* out, int64_t stride, TileScratch& wk, const FootprintField* fp) const;
-  bool fused(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t, const TileRect& rect,
-             SimdGeometry& g) const;
+  void from(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t,
+            const PixelRect& rect, const KeptTile& kept, unsigned char* out, int64_t stride,
+            TileScratch& wk, const FootprintField* fp) const;
+  bool fused(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t,
+             const PixelRect& rect, SimdGeometry& g) const;
   // The samples the SIMD kernels left in m (rect's pixel indices), by the tap rules.
-  void resolve_misses(const Image& im, const SourceTaps& taps, const TileRect& rect, const SimdMisses& m,
-                      unsigned char* out, int64_t stride, TileScratch& wk, const FootprintField* fp) const;
+  void resolve_misses(const Image& im, const SourceTaps& taps, const PixelRect& rect,
+                      const SimdMisses& m, unsigned char* out, int64_t stride, TileScratch& wk,
+                      const FootprintField* fp) const;
 
   const Image& src_;
   const Projection& source_;

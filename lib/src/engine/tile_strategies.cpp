@@ -13,16 +13,17 @@ namespace {
 // The tile's n x n sub-pixels in the n-times target (in parts of at most kTile x kTile, the
 // samplers' rect; with fp, the tile's footprint field, each through the footprint kernel), then
 // their means.
-void subpixels(const StrategyInputs& job, int n, const TileRect& rect, unsigned char* corner,
+void subpixels(const StrategyInputs& job, int n, const PixelRect& rect, unsigned char* corner,
                int64_t stride, TileScratch& wk, const FootprintField* fp) {
   const Image& src = job.sampling.image();
-  const TileRect sub{rect.x0 * n, rect.y0 * n, rect.w * n, rect.h * n};
-  const auto pb = static_cast<int64_t>(src.pixel_bytes()), sub_stride = sub.w * pb;
-  wk.sub.resize(static_cast<size_t>(sub_stride * sub.h));
+  const PixelRect sub{rect.x0 * n, rect.y0 * n, rect.x1 * n, rect.y1 * n};
+  const auto pb = static_cast<int64_t>(src.pixel_bytes()), sub_stride = sub.width() * pb;
+  wk.sub.resize(static_cast<size_t>(sub_stride * sub.height()));
   const Projection& sub_target = job.sub_targets[static_cast<size_t>(n)];
-  for (int64_t y = 0; y < sub.h; y += kTile)
-    for (int64_t x = 0; x < sub.w; x += kTile) {
-      const TileRect part{sub.x0 + x, sub.y0 + y, std::min(kTile, sub.w - x), std::min(kTile, sub.h - y)};
+  for (int64_t y = 0; y < sub.height(); y += kTile)
+    for (int64_t x = 0; x < sub.width(); x += kTile) {
+      const PixelRect part{sub.x0 + x, sub.y0 + y, std::min(sub.x0 + x + kTile, sub.x1),
+                           std::min(sub.y0 + y + kTile, sub.y1)};
       const FootprintField part_fp = fp ? fp->for_rect(rect, part, n) : FootprintField{};
       job.sampling.rect(sub_target, part, {}, wk.sub.data() + y * sub_stride + x * pb, sub_stride, wk,
                         fp ? &part_fp : nullptr);
@@ -31,20 +32,21 @@ void subpixels(const StrategyInputs& job, int n, const TileRect& rect, unsigned 
 }
 
 // Widens b to the positions of the tile's n x n sub-pixels (its centres for n = 1).
-void widen_to_subpixels(const StrategyInputs& job, int n, const TileRect& rect, TileScratch& wk,
+void widen_to_subpixels(const StrategyInputs& job, int n, const PixelRect& rect, TileScratch& wk,
                         std::array<double, 4>& b) {
-  job.sampling.widen_to_positions(job.sub_targets[static_cast<size_t>(n)], {rect.x0 * n, rect.y0 * n, rect.w * n, rect.h * n},
-                                  wk, b);
+  job.sampling.widen_to_positions(job.sub_targets[static_cast<size_t>(n)],
+                                  {rect.x0 * n, rect.y0 * n, rect.x1 * n, rect.y1 * n}, wk, b);
 }
 
 class Plain final : public TileStrategy {
  public:
   explicit Plain(const StrategyInputs& job) : job_(job) {}
-  void tile(const TileRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
+  void tile(const PixelRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
     job_.sampling.rect(job_.target, rect, kept, corner, stride, wk);
   }
-  bool widen_to_samples(const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const override {
+  bool widen_to_samples(const PixelRect& rect, TileScratch& wk,
+                        std::array<double, 4>& b) const override {
     widen_to_subpixels(job_, 1, rect, wk, b);
     return true;
   }
@@ -56,10 +58,12 @@ class Plain final : public TileStrategy {
 class Supersample final : public TileStrategy {
  public:
   Supersample(const StrategyInputs& job, int n) : job_(job), n_(n) {}
-  void tile(const TileRect& rect, const KeptTile&, unsigned char* corner, int64_t stride, TileScratch& wk) const override {
+  void tile(const PixelRect& rect, const KeptTile&, unsigned char* corner, int64_t stride,
+            TileScratch& wk) const override {
     subpixels(job_, n_, rect, corner, stride, wk, nullptr);
   }
-  bool widen_to_samples(const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const override {
+  bool widen_to_samples(const PixelRect& rect, TileScratch& wk,
+                        std::array<double, 4>& b) const override {
     widen_to_subpixels(job_, n_, rect, wk, b);
     return true;
   }
@@ -75,7 +79,7 @@ class Supersample final : public TileStrategy {
 class Footprint final : public TileStrategy {
  public:
   explicit Footprint(const StrategyInputs& job) : job_(job) {}
-  void tile(const TileRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
+  void tile(const PixelRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
     KeptFootprint* const k = kept.footprint;
     const bool known = k && k->ready();
@@ -86,7 +90,8 @@ class Footprint final : public TileStrategy {
     else if (n == 1) job_.sampling.rect(job_.target, rect, kept, corner, stride, wk, field);
     else subpixels(job_, n, rect, corner, stride, wk, field);
   }
-  bool widen_to_samples(const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const override {
+  bool widen_to_samples(const PixelRect& rect, TileScratch& wk,
+                        std::array<double, 4>& b) const override {
     widen_to_subpixels(job_, std::max(1, sub_pixels(rect, wk)), rect, wk, b);
     return true;
   }
@@ -94,7 +99,7 @@ class Footprint final : public TileStrategy {
  private:
   // 0: plain samples; else the footprint kernel (wk.field) on n x n sub-pixels (1: the centres).
   // Measured once per tile (widen_to_samples, then tile()).
-  int sub_pixels(const TileRect& rect, TileScratch& wk) const {
+  int sub_pixels(const PixelRect& rect, TileScratch& wk) const {
     const int64_t id = rect.y0 * size_of(job_.target).width + rect.x0;
     if (wk.field_tile == id) return wk.field_n;
     const FootprintSides s = footprint_field(job_.source, job_.target, job_.rotation, rect, job_.wrap, wk.field);
@@ -113,7 +118,7 @@ class Footprint final : public TileStrategy {
 class Mip final : public TileStrategy {
  public:
   explicit Mip(const StrategyInputs& job) : job_(job), pyramid_(job.sampling.image(), job.source) {}
-  void tile(const TileRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
+  void tile(const PixelRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
     const TileMap* tm = kept.map;
     SimdGeometry g;
@@ -144,7 +149,9 @@ class Mip final : public TileStrategy {
         corner, stride, wk.mip);
   }
   // (Its levels' rows reach beyond the taps' positions by the level's pixel size.)
-  bool widen_to_samples(const TileRect&, TileScratch&, std::array<double, 4>&) const override { return false; }
+  bool widen_to_samples(const PixelRect&, TileScratch&, std::array<double, 4>&) const override {
+    return false;
+  }
 
  private:
   StrategyInputs job_;

@@ -29,11 +29,12 @@ class TileStrategy {
  public:
   virtual ~TileStrategy() = default;
   // Writes tile rect of the target at corner (rows of stride bytes); kept: what is kept of it.
-  virtual void tile(const TileRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
-                    TileScratch& wk) const = 0;
+  virtual void tile(const PixelRect& rect, const KeptTile& kept, unsigned char* corner,
+                    int64_t stride, TileScratch& wk) const = 0;
   // Widens box {x0, y0, x1, y1} to the source positions tile() samples there (pixel centres or
   // sub-pixels; the kernels' taps reach around them); false where it cannot tell (mip).
-  virtual bool widen_to_samples(const TileRect& rect, TileScratch& wk, std::array<double, 4>& b) const = 0;
+  virtual bool widen_to_samples(const PixelRect& rect, TileScratch& wk,
+                                std::array<double, 4>& b) const = 0;
 };
 
 // The strategy for antialias (mip builds the source's levels as its tiles read them).

@@ -20,8 +20,8 @@ const Lagrange kLagrange;
 }  // namespace
 
 void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
-              TileRect rect, TileMap& out, bool exact) {
-  const auto n = static_cast<size_t>(rect.w * rect.h);
+              PixelRect rect, TileMap& out, bool exact) {
+  const auto n = static_cast<size_t>(rect.width() * rect.height());
   out.rect = rect;
   out.xs.resize(n);
   out.ys.resize(n);
@@ -29,7 +29,7 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
   out.exact_cells = out.interpolated_cells = 0;
 
   // Node i sits at offset (i - 1) * kCell from the tile's corner.
-  const int64_t ncx = (rect.w + kCell - 1) / kCell, ncy = (rect.h + kCell - 1) / kCell;
+  const int64_t ncx = (rect.width() + kCell - 1) / kCell, ncy = (rect.height() + kCell - 1) / kCell;
   const int64_t nx = ncx + 3, ny = ncy + 3;
   std::vector<double> nxs(static_cast<size_t>(nx * ny)), nys(nxs.size());
   std::vector<uint8_t> nok(nxs.size());
@@ -45,8 +45,8 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
   std::array<uint8_t, kCell> rok;
   for (int64_t cy = 0; cy < ncy; ++cy)
     for (int64_t cx = 0; cx < ncx; ++cx) {
-      const int64_t w = std::min<int64_t>(kCell, rect.w - cx * kCell);
-      const int64_t h = std::min<int64_t>(kCell, rect.h - cy * kCell);
+      const int64_t w = std::min<int64_t>(kCell, rect.width() - cx * kCell);
+      const int64_t h = std::min<int64_t>(kCell, rect.height() - cy * kCell);
       const int64_t px0 = rect.x0 + cx * kCell, py0 = rect.y0 + cy * kCell;
       // The cell's 4x4 stencil starts at node (cx, cy), one cell up and left.
       auto node = [&](int a, int b) { return static_cast<size_t>((cy + b) * nx + cx + a); };
@@ -111,7 +111,7 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
             cx4[a] = wj[0] * gx[0][a] + wj[1] * gx[1][a] + wj[2] * gx[2][a] + wj[3] * gx[3][a];
             cy4[a] = wj[0] * gy[0][a] + wj[1] * gy[1][a] + wj[2] * gy[2][a] + wj[3] * gy[3][a];
           }
-          const size_t row = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell);
+          const size_t row = static_cast<size_t>((cy * kCell + j) * rect.width() + cx * kCell);
           for (int64_t i = 0; i < w; ++i) {
             const double* wi = kLagrange.w[i];
             double sx = wi[0] * cx4[0] + wi[1] * cx4[1] + wi[2] * cx4[2] + wi[3] * cx4[3];
@@ -138,7 +138,8 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
               const bool all = d.covers(static_cast<double>(px0) + 0.5, static_cast<double>(py0) + 0.5,
                                         static_cast<double>(px0 + w) - 0.5, static_cast<double>(py0 + h) - 0.5);
               for (int64_t j = 0; j < h; ++j) {
-                const size_t row = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell);
+                const size_t row =
+                    static_cast<size_t>((cy * kCell + j) * rect.width() + cx * kCell);
                 const double py = static_cast<double>(py0 + j) + 0.5;
                 for (int64_t i = 0; i < w; ++i)
                   out.ok[row + i] = all || d.contains(static_cast<double>(px0 + i) + 0.5, py);
@@ -149,7 +150,8 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
             [&](const auto& sp) {
               if (sp.covers(bx0, by0, bx1, by1)) return;
               for (int64_t j = 0; j < h; ++j) {
-                const size_t row = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell);
+                const size_t row =
+                    static_cast<size_t>((cy * kCell + j) * rect.width() + cx * kCell);
                 for (int64_t i = 0; i < w; ++i)
                   out.ok[row + i] = out.ok[row + i] && sp.contains(out.xs[row + i], out.ys[row + i]);
               }
@@ -162,7 +164,7 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
           for (int64_t i = 0; i < w; ++i) rays[i] = rotation * rays[i];
           to_pixel_row(src, rays.data(), w, rx.data(), ry.data(), rok.data());
           for (int64_t i = 0; i < w; ++i) {
-            const size_t k = static_cast<size_t>((cy * kCell + j) * rect.w + cx * kCell + i);
+            const size_t k = static_cast<size_t>((cy * kCell + j) * rect.width() + cx * kCell + i);
             out.xs[k] = rx[i];
             out.ys[k] = ry[i];
             out.ok[k] = rok[i];

@@ -30,12 +30,8 @@ constexpr void lagrange_cubic(double t, double w[4]) {
   w[3] = (t + 1) * t * (t - 1) / 6;
 }
 
-struct TileRect {
-  int64_t x0, y0, w, h;
-};
-
 struct TileMap {
-  TileRect rect{};
+  PixelRect rect{};
   std::vector<double> xs, ys;  // rect.w * rect.h source positions, row-major
   std::vector<uint8_t> ok;     // 1 where the output pixel has a source position
   int64_t exact_cells = 0, interpolated_cells = 0;
@@ -46,6 +42,6 @@ struct TileMap {
 inline constexpr double kMapEdgeGuard = 1.0 / 64;
 
 void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
-              TileRect rect, TileMap& out, bool exact = false);
+              PixelRect rect, TileMap& out, bool exact = false);
 
 }  // namespace panoproj

@@ -20,19 +20,19 @@ std::vector<int64_t> node_offsets(int64_t n) {
 double angle_between(const Ray& a, const Ray& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 
 template <class T>
-void blend_typed(const float* w, const TileRect& rect, float unit, int nc, int alpha, unsigned char* a, int64_t as,
-                 const unsigned char* b, int64_t bs) {
+void blend_typed(const float* w, const PixelRect& rect, float unit, int nc, int alpha,
+                 unsigned char* a, int64_t as, const unsigned char* b, int64_t bs) {
   // The results are convex combinations of two samples, so within their type's range: integers
   // round by adding 1/2.
   auto store = [](T* p, float v) {
     if constexpr (std::is_integral_v<T>) *p = static_cast<T>(v + 0.5f);
     else *p = static_cast<T>(v);
   };
-  for (int64_t j = 0; j < rect.h; ++j) {
+  for (int64_t j = 0; j < rect.height(); ++j) {
     T* pa = reinterpret_cast<T*>(a + j * as);
     const T* pb = reinterpret_cast<const T*>(b + j * bs);
-    const float* wr = w + j * rect.w;
-    for (int64_t i = 0; i < rect.w; ++i, pa += nc, pb += nc) {
+    const float* wr = w + j * rect.width();
+    for (int64_t i = 0; i < rect.width(); ++i, pa += nc, pb += nc) {
       const float w0 = wr[i];
       if (w0 == 1.0f) continue;
       if (w0 == 0.0f) {
@@ -55,9 +55,9 @@ void blend_typed(const float* w, const TileRect& rect, float unit, int nc, int a
 
 }  // namespace
 
-int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Matrix3d& rotation, const TileRect& rect,
-                 std::vector<float>& w) {
-  const std::vector<int64_t> nx = node_offsets(rect.w), ny = node_offsets(rect.h);
+int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Matrix3d& rotation,
+                 const PixelRect& rect, std::vector<float>& w) {
+  const std::vector<int64_t> nx = node_offsets(rect.width()), ny = node_offsets(rect.height());
   const size_t cols = nx.size();
   std::vector<Ray> rays(cols * ny.size());
   std::vector<double> m0(rays.size()), m1(rays.size());
@@ -72,14 +72,15 @@ int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Ma
       ray = rotation * ray;
       m0[r * cols + c] = d.margin(0, ray), m1[r * cols + c] = d.margin(1, ray);
     }
-  w.resize(static_cast<size_t>(rect.w * rect.h));
+  w.resize(static_cast<size_t>(rect.width() * rect.height()));
   if (!all_rays) {  // an outline crosses the tile: every pixel exactly
-    for (int64_t j = 0; j < rect.h; ++j)
-      for (int64_t i = 0; i < rect.w; ++i) {
+    for (int64_t j = 0; j < rect.height(); ++j)
+      for (int64_t i = 0; i < rect.width(); ++i) {
         Ray ray;
         const bool has = to_ray(target, static_cast<double>(rect.x0 + i) + 0.5, static_cast<double>(rect.y0 + j) + 0.5, ray);
         if (has) ray = rotation * ray;
-        w[static_cast<size_t>(j * rect.w + i)] = has ? static_cast<float>(d.weight0(d.margin(0, ray), d.margin(1, ray))) : 1.0f;
+        w[static_cast<size_t>(j * rect.width() + i)] =
+            has ? static_cast<float>(d.weight0(d.margin(0, ray), d.margin(1, ray))) : 1.0f;
       }
     return -1;
   }
@@ -105,7 +106,7 @@ int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Ma
   // j at each node column (a0, a1), then along the row.
   std::vector<double> a0(cols), a1(cols);
   size_t r = 0;
-  for (int64_t j = 0; j < rect.h; ++j) {
+  for (int64_t j = 0; j < rect.height(); ++j) {
     while (r + 2 < ny.size() && ny[r + 1] <= j) ++r;
     const size_t r1 = std::min(r + 1, ny.size() - 1);
     const double ty = r1 > r ? static_cast<double>(j - ny[r]) / static_cast<double>(ny[r1] - ny[r]) : 0.0;
@@ -113,7 +114,7 @@ int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Ma
       a0[c] = m0[r * cols + c] + ty * (m0[r1 * cols + c] - m0[r * cols + c]);
       a1[c] = m1[r * cols + c] + ty * (m1[r1 * cols + c] - m1[r * cols + c]);
     }
-    float* row = w.data() + j * rect.w;
+    float* row = w.data() + j * rect.width();
     if (cols == 1) {
       row[0] = static_cast<float>(d.weight0(a0[0], a1[0]));
       continue;
@@ -121,7 +122,7 @@ int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Ma
     for (size_t c = 0; c + 1 < cols; ++c) {
       const double inv = 1.0 / static_cast<double>(nx[c + 1] - nx[c]);
       const double d0 = (a0[c + 1] - a0[c]) * inv, d1 = (a1[c + 1] - a1[c]) * inv;
-      for (int64_t i = nx[c]; i < (c + 2 < cols ? nx[c + 1] : rect.w); ++i) {
+      for (int64_t i = nx[c]; i < (c + 2 < cols ? nx[c + 1] : rect.width()); ++i) {
         const auto t = static_cast<double>(i - nx[c]);
         row[i] = static_cast<float>(d.weight0(a0[c] + t * d0, a1[c] + t * d1));
       }
@@ -130,8 +131,8 @@ int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Ma
   return -1;
 }
 
-void blend_lenses(const float* w, const TileRect& rect, PixelType type, int channels, int alpha, unsigned char* a,
-                  int64_t a_stride, const unsigned char* b, int64_t b_stride) {
+void blend_lenses(const float* w, const PixelRect& rect, PixelType type, int channels, int alpha,
+                  unsigned char* a, int64_t a_stride, const unsigned char* b, int64_t b_stride) {
   const auto unit = static_cast<float>(unit_of(type));
   with_sample_type(type, [&](auto t) {
     blend_typed<decltype(t)>(w, rect, unit, channels, alpha, a, a_stride, b, b_stride);

@@ -19,12 +19,12 @@ namespace panoproj {
 // the nodes clear the ramp by more than the nodes' spacing can hide), -1 when w (rect.w x rect.h,
 // row-major) holds the weights. A tile with a node without a ray gets exact weights per pixel.
 inline constexpr int kDualNodeStep = 8;
-int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Matrix3d& rotation, const TileRect& rect,
-                 std::vector<float>& w);
+int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Matrix3d& rotation,
+                 const PixelRect& rect, std::vector<float>& w);
 
 // a = w a + (1 - w) b over the rect's pixels (rows of a_stride and b_stride bytes); with an alpha
 // channel, the colours blend weighted by their alphas (premultiplied).
-void blend_lenses(const float* w, const TileRect& rect, PixelType type, int channels, int alpha, unsigned char* a,
-                  int64_t a_stride, const unsigned char* b, int64_t b_stride);
+void blend_lenses(const float* w, const PixelRect& rect, PixelType type, int channels, int alpha,
+                  unsigned char* a, int64_t a_stride, const unsigned char* b, int64_t b_stride);
 
 }  // namespace panoproj

@@ -87,13 +87,14 @@ void finish_typed(const Image& src, const Projection& source, const Projection& 
     const int64_t x1 = std::min(size.width, x0 + kTile), y1 = std::min(size.height, y0 + kTile);
     // With a one-pixel apron: an edge pixel's neighbours may lie in the next tile.
     const int64_t ax0 = std::max<int64_t>(0, x0 - 1), ay0 = std::max<int64_t>(0, y0 - 1);
-    const TileRect apron{ax0, ay0, std::min(size.width, x1 + 1) - ax0, std::min(size.height, y1 + 1) - ay0};
+    const PixelRect apron{ax0, ay0, std::min(size.width, x1 + 1), std::min(size.height, y1 + 1)};
     const bool composite = fill.colour && alpha >= 0;  // translucent pixels go over the colour too
     const bool frame_edge = x0 == 0 || y0 == 0 || x1 == size.width || y1 == size.height;
     const bool covered = std::visit(
         [&](const auto& q) {
           return q.covers(static_cast<double>(apron.x0) + 0.5, static_cast<double>(apron.y0) + 0.5,
-                          static_cast<double>(apron.x0 + apron.w) - 0.5, static_cast<double>(apron.y0 + apron.h) - 0.5);
+                          static_cast<double>(apron.x0 + apron.width()) - 0.5,
+                          static_cast<double>(apron.y0 + apron.height()) - 0.5);
         },
         target);
     if (whole && covered && !composite) return;
@@ -113,7 +114,7 @@ void finish_typed(const Image& src, const Projection& source, const Projection& 
     if (n_ok == static_cast<int64_t>(tm.ok.size()) && !composite && !(fill.soft && frame_edge)) return;
     // Whether each pixel's 3x3 neighbourhood (within the frame) is uniform: the validity's
     // minimum and maximum over 3 columns, then over 3 rows.
-    const int64_t aw = apron.w, ah = apron.h;
+    const int64_t aw = apron.width(), ah = apron.height();
     std::vector<uint8_t> lo(tm.ok.size()), hi(tm.ok.size());
     for (int64_t r = 0; r < ah; ++r)
       for (int64_t i = 0; i < aw; ++i) {

@@ -50,11 +50,11 @@ double x_density(const Projection& source, double x, double y) {
 
 }  // namespace
 
-FootprintField FootprintField::for_rect(const TileRect& tile, const TileRect& rect, int n) const {
+FootprintField FootprintField::for_rect(const PixelRect& tile, const PixelRect& rect, int n) const {
   // Sub-pixel X of the n-times target lies at output position (X + 0.5) / n - 0.5.
   FootprintField f = *this;
-  const auto per_u = tile.w > 1 ? 2.0 / static_cast<double>(tile.w - 1) : 0.0;
-  const auto per_v = tile.h > 1 ? 2.0 / static_cast<double>(tile.h - 1) : 0.0;
+  const auto per_u = tile.width() > 1 ? 2.0 / static_cast<double>(tile.width() - 1) : 0.0;
+  const auto per_v = tile.height() > 1 ? 2.0 / static_cast<double>(tile.height() - 1) : 0.0;
   f.u0 = static_cast<float>(((static_cast<double>(rect.x0) + 0.5) / n - 0.5 - static_cast<double>(tile.x0)) * per_u);
   f.v0 = static_cast<float>(((static_cast<double>(rect.y0) + 0.5) / n - 0.5 - static_cast<double>(tile.y0)) * per_v);
   f.du = static_cast<float>(per_u / n), f.dv = static_cast<float>(per_v / n);
@@ -62,8 +62,9 @@ FootprintField FootprintField::for_rect(const TileRect& tile, const TileRect& re
   return f;
 }
 
-FootprintSides footprint_field(const Projection& source, const Projection& target, const Eigen::Matrix3d& rotation,
-                               const TileRect& rect, double wrap_width, FootprintField& field) {
+FootprintSides footprint_field(const Projection& source, const Projection& target,
+                               const Eigen::Matrix3d& rotation, const PixelRect& rect,
+                               double wrap_width, FootprintField& field) {
   const auto wrap = static_cast<float>(wrap_width);
   std::array<float, 9> sides{}, split_sides{};
   std::array<bool, 9> has{};
@@ -71,8 +72,10 @@ FootprintSides footprint_field(const Projection& source, const Projection& targe
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) {
       const int q = 3 * r + c;
-      const double px = static_cast<double>(rect.x0) + 0.5 + 0.5 * c * static_cast<double>(rect.w - 1);
-      const double py = static_cast<double>(rect.y0) + 0.5 + 0.5 * r * static_cast<double>(rect.h - 1);
+      const double px =
+          static_cast<double>(rect.x0) + 0.5 + 0.5 * c * static_cast<double>(rect.width() - 1);
+      const double py =
+          static_cast<double>(rect.y0) + 0.5 + 0.5 * r * static_cast<double>(rect.height() - 1);
       double x, y;
       if (!source_pixel(source, target, rotation, px, py, x, y)) continue;
       auto step = [&](double dx, double dy, float& sx, float& sy) {  // to the neighbour (px + dx, py + dy); NaN: none

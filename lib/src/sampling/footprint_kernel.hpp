@@ -42,7 +42,7 @@ struct FootprintField {
   void at(int64_t i, int64_t j, float& wx, float& wy) const;
   // The field of tile for rect pixels of the target n times finer (its sub-pixels; n = 1: the
   // tile's own pixels, rect = tile).
-  FootprintField for_rect(const TileRect& tile, const TileRect& rect, int n) const;
+  FootprintField for_rect(const PixelRect& tile, const PixelRect& rect, int n) const;
 };
 
 // The field of output tile rect, and its footprint's side: the median over the points of the
@@ -57,7 +57,8 @@ struct FootprintField {
 struct FootprintSides {
   double side, split;
 };
-FootprintSides footprint_field(const Projection& source, const Projection& target, const Eigen::Matrix3d& rotation,
-                               const TileRect& rect, double wrap_width, FootprintField& field);
+FootprintSides footprint_field(const Projection& source, const Projection& target,
+                               const Eigen::Matrix3d& rotation, const PixelRect& rect,
+                               double wrap_width, FootprintField& field);
 
 }  // namespace panoproj

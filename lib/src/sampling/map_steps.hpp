@@ -25,7 +25,7 @@ inline bool shorter_step(float bx, float by, float ax, float ay, float wrap, flo
 // Pixel (i, j)'s steps in tile map tm along the output's x (ux, uy) and y (vx, vy); false where
 // it has no position or either step is missing.
 inline bool pixel_steps(const TileMap& tm, int64_t i, int64_t j, float wrap, float& ux, float& uy, float& vx, float& vy) {
-  const int64_t w = tm.rect.w, k = j * w + i;
+  const int64_t w = tm.rect.width(), k = j * w + i;
   ux = uy = vx = vy = 0.0f;
   if (!tm.ok[k]) return false;
   auto step = [&](int64_t q, float& dx, float& dy) {  // k -> q (NaN: none)
@@ -35,7 +35,7 @@ inline bool pixel_steps(const TileMap& tm, int64_t i, int64_t j, float wrap, flo
   float bx, by, ax, ay;
   step(i > 0 ? k - 1 : -1, bx, by), step(i + 1 < w ? k + 1 : -1, ax, ay);
   if (!shorter_step(bx, by, ax, ay, wrap, ux, uy)) return false;
-  step(j > 0 ? k - w : -1, bx, by), step(j + 1 < tm.rect.h ? k + w : -1, ax, ay);
+  step(j > 0 ? k - w : -1, bx, by), step(j + 1 < tm.rect.height() ? k + w : -1, ax, ay);
   return shorter_step(bx, by, ax, ay, wrap, vx, vy);
 }
 

@@ -16,8 +16,8 @@ namespace panoproj {
 
 void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_width, const LevelSampler& sample,
                      unsigned char* out, int64_t out_stride, MipScratch& s) {
-  const TileRect& rect = tm.rect;
-  const int64_t w = rect.w, n = rect.w * rect.h;
+  const PixelRect& rect = tm.rect;
+  const int64_t w = rect.width(), n = rect.width() * rect.height();
   const Image& src = pyramid.image(0);
   const int nc = src.channels(), alpha = src.alpha_channel();
   const auto pb = static_cast<int64_t>(src.pixel_bytes());
@@ -33,7 +33,7 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
   float* f = s.rho.data();
   int top = 0;           // the deepest level in use
   bool level0 = false;  // some pixel uses level 0
-  for (int64_t j = 0; j < rect.h; ++j)
+  for (int64_t j = 0; j < rect.height(); ++j)
     for (int64_t i = 0; i < w; ++i) {
       const int64_t k = j * w + i;
       float ux, uy, vx, vy;
@@ -67,7 +67,8 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
     std::copy(tm.ys.begin(), tm.ys.end(), lm.ys.begin());
     sample(0, lm, out, out_stride);
   } else {
-    for (int64_t j = 0; j < rect.h; ++j) std::memset(out + j * out_stride, 0, static_cast<size_t>(w * pb));
+    for (int64_t j = 0; j < rect.height(); ++j)
+      std::memset(out + j * out_stride, 0, static_cast<size_t>(w * pb));
   }
   if (top == 0) return;
   // The others: weighted sums per channel, colour premultiplied by alpha where there is one.
@@ -78,14 +79,15 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
     const double unit = unit_of(src.type());
     // Adds weight wt (per pixel of the rows, 0: none) times the samples of rows [0, h) of `from`.
     auto add = [&](const unsigned char* from, int64_t stride, auto&& weight) {
-      for (int64_t j = 0; j < rect.h; ++j) {
+      for (int64_t j = 0; j < rect.height(); ++j) {
         const unsigned char* p = from + j * stride;
         float* a = s.acc.data() + j * w * nc;
         for (int64_t i = 0; i < w; ++i, p += pb, a += nc) {
           const float wt = weight(j * w + i);
           if (wt == 0.0f) continue;
           if (alpha < 0) {
-            for (int c = 0; c < nc; ++c) a[c] += wt * static_cast<float>(load<T>(p + c * sizeof(T)));
+            for (int c = 0; c < nc; ++c)
+              a[c] += wt * static_cast<float>(load<T>(p + c * sizeof(T)));
             continue;
           }
           const double cover = load<T>(p + alpha * sizeof(T)) / unit;
@@ -110,7 +112,7 @@ void sample_mip_tile(const Pyramid& pyramid, const TileMap& tm, double wrap_widt
         return lm.ok[k] ? (s.level[k] == level ? 1.0f - f[k] : f[k]) : 0.0f;
       });
     }
-    for (int64_t j = 0; j < rect.h; ++j) {
+    for (int64_t j = 0; j < rect.height(); ++j) {
       unsigned char* p = out + j * out_stride;
       const float* a = s.acc.data() + j * w * nc;
       for (int64_t i = 0; i < w; ++i, p += pb, a += nc) {

@@ -751,31 +751,32 @@ HWY_NOINLINE int PlanMapRows(const SimdSource& s, int K, const TileMap& tm, int6
                              SimdMisses& misses) {
   const DD dd;
   const auto N = static_cast<int64_t>(hn::Lanes(dd));
-  const TileRect& rect = tm.rect;
+  const PixelRect& rect = tm.rect;
   const Bounds<DD> b(s);
   HWY_ALIGN double bx[kMaxLanes], by[kMaxLanes], bo[kMaxLanes];
   ChunkMisses chunk;
   int n = 0;
   for (int64_t j = j0; j < j1; ++j)
-    for (int64_t i = 0; i < rect.w; i += N) {
-      const int64_t m = std::min(N, rect.w - i);
-      const size_t k = static_cast<size_t>(j * rect.w + i);
+    for (int64_t i = 0; i < rect.width(); i += N) {
+      const int64_t m = std::min(N, rect.width() - i);
+      const size_t k = static_cast<size_t>(j * rect.width() + i);
       for (int64_t l = 0; l < N; ++l) {
         bx[l] = l < m ? tm.xs[k + l] : 0.0;
         by[l] = l < m ? tm.ys[k + l] : 0.0;
         bo[l] = l < m && tm.ok[k + l] ? 1.0 : 0.0;
       }
       if (s.footprint) FieldLanes(*s.footprint, i, j, blk[n]);
-      PlanLanes(s, K, b, hn::Load(dd, bx), hn::Load(dd, by), hn::Ne(hn::Load(dd, bo), hn::Zero(dd)), j * rect.w + i, m,
-                blk[n++], chunk);
+      PlanLanes(s, K, b, hn::Load(dd, bx), hn::Load(dd, by), hn::Ne(hn::Load(dd, bo), hn::Zero(dd)),
+                j * rect.width() + i, m, blk[n++], chunk);
     }
   chunk.append_to(misses);
   return n;
 }
 
 // Phase 1 for rows [j0, j1) of a fused tile: the geometry in registers, then the taps.
-HWY_NOINLINE int PlanFusedRows(const SimdSource& s, int K, const TileRows& rows, const TileRect& rect, int64_t j0,
-                               int64_t j1, TapBlock* blk, SimdMisses& misses) {
+HWY_NOINLINE int PlanFusedRows(const SimdSource& s, int K, const TileRows& rows,
+                               const PixelRect& rect, int64_t j0, int64_t j1, TapBlock* blk,
+                               SimdMisses& misses) {
   const Bounds<DD> bd(s);
   const Bounds<hn::ScalableTag<float>> bf(s);
   ChunkMisses chunk;
@@ -784,9 +785,9 @@ HWY_NOINLINE int PlanFusedRows(const SimdSource& s, int K, const TileRows& rows,
     rows.Row(rect.y0 + j, [&](auto sx, auto sy, auto ok, int64_t i, int64_t m) {
       if (s.footprint) FieldLanes(*s.footprint, i, j, blk[n]);
       if constexpr (std::is_same_v<hn::TFromV<decltype(sx)>, float>) {
-        PlanLanes(s, K, bf, sx, sy, ok, j * rect.w + i, m, blk[n++], chunk);
+        PlanLanes(s, K, bf, sx, sy, ok, j * rect.width() + i, m, blk[n++], chunk);
       } else {
-        PlanLanes(s, K, bd, sx, sy, ok, j * rect.w + i, m, blk[n++], chunk);
+        PlanLanes(s, K, bd, sx, sy, ok, j * rect.width() + i, m, blk[n++], chunk);
       }
     });
   chunk.append_to(misses);
@@ -795,16 +796,18 @@ HWY_NOINLINE int PlanFusedRows(const SimdSource& s, int K, const TileRows& rows,
 
 // Chunks of rows of rect: plan(j0, j1, blocks) -> block count, then the gathers.
 template <class Plan>
-void Chunked(const SimdSource& s, Interp interp, const TileRect& rect, int64_t blocks_per_row, unsigned char* out,
-             int64_t out_stride, Plan&& plan) {
+void Chunked(const SimdSource& s, Interp interp, const PixelRect& rect, int64_t blocks_per_row,
+             unsigned char* out, int64_t out_stride, Plan&& plan) {
   if (blocks_per_row > kChunkBlocks)  // a row must fit a chunk: rects up to kTile wide do
-    throw InternalError("a " + std::to_string(rect.w) + "-px rect is wider than the SIMD sampler's chunks (at most " +
-                std::to_string(kTile) + ")");
+    throw InternalError("a " + std::to_string(rect.width()) +
+                        "-px rect is wider than the SIMD sampler's chunks (at most " +
+                        std::to_string(kTile) + ")");
   TapBlock blocks[kChunkBlocks];
   const int64_t rows = std::max<int64_t>(1, kChunkBlocks / blocks_per_row);
-  for (int64_t j0 = 0; j0 < rect.h; j0 += rows) {
-    const int n = plan(j0, std::min(rect.h, j0 + rows), blocks);
-    Dispatch<GatherF>(s.type, interp, s, static_cast<const TapBlock*>(blocks), n, rect.w, out, out_stride);
+  for (int64_t j0 = 0; j0 < rect.height(); j0 += rows) {
+    const int n = plan(j0, std::min(rect.height(), j0 + rows), blocks);
+    Dispatch<GatherF>(s.type, interp, s, static_cast<const TapBlock*>(blocks), n, rect.width(), out,
+                      out_stride);
   }
 }
 
@@ -841,9 +844,10 @@ void SampleMap(const SimdSource& source, Interp interp, const TileMap& tm, unsig
   s.dering = derings(interp) && !footprint, s.footprint = footprint;
   const Interp k = KernelFor(interp, footprint);
   const auto N = static_cast<int64_t>(hn::Lanes(DD()));
-  Chunked(s, k, tm.rect, (tm.rect.w + N - 1) / N, out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
-    return PlanMapRows(s, support(k), tm, j0, j1, blk, misses);
-  });
+  Chunked(s, k, tm.rect, (tm.rect.width() + N - 1) / N, out, out_stride,
+          [&](int64_t j0, int64_t j1, TapBlock* blk) {
+            return PlanMapRows(s, support(k), tm, j0, j1, blk, misses);
+          });
 }
 
 // Copies n planned blocks' taps and weights (compact) or fractions into record (PlannedTaps' layout).
@@ -869,15 +873,15 @@ HWY_NOINLINE void RecordBlocks(const TapBlock* blocks, int n, PlannedTaps& recor
 // footprint kernel's widths from its field, as phase 1), their taps prefetched, then phase 2.
 template <PixelType PT, class T, int K>
 struct ReplayF {
-  static void run(const PlannedTaps& p, const TileRect& rect, const SimdSource& s, unsigned char* out,
-                  int64_t out_stride) {
+  static void run(const PlannedTaps& p, const PixelRect& rect, const SimdSource& s,
+                  unsigned char* out, int64_t out_stride) {
     const auto N = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>()));
     const int64_t pb = s.channels * static_cast<int64_t>(sizeof(T));
     TapBlock blocks[kChunkBlocks];
     int n = 0;
-    for (int64_t j = 0; j < rect.h; ++j)
-      for (int64_t i = 0; i < rect.w; i += N) {
-        const int64_t at = j * rect.w + i, m = std::min(N, rect.w - i);
+    for (int64_t j = 0; j < rect.height(); ++j)
+      for (int64_t i = 0; i < rect.width(); i += N) {
+        const int64_t at = j * rect.width() + i, m = std::min(N, rect.width() - i);
         TapBlock& b = blocks[n++];
         b.base = s.base, b.index = at, b.m = m;
         std::memcpy(b.off, p.off.data() + at, static_cast<size_t>(N) * 4);  // (lanes past m: unused)
@@ -892,8 +896,8 @@ struct ReplayF {
           hwy::Prefetch(s.base + first + r * s.stride);
           hwy::Prefetch(s.base + last + r * s.stride + (K - 1) * pb);
         }
-        if (n == kChunkBlocks || (j == rect.h - 1 && i + N >= rect.w)) {
-          GatherBlocks<PT, T, K>(s, blocks, n, rect.w, out, out_stride);
+        if (n == kChunkBlocks || (j == rect.height() - 1 && i + N >= rect.width())) {
+          GatherBlocks<PT, T, K>(s, blocks, n, rect.width(), out, out_stride);
           n = 0;
         }
       }
@@ -903,18 +907,18 @@ struct ReplayF {
 #if HWY_TARGET != HWY_SCALAR
 // The pixels of rect from kept compact taps: phase 2 alone, each vector's taps prefetched a few
 // rows ahead (the planning's prefetches did that before).
-HWY_NOINLINE void ReplayCompact(const PlannedTaps& p, const TileRect& rect, const SimdSource& s, unsigned char* out,
-                         int64_t out_stride) {
+HWY_NOINLINE void ReplayCompact(const PlannedTaps& p, const PixelRect& rect, const SimdSource& s,
+                                unsigned char* out, int64_t out_stride) {
   const TapPairs::DU du;
   const auto N = static_cast<int64_t>(hn::Lanes(du));
-  const int64_t pb = s.channels, total = rect.w * rect.h;
+  const int64_t pb = s.channels, total = rect.width() * rect.height();
   constexpr int64_t kAhead = 4 * kTile;  // pixels
   static_assert(kMaxLanes <= PlannedTaps::kPad);
   const int32_t* off = p.off.data();
-  for (int64_t j = 0; j < rect.h; ++j) {
+  for (int64_t j = 0; j < rect.height(); ++j) {
     unsigned char* row = out + j * out_stride;
-    for (int64_t i = 0; i < rect.w; i += N) {
-      const int64_t at = j * rect.w + i, m = std::min(N, rect.w - i);
+    for (int64_t i = 0; i < rect.width(); i += N) {
+      const int64_t at = j * rect.width() + i, m = std::min(N, rect.width() - i);
       if (at + kAhead + N <= total) {
         const int32_t first = off[at + kAhead], last = off[at + kAhead + N - 1];
         if (first >= 0) hwy::Prefetch(s.base + first), hwy::Prefetch(s.base + first + s.stride);
@@ -926,19 +930,21 @@ HWY_NOINLINE void ReplayCompact(const PlannedTaps& p, const TileRect& rect, cons
 }
 #endif
 
-void Convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& source, Interp interp, unsigned char* out,
-             int64_t out_stride, SimdMisses& misses, const FootprintField* footprint, PlannedTaps* record) {
+void Convert(const SimdGeometry& g, const PixelRect& rect, const SimdSource& source, Interp interp,
+             unsigned char* out, int64_t out_stride, SimdMisses& misses,
+             const FootprintField* footprint, PlannedTaps* record) {
   SimdSource s = source;
   s.dering = derings(interp) && !footprint, s.footprint = footprint;
   const Interp k = KernelFor(interp, footprint);
   const auto NF = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>())), ND = static_cast<int64_t>(hn::Lanes(DD()));
   const TileRows rows(g, rect, grid_suits(s.type));
   // A coarse float vector becomes NF / ND double blocks.
-  Chunked(s, k, rect, (rect.w + NF - 1) / NF * ((NF + ND - 1) / ND), out, out_stride, [&](int64_t j0, int64_t j1, TapBlock* blk) {
-    const int n = PlanFusedRows(s, support(k), rows, rect, j0, j1, blk, misses);
-    if (record) RecordBlocks(blk, n, *record);
-    return n;
-  });
+  Chunked(s, k, rect, (rect.width() + NF - 1) / NF * ((NF + ND - 1) / ND), out, out_stride,
+          [&](int64_t j0, int64_t j1, TapBlock* blk) {
+            const int n = PlanFusedRows(s, support(k), rows, rect, j0, j1, blk, misses);
+            if (record) RecordBlocks(blk, n, *record);
+            return n;
+          });
 }
 
 bool KeepsTaps(const SimdSource& s) { return Bounds<DD>(s).whole; }
@@ -948,8 +954,9 @@ bool KeepsCompactTaps(const SimdSource& s, Interp interp, const FootprintField* 
   return HWY_TARGET != HWY_SCALAR && s.type == PixelType::U8 && s.alpha < 0 && interp == Interp::Bilinear && !footprint;
 }
 
-void ReplayTaps(const PlannedTaps& p, const TileRect& rect, const SimdSource& source, Interp interp,
-                const FootprintField* footprint, unsigned char* out, int64_t out_stride) {
+void ReplayTaps(const PlannedTaps& p, const PixelRect& rect, const SimdSource& source,
+                Interp interp, const FootprintField* footprint, unsigned char* out,
+                int64_t out_stride) {
   SimdSource s = source;
   s.dering = derings(interp) && !footprint, s.footprint = footprint;
 #if HWY_TARGET != HWY_SCALAR
@@ -979,9 +986,9 @@ void simd_sample(const SimdSource& src, Interp interp, const TileMap& tm, unsign
   HWY_DYNAMIC_DISPATCH(SampleMap)(src, interp, tm, out, out_stride, misses, footprint);
 }
 
-void simd_convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& src, Interp interp,
-                  unsigned char* out, int64_t out_stride, SimdMisses& misses, const FootprintField* footprint,
-                  PlannedTaps* record) {
+void simd_convert(const SimdGeometry& g, const PixelRect& rect, const SimdSource& src,
+                  Interp interp, unsigned char* out, int64_t out_stride, SimdMisses& misses,
+                  const FootprintField* footprint, PlannedTaps* record) {
   HWY_DYNAMIC_DISPATCH(Convert)(g, rect, src, interp, out, out_stride, misses, footprint, record);
 }
 
@@ -991,8 +998,9 @@ bool keeps_compact_taps(const SimdSource& src, Interp interp, const FootprintFie
   return HWY_DYNAMIC_DISPATCH(KeepsCompactTaps)(src, interp, footprint);
 }
 
-void simd_replay(const PlannedTaps& taps, const TileRect& rect, const SimdSource& src, Interp interp,
-                 const FootprintField* footprint, unsigned char* out, int64_t out_stride) {
+void simd_replay(const PlannedTaps& taps, const PixelRect& rect, const SimdSource& src,
+                 Interp interp, const FootprintField* footprint, unsigned char* out,
+                 int64_t out_stride) {
   HWY_DYNAMIC_DISPATCH(ReplayTaps)(taps, rect, src, interp, footprint, out, out_stride);
 }
 

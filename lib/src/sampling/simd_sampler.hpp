@@ -59,9 +59,9 @@ inline bool grid_suits(PixelType t) { return t == PixelType::U8; }
 // The same for the output pixels of rect in g's target, the positions from the vector geometry
 // (g must be valid for rect; on its grid where grid_suits(src.type)): no map is stored.
 // record: also keep the rect's planned taps and misses there (only where keeps_taps()).
-void simd_convert(const SimdGeometry& g, const TileRect& rect, const SimdSource& src, Interp interp,
-                  unsigned char* out, int64_t out_stride, SimdMisses& misses, const FootprintField* footprint = nullptr,
-                  PlannedTaps* record = nullptr);
+void simd_convert(const SimdGeometry& g, const PixelRect& rect, const SimdSource& src,
+                  Interp interp, unsigned char* out, int64_t out_stride, SimdMisses& misses,
+                  const FootprintField* footprint = nullptr, PlannedTaps* record = nullptr);
 
 // Whether the samples of src can be kept as planned taps (planned_taps.hpp): a window under 2 GB
 // (int32 offsets from its first pixel).
@@ -73,8 +73,9 @@ bool keeps_compact_taps(const SimdSource& src, Interp interp, const FootprintFie
 // The rect's pixels from taps recorded by simd_convert on a source of src's layout with interp
 // and footprint (the field over the rect again; the misses, taps.misses, are left to the caller,
 // as simd_convert's).
-void simd_replay(const PlannedTaps& taps, const TileRect& rect, const SimdSource& src, Interp interp,
-                 const FootprintField* footprint, unsigned char* out, int64_t out_stride);
+void simd_replay(const PlannedTaps& taps, const PixelRect& rect, const SimdSource& src,
+                 Interp interp, const FootprintField* footprint, unsigned char* out,
+                 int64_t out_stride);
 
 // Name of the SIMD target the dispatcher picks now (e.g. "AVX2").
 const char* simd_target_name();

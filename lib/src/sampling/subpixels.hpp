@@ -9,7 +9,7 @@ namespace panoproj {
 
 // sub: the n x n-times rect's samples (rows of sub_stride bytes) in src's pixel layout; writes the
 // rect's pixels into out (rows of out_stride bytes). Colour is averaged premultiplied by alpha.
-void average_subpixels(const Image& src, const unsigned char* sub, int64_t sub_stride, const TileRect& rect, int n,
-                       unsigned char* out, int64_t out_stride);
+void average_subpixels(const Image& src, const unsigned char* sub, int64_t sub_stride,
+                       const PixelRect& rect, int n, unsigned char* out, int64_t out_stride);
 
 }  // namespace panoproj

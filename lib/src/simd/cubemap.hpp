@@ -23,13 +23,14 @@ struct CubeFaceRays {
 
 // Returns false unless the whole tile lies inside one face's cell.
 template <class T>
-bool describe(const Cubemap& c, const TileRect& rect, const Eigen::Matrix3d& rotation, CubeFaceRays<T>& l) {
+bool describe(const Cubemap& c, const PixelRect& rect, const Eigen::Matrix3d& rotation,
+              CubeFaceRays<T>& l) {
   if (!c.uniform()) return false;
   l.angular = c.format().angular;
   const int f = c.face_at(static_cast<double>(rect.x0) + 0.5, static_cast<double>(rect.y0) + 0.5);
   if (f < 0) return false;
   const auto box = c.cell_box(f);
-  if (rect.x0 + rect.w > box[2] || rect.y0 + rect.h > box[3]) return false;
+  if (rect.x0 + rect.width() > box[2] || rect.y0 + rect.height() > box[3]) return false;
   const CubeFace& cf = c.cell_basis(f);
   const Eigen::Vector3d fwd = rotation * cf.fwd, right = rotation * cf.right, down = rotation * cf.down;
   const double ox = static_cast<double>(box[0]), oy = static_cast<double>(box[1]);

@@ -20,12 +20,12 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 // The positions the fused converter computes (TileRows), stored in double.
-void MapTile(const SimdGeometry& g, const TileRect& rect, bool grid, TileMap& out) {
+void MapTile(const SimdGeometry& g, const PixelRect& rect, bool grid, TileMap& out) {
   const TileRows rows(g, rect, grid);
   out.interpolated_cells = rows.grid_cells();
   out.exact_cells = grid && g.grid ? rows.cells() - out.interpolated_cells : 0;
-  for (int64_t j = 0; j < rect.h; ++j) {
-    const size_t row = static_cast<size_t>(j * rect.w);
+  for (int64_t j = 0; j < rect.height(); ++j) {
+    const size_t row = static_cast<size_t>(j * rect.width());
     rows.Row(rect.y0 + j, [&](auto sx, auto sy, auto ok, int64_t i, int64_t m) {
       using D = hn::DFromV<decltype(sx)>;
       using T = hn::TFromD<D>;
@@ -69,11 +69,11 @@ struct Extent {
 
 // Widens box (x0, y0, x1, y1) to the valid source positions of rect's pixels: the same
 // positions as MapTile, reduced in registers instead of stored.
-void TileBounds(const SimdGeometry& g, const TileRect& rect, double* box) {
+void TileBounds(const SimdGeometry& g, const PixelRect& rect, double* box) {
   const TileRows rows(g, rect);
   Extent<hn::ScalableTag<float>> ef;
   Extent<DD> ed;
-  for (int64_t j = 0; j < rect.h; ++j)
+  for (int64_t j = 0; j < rect.height(); ++j)
     rows.Row(rect.y0 + j, [&](auto sx, auto sy, auto ok, int64_t, int64_t) {
       if constexpr (std::is_same_v<hn::TFromV<decltype(sx)>, float>) ef.add(sx, sy, ok);
       else ed.add(sx, sy, ok);
@@ -144,7 +144,8 @@ bool describe_source(const Projection& src, SimdGeometry& g) {
 }
 
 // The target's lanes for the tile; false if the target (or this tile) has no vector form.
-bool describe_target(const Projection& dst, const Eigen::Matrix3d& rotation, const TileRect& rect, SimdGeometry& g) {
+bool describe_target(const Projection& dst, const Eigen::Matrix3d& rotation, const PixelRect& rect,
+                     SimdGeometry& g) {
   using Dst = SimdGeometry::Dst;
   if (const auto* p = std::get_if<Pinhole>(&dst)) {
     g.dst = Dst::Pinhole;
@@ -194,13 +195,15 @@ bool separable(const SimdGeometry& g) {
 
 }  // namespace
 
-bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
-                       const TileRect& rect, SimdGeometry& g) {
+bool simd_geometry_for(const Projection& src, const Projection& dst,
+                       const Eigen::Matrix3d& rotation, const PixelRect& rect, SimdGeometry& g) {
   // A tile inside one half of a dual-fisheye target: that half's lens (camera ray = R_k lens
   // ray). (A dual-fisheye source is sampled one lens at a time, each a fisheye: LensSource.)
   if (const auto* d = std::get_if<DualFisheye>(&dst)) {
     const int k = d->lens_at(static_cast<double>(rect.x0) + 0.5, static_cast<double>(rect.y0) + 0.5);
-    if (d->lens_at(static_cast<double>(rect.x0 + rect.w) - 0.5, static_cast<double>(rect.y0 + rect.h) - 0.5) != k) return false;
+    if (d->lens_at(static_cast<double>(rect.x0 + rect.width()) - 0.5,
+                   static_cast<double>(rect.y0 + rect.height()) - 0.5) != k)
+      return false;
     return simd_geometry_for(src, Projection(d->lens(k)), rotation * d->rotation(k), rect, g);
   }
   g.ld = {};  // unused lanes are 0
@@ -228,12 +231,12 @@ bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen
   return true;
 }
 
-void simd_tile_bounds(const SimdGeometry& g, const TileRect& rect, std::array<double, 4>& box) {
+void simd_tile_bounds(const SimdGeometry& g, const PixelRect& rect, std::array<double, 4>& box) {
   HWY_DYNAMIC_DISPATCH(TileBounds)(g, rect, box.data());
 }
 
-void simd_map_tile(const SimdGeometry& g, const TileRect& rect, TileMap& out, bool grid) {
-  const auto n = static_cast<size_t>(rect.w * rect.h);
+void simd_map_tile(const SimdGeometry& g, const PixelRect& rect, TileMap& out, bool grid) {
+  const auto n = static_cast<size_t>(rect.width() * rect.height());
   out.rect = rect;
   out.xs.resize(n);
   out.ys.resize(n);

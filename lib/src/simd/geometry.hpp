@@ -90,15 +90,15 @@ struct SimdGeometry {
 
 // Describes the pair for one tile; false when the pair (or this tile: a cube tile spanning two
 // face cells) is not supported.
-bool simd_geometry_for(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
-                       const TileRect& rect, SimdGeometry& g);
+bool simd_geometry_for(const Projection& src, const Projection& dst,
+                       const Eigen::Matrix3d& rotation, const PixelRect& rect, SimdGeometry& g);
 
 // Fills out (a TileMap of rect's size) with the source positions of the tile's pixel centres;
 // grid: interpolated between exact nodes where g.grid allows, as the fused uint8 converter.
-void simd_map_tile(const SimdGeometry& g, const TileRect& rect, TileMap& out, bool grid = false);
+void simd_map_tile(const SimdGeometry& g, const PixelRect& rect, TileMap& out, bool grid = false);
 
 // Widens box {x0, y0, x1, y1} to the tile's valid source positions (the same positions, nothing
 // stored: the footprint of a fused tile).
-void simd_tile_bounds(const SimdGeometry& g, const TileRect& rect, std::array<double, 4>& box);
+void simd_tile_bounds(const SimdGeometry& g, const PixelRect& rect, std::array<double, 4>& box);
 
 }  // namespace panoproj

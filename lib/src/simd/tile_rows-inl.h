@@ -138,9 +138,9 @@ class TileRows {
   static constexpr size_t kLanesD = HWY_MAX_BYTES / sizeof(double);
 
   // grid: interpolate between exact nodes where the pair allows it (SimdGeometry::grid).
-  TileRows(const SimdGeometry& g, const TileRect& rect, bool grid = false)
-      : g_(g), x0_(rect.x0), y0_(rect.y0), n_(rect.w) {
-    const bool fits = rect.w <= kMaxTableWidth && rect.h <= kMaxTableWidth;
+  TileRows(const SimdGeometry& g, const PixelRect& rect, bool grid = false)
+      : g_(g), x0_(rect.x0), y0_(rect.y0), n_(rect.width()) {
+    const bool fits = rect.width() <= kMaxTableWidth && rect.height() <= kMaxTableWidth;
     cylinder_ = g.dst == SimdGeometry::Dst::Cylindrical;
     table_ = (g.dst == SimdGeometry::Dst::Equirect || cylinder_) && fits;
     grid_ = grid && g.grid && fits && g.use_float;
@@ -317,10 +317,11 @@ class TileRows {
   // Grid mode (SimdGeometry::grid): node (r, c) at pixel centre (x0 + (c - 1) kGridCell + 1/2,
   // y0 + (r - 1) kGridCell + 1/2); cell (b, a) spans pixels [a, a + 1) kGridCell x [b, b + 1)
   // kGridCell and interpolates nodes b..b+3 x a..a+3.
-  void BuildGrid(const TileRect& rect) {
+  void BuildGrid(const PixelRect& rect) {
     const DD dd;
     const auto ND = static_cast<int64_t>(hn::Lanes(dd));
-    const int64_t ncx = (rect.w + kGridCell - 1) / kGridCell, ncy = (rect.h + kGridCell - 1) / kGridCell;
+    const int64_t ncx = (rect.width() + kGridCell - 1) / kGridCell,
+                  ncy = (rect.height() + kGridCell - 1) / kGridCell;
     const int64_t nnx = ncx + 3, nny = ncy + 3;
     cells_ = ncx * ncy;
     double nx[kGridNodes][kGridNodes], ny[kGridNodes][kGridNodes];

@@ -164,10 +164,10 @@ void plan_memory(ConvertPlan& p) {
   m.written = image_bytes(out, out_channels, bytes_of(out_type));
   require_job_memory(*p.geometry, p.channels, p.type, p.options, add_bytes(m.map, m.converted));
   const auto t0 = std::chrono::steady_clock::now();
-  p.converter.emplace(converter_for(*p.geometry, p.options,
-                                    !keep     ? Keep::Nothing
-                                    : p.batch ? Keep::MapsAndTaps
-                                              : Keep::Maps));
+  p.converter.emplace(*p.geometry, p.options,
+                      !keep     ? Keep::Nothing
+                      : p.batch ? Keep::MapsAndTaps
+                                : Keep::Maps);
   p.need = p.converter->source_footprint();
   p.map_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   m.window =

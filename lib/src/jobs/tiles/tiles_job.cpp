@@ -160,7 +160,7 @@ void render_parts(const TilesJob& job, const Source& src, const std::vector<Part
     // with its margin of rows, one on the field's edge): it is not rendered.
     std::vector<char> seen;
     for (size_t i : members) {
-      converters.push_back(converter_for(parts[i].geometry, o));
+      converters.emplace_back(parts[i].geometry, o);
       seen.push_back(1);
       if (whole && !src.partial) continue;
       const PixelRect r = converters.back().source_footprint();

@@ -233,7 +233,7 @@ PartCounts render_frame(const ViewsJob& job, const std::vector<ViewCamera>& cams
     check_interrupt();
     if (scale > 1) views[v].source = rescaled(views[v].source, at);
     Image out;
-    converter_for(views[v], o).run(in, out);
+    Converter(views[v], o).run(in, out);
     // A partial source's view flattened over black by coverage (none: black); a whole one as made.
     Flat flat;
     if (frame.partial) flat = flatten(out, 0, 0, out.width(), out.height(), true);
