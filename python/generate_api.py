@@ -48,7 +48,7 @@ PYTHON_FORMS = {
     "memory_limit": "Union[int, str, None]",
 }
 TABLE_TYPES = {"angle": "float", "integer": "int", "flag": "bool", "text": "str"}
-USES = {"convert": "ConvertOptions", "maps": "MapOptions", "tiles": "TilesOptions", "views": "ViewsOptions"}
+USES = {"convert": "ConvertOptions", "maps": "MapOptions"}  # Python's array functions' rows
 
 
 def class_name(spec_name: str) -> str:
@@ -112,14 +112,33 @@ def generate() -> str:
     out += [f"    {d['name']!r}: {class_name(d['name'])}," for d in catalog]
     out += ["}", ""]
     for use, name in USES.items():
-        out += ["", f"class {name}(TypedDict, total=False):",
-                f'    """The keyword options of the calls that take {use!r} rows (the command\'s flags)."""', ""]
-        for o in options:
-            if use in o["use"]:
-                kind = PYTHON_FORMS.get(o["name"]) or (alias_name(o["name"]) if o["choices"] else TABLE_TYPES[o["type"]])
-                out.append(f"    {o['name']}: {kind}")
-        out.append("")
+        out += typed_dict(name, f"The keyword options of the calls that take {use!r} rows (the command's flags).",
+                          [o for o in options if use in o["use"]])
+    for job in python_jobs():
+        out += typed_dict(options_name(job), f"The keyword options of {job['name']}() (the command's flags).",
+                          conversion_rows(job))
     return "\n".join(out)
+
+
+def typed_dict(name: str, doc: str, rows: list) -> list:
+    out = ["", f"class {name}(TypedDict, total=False):", f'    """{doc}"""', ""]
+    for o in rows:
+        kind = PYTHON_FORMS.get(o["name"]) or (alias_name(o["name"]) if o["choices"] else TABLE_TYPES[o["type"]])
+        out.append(f"    {o['name']}: {kind}")
+    return out + [""]
+
+
+def python_jobs() -> list:
+    """The jobs Python has (those with a docstring), with conversion options or not."""
+    return [j for j in core.jobs() if j["python"]]
+
+
+def conversion_rows(job: dict) -> list:
+    return [r for r in job["rows"] if r["conversion"]]
+
+
+def options_name(job: dict) -> str:
+    return class_name(job["name"]) + "Options"
 
 
 def argument(row: dict) -> str:
@@ -140,13 +159,16 @@ def job_function(job: dict) -> str:
     own = [r for r in job["rows"] if r["python"] and not r["conversion"]]
     positional = [argument(r) for r in own if r["positional"]]
     keywords = [argument(r) for r in own if not r["positional"]] + (["client: Any = None"] if job["staged"] else [])
-    options = USES[job["name"]]
-    params = positional + ["*"] + keywords + [f"**options: Unpack[{options}]"]
+    takes = bool(conversion_rows(job))
+    params = positional + (["*"] if keywords or takes else []) + keywords
+    params += [f"**options: Unpack[{options_name(job)}]"] if takes else []
     given = "".join(f"\n            {r['name']!r}: {r['name']}," for r in own)
     doc = textwrap.indent(job["python"], "    ").lstrip()
-    return (f"@_takes_options({job['name']!r})\ndef {job['name']}(" + "".join(f"\n    {p}," for p in params)
+    return ((f"@_takes_options({job['name']!r}, job=True)\n" if takes else "") + f"def {job['name']}("
+            + "".join(f"\n    {p}," for p in params)
             + f"\n) -> Dict[str, Any]:\n" + f'    """{doc}\n    """\n'
-            + f"    return _job.run(\n        {job['name']!r},\n        {{{given}\n        }},\n        options,\n"
+            + f"    return _job.run(\n        {job['name']!r},\n        {{{given}\n        }},\n"
+            + ("        options,\n" if takes else "        {},\n")
             + ("        client,\n" if job["staged"] else "") + "    )\n")
 
 
@@ -160,7 +182,7 @@ def generate_jobs() -> str:
         "from typing import TYPE_CHECKING, Any, Dict, Literal, Mapping, Optional, Sequence, Union",
         "",
         "from . import _job",
-        "from ._declared import TilesOptions, ViewsOptions",
+        "from ._declared import " + ", ".join(options_name(j) for j in python_jobs() if conversion_rows(j)),
         "from ._options import _takes_options",
         "from ._projection import Projection",
         "from ._types import PathLike",
@@ -168,9 +190,11 @@ def generate_jobs() -> str:
         "if TYPE_CHECKING:",
         "    from typing_extensions import Unpack",
     ]
-    for job in core.jobs():
-        if job["python"]:
-            out += ["", "", job_function(job).rstrip("\n")]
+    names = []
+    for job in python_jobs():
+        out += ["", "", job_function(job).rstrip("\n")]
+        names += [job["name"]] + ([options_name(job)] if conversion_rows(job) else [])
+    out += ["", "", "__all__ = [" + ", ".join(repr(n) for n in names) + "]"]
     return "\n".join(out) + "\n"
 
 

@@ -37,12 +37,12 @@ from typing import (TYPE_CHECKING, Any, Callable, Dict, List, Mapping, NamedTupl
 
 import numpy as np
 
-from . import _arrays, _coordinates, _core, _declared, _job
-from ._jobs import tiles, views
+from . import _arrays, _coordinates, _core, _declared, _job, _jobs
+from ._jobs import *  # noqa: F401,F403 (the jobs' functions and their options, generated)
 from ._options import (_F, _core_options, _int, _memory_limit, _one_line_type_errors, _size, _takes_options,
                        _threads)
 from ._declared import *  # noqa: F401,F403 (the projection classes and Literal aliases)
-from ._declared import CLASSES, ConvertOptions, MapOptions, ProjectionName, TilesOptions, ViewsOptions
+from ._declared import CLASSES, ConvertOptions, MapOptions, ProjectionName
 from ._projection import _CLASSES, Projection, projection
 from ._types import Array, FillLike, ImageLike, Mask, PathLike, SizeLike
 
@@ -56,11 +56,11 @@ __version__: str = _core.__version__  # the project's version (`panoproj --versi
 _CLASSES.update(CLASSES)
 __all__ = [
     "Projection", "projection", "projections", "ProjectionInfo", "ParameterInfo", "convert", "build_map", "Plan",
-    "read", "write", "to_ray", "to_pixel", "split_faces", "simd_target", "tiles", "views", "ConvertOptions", "MapOptions",
-    "TilesOptions", "ViewsOptions",
+    "read", "write", "to_ray", "to_pixel", "split_faces", "simd_target", "ConvertOptions", "MapOptions",
     "SizeLike", "FillLike", "ImageLike", "PathLike",
 ]
 __all__ += _declared.__all__  # the projection classes and the Literal aliases
+__all__ += _jobs.__all__  # the jobs' functions and their options
 
 
 class ParameterInfo(NamedTuple):

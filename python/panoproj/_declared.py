@@ -894,7 +894,7 @@ class MapOptions(TypedDict, total=False):
 
 
 class TilesOptions(TypedDict, total=False):
-    """The keyword options of the calls that take 'tiles' rows (the command's flags)."""
+    """The keyword options of tiles() (the command's flags)."""
 
     yaw: float
     pitch: float
@@ -908,7 +908,7 @@ class TilesOptions(TypedDict, total=False):
 
 
 class ViewsOptions(TypedDict, total=False):
-    """The keyword options of the calls that take 'views' rows (the command's flags)."""
+    """The keyword options of views() (the command's flags)."""
 
     size: SizeLike
     interp: Interp

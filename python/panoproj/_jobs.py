@@ -15,7 +15,7 @@ if TYPE_CHECKING:
     from typing_extensions import Unpack
 
 
-@_takes_options('tiles')
+@_takes_options('tiles', job=True)
 def tiles(
     image: PathLike,
     out_dir: PathLike,
@@ -67,7 +67,7 @@ def tiles(
     )
 
 
-@_takes_options('views')
+@_takes_options('views', job=True)
 def views(
     images: Union[PathLike, Sequence[PathLike]],
     out_dir: PathLike,
@@ -113,3 +113,6 @@ def views(
         options,
         client,
     )
+
+
+__all__ = ['tiles', 'TilesOptions', 'views', 'ViewsOptions']

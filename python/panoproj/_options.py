@@ -163,11 +163,14 @@ def _core_options(given: Dict[str, Any]) -> Dict[str, Any]:
     return out
 
 
-def _takes_options(use: str) -> Callable[[_F], _F]:
-    """Gives fn (declared with ``**options``) the table's options for ``use`` as keyword-only
-    arguments, with their defaults, in its runtime signature and docstring; unknown keywords
-    raise TypeError naming the ones it takes."""
-    rows = [o for o in _OPTIONS if use in o["use"]]
+_JOB_OPTIONS = {j["name"]: [r for r in j["rows"] if r["conversion"]] for j in _core.jobs()}
+
+
+def _takes_options(use: str, job: bool = False) -> Callable[[_F], _F]:
+    """Gives fn (declared with ``**options``) the table's options for ``use`` (a job's name with
+    ``job``: that job's conversion rows) as keyword-only arguments, with their defaults, in its
+    runtime signature and docstring; unknown keywords raise TypeError naming the ones it takes."""
+    rows = _JOB_OPTIONS[use] if job else [o for o in _OPTIONS if use in o["use"]]
     names = [o["name"] for o in rows]
 
     def wrap(fn: _F) -> _F:
