@@ -114,7 +114,7 @@ def generate() -> str:
     for use, name in USES.items():
         out += typed_dict(name, f"The keyword options of the calls that take {use!r} rows (the command's flags).",
                           [o for o in options if use in o["use"]])
-    for job in python_jobs():
+    for job in (j for j in python_jobs() if conversion_rows(j)):
         out += typed_dict(options_name(job), f"The keyword options of {job['name']}() (the command's flags).",
                           conversion_rows(job))
     return "\n".join(out)
@@ -165,8 +165,8 @@ def job_function(job: dict) -> str:
     given = "".join(f"\n            {r['name']!r}: {r['name']}," for r in own)
     doc = textwrap.indent(job["python"], "    ").lstrip()
     return ((f"@_takes_options({job['name']!r}, job=True)\n" if takes else "") + f"def {job['name']}("
-            + "".join(f"\n    {p}," for p in params)
-            + f"\n) -> Dict[str, Any]:\n" + f'    """{doc}\n    """\n'
+            + "".join(f"\n    {p}," for p in params) + ("\n" if params else "")
+            + f") -> Dict[str, Any]:\n" + f'    """{doc}\n    """\n'
             + f"    return _job.run(\n        {job['name']!r},\n        {{{given}\n        }},\n"
             + ("        options,\n" if takes else "        {},\n")
             + ("        client,\n" if job["staged"] else "") + "    )\n")
