@@ -189,26 +189,29 @@ Arguments job_arguments(const JobDef& job, const py::dict& given) {
   Arguments args(job.rows());
   for (const auto& [key, value] : given) {
     const std::string name = key.cast<std::string>();
-    OptionType type = OptionType::Text;
-    for (const OptionDef& d : job.rows())
-      if (name == d.name) type = d.type;
-    switch (type) {
-      case OptionType::Angle:
-        args.set(name, value.cast<double>());
-        break;
-      case OptionType::Integer:
-        args.set(name, value.cast<int64_t>());
-        break;
-      case OptionType::Flag:
-        args.set(name, value.cast<bool>());
-        break;
-      case OptionType::Paths:
-        args.set(name, value.cast<std::vector<std::string>>());
-        break;
-      case OptionType::Text:
-      case OptionType::Path:
-        args.set(name, value.cast<std::string>());
-        break;
+    const OptionDef& row = args.row(name);
+    try {
+      switch (row.type) {
+        case OptionType::Angle:
+          args.set(name, value.cast<double>());
+          break;
+        case OptionType::Integer:
+          args.set(name, value.cast<int64_t>());
+          break;
+        case OptionType::Flag:
+          args.set(name, value.cast<bool>());
+          break;
+        case OptionType::Paths:
+          args.set(name, value.cast<std::vector<std::string>>());
+          break;
+        case OptionType::Text:
+        case OptionType::Path:
+          args.set(name, value.cast<std::string>());
+          break;
+      }
+    } catch (const py::cast_error&) {
+      throw py::type_error(name + ": " + py::repr(value).cast<std::string>() +
+                           " (expected a value of the row's type)");
     }
   }
   return args;

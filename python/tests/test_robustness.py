@@ -1647,3 +1647,17 @@ def test_a_large_rle_hdr_is_read_in_bands_at_a_small_views_scale(cli, tmp_path):
     v = pp.read(str(tmp_path / "v.exr"))
     want = 0.25 + 0.5 * (np.arange(32) + 0.5) / 32  # each output row's mean source row
     assert np.abs(v[:, :, 0].mean(axis=1) - want).max() < 0.01
+
+
+@pytest.mark.parametrize("call,error,needle", [
+    (lambda: pp._core.job_run("video", {}), ValueError, "unknown job 'video' (expected one of: convert, maps, tiles"),
+    (lambda: pp._core.job_begin("convert", {}), ValueError, "job convert has no parts"),
+    (lambda: pp._core.job_run("tiles", {"tiles": 3}), ValueError, "unknown option 'tiles' (expected one of: image"),
+    (lambda: pp._core.job_render("tiles", {"image": "/nonexistent.png", "out_dir": "/tmp/x"}, ("/tmp/x", 0, 0), [0]),
+     FileNotFoundError, "/nonexistent.png"),
+    (lambda: pp.tiles("in.png", "out", tile="512"), TypeError, "tile: '512' (expected an int"),
+    (lambda: pp.views([], "out"), ValueError, "no input given"),
+], ids=["unknown_job", "not_staged", "unknown_argument", "render_missing_input", "tile_text", "no_views_input"])
+def test_the_job_interface_refuses_naming_the_value(call, error, needle):
+    with pytest.raises(error, match=re.escape(needle)):
+        call()

@@ -47,10 +47,10 @@ class Arguments {
   // The write options (write_options()) given.
   WriteOptions write() const;
   const std::vector<OptionDef>& rows() const { return *rows_; }
+  const OptionDef& row(std::string_view name) const;  // throws Error listing the rows
 
  private:
   const OptionValue* find(std::string_view name) const;
-  const OptionDef& row(std::string_view name) const;
   const std::vector<OptionDef>* rows_;
   std::vector<std::pair<std::string, OptionValue>> values_;
 };
