@@ -15,6 +15,7 @@
 #include <OpenImageIO/imageio.h>
 #include <string>
 
+#include "simd_converter.hpp"
 #include "panoproj/jobs.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/rotation.hpp"
@@ -23,15 +24,6 @@ using namespace panoproj;
 
 namespace {
 
-// The simd engine's Converter of a pair with this kernel, antialiasing off.
-panoproj::Converter simd_converter(const panoproj::Projection& source,
-                                   const panoproj::Projection& target,
-                                   const Eigen::Matrix3d& rotation, panoproj::Interp interp,
-                                   int threads) {
-  panoproj::ConvertOptions o;
-  o.interp = interp, o.threads = threads, o.antialias = panoproj::Antialias{};
-  return panoproj::Converter(panoproj::ConversionGeometry{source, target, rotation}, o);
-}
 double peak_gb() {
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
@@ -139,7 +131,7 @@ int main(int argc, char** argv) {
     const Eigen::Matrix3d r = rotation_from_ypr(j.yaw, j.pitch, 0);
     t0 = std::chrono::steady_clock::now();
     EngineStats st;
-    const Image out = simd_converter(e, dst, r, Interp::Bilinear, threads).run(src, &st);
+    const Image out = bench::simd_converter(e, dst, r, Interp::Bilinear, threads).run(src, &st);
     const double t = secs();
     // Spot check against nearest-free ground truth: bilinear of the pattern at the exact position.
     std::mt19937 rng(3);

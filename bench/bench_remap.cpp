@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "simd_converter.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/projection.hpp"
@@ -29,15 +30,6 @@ using namespace panoproj;
 
 namespace {
 
-// The simd engine's Converter of a pair with this kernel, antialiasing off.
-panoproj::Converter simd_converter(const panoproj::Projection& source,
-                                   const panoproj::Projection& target,
-                                   const Eigen::Matrix3d& rotation, panoproj::Interp interp,
-                                   int threads) {
-  panoproj::ConvertOptions o;
-  o.interp = interp, o.threads = threads, o.antialias = panoproj::Antialias{};
-  return panoproj::Converter(panoproj::ConversionGeometry{source, target, rotation}, o);
-}
 
 // Medians (ms) of runs of each function, taken in turns (f0, f1, ..., f0, f1, ...) so that a
 // load change on this shared machine hits all of them alike; one warm-up run each.
@@ -95,11 +87,11 @@ int main(int argc, char** argv) {
   const Projection equirect = make_projection(parse_spec("equirect"), {4096, 2048});
   const Projection cube = make_projection(parse_spec("cubemap"), {6 * 1024, 1024});
   const Image cube_img =
-      simd_converter(equirect, cube, Eigen::Matrix3d::Identity(), Interp::Bicubic, threads)
+      bench::simd_converter(equirect, cube, Eigen::Matrix3d::Identity(), Interp::Bicubic, threads)
           .run(pano);
   const Projection dual = make_projection(parse_spec("dual-fisheye:fov=200"), {4096, 2048});
   const Image dual_img =
-      simd_converter(equirect, dual, Eigen::Matrix3d::Identity(), Interp::Bicubic, threads)
+      bench::simd_converter(equirect, dual, Eigen::Matrix3d::Identity(), Interp::Bicubic, threads)
           .run(pano);
 
   struct Case {
@@ -132,7 +124,7 @@ int main(int argc, char** argv) {
     // Both sides write into an output buffer kept across runs (as a video or batch does).
     Image ours_out;
     auto ours_run = [&] {
-      simd_converter(*c.sp, dst, Eigen::Matrix3d::Identity(), c.interp, threads)
+      bench::simd_converter(*c.sp, dst, Eigen::Matrix3d::Identity(), c.interp, threads)
           .run(*c.src, ours_out);
     };
     if (ours_only) {
