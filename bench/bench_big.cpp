@@ -15,10 +15,10 @@
 #include <OpenImageIO/imageio.h>
 #include <string>
 
-#include "simd_converter.hpp"
-#include "panoproj/jobs.hpp"
 #include "panoproj/convert.hpp"
+#include "panoproj/jobs.hpp"
 #include "panoproj/rotation.hpp"
+#include "simd_converter.hpp"
 
 using namespace panoproj;
 

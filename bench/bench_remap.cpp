@@ -20,16 +20,15 @@
 #include <string>
 #include <vector>
 
-#include "simd_converter.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/io.hpp"
 #include "panoproj/projection.hpp"
 #include "panoproj/rotation.hpp"
+#include "simd_converter.hpp"
 
 using namespace panoproj;
 
 namespace {
-
 
 // Medians (ms) of runs of each function, taken in turns (f0, f1, ..., f0, f1, ...) so that a
 // load change on this shared machine hits all of them alike; one warm-up run each.

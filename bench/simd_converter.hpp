@@ -5,8 +5,8 @@
 
 namespace panoproj::bench {
 
-inline Converter simd_converter(const Projection& source, const Projection& target, const Eigen::Matrix3d& rotation,
-                                Interp interp, int threads) {
+inline Converter simd_converter(const Projection& source, const Projection& target,
+                                const Eigen::Matrix3d& rotation, Interp interp, int threads) {
   ConvertOptions o;
   o.interp = interp, o.threads = threads, o.antialias = Antialias{};
   return Converter(ConversionGeometry{source, target, rotation}, o);

@@ -177,6 +177,9 @@ ConvertOptions options_from(const py::dict& given, unsigned use) {
       case OptionType::Integer: v = value.cast<int64_t>(); break;
       case OptionType::Flag: v = value.cast<bool>(); break;
       case OptionType::Text: v = value.cast<std::string>(); break;
+      case OptionType::Path:
+      case OptionType::Paths:
+        throw InternalError(std::string("conversion option ") + d.name + " is a path");
     }
     d.set(o, v);
   }

@@ -2,6 +2,7 @@
 #include "jobs/list.hpp"
 
 #include <algorithm>
+#include <array>
 
 #include "io/atomic_output.hpp"
 #include "io/formats.hpp"
@@ -114,24 +115,23 @@ const OptionDef& write_option(std::string_view name) {
 }
 
 const OptionDef& web_format_option() {
-  static const std::string choices = [] {
-    std::string c;
-    for (const ImageFormat* f : image_formats())
-      if (f->web)
-        c += (c.empty() ? "" : "|") + std::string(f->extensions[0].substr(1));  // (without its dot)
-    return c;
+  // "jpg|png", "'jpg'" and "jpg (default) | png" from the table's web formats.
+  static const std::array<std::string, 3> text = [] {
+    std::string choices, help;
+    for (const ImageFormat* f : image_formats()) {
+      if (!f->web) continue;
+      const std::string ext(f->extensions[0].substr(1));  // (without its dot)
+      help.append(choices.empty() ? "" : " | ")
+          .append(ext)
+          .append(choices.empty() ? " (default)" : "");
+      choices.append(choices.empty() ? "" : "|").append(ext);
+    }
+    std::string fallback("'");
+    fallback.append(choices, 0, choices.find('|')).append("'");
+    return std::array<std::string, 3>{choices, fallback, help};
   }();
-  static const std::string first = choices.substr(0, choices.find('|'));
-  static const std::string fallback = "'" + first + "'";
-  static const std::string help = [] {
-    std::string h = choices;
-    h.insert(first.size(), " (default)");
-    for (size_t at = 0; (at = h.find('|', at)) != std::string::npos; at += 3)
-      h.replace(at, 1, " | ");
-    return h;
-  }();
-  static const OptionDef row{"format", OptionType::Text, 0, fallback.c_str(), help.c_str(),
-                             nullptr,  choices.c_str()};
+  static const OptionDef row{"format", OptionType::Text, 0, text[1].c_str(), text[2].c_str(),
+                             nullptr,  text[0].c_str()};
   return row;
 }
 
