@@ -44,10 +44,12 @@ TEST(Jobs, EveryJobsRowsAreWellFormed) {
     const Arguments args(job->rows());
     for (const OptionDef& d : job->rows()) {
       EXPECT_TRUE(rows.insert(d.name).second) << job->name << ": " << d.name << " twice";
-      if (!(d.traits & (kPythonOnly | kNeither)))
+      if (!(d.traits & (kPythonOnly | kNeither))) {
         EXPECT_TRUE(flags.insert(flag_of(d)).second) << flag_of(d);
-      if (d.traits & kPositional)
+      }
+      if (d.traits & kPositional) {
         EXPECT_FALSE(named) << job->name << ": positional " << d.name << " after flags";
+      }
       named = named || !(d.traits & kPositional);
       EXPECT_TRUE(d.help && *d.help) << d.name;
       // The default reads as the row's type, and is one of its choices.
@@ -71,9 +73,10 @@ TEST(Jobs, EveryJobsRowsAreWellFormed) {
           break;
       }
       const auto choices = choices_of(d);
-      if (!choices.empty() && std::string_view(d.default_text) != "None")
+      if (!choices.empty() && std::string_view(d.default_text) != "None") {
         EXPECT_NE(std::find(choices.begin(), choices.end(), value), choices.end())
             << job->name << ": " << d.name;
+      }
     }
   }
 }

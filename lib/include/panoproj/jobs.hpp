@@ -11,7 +11,6 @@
 // render writes the given parts into it (any process, any order: each file's bytes depend only on
 // the arguments); finish writes the rest and lands the folder; abandon_staged removes it. A local
 // run gives the same bytes.
-#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -35,7 +34,6 @@ class Arguments {
  public:
   explicit Arguments(const std::vector<OptionDef>& rows) : rows_(&rows) {}
   Arguments& set(std::string_view name, OptionValue value);  // throws Error naming an unknown row
-  bool given(std::string_view name) const;
   std::string text(std::string_view name) const;
   std::optional<std::string> optional_text(std::string_view name) const;
   int64_t integer(std::string_view name) const;

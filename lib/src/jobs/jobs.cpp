@@ -175,10 +175,6 @@ const OptionValue* Arguments::find(std::string_view name) const {
   return nullptr;
 }
 
-bool Arguments::given(std::string_view name) const {
-  return find(name) != nullptr;
-}
-
 std::optional<std::string> Arguments::optional_text(std::string_view name) const {
   if (const OptionValue* v = find(name)) return value_text(*v);
   const auto d = default_of(row(name));
