@@ -74,6 +74,8 @@ struct ReportField {
 using Report = std::vector<ReportField>;
 ReportValue report_size(Size size);  // (width, height) as a tuple
 const ReportValue* report_find(const Report& report, std::string_view key);
+// Sets the value of key (appended when absent).
+void report_set(Report& report, std::string_view key, ReportValue value);
 
 // What a run tells its caller as it goes: progress (the fraction done) and the lines the command
 // prints (each a result, e.g. a converted file; none with --quiet), both from the calling thread.

@@ -241,6 +241,15 @@ ReportValue report_size(Size size) {
   return {std::vector<ReportValue>{{size.width}, {size.height}}, true};
 }
 
+void report_set(Report& report, std::string_view key, ReportValue value) {
+  for (ReportField& f : report)
+    if (f.key == key) {
+      f.value = std::move(value);
+      return;
+    }
+  report.push_back({std::string(key), std::move(value)});
+}
+
 const ReportValue* report_find(const Report& report, std::string_view key) {
   for (const ReportField& f : report)
     if (f.key == key) return &f.value;

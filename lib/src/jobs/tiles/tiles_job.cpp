@@ -396,8 +396,7 @@ Report run(const Arguments& args, const JobEvents& events) {
   Report report = finish(job, src, folder, counts);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  for (ReportField& f : report)
-    if (f.key == "seconds") f.value = {seconds};
+  report_set(report, "seconds", {seconds});
   if (events.line) {
     const TilePyramid& p = src.pyramid;
     std::string sizes;

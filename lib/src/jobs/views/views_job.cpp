@@ -295,11 +295,8 @@ std::string summary(const ViewsJob& job, const Report& r, const std::vector<View
   for (const ViewCamera& c : cams)
     if (sizes.find(size_text(c.size)) == std::string::npos)
       sizes += (sizes.empty() ? "" : ", ") + size_text(c.size);
-  const Size source =
-      Size{std::get<int64_t>(
-               std::get<std::vector<ReportValue>>(report_find(r, "source_size")->value)[0].value),
-           std::get<int64_t>(
-               std::get<std::vector<ReportValue>>(report_find(r, "source_size")->value)[1].value)};
+  const auto& wh = std::get<std::vector<ReportValue>>(report_find(r, "source_size")->value);
+  const Size source{std::get<int64_t>(wh[0].value), std::get<int64_t>(wh[1].value)};
   const bool masks = std::get<bool>(report_find(r, "masks")->value);
   char b[2048];
   std::snprintf(b, sizeof b,
@@ -334,8 +331,7 @@ Report run(const Arguments& args, const JobEvents& events) {
   Report r = finish(job, folder, counts);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  for (ReportField& f : r)
-    if (f.key == "seconds") f.value = {seconds};
+  report_set(r, "seconds", {seconds});
   if (events.line) events.line(summary(job, r, cams, counts, seconds));
   return r;
 }
