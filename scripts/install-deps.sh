@@ -7,6 +7,7 @@ pkgs=(
   g++ cmake ninja-build pkg-config   # toolchain
   libopenimageio-dev                 # TIFF, EXR, HDR and metadata by name (the plugin lib/src/io/oiio)
   libjpeg62-turbo-dev libpng-dev     # JPEG and PNG, built in (lib/src/io)
+  libavformat-dev libavcodec-dev libavutil-dev libswscale-dev  # video (the plugin lib/src/io/video)
   libeigen3-dev                      # rotations
   libcli11-dev                       # the panoproj command
   libhwy-dev                         # SIMD kernels (Google Highway)

@@ -2,7 +2,8 @@
 # The source archive (the whole tree, with Highway's source) and, built from it, the wheel: for
 # manylinux_2_34 (PANOPROJ_PORTABLE: libstdc++ and libgcc static, hypot's
 # old symbol version), repaired by auditwheel (the libraries it needs, libjpeg, libpng, Imath,
-# copied in; OpenImageIO left out: the plugin uses the system's when it is there), both into dist/.
+# copied in; OpenImageIO and FFmpeg left out: the plugins use the system's when it is there),
+# both into dist/.
 # Usage: scripts/wheel.sh [OUT_DIR]   (default dist/). Needs install-deps.sh's packages.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -28,8 +29,10 @@ src=${src%/}
 # and ccache keys on the name.)
 CXX=${CXX:-c++} CCACHE_BASEDIR="$src" "$py" -m pip wheel -q --no-deps --no-build-isolation -w "$work/raw" \
   -C cmake.define.PANOPROJ_PORTABLE=ON -C build-dir="$src/build" "$src"
-# The plugin's OpenImageIO (about 260 libraries with its own dependencies) is the system's or
-# none: excluded, it is looked for at run time.
+# The plugins' OpenImageIO (about 260 libraries with its own dependencies) and FFmpeg are the
+# system's or none: excluded, they are looked for at run time.
 "$py" -m auditwheel repair -w "$out" --plat manylinux_2_34_x86_64 \
-  --exclude 'libOpenImageIO.so.*' --exclude 'libOpenImageIO_Util.so.*' "$work"/raw/panoproj-*.whl
+  --exclude 'libOpenImageIO.so.*' --exclude 'libOpenImageIO_Util.so.*' \
+  --exclude 'libavformat.so.*' --exclude 'libavcodec.so.*' --exclude 'libavutil.so.*' \
+  --exclude 'libswscale.so.*' "$work"/raw/panoproj-*.whl
 ls -l "$out/$(basename "$sdist")" "$out"/panoproj-*manylinux_2_34*.whl

@@ -51,6 +51,9 @@ struct ConversionGeometry {
   Projection source, target;
   Eigen::Matrix3d rotation;
   Stereo stereo = {};
+  // Where the planes' samples sit (projection.hpp: a video's chroma planes); such geometry takes
+  // tile maps (never the fused SIMD geometry) and the simd or scalar engine, without edge fills.
+  Siting siting = {};
   Size source_frame() const { return stereo_frame(size_of(source), stereo.source); }
   Size target_frame() const { return stereo_frame(size_of(target), stereo.target); }
 };

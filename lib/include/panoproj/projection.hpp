@@ -51,8 +51,18 @@ inline bool source_pixel(const Projection& src, const Projection& dst, const Eig
   return to_ray(dst, px, py, d) && to_pixel(src, rotation * d, sx, sy);
 }
 
-// Rays through the pixel centres (x0 + i + 0.5, y), i < n; ok[i] = 0 where there is none.
-void to_ray_row(const Projection& p, double y, int64_t x0, int64_t n, Ray* rays, uint8_t* ok);
+// Rays through the pixel centres (x0 + i + centre, y), i < n; ok[i] = 0 where there is none.
+void to_ray_row(const Projection& p, double y, int64_t x0, int64_t n, Ray* rays, uint8_t* ok, double centre = 0.5);
+
+// Where the samples of a plane sit in its frame, in pixels from the pixel centres: sample (i, j)
+// of the target at (i + 0.5 + target_x, j + 0.5 + target_y), and a source position p read at
+// p - source (a chroma plane's siting: video/ChromaSiting). Zero for images.
+struct Siting {
+  double source_x = 0, source_y = 0, target_x = 0, target_y = 0;
+  bool any() const { return source_x != 0 || source_y != 0 || target_x != 0 || target_y != 0; }
+  // The same on the target at n times its size (its sub-pixels).
+  Siting on_sub_target(int n) const { return {source_x, source_y, target_x * n, target_y * n}; }
+};
 // Whether the projection shows the whole sphere (cubemap, full equirect, the world maps): a
 // conversion to it reaches (nearly) every pixel of any source.
 bool shows_whole_sphere(const Projection& p);

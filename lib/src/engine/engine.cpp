@@ -53,7 +53,7 @@ int footprint_reach_beyond(Interp interp) { return std::max(0, kFootprintTaps / 
 // The Converter's state: the projections, options and kept maps (convert.hpp's promises are kept
 // here), and the tiles.
 struct Converter::Impl {
-  Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
+  Impl(Projection source, Projection target, const Siting& siting, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
        int threads, Keep keep, Antialias antialias, EdgeFill edges, Stereo stereo);
   PixelRect source_footprint() const;
   using Reader = std::function<void(const RowsArrived&)>;
@@ -68,6 +68,7 @@ struct Converter::Impl {
                   const Reader* read) const;
 
   Projection source_, target_;
+  Siting siting_;
   Stereo stereo_;
   Antialias antialias_;
   EdgeFill edges_;
@@ -105,7 +106,7 @@ struct Converter::Impl {
 };
 
 Converter::Converter(const ConversionGeometry& g, const ConvertOptions& o, Keep keep)
-    : impl_(std::make_unique<Impl>(g.source, g.target, g.rotation, o.interp, o.engine, o.threads,
+    : impl_(std::make_unique<Impl>(g.source, g.target, g.siting, g.rotation, o.interp, o.engine, o.threads,
                                    keep, antialias_of(o), o.edges, g.stereo)) {}
 Converter::~Converter() = default;
 Converter::Converter(Converter&&) noexcept = default;
@@ -131,12 +132,16 @@ void Converter::run_reading(const Image& src, Image& out,
   impl_->run(src, out, stats, progress, &read, finished);
 }
 
-Converter::Impl::Impl(Projection source, Projection target, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
-                      int threads, Keep keep, Antialias antialias, EdgeFill edges, Stereo stereo)
-    : source_(std::move(source)), target_(std::move(target)), stereo_(stereo), antialias_(antialias), edges_(edges),
+Converter::Impl::Impl(Projection source, Projection target, const Siting& siting, const Eigen::Matrix3d& rotation,
+                      Interp interp, Engine engine, int threads, Keep keep, Antialias antialias, EdgeFill edges,
+                      Stereo stereo)
+    : source_(std::move(source)), target_(std::move(target)), siting_(siting), stereo_(stereo), antialias_(antialias),
+      edges_(edges),
       rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), keep_(keep) {
   if (antialias_.mode != Antialias::Mode::Off && engine_ == Engine::Reference)
     throw Error("antialias " + name_of(antialias_) + " needs the simd or scalar engine (or --antialias off)");
+  if (siting_.any() && (engine_ == Engine::Reference || edges_.active()))
+    throw Error("sited planes (video chroma) need the simd or scalar engine and no edge fill");
   if (const DualFisheye* d = sampling_facts(source_).dual) {
     // Each lens alone, blended (or cut) per tile; their maps are not kept (Keep keeps those
     // of source_, which the lenses do not use).
@@ -168,7 +173,8 @@ int64_t Converter::Impl::tile_count() const {
 }
 
 bool Converter::Impl::fused(const PixelRect& rect, SimdGeometry& g) const {
-  return engine_ == Engine::Simd && simd_geometry_for(source_, target_, rotation_, rect, g) && exact_for(interp_, g);
+  return engine_ == Engine::Simd && !siting_.any() && simd_geometry_for(source_, target_, rotation_, rect, g) &&
+         exact_for(interp_, g);
 }
 
 void Converter::Impl::build_cache() const {
@@ -178,7 +184,8 @@ void Converter::Impl::build_cache() const {
   parallel_tasks(tile_count(), threads_, [&](int64_t t, int) {
     SimdGeometry g;
     const PixelRect rect = tile(t);
-    if (!fused(rect, g)) map_tile(source_, target_, rotation_, rect, maps[static_cast<size_t>(t)], interp_ == Interp::Nearest);
+    if (!fused(rect, g))
+      map_tile(source_, target_, rotation_, rect, maps[static_cast<size_t>(t)], interp_ == Interp::Nearest, siting_);
   });
   cache_ = std::move(maps);
   static_assert(PlannedTaps::kBytesPerPixel <= kCachedMapBytesPerPixel);  // a tile keeps its map or its taps
@@ -224,7 +231,8 @@ PixelRect Converter::Impl::source_footprint() const {
   parallel_tasks(n_tiles, threads_, [&](int64_t t, int w) {
     std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};  // this tile's
     const PixelRect rect = tile(t);
-    widen_to_positions(source_, rotation_, target_, rect, cached(t), engine_ == Engine::Simd, local[static_cast<size_t>(w)], b);
+    widen_to_positions(source_, rotation_, target_, rect, cached(t), engine_ == Engine::Simd && !siting_.any(),
+                       local[static_cast<size_t>(w)], b, siting_);
     if (b[0] > b[2]) return;
     auto& all = box[static_cast<size_t>(w)];
     all = {std::min(all[0], b[0]), std::min(all[1], b[1]), std::max(all[2], b[2]), std::max(all[3], b[3])};
@@ -389,7 +397,8 @@ void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats
     out = Image(size_of(target_), src.channels(), src.type(), src.alpha_channel(), Image::Unfilled{});
   const int64_t n_tiles = tile_count();
   if (keep_ != Keep::Nothing) std::call_once(cache_once_, [this] { build_cache(); });
-  const TileSampling sampling(src, source_, lenses_, rotation_, interp_, engine_ == Engine::Simd);
+  const TileSampling sampling(src, source_, lenses_, rotation_, interp_, engine_ == Engine::Simd, siting_,
+                              size_of(target_));
   PlannedTaps* const planned = planned_for(src, sampling.taps());
   // Where x wraps, footprints measure steps across the seam the short way.
   const double wrap = sampling.taps().wrap_period();

@@ -32,22 +32,24 @@ std::vector<LensSource> lens_sources(const DualFisheye& d, const Eigen::Matrix3d
 
 TileSampling::TileSampling(const Image& src, const Projection& source,
                            const std::vector<LensSource>& lenses, const Eigen::Matrix3d& rotation,
-                           Interp interp, bool simd)
+                           Interp interp, bool simd, const Siting& siting, Size target)
     : src_(src),
       source_(source),
       lenses_(lenses),
       rotation_(rotation),
       interp_(interp),
       simd_(simd),
+      siting_(siting),
+      target_(target),
       taps_(source),
       simd_src_(simd_source(src, taps_)) {}
 
 void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t,
                         const PixelRect& rect, const TileMap* tm, bool simd, TileMap& scratch,
-                        std::array<double, 4>& b) {
+                        std::array<double, 4>& b, const Siting& siting) {
   SimdGeometry g;
   if (!tm && simd && simd_geometry_for(sp, t, r, rect, g)) return simd_tile_bounds(g, rect, b);
-  if (!tm) map_tile(sp, t, r, rect, scratch), tm = &scratch;
+  if (!tm) map_tile(sp, t, r, rect, scratch, false, siting), tm = &scratch;
   for (size_t i = 0; i < tm->ok.size(); ++i)
     if (tm->ok[i])
       b = {std::min(b[0], tm->xs[i]), std::min(b[1], tm->ys[i]), std::max(b[2], tm->xs[i]), std::max(b[3], tm->ys[i])};
@@ -55,7 +57,7 @@ void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Pr
 
 bool TileSampling::fused(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t,
                          const PixelRect& rect, SimdGeometry& g) const {
-  return simd_ && simd_geometry_for(sp, t, r, rect, g) && exact_for(interp_, g);
+  return simd_ && !siting_.any() && simd_geometry_for(sp, t, r, rect, g) && exact_for(interp_, g);
 }
 
 void TileSampling::resolve_misses(const Image& im, const SourceTaps& taps, const PixelRect& r,
@@ -113,7 +115,7 @@ void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Pr
   const TileMap* tm = kept.map;
   SimdGeometry g;
   const bool in_registers = !tm && fused(sp, r, t, rect, g);
-  if (!tm && !in_registers) map_tile(sp, t, r, rect, wk.map, interp_ == Interp::Nearest), tm = &wk.map;
+  if (!tm && !in_registers) map_tile(sp, t, r, rect, wk.map, interp_ == Interp::Nearest, siting_for(t)), tm = &wk.map;
   if (tm) wk.stats.interpolated_cells += tm->interpolated_cells, wk.stats.exact_cells += tm->exact_cells;
   wk.stats.fused_tiles += in_registers;
   if (!in_registers) return map(src_, taps_, simd_src_, *tm, out, stride, wk, fp);

@@ -80,14 +80,16 @@ std::vector<LensSource> lens_sources(const DualFisheye& d, const Eigen::Matrix3d
 // stored), else those of a map made in scratch.
 void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t,
                         const PixelRect& rect, const TileMap* tm, bool simd, TileMap& scratch,
-                        std::array<double, 4>& b);
+                        std::array<double, 4>& b, const Siting& siting = {});
 
 class TileSampling {
  public:
   // lenses: a dual-fisheye source's lenses alone (blended per rect), else empty. simd: the simd
-  // engine (fused geometry, SIMD kernels), else the scalar one.
+  // engine (fused geometry, SIMD kernels), else the scalar one. siting: the planes' (a target's
+  // sub-pixel frames, n times `target`'s size, get it scaled); sited rects take tile maps.
   TileSampling(const Image& src, const Projection& source, const std::vector<LensSource>& lenses,
-               const Eigen::Matrix3d& rotation, Interp interp, bool simd);
+               const Eigen::Matrix3d& rotation, Interp interp, bool simd, const Siting& siting = {},
+               Size target = {});
 
   // rect of target t into out (rows of stride bytes); kept: what is kept of it. fp: the
   // footprint kernel and its widths over the rect, else the interpolator (kept taps are of that).
@@ -100,13 +102,22 @@ class TileSampling {
   // its whole-frame map).
   void widen_to_positions(const Projection& t, const PixelRect& rect, TileScratch& wk,
                           std::array<double, 4>& b) const {
-    panoproj::widen_to_positions(source_, rotation_, t, rect, nullptr, simd_, wk.map, b);
+    panoproj::widen_to_positions(source_, rotation_, t, rect, nullptr, simd_ && !siting_.any(), wk.map, b,
+                                 siting_for(t));
   }
   // Whether rect of target t from the source runs fused (g filled).
   bool fused(const Projection& t, const PixelRect& rect, SimdGeometry& g) const {
     return fused(source_, rotation_, t, rect, g);
   }
+  // The map of rect of target t from the source, into m.
+  void map_rect(const Projection& t, const PixelRect& rect, TileMap& m) const {
+    map_tile(source_, t, rotation_, rect, m, interp_ == Interp::Nearest, siting_for(t));
+  }
 
+  // The siting on target t (the target, or its sub-pixel frame).
+  Siting siting_for(const Projection& t) const {
+    return siting_.any() ? siting_.on_sub_target(static_cast<int>(size_of(t).width / target_.width)) : siting_;
+  }
   const Image& image() const { return src_; }
   const SourceTaps& taps() const { return taps_; }
   Interp interp() const { return interp_; }
@@ -129,6 +140,8 @@ class TileSampling {
   const Eigen::Matrix3d& rotation_;
   Interp interp_;
   bool simd_;
+  Siting siting_;
+  Size target_;
   SourceTaps taps_;
   SimdSource simd_src_;
 };

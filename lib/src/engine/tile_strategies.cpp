@@ -126,7 +126,7 @@ class Mip final : public TileStrategy {
       if (job_.sampling.fused(job_.target, rect, g))
         simd_map_tile(g, rect, wk.map, grid_suits(job_.sampling.image().type()));  // the fused path's positions
       else
-        map_tile(job_.source, job_.target, job_.rotation, rect, wk.map, job_.sampling.interp() == Interp::Nearest);
+        job_.sampling.map_rect(job_.target, rect, wk.map);
       tm = &wk.map;
     }
     const bool cube_source = job_.sampling.taps().facts().cube != nullptr;

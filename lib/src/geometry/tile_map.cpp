@@ -20,7 +20,9 @@ const Lagrange kLagrange;
 }  // namespace
 
 void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
-              PixelRect rect, TileMap& out, bool exact) {
+              PixelRect rect, TileMap& out, bool exact, const Siting& siting) {
+  // Target sample k sits at k + hx (hy); source positions are read at p - (source_x, source_y).
+  const double hx = 0.5 + siting.target_x, hy = 0.5 + siting.target_y;
   const auto n = static_cast<size_t>(rect.width() * rect.height());
   out.rect = rect;
   out.xs.resize(n);
@@ -36,8 +38,8 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
   for (int64_t j = 0; j < ny; ++j)
     for (int64_t i = 0; i < nx; ++i) {
       const size_t k = static_cast<size_t>(j * nx + i);
-      nok[k] = source_pixel(src, dst, rotation, static_cast<double>(rect.x0 + (i - 1) * kCell) + 0.5,
-                     static_cast<double>(rect.y0 + (j - 1) * kCell) + 0.5, nxs[k], nys[k]);
+      nok[k] = source_pixel(src, dst, rotation, static_cast<double>(rect.x0 + (i - 1) * kCell) + hx,
+                            static_cast<double>(rect.y0 + (j - 1) * kCell) + hy, nxs[k], nys[k]);
     }
 
   std::array<Ray, kCell> rays;
@@ -83,8 +85,8 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
         for (int k = 0; k < 9 && accept; ++k) {
           const auto [i, j] = kChecks[k];
           double ex, ey, ix, iy;
-          if (!source_pixel(src, dst, rotation, static_cast<double>(px0 + i) + 0.5,
-                     static_cast<double>(py0 + j) + 0.5, ex, ey)) {
+          if (!source_pixel(src, dst, rotation, static_cast<double>(px0 + i) + hx,
+                            static_cast<double>(py0 + j) + hy, ex, ey)) {
             accept = false;
             break;
           }
@@ -117,10 +119,10 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
             double sx = wi[0] * cx4[0] + wi[1] * cx4[1] + wi[2] * cx4[2] + wi[3] * cx4[3];
             double sy = wi[0] * cy4[0] + wi[1] * cy4[1] + wi[2] * cy4[2] + wi[3] * cy4[3];
             auto near = [](double v) { return std::fabs(v - std::round(v)) < kMapEdgeGuard; };
-            if (exact && (near(sx) || near(sy))) {
+            if (exact && (near(sx - siting.source_x) || near(sy - siting.source_y))) {
               double ex, ey;
-              if (source_pixel(src, dst, rotation, static_cast<double>(px0 + i) + 0.5,
-                               static_cast<double>(py0 + j) + 0.5, ex, ey))
+              if (source_pixel(src, dst, rotation, static_cast<double>(px0 + i) + hx,
+                               static_cast<double>(py0 + j) + hy, ex, ey))
                 sx = ex, sy = ey;
             }
             out.xs[row + i] = sx;
@@ -135,14 +137,14 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
         // (output) or its positions' bounding box (source) is not covered as a whole.
         std::visit(
             [&](const auto& d) {
-              const bool all = d.covers(static_cast<double>(px0) + 0.5, static_cast<double>(py0) + 0.5,
-                                        static_cast<double>(px0 + w) - 0.5, static_cast<double>(py0 + h) - 0.5);
+              const bool all = d.covers(static_cast<double>(px0) + hx, static_cast<double>(py0) + hy,
+                                        static_cast<double>(px0 + w - 1) + hx, static_cast<double>(py0 + h - 1) + hy);
               for (int64_t j = 0; j < h; ++j) {
                 const size_t row =
                     static_cast<size_t>((cy * kCell + j) * rect.width() + cx * kCell);
-                const double py = static_cast<double>(py0 + j) + 0.5;
+                const double py = static_cast<double>(py0 + j) + hy;
                 for (int64_t i = 0; i < w; ++i)
-                  out.ok[row + i] = all || d.contains(static_cast<double>(px0 + i) + 0.5, py);
+                  out.ok[row + i] = all || d.contains(static_cast<double>(px0 + i) + hx, py);
               }
             },
             dst);
@@ -160,7 +162,7 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
       } else {
         ++out.exact_cells;
         for (int64_t j = 0; j < h; ++j) {
-          to_ray_row(dst, static_cast<double>(py0 + j) + 0.5, px0, w, rays.data(), rok.data());
+          to_ray_row(dst, static_cast<double>(py0 + j) + hy, px0, w, rays.data(), rok.data(), hx);
           for (int64_t i = 0; i < w; ++i) rays[i] = rotation * rays[i];
           to_pixel_row(src, rays.data(), w, rx.data(), ry.data(), rok.data());
           for (int64_t i = 0; i < w; ++i) {
@@ -172,6 +174,8 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
         }
       }
     }
+  if (siting.source_x != 0 || siting.source_y != 0)
+    for (size_t k = 0; k < n; ++k) out.xs[k] -= siting.source_x, out.ys[k] -= siting.source_y;
 }
 
 }  // namespace panoproj

@@ -41,7 +41,9 @@ struct TileMap {
 // nearest picks the reference's pixels bit for bit (a 16x margin over kMapTolerance).
 inline constexpr double kMapEdgeGuard = 1.0 / 64;
 
+// siting: where the planes' samples sit (projection.hpp); positions are the source's sample
+// coordinates (a sample's centre at k + 0.5).
 void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3d& rotation,
-              PixelRect rect, TileMap& out, bool exact = false);
+              PixelRect rect, TileMap& out, bool exact = false, const Siting& siting = {});
 
 }  // namespace panoproj

@@ -1,18 +1,11 @@
 #include "io/oiio_plugin.hpp"
 
-#include <dlfcn.h>
-
 #include <atomic>
-#include <cstdlib>
-#include <filesystem>
 #include <mutex>
 
 #include "io/formats.hpp"
+#include "io/plugin_loader.hpp"
 #include "panoproj/error.hpp"
-
-#ifndef PANOPROJ_PLUGIN_DIRS
-#define PANOPROJ_PLUGIN_DIRS ""
-#endif
 
 namespace panoproj {
 namespace {
@@ -24,50 +17,12 @@ struct Loaded {
   std::string error;  // why it could not be loaded (kept: every later use says the same)
 };
 
-// Where the code of this library sits: the executable, or the Python module.
-std::filesystem::path own_folder() {
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&oiio_loaded), &info) == 0 || !info.dli_fname) return {};
-  std::error_code ec;
-  const auto p = std::filesystem::canonical(info.dli_fname, ec);
-  return ec ? std::filesystem::path() : p.parent_path();
-}
-
-std::vector<std::string> candidates() {
-  std::vector<std::string> out;
-  if (const char* env = std::getenv("PANOPROJ_OIIO_PLUGIN"); env && *env) return {env};
-  if (const auto own = own_folder(); !own.empty()) {
-    out.push_back((own / kPluginName).string());
-    out.push_back((own.parent_path() / "lib" / "panoproj" / kPluginName).string());  // bin/ -> lib/panoproj/
-    out.push_back((own.parent_path() / "panoproj" / kPluginName).string());  // a repaired wheel's panoproj.scripts/
-  }
-  // The install's and the build tree's folders (':'-separated, set by CMake).
-  const std::string dirs = PANOPROJ_PLUGIN_DIRS;
-  for (size_t at = 0; at < dirs.size();) {
-    const size_t end = std::min(dirs.find(':', at), dirs.size());
-    if (end > at) out.push_back(dirs.substr(at, end - at) + "/" + kPluginName);
-    at = end + 1;
-  }
-  return out;
-}
-
 Loaded load() {
-  std::string tried;
-  for (const std::string& path : candidates()) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) {
-      tried += (tried.empty() ? "" : ", ") + path;
-      continue;
-    }
-    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!handle) return {nullptr, "not loadable: " + one_line(dlerror())};
-    auto abi = reinterpret_cast<int (*)()>(dlsym(handle, "panoproj_oiio_abi"));
-    auto make = reinterpret_cast<OiioBackend* (*)()>(dlsym(handle, "panoproj_oiio_backend"));
-    if (!abi || !make || abi() != kOiioPluginAbi)
-      return {nullptr, "not this panoproj's: " + path + " (rebuild or reinstall panoproj)"};
-    return {make(), {}};  // never closed: OpenImageIO keeps threads and caches
-  }
-  return {nullptr, "not found (set PANOPROJ_OIIO_PLUGIN to its path; looked for " + tried + ")"};
+  Loaded l;
+  if (void* make = load_plugin(kPluginName, "PANOPROJ_OIIO_PLUGIN", "panoproj_oiio_abi", kOiioPluginAbi,
+                               "panoproj_oiio_backend", l.error))
+    l.backend = reinterpret_cast<OiioBackend* (*)()>(make)();
+  return l;
 }
 
 Loaded g_loaded;

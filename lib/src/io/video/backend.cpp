@@ -1,0 +1,609 @@
+// The FFmpeg plugin (libpanoproj_video.so, video_plugin.hpp): demuxing and decoding a video
+// stream into planes, encoding planes and muxing them with the source's other streams copied
+// packet for packet. The only code that includes FFmpeg. Written against FFmpeg 5.1; where the
+// API moved in 6.1 and 7.x the #if on the library versions says so.
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/avutil.h>
+#include <libavutil/imgutils.h>
+#include <libavutil/opt.h>
+#include <libavutil/pixdesc.h>
+#include <libswscale/swscale.h>
+}
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <deque>
+#include <mutex>
+
+#include "io/video_plugin.hpp"
+#include "panoproj/error.hpp"
+
+namespace panoproj {
+namespace {
+
+std::string av_error(int err) {
+  char text[AV_ERROR_MAX_STRING_SIZE] = {};
+  av_strerror(err, text, sizeof text);
+  return text;
+}
+
+// The packets of the copied streams a reader meets, which its writer takes (on another thread).
+class PacketQueue {
+ public:
+  // A hostile file's copied streams could hold the whole file ahead of its video; bounded.
+  static constexpr int64_t kMostBytes = int64_t{1} << 30;
+  void push(AVPacket* p, const std::string& path) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    bytes_ += p->size;
+    if (bytes_ > kMostBytes)
+      throw Error("cannot read " + path + ": over 1 GiB of audio or data packets ahead of its video (badly interleaved)",
+                  ErrorKind::File);
+    packets_.push_back(p);
+  }
+  AVPacket* pop() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (packets_.empty()) return nullptr;
+    AVPacket* p = packets_.front();
+    packets_.pop_front();
+    bytes_ -= p->size;
+    return p;
+  }
+  ~PacketQueue() {
+    for (AVPacket* p : packets_) av_packet_free(&p);
+  }
+
+ private:
+  std::mutex mutex_;
+  std::deque<AVPacket*> packets_;
+  int64_t bytes_ = 0;
+};
+
+// A planar format of native-endian samples of 8 to 16 bits, one component a plane (what crosses
+// to the library as is); false for packed, semi-planar, bitstream, float, palette, hardware.
+bool crosses_as_is(const AVPixFmtDescriptor* d) {
+  if (!d || !(d->flags & AV_PIX_FMT_FLAG_PLANAR) || (d->flags & (AV_PIX_FMT_FLAG_BITSTREAM | AV_PIX_FMT_FLAG_FLOAT |
+                                                                   AV_PIX_FMT_FLAG_PAL | AV_PIX_FMT_FLAG_HWACCEL |
+                                                                   AV_PIX_FMT_FLAG_BE)))
+    return false;
+  if (d->nb_components < 1 || d->nb_components > 4) return false;
+  const int bytes = d->comp[0].depth > 8 ? 2 : 1;
+  for (int c = 0; c < d->nb_components; ++c) {
+    const AVComponentDescriptor& k = d->comp[c];
+    if (k.plane != c || k.step != bytes || k.offset != 0 || k.shift != 0 || k.depth != d->comp[0].depth) return false;
+  }
+  return true;
+}
+
+// The planar format a decoded format crosses as: itself, else the one with its components,
+// subsampling and depth (rounded up to 8, 10, 12 or 16).
+AVPixelFormat planar_for(AVPixelFormat f) {
+  const AVPixFmtDescriptor* d = av_pix_fmt_desc_get(f);
+  if (!d) return AV_PIX_FMT_NONE;
+  if (crosses_as_is(d)) return f;
+  int depth = 0;
+  for (int c = 0; c < d->nb_components; ++c) depth = std::max(depth, d->comp[c].depth);
+  const bool rgb = d->flags & AV_PIX_FMT_FLAG_RGB, alpha = d->flags & AV_PIX_FMT_FLAG_ALPHA;
+  AVPixelFormat best = AV_PIX_FMT_NONE;
+  int best_depth = 99;
+  for (const AVPixFmtDescriptor* q = av_pix_fmt_desc_next(nullptr); q; q = av_pix_fmt_desc_next(q)) {
+    if (!crosses_as_is(q) || q->nb_components != d->nb_components || bool(q->flags & AV_PIX_FMT_FLAG_RGB) != rgb ||
+        bool(q->flags & AV_PIX_FMT_FLAG_ALPHA) != alpha || q->log2_chroma_w != d->log2_chroma_w ||
+        q->log2_chroma_h != d->log2_chroma_h || q->comp[0].depth < depth || q->comp[0].depth >= best_depth)
+      continue;
+    best = av_pix_fmt_desc_get_id(q), best_depth = q->comp[0].depth;
+  }
+  return best;
+}
+
+VideoPixels pixels_of(AVPixelFormat planar, const AVCodecParameters& p) {
+  const AVPixFmtDescriptor* d = av_pix_fmt_desc_get(planar);
+  VideoPixels v;
+  v.pixel_format = d->name;
+  v.planes = d->nb_components;
+  v.rgb = d->flags & AV_PIX_FMT_FLAG_RGB;
+  v.alpha = d->flags & AV_PIX_FMT_FLAG_ALPHA;
+  v.bits = d->comp[0].depth;
+  v.log2_chroma_w = d->log2_chroma_w, v.log2_chroma_h = d->log2_chroma_h;
+  v.siting = static_cast<ChromaSiting>(std::clamp<int>(p.chroma_location, 0, 6));
+  // (yuvj formats are full range whatever the stream says.)
+  v.full_range = p.color_range == AVCOL_RANGE_JPEG || std::strncmp(d->name, "yuvj", 4) == 0 || v.rgb;
+  v.matrix = p.color_space, v.primaries = p.color_primaries, v.transfer = p.color_trc;
+  return v;
+}
+
+const char* kind_name(AVMediaType t) {
+  switch (t) {
+    case AVMEDIA_TYPE_AUDIO: return "audio";
+    case AVMEDIA_TYPE_SUBTITLE: return "subtitle";
+    case AVMEDIA_TYPE_DATA: return "data";
+    case AVMEDIA_TYPE_ATTACHMENT: return "attachment";
+    case AVMEDIA_TYPE_VIDEO: return "video";
+    default: return "unknown";
+  }
+}
+
+std::string tag_text(uint32_t tag) {
+  if (!tag) return "";
+  std::string s;
+  for (int i = 0; i < 4; ++i) {
+    const char c = static_cast<char>((tag >> (8 * i)) & 0xff);
+    s += (c >= 32 && c < 127) ? c : '?';
+  }
+  return s;
+}
+
+class FfReader final : public VideoReader {
+ public:
+  FfReader(const std::string& path, int stream, bool copy) : path_(path), copy_(copy) {
+    int err = avformat_open_input(&fmt_, path.c_str(), nullptr, nullptr);
+    if (err < 0) fail("it is not a video libavformat can read (" + av_error(err) + ")");
+    err = avformat_find_stream_info(fmt_, nullptr);
+    if (err < 0) fail("its streams cannot be read (" + av_error(err) + ")");
+    pick(stream);
+    const AVStream* st = fmt_->streams[info_.stream];
+    const AVCodec* codec = avcodec_find_decoder(st->codecpar->codec_id);
+    if (!codec)
+      fail("no decoder for its video codec " + std::string(avcodec_get_name(st->codecpar->codec_id)) +
+           " in these FFmpeg libraries");
+    dec_ = avcodec_alloc_context3(codec);
+    if (!dec_ || avcodec_parameters_to_context(dec_, st->codecpar) < 0) fail("its decoder cannot be set up");
+    dec_->thread_count = 0;
+    dec_->pkt_timebase = st->time_base;
+    err = avcodec_open2(dec_, codec, nullptr);
+    if (err < 0) fail("its " + std::string(codec->name) + " decoder cannot be opened (" + av_error(err) + ")");
+    if (st->codecpar->width < 1 || st->codecpar->height < 1 || st->codecpar->format < 0)
+      fail("its video stream has no frame size or pixel format");
+    planar_ = planar_for(static_cast<AVPixelFormat>(st->codecpar->format));
+    if (planar_ == AV_PIX_FMT_NONE)
+      fail("its pixel format " + std::string(av_get_pix_fmt_name(static_cast<AVPixelFormat>(st->codecpar->format))) +
+           " has no planar form of 8 to 16 bits");
+    info_.container = fmt_->iformat->name;
+    info_.codec = codec->name;
+    info_.size = {st->codecpar->width, st->codecpar->height};
+    info_.pixels = pixels_of(planar_, *st->codecpar);
+    info_.time_base[0] = st->time_base.num, info_.time_base[1] = st->time_base.den;
+    info_.frame_rate[0] = st->avg_frame_rate.num, info_.frame_rate[1] = st->avg_frame_rate.den;
+    if (st->duration > 0)
+      info_.duration = static_cast<double>(st->duration) * av_q2d(st->time_base);
+    else if (fmt_->duration > 0)
+      info_.duration = static_cast<double>(fmt_->duration) / AV_TIME_BASE;
+    info_.frames = st->nb_frames;
+    for (unsigned i = 0; i < fmt_->nb_streams; ++i) {
+      if (static_cast<int>(i) == info_.stream) continue;
+      const AVCodecParameters* p = fmt_->streams[i]->codecpar;
+      info_.others.push_back({static_cast<int>(i), kind_name(p->codec_type), avcodec_get_name(p->codec_id),
+                              tag_text(p->codec_tag)});
+    }
+    packet_ = av_packet_alloc();
+    frame_ = av_frame_alloc();
+  }
+
+  ~FfReader() override {
+    av_frame_free(&frame_);
+    av_packet_free(&packet_);
+    avcodec_free_context(&dec_);
+    avformat_close_input(&fmt_);
+    sws_freeContext(sws_);
+  }
+
+  const VideoInfo& info() const override { return info_; }
+  int64_t concealed() const override { return concealed_; }
+
+  bool read(VideoFrame& out) override {
+    for (;;) {
+      const int got = avcodec_receive_frame(dec_, frame_);
+      if (got == 0) {
+        take(out);
+        av_frame_unref(frame_);
+        return true;
+      }
+      if (got == AVERROR_EOF) return false;
+      if (got != AVERROR(EAGAIN)) {
+        if (got == AVERROR_INVALIDDATA) {  // a damaged frame: counted, the next one tried
+          ++concealed_;
+          continue;
+        }
+        fail("decoding a frame (" + av_error(got) + ")");
+      }
+      feed();
+    }
+  }
+
+  // The copied streams' packets read so far (AVFormatContext's streams name their parameters).
+  PacketQueue& queue() { return queue_; }
+  const AVFormatContext* format() const { return fmt_; }
+  bool copying() const { return copy_; }
+
+ private:
+  [[noreturn]] void fail(const std::string& why) const {
+    throw Error("cannot read " + path_ + ": " + why, ErrorKind::File);
+  }
+
+  void pick(int wanted) {
+    int seen = 0;
+    for (unsigned i = 0; i < fmt_->nb_streams; ++i) {
+      const AVStream* st = fmt_->streams[i];
+      if (st->codecpar->codec_type != AVMEDIA_TYPE_VIDEO || (st->disposition & AV_DISPOSITION_ATTACHED_PIC))
+        continue;
+      if (wanted < 0 || seen == wanted) {
+        info_.stream = static_cast<int>(i);
+        return;
+      }
+      ++seen;
+    }
+    if (seen == 0 && wanted < 0) fail("it has no video stream");
+    fail("--stream " + std::to_string(wanted) + " is out of range: it has " + std::to_string(seen) +
+         " video stream" + (seen == 1 ? "" : "s") + " (0 to " + std::to_string(seen - 1) + ")");
+  }
+
+  // Sends the next packet of the video stream to the decoder (queues the copied streams'
+  // packets met on the way); at the end of the file, the flush.
+  void feed() {
+    if (at_end_) fail("the decoder wants more after the end");
+    for (;;) {
+      const int err = av_read_frame(fmt_, packet_);
+      if (err == AVERROR_EOF || (err < 0 && avio_feof(fmt_->pb))) {
+        at_end_ = true;
+        avcodec_send_packet(dec_, nullptr);
+        return;
+      }
+      if (err < 0) fail("reading a packet (" + av_error(err) + ")");
+      if (packet_->stream_index == info_.stream) {
+        const int sent = avcodec_send_packet(dec_, packet_);
+        av_packet_unref(packet_);
+        if (sent == AVERROR_INVALIDDATA) {
+          ++concealed_;
+          continue;
+        }
+        if (sent < 0 && sent != AVERROR(EAGAIN)) fail("decoding a packet (" + av_error(sent) + ")");
+        return;
+      }
+      if (copy_) {
+        AVPacket* kept = av_packet_clone(packet_);
+        if (!kept) fail("out of memory");
+        queue_.push(kept, path_);
+      }
+      av_packet_unref(packet_);
+    }
+  }
+
+  // frame_ into out's planes (made planar first where it is not).
+  void take(VideoFrame& out) {
+    if (frame_->width != info_.size.width || frame_->height != info_.size.height)
+      fail("its frame size changes mid-stream (" + std::to_string(frame_->width) + "x" +
+           std::to_string(frame_->height) + "), which panoproj does not follow");
+    if ((frame_->flags & AV_FRAME_FLAG_CORRUPT) || frame_->decode_error_flags) ++concealed_;
+    const AVFrame* src = frame_;
+    if (frame_->format != planar_) {
+      sws_ = sws_getCachedContext(sws_, frame_->width, frame_->height, static_cast<AVPixelFormat>(frame_->format),
+                                  frame_->width, frame_->height, planar_, SWS_POINT, nullptr, nullptr, nullptr);
+      if (!planar_frame_) planar_frame_.reset(av_frame_alloc());
+      AVFrame* p = planar_frame_.get();
+      if (p->width != frame_->width || !p->data[0]) {
+        av_frame_unref(p);
+        p->format = planar_, p->width = frame_->width, p->height = frame_->height;
+        if (av_frame_get_buffer(p, 0) < 0) fail("out of memory");
+      }
+      if (!sws_ || sws_scale(sws_, frame_->data, frame_->linesize, 0, frame_->height, p->data, p->linesize) < 0)
+        fail("its pixel format cannot be made planar");
+      src = p;
+    }
+    const VideoPixels& px = info_.pixels;
+    const PixelType type = px.bits > 8 ? PixelType::U16 : PixelType::U8;
+    for (int c = 0; c < px.planes; ++c) {
+      const Size s = px.plane_size(info_.size, c);
+      Image& im = out.planes[static_cast<size_t>(c)];
+      if (im.size() != s || im.type() != type || im.channels() != 1) im = Image(s, 1, type, -1, Image::Unfilled{});
+      for (int64_t y = 0; y < s.height; ++y)
+        std::memcpy(im.row(y), src->data[c] + y * src->linesize[c], im.row_bytes());
+    }
+    int64_t pts = frame_->best_effort_timestamp;
+#if LIBAVUTIL_VERSION_INT >= AV_VERSION_INT(57, 30, 100)  // (FFmpeg 6.0: pkt_duration renamed)
+    const int64_t duration = frame_->duration;
+#else
+    const int64_t duration = frame_->pkt_duration;
+#endif
+    if (pts == AV_NOPTS_VALUE) pts = last_pts_ == AV_NOPTS_VALUE ? 0 : last_pts_ + std::max<int64_t>(duration, 1);
+    out.pts = last_pts_ = pts;
+  }
+
+  struct FrameFree {
+    void operator()(AVFrame* f) const { av_frame_free(&f); }
+  };
+
+  std::string path_;
+  bool copy_;
+  AVFormatContext* fmt_ = nullptr;
+  AVCodecContext* dec_ = nullptr;
+  AVPacket* packet_ = nullptr;
+  AVFrame* frame_ = nullptr;
+  std::unique_ptr<AVFrame, FrameFree> planar_frame_;
+  SwsContext* sws_ = nullptr;
+  AVPixelFormat planar_ = AV_PIX_FMT_NONE;
+  VideoInfo info_;
+  PacketQueue queue_;
+  bool at_end_ = false;
+  int64_t concealed_ = 0;
+  int64_t last_pts_ = AV_NOPTS_VALUE;
+};
+
+// libavformat's output through a file descriptor (the temporary the library made).
+#if LIBAVFORMAT_VERSION_MAJOR >= 61  // (FFmpeg 7.0: the buffer is const)
+int write_fd(void* opaque, const uint8_t* buf, int size) {
+#else
+int write_fd(void* opaque, uint8_t* buf, int size) {
+#endif
+  const int fd = *static_cast<int*>(opaque);
+  int done = 0;
+  while (done < size) {
+    const ssize_t n = ::write(fd, buf + done, static_cast<size_t>(size - done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return AVERROR(n < 0 ? errno : ENOSPC);
+    done += static_cast<int>(n);
+  }
+  return size;
+}
+int64_t seek_fd(void* opaque, int64_t offset, int whence) {
+  const int fd = *static_cast<int*>(opaque);
+  if (whence == AVSEEK_SIZE) {
+    const off_t at = ::lseek(fd, 0, SEEK_CUR), end = ::lseek(fd, 0, SEEK_END);
+    ::lseek(fd, at, SEEK_SET);
+    return end;
+  }
+  const off_t r = ::lseek(fd, offset, whence & ~AVSEEK_FORCE);
+  return r < 0 ? AVERROR(errno) : r;
+}
+
+// The source's data streams a container takes by their tag (GoPro's telemetry into MP4 and MOV).
+bool takes_data(const AVOutputFormat* f, const OtherStream& s) {
+  const bool mov = std::strcmp(f->name, "mp4") == 0 || std::strcmp(f->name, "mov") == 0;
+  return mov && s.tag == "gpmd";
+}
+
+class FfWriter final : public VideoWriter {
+ public:
+  FfWriter(int fd, const std::string& path, const VideoSettings& s, FfReader* from) : fd_(fd), path_(path), from_(from) {
+    int err = avformat_alloc_output_context2(&fmt_, nullptr, nullptr, path.c_str());
+    if (err < 0 || !fmt_) fail("no muxer takes its extension");
+    const AVCodec* codec = avcodec_find_encoder_by_name(s.codec.c_str());
+    if (!codec) fail("these FFmpeg libraries have no encoder " + s.codec);
+    open_encoder(codec, s);
+    video_ = avformat_new_stream(fmt_, nullptr);
+    if (!video_ || avcodec_parameters_from_context(video_->codecpar, enc_) < 0) fail("its video stream cannot be set up");
+    video_->time_base = enc_->time_base;
+    video_->avg_frame_rate = enc_->framerate;
+    if (from_) add_copied();
+    const size_t buffer_bytes = 1 << 16;
+    auto* buffer = static_cast<unsigned char*>(av_malloc(buffer_bytes));
+    io_ = avio_alloc_context(buffer, static_cast<int>(buffer_bytes), 1, &fd_, nullptr, write_fd, seek_fd);
+    if (!io_) fail("out of memory");
+    fmt_->pb = io_;
+    fmt_->flags |= AVFMT_FLAG_CUSTOM_IO;
+    err = avformat_write_header(fmt_, nullptr);
+    if (err < 0) fail("its header cannot be written (" + av_error(err) + ")");
+    packet_ = av_packet_alloc();
+    frame_ = av_frame_alloc();
+  }
+
+  ~FfWriter() override {
+    av_frame_free(&frame_);
+    av_frame_free(&converted_);
+    av_packet_free(&packet_);
+    avcodec_free_context(&enc_);
+    if (io_) av_freep(&io_->buffer);
+    avio_context_free(&io_);
+    avformat_free_context(fmt_);
+    sws_freeContext(sws_);
+  }
+
+  void write(const VideoFrame& f) override {
+    AVFrame* fr = frame_;
+    av_frame_unref(fr);
+    fr->format = given_, fr->width = static_cast<int>(size_.width), fr->height = static_cast<int>(size_.height);
+    if (av_frame_get_buffer(fr, 0) < 0) fail("out of memory");
+    for (int c = 0; c < pixels_.planes; ++c) {
+      const Image& im = f.planes[static_cast<size_t>(c)];
+      for (int64_t y = 0; y < im.height(); ++y) std::memcpy(fr->data[c] + y * fr->linesize[c], im.row(y), im.row_bytes());
+    }
+    if (given_ != enc_->pix_fmt) {
+      av_frame_unref(converted_);
+      converted_->format = enc_->pix_fmt, converted_->width = fr->width, converted_->height = fr->height;
+      if (av_frame_get_buffer(converted_, 0) < 0) fail("out of memory");
+      if (sws_scale(sws_, fr->data, fr->linesize, 0, fr->height, converted_->data, converted_->linesize) < 0)
+        fail("its frames cannot be converted to " + std::string(av_get_pix_fmt_name(enc_->pix_fmt)));
+      fr = converted_;
+    }
+    fr->pts = f.pts;
+    fr->color_range = enc_->color_range, fr->colorspace = enc_->colorspace;
+    fr->color_primaries = enc_->color_primaries, fr->color_trc = enc_->color_trc;
+    fr->chroma_location = enc_->chroma_sample_location;
+    encode(fr);
+    copy_queued();
+  }
+
+  void finish() override {
+    encode(nullptr);
+    copy_queued();
+    const int err = av_write_trailer(fmt_);
+    if (err < 0) fail("writing its index (" + av_error(err) + ")");
+    avio_flush(io_);
+    if (io_->error < 0) fail(av_error(io_->error));
+  }
+
+  const std::vector<std::string>& notes() const override { return notes_; }
+
+ private:
+  [[noreturn]] void fail(const std::string& why) const { throw Error("cannot write " + path_ + ": " + why, ErrorKind::File); }
+
+  void open_encoder(const AVCodec* codec, const VideoSettings& s) {
+    enc_ = avcodec_alloc_context3(codec);
+    if (!enc_) fail("out of memory");
+    size_ = s.size, pixels_ = s.pixels;
+    given_ = av_get_pix_fmt(s.pixels.pixel_format.c_str());
+    enc_->pix_fmt = given_;
+    if (codec->pix_fmts) {  // the encoder's nearest where it lacks the planes' format
+      bool takes = false;
+      for (const AVPixelFormat* f = codec->pix_fmts; *f != AV_PIX_FMT_NONE; ++f) takes |= *f == given_;
+      if (!takes) {
+        enc_->pix_fmt = avcodec_find_best_pix_fmt_of_list(codec->pix_fmts, given_, 0, nullptr);
+        sws_ = sws_getContext(static_cast<int>(size_.width), static_cast<int>(size_.height), given_,
+                              static_cast<int>(size_.width), static_cast<int>(size_.height), enc_->pix_fmt,
+                              SWS_BICUBIC | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, nullptr, nullptr, nullptr);
+        converted_ = av_frame_alloc();
+        if (!sws_ || !converted_) fail("its pixel format " + s.pixels.pixel_format + " cannot be converted for " + s.codec);
+        notes_.push_back("encoder " + s.codec + " takes no " + s.pixels.pixel_format + ": written as " +
+                         av_get_pix_fmt_name(enc_->pix_fmt));
+      }
+    }
+    enc_->width = static_cast<int>(size_.width), enc_->height = static_cast<int>(size_.height);
+    enc_->sample_aspect_ratio = {1, 1};
+    enc_->time_base = {s.time_base[0], s.time_base[1]};
+    enc_->framerate = {s.frame_rate[0], s.frame_rate[1]};
+    enc_->color_range = s.pixels.full_range ? AVCOL_RANGE_JPEG : AVCOL_RANGE_MPEG;
+    enc_->colorspace = static_cast<AVColorSpace>(s.pixels.matrix);
+    enc_->color_primaries = static_cast<AVColorPrimaries>(s.pixels.primaries);
+    enc_->color_trc = static_cast<AVColorTransferCharacteristic>(s.pixels.transfer);
+    enc_->chroma_sample_location = static_cast<AVChromaLocation>(s.pixels.siting);
+    if (s.gop > 0) enc_->gop_size = s.gop;
+    if (s.bitrate > 0) enc_->bit_rate = s.bitrate;
+    enc_->thread_count = s.threads;
+    if (fmt_->oformat->flags & AVFMT_GLOBALHEADER) enc_->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+    AVDictionary* opts = nullptr;
+    if (s.crf >= 0 && s.bitrate == 0) av_dict_set_int(&opts, "crf", s.crf, 0);
+    if (!s.preset.empty()) av_dict_set(&opts, "preset", s.preset.c_str(), 0);
+    const int err = avcodec_open2(enc_, codec, &opts);
+    AVDictionaryEntry* unused = av_dict_get(opts, "", nullptr, AV_DICT_IGNORE_SUFFIX);
+    const std::string left = unused ? unused->key : "";
+    av_dict_free(&opts);
+    if (err < 0) fail("encoder " + s.codec + " refuses these settings (" + av_error(err) + ")");
+    if (!left.empty()) fail("encoder " + s.codec + " has no option " + left);
+  }
+
+  // A stream for each other stream of the source the container takes; one note for each dropped.
+  void add_copied() {
+    const AVFormatContext* in = from_->format();
+    const AVStream* video_in = in->streams[from_->info().stream];
+    // The start timecode (a tmcd track, which libavformat 5.1 cannot copy into MP4) made again
+    // from the source's.
+    const AVDictionaryEntry* tc = av_dict_get(video_in->metadata, "timecode", nullptr, 0);
+    for (const OtherStream& o : from_->info().others) {
+      const AVStream* st = in->streams[o.index];
+      if (!tc) tc = av_dict_get(st->metadata, "timecode", nullptr, 0);
+      const AVMediaType t = st->codecpar->codec_type;
+      const bool media = t == AVMEDIA_TYPE_AUDIO || t == AVMEDIA_TYPE_SUBTITLE;
+      const bool takes = media ? avformat_query_codec(fmt_->oformat, st->codecpar->codec_id, FF_COMPLIANCE_NORMAL) == 1
+                               : t == AVMEDIA_TYPE_DATA && takes_data(fmt_->oformat, o);
+      if (!takes) {
+        if (o.tag != "tmcd")
+          notes_.push_back("stream " + std::to_string(o.index) + " (" + o.kind + ", " + o.codec +
+                           (o.tag.empty() ? "" : ", " + o.tag) + ") dropped: " + fmt_->oformat->name +
+                           " does not take it");
+        continue;
+      }
+      AVStream* out = avformat_new_stream(fmt_, nullptr);
+      if (!out || avcodec_parameters_copy(out->codecpar, st->codecpar) < 0) fail("a copied stream cannot be set up");
+      out->codecpar->codec_tag = t == AVMEDIA_TYPE_DATA ? st->codecpar->codec_tag : 0;
+      out->time_base = st->time_base;
+      out->disposition = st->disposition;
+      av_dict_copy(&out->metadata, st->metadata, 0);
+      copied_.resize(std::max<size_t>(copied_.size(), static_cast<size_t>(o.index) + 1), nullptr);
+      copied_[static_cast<size_t>(o.index)] = out;
+      if (o.tag == "SA3D" || st->codecpar->ch_layout.nb_channels == 4)
+        notes_.push_back("stream " + std::to_string(o.index) + " (" + o.codec +
+                         ", 4 channels) copied; its spatial audio box (SA3D), if any, is not written by libavformat 5.1");
+    }
+    if (tc) av_dict_set(&video_->metadata, "timecode", tc->value, 0);
+  }
+
+  void encode(const AVFrame* f) {
+    int err = avcodec_send_frame(enc_, f);
+    if (err < 0) fail("encoding a frame (" + av_error(err) + ")");
+    for (;;) {
+      err = avcodec_receive_packet(enc_, packet_);
+      if (err == AVERROR(EAGAIN) || err == AVERROR_EOF) return;
+      if (err < 0) fail("encoding a frame (" + av_error(err) + ")");
+      av_packet_rescale_ts(packet_, enc_->time_base, video_->time_base);
+      packet_->stream_index = video_->index;
+      mux(packet_);
+    }
+  }
+
+  void copy_queued() {
+    if (!from_) return;
+    while (AVPacket* p = from_->queue().pop()) {
+      const size_t i = static_cast<size_t>(p->stream_index);
+      AVStream* out = i < copied_.size() ? copied_[i] : nullptr;
+      if (out) {
+        av_packet_rescale_ts(p, from_->format()->streams[i]->time_base, out->time_base);
+        p->stream_index = out->index;
+        p->pos = -1;
+        mux(p);
+      }
+      av_packet_free(&p);
+    }
+  }
+
+  void mux(AVPacket* p) {
+    const int err = av_interleaved_write_frame(fmt_, p);
+    if (err < 0) fail(io_->error < 0 ? av_error(io_->error) : "muxing a packet (" + av_error(err) + ")");
+  }
+
+  int fd_;
+  std::string path_;
+  FfReader* from_;
+  AVFormatContext* fmt_ = nullptr;
+  AVIOContext* io_ = nullptr;
+  AVCodecContext* enc_ = nullptr;
+  AVStream* video_ = nullptr;
+  std::vector<AVStream*> copied_;  // by source stream index
+  AVPacket* packet_ = nullptr;
+  AVFrame *frame_ = nullptr, *converted_ = nullptr;
+  SwsContext* sws_ = nullptr;
+  AVPixelFormat given_ = AV_PIX_FMT_NONE;
+  Size size_;
+  VideoPixels pixels_;
+  std::vector<std::string> notes_;
+};
+
+class FfBackend final : public VideoBackend {
+ public:
+  FfBackend() { av_log_set_level(AV_LOG_QUIET); }
+
+  std::unique_ptr<VideoReader> open(const std::string& path, int stream, bool copy) override {
+    return std::make_unique<FfReader>(path, stream, copy);
+  }
+
+  std::string check_output(const std::string& path, const std::string& codec) override {
+    const AVOutputFormat* f = av_guess_format(nullptr, path.c_str(), nullptr);
+    if (!f || (f->flags & AVFMT_NOFILE)) return "no muxer of these FFmpeg libraries takes its extension";
+    const AVCodec* c = avcodec_find_encoder_by_name(codec.c_str());
+    if (!c) return "these FFmpeg libraries have no encoder " + codec;
+    if (avformat_query_codec(f, c->id, FF_COMPLIANCE_NORMAL) != 1)
+      return std::string(f->name) + " does not take " + avcodec_get_name(c->id) + " video";
+    return "";
+  }
+
+  std::unique_ptr<VideoWriter> create(int fd, const std::string& path, const VideoSettings& settings,
+                                      VideoReader* copy_from) override {
+    auto* from = dynamic_cast<FfReader*>(copy_from);
+    return std::make_unique<FfWriter>(fd, path, settings, from && from->copying() ? from : nullptr);
+  }
+
+  std::string version() override {
+    return std::string("FFmpeg ") + av_version_info() + " (libavformat " + AV_STRINGIFY(LIBAVFORMAT_VERSION) +
+           ", libavcodec " + AV_STRINGIFY(LIBAVCODEC_VERSION) + ")";
+  }
+};
+
+}  // namespace
+}  // namespace panoproj
+
+extern "C" __attribute__((visibility("default"))) int panoproj_video_abi() { return panoproj::kVideoPluginAbi; }
+extern "C" __attribute__((visibility("default"))) panoproj::VideoBackend* panoproj_video_backend() {
+  static panoproj::FfBackend backend;
+  return &backend;
+}
