@@ -46,9 +46,10 @@ struct Failure {
   size_t frame;
 };
 
-// Runs n frames; each stage sleeps a little (so they overlap) and throws "<stage> <frame>" where
-// told. Returns the exception's message, "" if none.
-std::string run(size_t n, int readers, Log& log, std::vector<Failure> failures = {}) {
+// Runs n frames (or, with `end`, frames until read says frame `end` is none); each stage sleeps a
+// little (so they overlap) and throws "<stage> <frame>" where told. Returns the exception's
+// message, "" if none.
+std::string run(size_t n, int readers, Log& log, std::vector<Failure> failures = {}, size_t end = SIZE_MAX) {
   auto step = [&](Stage stage, size_t i, std::vector<size_t>& started, std::vector<size_t>& done, int micros) {
     log.add(started, i);
     auto fail = [&] {
@@ -62,6 +63,7 @@ std::string run(size_t n, int readers, Log& log, std::vector<Failure> failures =
   };
   FrameStages stages;
   stages.read = [&](size_t i) {
+    if (i >= end) return false;
     const int now = ++log.busy_readers;
     for (int m = log.most_readers; now > m && !log.most_readers.compare_exchange_weak(m, now);) {
     }
@@ -80,6 +82,7 @@ std::string run(size_t n, int readers, Log& log, std::vector<Failure> failures =
       throw;
     }
     --log.busy_readers;
+    return true;
   };
   stages.convert = [&](size_t i) {
     if (!log.has(log.read_done, i)) ADD_FAILURE() << "convert " << i << " before its read";
@@ -159,6 +162,19 @@ TEST(FramePipeline, AReportThatThrowsEndsTheBatch) {
   ASSERT_GE(log.written_done.size(), 5u);
   EXPECT_LT(log.written_done.size(), 10u);
   EXPECT_EQ(log.written_done, first(log.written_done.size()));
+}
+
+TEST(FramePipeline, AStreamOfUnknownLengthEndsWhereReadSaysSo) {
+  for (int readers : {1, 2})
+    for (size_t end : {size_t{0}, size_t{1}, size_t{7}}) {
+      Log log;
+      EXPECT_EQ(run(kUnknownFrames, readers, log, {}, end), "");
+      EXPECT_EQ(log.written_done, first(end)) << readers << " " << end;
+      EXPECT_EQ(log.reported, first(end));
+    }
+  Log log;  // a failure before the end still ends it with its error
+  EXPECT_EQ(run(kUnknownFrames, 2, log, {{Stage::Convert, 3}}, 7), "stage 1 frame 3");
+  EXPECT_EQ(log.written_done, first(3));
 }
 
 }  // namespace

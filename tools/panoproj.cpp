@@ -167,6 +167,10 @@ int run_job(const Command& command) {
       std::printf("%s\n", line.c_str());
       std::fflush(stdout);
     };
+  events.warning = [&](const std::string& line) {  // (the real stderr, even when quiet)
+    bar.clear();
+    dprintf(hold.fd(), "panoproj: %s\n", line.c_str());
+  };
   const Report report = command.job().run(args, events);
   const ReportValue* ok = report_find(report, "ok");
   return ok && !std::get<bool>(ok->value) ? 1 : 0;

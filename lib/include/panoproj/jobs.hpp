@@ -37,6 +37,7 @@ class Arguments {
   std::string text(std::string_view name) const;
   std::optional<std::string> optional_text(std::string_view name) const;
   int64_t integer(std::string_view name) const;
+  std::optional<int64_t> optional_integer(std::string_view name) const;  // none: not given, no default
   bool flag(std::string_view name) const;
   double angle(std::string_view name) const;
   std::vector<std::string> paths(std::string_view name) const;
@@ -82,6 +83,7 @@ void report_set(Report& report, std::string_view key, ReportValue value);
 struct JobEvents {
   std::function<void(double)> progress;
   std::function<void(const std::string&)> line;
+  std::function<void(const std::string&)> warning;  // what the user should see even when quiet
 };
 
 // The written and empty files of staged parts (summed over parts by the scheduler).

@@ -343,6 +343,21 @@ OutputSet::~OutputSet() {
 }
 
 void OutputSet::add(const std::string& path, std::span<const std::string_view> pieces) {
+  const int fd = open(path);
+  write_pieces(fd, path, pieces);
+  seal(fd, path);
+}
+
+void OutputSet::seal(int fd, const std::string& path) {
+  if (::fsync(fd) != 0) {
+    const int err = errno;
+    ::close(fd);
+    fail(path, "syncing it to disk", err);
+  }
+  if (::close(fd) != 0) fail(path, "closing it", errno);
+}
+
+int OutputSet::open(const std::string& path) {
   check_output_path(path, overwrite_);
   const int dir = open_folder_of(path);
   remove_stale(dir, folder_of(path));
@@ -362,13 +377,7 @@ void OutputSet::add(const std::string& path, std::span<const std::string_view> p
     fail(path, "no free temporary name", EEXIST);
   }
   staged_.push_back({path, name_of(path), temp, dir, claim(dir, temp)});
-  write_pieces(fd, path, pieces);
-  if (::fsync(fd) != 0) {
-    const int err = errno;
-    ::close(fd);
-    fail(path, "syncing it to disk", err);
-  }
-  if (::close(fd) != 0) fail(path, "closing it", errno);
+  return fd;
 }
 
 void OutputSet::commit() {

@@ -39,6 +39,11 @@ class OutputSet {
   void add(const std::string& path, std::string_view bytes) { add(path, std::span(&bytes, 1)); }
   // The same for a file in pieces, one after the other (a header and pixels held elsewhere).
   void add(const std::string& path, std::span<const std::string_view> pieces);
+  // A file written as it is made (a video): the descriptor of its temporary, for reading, writing
+  // and seeking; seal() syncs and closes it (on failure it closes it and throws naming `path`).
+  // A descriptor not sealed is the caller's to close.
+  int open(const std::string& path);
+  void seal(int fd, const std::string& path);
   // Renames every staged file onto its path, all or none.
   void commit();
 

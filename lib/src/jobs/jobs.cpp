@@ -191,6 +191,12 @@ int64_t Arguments::integer(std::string_view name) const {
   return d ? std::get<int64_t>(*d) : 0;
 }
 
+std::optional<int64_t> Arguments::optional_integer(std::string_view name) const {
+  if (const OptionValue* v = find(name)) return std::get<int64_t>(*v);
+  const auto d = default_of(row(name));
+  return d ? std::optional<int64_t>(std::get<int64_t>(*d)) : std::nullopt;
+}
+
 bool Arguments::flag(std::string_view name) const {
   if (const OptionValue* v = find(name)) return std::get<bool>(*v);
   const auto d = default_of(row(name));

@@ -11,6 +11,7 @@
 #include "io/streamed_output.hpp"
 #include "jobs/convert/convert_plan.hpp"
 #include "jobs/convert/frame_pipeline.hpp"
+#include "jobs/convert/video_convert.hpp"
 #include "jobs/list.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
@@ -45,6 +46,16 @@ const std::vector<OptionDef>& rows() {
        {"no_metadata", OptionType::Flag, 0, "False",
         "write no metadata (default: the input's EXIF, ICC profile ..., less orientation, size and "
         "thumbnail)"},
+       {"stream", OptionType::Integer, 0, "None",
+        "video: the video stream to convert, counted among the video streams from 0 (default: the first)"},
+       {"codec", OptionType::Text, 0, "None",
+        "video: the output's codec (default: h264; vp9 for .webm)", nullptr,
+        "h264|hevc|av1|vp9|ffv1|prores"},
+       {"crf", OptionType::Integer, 0, "None", "video: the encoder's constant quality (default: its own, 23 for h264)"},
+       {"bitrate", OptionType::Text, 0, "None", "video: a bit rate instead of crf, e.g. 8M, 2500k"},
+       {"preset", OptionType::Text, 0, "None", "video: the encoder's preset, e.g. veryfast, medium, slow"},
+       {"gop", OptionType::Integer, 0, "None", "video: frames between keyframes (default: the encoder's)", nullptr,
+        nullptr, "-g,--gop"},
        command_option("quiet"),
        command_option("verbose")});
   return rows;
@@ -296,6 +307,7 @@ class FrameRunner {
       // (no arrived: one decoder a frame; a second for its lower band would decode the rows it
       // skips again, and the readers fill the cores)
       frames[n].file->read([](int64_t) {});
+      return true;
     };
     stages.convert = [&](size_t n) {
       convert(n, frames[n], outs[n % 2], false);
@@ -316,7 +328,35 @@ class FrameRunner {
   std::vector<ReportValue> reports_;
 };
 
+VideoRequest video_request_of(const Arguments& a) {
+  VideoRequest r;
+  const std::vector<std::string> inputs = a.paths("inputs");
+  if (inputs.size() != 1) throw Error("a video is converted alone: give one input and one output");
+  r.input = inputs[0];
+  r.output = a.text("output");
+  r.from = a.optional_text("src");
+  r.to = a.text("dst");
+  r.options = a.options();
+  const WriteOptions w = a.write(), image_defaults;
+  if (w.quality != image_defaults.quality || w.subsampling != image_defaults.subsampling || w.type)
+    throw Error("--quality, --subsampling and --depth are for images: a video keeps its pixel format (--crf, "
+                "--bitrate and --preset set its quality)");
+  r.overwrite = w.overwrite;
+  r.stream = static_cast<int>(std::clamp<int64_t>(a.optional_integer("stream").value_or(-1), -1, 1 << 20));
+  if (const auto s = a.optional_integer("stream"); s && *s < 0)
+    throw Error("--stream " + std::to_string(*s) + " is out of range (0 for the first video stream)");
+  r.codec = a.text("codec");
+  r.crf = a.optional_integer("crf");
+  r.bitrate = a.text("bitrate");
+  r.preset = a.text("preset");
+  r.gop = a.optional_integer("gop").value_or(0);
+  return r;
+}
+
 Report run(const Arguments& args, const JobEvents& events) {
+  const std::vector<std::string> inputs = args.paths("inputs");
+  if (!inputs.empty() && is_video_job(inputs[0], args.text("output")))
+    return convert_video(video_request_of(args), events);
   ConvertPlan plan = plan_convert(request_of(args));
   FrameRunner runner(plan, events);
   return {{"frames", {runner.run()}},

@@ -15,7 +15,7 @@ namespace {
 class Pipeline {
  public:
   Pipeline(size_t n, int readers, const FrameStages& stages)
-      : n_(n), readers_(std::max(readers, 1)), stages_(stages), limit_(n), read_(n, 0) {}
+      : n_(n), readers_(std::max(readers, 1)), stages_(stages), limit_(n), read_(static_cast<size_t>(readers_), 0) {}
 
   void run() {
     std::vector<std::thread> threads;
@@ -68,9 +68,21 @@ class Pipeline {
 
   void read_frames(size_t first) {
     const size_t slots = static_cast<size_t>(readers_) + 1;
-    for (size_t i = first; i < n_; i += static_cast<size_t>(readers_))
-      if (!step(i, [&] { return converted_ + slots > i; }, stages_.read, [&] { read_[i] = 1; }))
+    bool more = true;
+    const auto read = [&](size_t i) { more = stages_.read(i); };
+    for (size_t i = first; i < n_; i += static_cast<size_t>(readers_)) {
+      if (!step(i, [&] { return converted_ + slots > i; }, read, [&] {
+            if (more) read_[first] = i / static_cast<size_t>(readers_) + 1;
+            else limit_ = std::min(limit_, i);  // the end: no error
+          }))
         return;
+      if (!more) return;
+    }
+  }
+
+  // Whether frame i has been read (reader i % readers has read its i / readers + 1 frames).
+  bool is_read(size_t i) const {
+    return read_[i % static_cast<size_t>(readers_)] > i / static_cast<size_t>(readers_);
   }
 
   void write_frames() {
@@ -103,7 +115,7 @@ class Pipeline {
           report(lock);
           // (written + 1 >= i: write(i - 2) has returned, so convert(i - 2)'s output is free)
           changed_.wait(lock, [&] {
-            return i >= limit_ || reported_ < written_ || (read_[i] && written_ + 1 >= i);
+            return i >= limit_ || reported_ < written_ || (is_read(i) && written_ + 1 >= i);
           });
           if (i >= limit_) return;
           if (reported_ == written_) break;
@@ -128,7 +140,7 @@ class Pipeline {
   std::condition_variable changed_;
   size_t limit_;
   std::exception_ptr error_;
-  std::vector<char> read_;
+  std::vector<size_t> read_;  // per reader, the frames it has read
   size_t converted_ = 0, written_ = 0, reported_ = 0;  // frames done by each stage, from the first
 };
 

@@ -1,0 +1,349 @@
+#include "jobs/convert/video_convert.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "io/atomic_output.hpp"
+#include "io/video_formats.hpp"
+#include "io/video_plugin.hpp"
+#include "jobs/convert/frame_pipeline.hpp"
+#include "jobs/file_source.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/interrupt.hpp"
+#include "panoproj/limits.hpp"
+
+namespace panoproj {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// The siting of a stream's chroma, or where it says none, the usual one: left (MPEG-2, H.264,
+// HEVC) for limited range, centre (JPEG) for full-range YUV.
+// Where a plane's samples sit, from its chroma siting (FFmpeg's AVChromaLocation): cosited with
+// the first luma sample of their s = 2^log2 (offset 0.5 / s - 0.5 chroma pixels: -1/4 for 4:2:0),
+// centred among them (0), or, vertically, with the second of two rows (+1/4).
+ChromaSiting siting_taken(const VideoPixels& px) {
+  if (px.siting != ChromaSiting::Unspecified) return px.siting;
+  return px.full_range ? ChromaSiting::Center : ChromaSiting::Left;
+}
+
+Siting siting_of(const VideoPixels& px) {
+  if (px.planes < 3 || px.rgb) return {};
+  const ChromaSiting s = siting_taken(px);
+  const double cx = 0.5 / (1 << px.log2_chroma_w) - 0.5, cy = 0.5 / (1 << px.log2_chroma_h) - 0.5;
+  const bool left = s == ChromaSiting::Left || s == ChromaSiting::TopLeft || s == ChromaSiting::BottomLeft;
+  double y = 0;
+  if (s == ChromaSiting::TopLeft || s == ChromaSiting::Top) y = cy;
+  if ((s == ChromaSiting::BottomLeft || s == ChromaSiting::Bottom) && px.log2_chroma_h == 1) y = 0.25;
+  const double x = left ? cx : 0;
+  return {x, y, x, y};
+}
+
+// Video black of plane p.
+uint16_t black_of(const VideoPixels& px, int p) {
+  if (px.alpha && p == px.planes - 1) return 0;
+  if (px.chroma(p)) return static_cast<uint16_t>(1 << (px.bits - 1));
+  return px.full_range ? 0 : static_cast<uint16_t>(16 << (px.bits - 8));
+}
+
+const char* siting_name(ChromaSiting s) {
+  static const char* const kNames[] = {"unspecified", "left", "center", "topleft", "top", "bottomleft", "bottom"};
+  return kNames[static_cast<int>(s)];
+}
+
+// "8M", "2500k", "800000" in bits a second.
+int64_t parse_bitrate(const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  double scale = 1;
+  if (end && (*end == 'k' || *end == 'K')) scale = 1e3, ++end;
+  else if (end && (*end == 'M' || *end == 'm')) scale = 1e6, ++end;
+  if (text.empty() || !end || *end != '\0' || !std::isfinite(v) || v <= 0 || v * scale > 1e11)
+    throw Error("--bitrate " + text + " is not a bit rate (e.g. 8M, 2500k, 800000; up to 100G)");
+  return static_cast<int64_t>(v * scale);
+}
+
+// One plane's conversion: its Converter and the pixels it leaves without a source.
+struct PlaneMap {
+  const Converter* converter = nullptr;
+  std::vector<uint8_t> none;  // 1 where the output sample has no source
+  uint16_t black = 0, most = 0;  // video black; the largest sample (clamped to where under 16 bits)
+};
+
+// The clip's plan: the reader, the geometry per plane kind, the converters.
+class VideoJob {
+ public:
+  VideoJob(const VideoRequest& r, const JobEvents& events) : r_(r), events_(events) {}
+
+  Report run() {
+    VideoBackend& vb = video_backend("reading " + r_.input);
+    check_paths(vb);
+    reader_ = vb.open(r_.input, r_.stream, true);
+    const VideoInfo& info = reader_->info();
+    px_ = info.pixels;
+    plan(info);
+    OutputSet set(r_.overwrite);
+    const int fd = set.open(r_.output);
+    try {
+      VideoSettings s = settings(info);
+      auto writer = vb.create(fd, r_.output, s, reader_.get());
+      for (const std::string& n : writer->notes()) warn(n);
+      run_frames(*writer);
+      if (frames_ == 0) throw Error("cannot read " + r_.input + ": no frame could be decoded", ErrorKind::File);
+      const auto t0 = Clock::now();
+      writer->finish();
+      encode_seconds_ += since(t0);
+    } catch (...) {
+      ::close(fd);
+      throw;
+    }
+    set.seal(fd, r_.output);
+    set.commit();
+    if (reader_->concealed() > 0)
+      warn(r_.input + ": " + std::to_string(reader_->concealed()) + " corrupt packets or frames concealed");
+    return report(info);
+  }
+
+ private:
+  void warn(const std::string& line) const {
+    if (events_.warning) events_.warning(line);
+  }
+
+  void check_paths(VideoBackend& vb) {
+    check_output_path(r_.output, r_.overwrite);
+    if (same_file(r_.input, r_.output)) throw Error("output " + r_.output + " is the input");
+    const VideoContainer* c = video_container_of(r_.output);
+    if (!c) {
+      std::string exts;
+      for (const VideoContainer& k : video_containers())
+        for (std::string_view e : k.extensions) exts += (exts.empty() ? "" : " ") + std::string(e);
+      throw Error("cannot write " + r_.output + ": a video's output needs a video container's extension (" + exts +
+                  ")");
+    }
+    codec_ = &video_codec(r_.codec.empty() ? c->codec : r_.codec);
+    if (const std::string why = vb.check_output(r_.output, codec_->encoder); !why.empty())
+      throw Error("cannot write " + r_.output + ": " + why);
+    if (!r_.bitrate.empty()) bitrate_ = parse_bitrate(r_.bitrate);
+    if (r_.crf && (*r_.crf < 0 || *r_.crf > 63)) throw Error("--crf " + std::to_string(*r_.crf) + " is out of range (0 to 63)");
+    if (r_.gop < 0 || r_.gop > 100000) throw Error("--gop " + std::to_string(r_.gop) + " is out of range (0 to 100000)");
+    const ConvertOptions& o = r_.options;
+    if (o.edges.active() || o.add_alpha)
+      throw Error("a video's pixels outside the source's field are video black: --edges, --fill and --alpha are for images");
+    if (o.engine == Engine::Reference) throw Error("a video needs the simd or scalar engine (--engine)");
+  }
+
+  // The geometry of the luma (and alpha, and RGB) planes and of the chroma planes, their
+  // converters and masks; refuses sizes the subsampling cannot hold.
+  void plan(const VideoInfo& info) {
+    if (info.size.width > 65536 || info.size.height > 65536)
+      throw Error("cannot read " + r_.input + ": its frames of " + size_text(info.size) + " are over 65536 px a side",
+                  ErrorKind::File);
+    const ProjectionSpec from = infer_source_spec(r_.from, r_.input, info.size, std::nullopt);
+    from_text_ = from.str();
+    const ProjectionSpec to = parse_spec(r_.to);
+    luma_ = make_geometry(info.size, from, to, r_.options);
+    fit_chroma(info.size, from, to);
+    const Size out = luma_->target_frame();
+    const int sw = 1 << px_.log2_chroma_w, sh = 1 << px_.log2_chroma_h;
+    const Size eye = size_of(luma_->target);
+    const uint64_t plane_bytes = static_cast<uint64_t>(out.width * out.height) * (px_.bits > 8 ? 2 : 1);
+    // Two frames in flight per stage, each about 3 planes' worth; the kept maps and taps.
+    require_job_memory(*luma_, px_.planes, px_.bits > 8 ? PixelType::U16 : PixelType::U8, r_.options,
+                       add_bytes(12 * plane_bytes, 30 * static_cast<uint64_t>(out.width * out.height)),
+                       "the video's frames in flight and kept maps");
+    luma_converter_.emplace(*luma_, r_.options, Keep::MapsAndTaps);
+    const bool subsampled = px_.planes >= 3 && !px_.rgb && (sw > 1 || sh > 1);
+    if (subsampled) {
+      chroma_ = *luma_;
+      const Size se = px_.plane_size(size_of(luma_->source), 1), te = px_.plane_size(eye, 1);
+      chroma_->source = rescaled(luma_->source, se);
+      chroma_->target = rescaled(luma_->target, te);
+      chroma_->siting = siting_of(px_);
+      chroma_converter_.emplace(*chroma_, r_.options, Keep::Maps);
+    }
+    for (int p = 0; p < px_.planes; ++p) {
+      PlaneMap& m = planes_[static_cast<size_t>(p)];
+      m.converter = subsampled && px_.chroma(p) ? &*chroma_converter_ : &*luma_converter_;
+      m.black = black_of(px_, p);
+      m.most = static_cast<uint16_t>((1 << px_.bits) - 1);
+      // (The first plane of each converter marks its pixels without a source: a full plane in,
+      // 0 out only where nothing was sampled.)
+      const bool first = p == 0 || (m.converter != planes_[0].converter && p == 1);
+      if (first) m.none = no_source(*m.converter, px_.plane_size(info.size, p));
+      else m.none = planes_[m.converter == planes_[0].converter ? 0 : 1].none;
+    }
+  }
+
+  // Whether the output's eyes hold whole chroma samples.
+  bool holds_chroma(const ConversionGeometry& g) const {
+    const Size eye = size_of(g.target);
+    return px_.planes < 3 || (eye.width % (1 << px_.log2_chroma_w) == 0 && eye.height % (1 << px_.log2_chroma_h) == 0);
+  }
+
+  // An output size that does not hold whole chroma samples: the default one is made the next
+  // that does (and that the projection takes: a cube's whole faces) with a warning; a given one
+  // is refused, naming that size.
+  void fit_chroma(Size in, const ProjectionSpec& from, const ProjectionSpec& to) {
+    if (holds_chroma(*luma_)) return;
+    const Size out = luma_->target_frame();
+    std::optional<ConversionGeometry> fitted;
+    ConvertOptions o = r_.options;
+    for (int64_t w = out.width + 1; w <= out.width + 64 && !fitted; ++w) {
+      const auto h = static_cast<int64_t>(std::llround(static_cast<double>(out.height * w) / static_cast<double>(out.width)));
+      o.size = Size{w, h};
+      try {
+        ConversionGeometry g = make_geometry(in, from, to, o);
+        if (holds_chroma(g)) fitted = std::move(g);
+      } catch (const Error&) {  // (a size the projection does not take: the next)
+      }
+    }
+    const std::string why = "output size " + size_text(out) + " does not hold whole chroma samples of " +
+                            px_.pixel_format + " (" + std::to_string(1 << px_.log2_chroma_w) + "x" +
+                            std::to_string(1 << px_.log2_chroma_h) + " pixels each" +
+                            (luma_->stereo.target != StereoLayout::Mono ? ", in each eye" : "") + ")";
+    if (r_.options.size || !fitted)
+      throw Error(why + (fitted ? ": give --size " + size_text(fitted->target_frame()) : ": give --size"));
+    warn(why + ": made " + size_text(fitted->target_frame()));
+    luma_ = std::move(fitted);
+  }
+
+  std::vector<uint8_t> no_source(const Converter& c, Size in) const {
+    const PixelType type = px_.bits > 8 ? PixelType::U16 : PixelType::U8;
+    Image full(in, 1, type);
+    if (type == PixelType::U8) std::fill(full.data(), full.data() + full.byte_size(), 255);
+    else std::fill(reinterpret_cast<uint16_t*>(full.data()), reinterpret_cast<uint16_t*>(full.data() + full.byte_size()), 65535);
+    const Image out = c.run(full);
+    std::vector<uint8_t> none(static_cast<size_t>(out.width() * out.height()));
+    for (size_t i = 0; i < none.size(); ++i)
+      none[i] = type == PixelType::U8 ? out.data()[i] == 0 : reinterpret_cast<const uint16_t*>(out.data())[i] == 0;
+    return none;
+  }
+
+  VideoSettings settings(const VideoInfo& info) const {
+    VideoSettings s;
+    s.codec = codec_->encoder;
+    s.size = luma_->target_frame();
+    s.pixels = px_;
+    s.time_base[0] = info.time_base[0], s.time_base[1] = info.time_base[1];
+    s.frame_rate[0] = info.frame_rate[0], s.frame_rate[1] = info.frame_rate[1];
+    s.crf = r_.crf ? static_cast<int>(*r_.crf) : -1;
+    s.bitrate = bitrate_;
+    s.preset = r_.preset;
+    s.gop = static_cast<int>(r_.gop);
+    return s;
+  }
+
+  void convert_plane(int p, const Image& in, Image& out) const {
+    const PlaneMap& m = planes_[static_cast<size_t>(p)];
+    m.converter->run(in, out);
+    const size_t n = static_cast<size_t>(out.width() * out.height());
+    if (out.type() == PixelType::U8) {
+      unsigned char* o = out.data();
+      for (size_t i = 0; i < n; ++i)
+        if (m.none[i]) o[i] = static_cast<unsigned char>(m.black);
+      return;
+    }
+    auto* o = reinterpret_cast<uint16_t*>(out.data());
+    for (size_t i = 0; i < n; ++i) o[i] = m.none[i] ? m.black : std::min(o[i], m.most);
+  }
+
+  void run_frames(VideoWriter& writer) {
+    std::array<VideoFrame, 2> in, out;
+    const double expected = static_cast<double>(reader_->info().frames);
+    FrameStages stages;
+    stages.read = [&](size_t i) {
+      const auto t0 = Clock::now();
+      const bool more = reader_->read(in[i % 2]);
+      decode_seconds_ += since(t0);
+      return more;
+    };
+    stages.convert = [&](size_t i) {
+      check_interrupt();
+      const auto t0 = Clock::now();
+      const VideoFrame& f = in[i % 2];
+      VideoFrame& o = out[i % 2];
+      for (int p = 0; p < px_.planes; ++p)
+        convert_plane(p, f.planes[static_cast<size_t>(p)], o.planes[static_cast<size_t>(p)]);
+      o.pts = f.pts;
+      convert_seconds_ += since(t0);
+    };
+    stages.write = [&](size_t i) {
+      const auto t0 = Clock::now();
+      writer.write(out[i % 2]);
+      encode_seconds_ += since(t0);
+    };
+    stages.written = [&](size_t i) {
+      frames_ = static_cast<int64_t>(i) + 1;
+      if (events_.progress && expected > 0) events_.progress(std::min(1.0, static_cast<double>(frames_) / expected));
+    };
+    const auto t0 = Clock::now();
+    run_frame_pipeline(kUnknownFrames, 1, stages);
+    seconds_ = since(t0);
+  }
+
+  Report report(const VideoInfo& info) const {
+    const Size out = luma_->target_frame();
+    const double fps = seconds_ > 0 ? static_cast<double>(frames_) / seconds_ : 0;
+    char line[2048];
+    std::snprintf(line, sizeof line,
+                  "%s (%s %s %s, %s) -> %s (%s %s, %s): %lld frames in %.2f s (%.1f fps; decode %.2f s, convert "
+                  "%.2f s, encode %.2f s), %s, antialias %s, %s engine (%s), chroma %s",
+                  r_.input.c_str(), size_text(info.size).c_str(), info.codec.c_str(), px_.pixel_format.c_str(),
+                  from_text_.c_str(), r_.output.c_str(), size_text(out).c_str(), codec_->encoder,
+                  r_.to.c_str(),
+                  static_cast<long long>(frames_), seconds_, fps, decode_seconds_, convert_seconds_, encode_seconds_,
+                  name_of(r_.options.interp), name_of(antialias_of(r_.options)).c_str(), name_of(r_.options.engine),
+                  simd_target(), chroma_ ? siting_name(siting_taken(px_)) : "not subsampled");
+    if (events_.line) events_.line(line);
+    return {{"input", {r_.input}},
+            {"output", {r_.output}},
+            {"input_size", report_size(info.size)},
+            {"output_size", report_size(out)},
+            {"frames", {frames_}},
+            {"seconds", {seconds_}},
+            {"decode_seconds", {decode_seconds_}},
+            {"convert_seconds", {convert_seconds_}},
+            {"encode_seconds", {encode_seconds_}},
+            {"pixel_format", {px_.pixel_format}},
+            {"codec", {std::string(codec_->encoder)}},
+            {"concealed", {reader_->concealed()}},
+            {"src", {from_text_}},
+            {"dst", {r_.to}}};
+  }
+
+  const VideoRequest& r_;
+  const JobEvents& events_;
+  const VideoCodec* codec_ = nullptr;
+  int64_t bitrate_ = 0;
+  std::unique_ptr<VideoReader> reader_;
+  VideoPixels px_;
+  std::string from_text_;
+  std::optional<ConversionGeometry> luma_, chroma_;
+  std::optional<Converter> luma_converter_, chroma_converter_;
+  std::array<PlaneMap, 4> planes_;
+  int64_t frames_ = 0;
+  double seconds_ = 0, decode_seconds_ = 0, convert_seconds_ = 0, encode_seconds_ = 0;
+};
+
+}  // namespace
+
+bool is_video_job(const std::string& input, const std::string& output) {
+  if (video_container_of(input) || video_container_of(output)) return true;
+  std::ifstream f(input, std::ios::binary);
+  std::string head(512, '\0');
+  f.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(std::max<std::streamsize>(f.gcount(), 0)));
+  return sniffs_as_video(head);
+}
+
+Report convert_video(const VideoRequest& request, const JobEvents& events) {
+  return VideoJob(request, events).run();
+}
+
+}  // namespace panoproj

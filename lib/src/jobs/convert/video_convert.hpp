@@ -1,0 +1,43 @@
+#pragma once
+// The convert job on a video: one plan for the whole clip, its frames decoded, converted plane by
+// plane in their own format (YUV: each chroma plane with its own map at the chroma resolution and
+// the sited position of its samples) and encoded, on three threads at once with two frames in
+// flight per stage (memory flat in the clip's length). Rules:
+//   - the video stream's frames all, each output frame's pts the input's (same time base);
+//     its audio and subtitle streams copied packet for packet, GoPro's gpmd telemetry into MP4
+//     and MOV, a start timecode made again; other streams dropped with a warning naming each.
+//   - outside the source's field: video black (Y at 16 << (bits - 8) for limited range, 0 for
+//     full; chroma at mid-scale; alpha 0). Samples of 9 to 15 bits are clamped to their range.
+//   - the output's size must hold whole chroma samples (refused otherwise, naming the nearest
+//     sizes that do); the pixel format, range, matrix, primaries, transfer and chroma siting are
+//     the input's (an encoder that lacks the format gets its nearest, with a warning).
+//   - written through a temporary, renamed at the end: a failure, Ctrl-C or SIGTERM leaves none.
+#include <optional>
+#include <string>
+
+#include "panoproj/jobs.hpp"
+
+namespace panoproj {
+
+struct VideoRequest {
+  std::string input, output;
+  std::optional<std::string> from;
+  std::string to;
+  ConvertOptions options;
+  bool overwrite = false;
+  int stream = -1;                 // among the video streams; -1: the first
+  std::string codec;               // "" : the container's default
+  std::optional<int64_t> crf;      // the encoder's default if none
+  std::string bitrate;             // "8M", "2500k", "" : by crf
+  std::string preset;              // "" : the encoder's default
+  int64_t gop = 0;                 // 0: the encoder's default
+};
+
+// Whether a convert with these paths is a video's: the input's extension or first bytes are a
+// video container's, or the output's extension is.
+bool is_video_job(const std::string& input, const std::string& output);
+
+// Throws Error naming the value at the first refusal; nothing is written then.
+Report convert_video(const VideoRequest& request, const JobEvents& events);
+
+}  // namespace panoproj
