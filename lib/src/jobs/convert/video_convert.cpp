@@ -25,14 +25,14 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 
 // The siting of a stream's chroma, or where it says none, the usual one: left (MPEG-2, H.264,
 // HEVC) for limited range, centre (JPEG) for full-range YUV.
-// Where a plane's samples sit, from its chroma siting (FFmpeg's AVChromaLocation): cosited with
-// the first luma sample of their s = 2^log2 (offset 0.5 / s - 0.5 chroma pixels: -1/4 for 4:2:0),
-// centred among them (0), or, vertically, with the second of two rows (+1/4).
 ChromaSiting siting_taken(const VideoPixels& px) {
   if (px.siting != ChromaSiting::Unspecified) return px.siting;
   return px.full_range ? ChromaSiting::Center : ChromaSiting::Left;
 }
 
+// Where a plane's samples sit, from its chroma siting (FFmpeg's AVChromaLocation): cosited with
+// the first luma sample of their s = 2^log2 (offset 0.5 / s - 0.5 chroma pixels: -1/4 for 4:2:0),
+// centred among them (0), or, vertically, with the second of two rows (+1/4).
 Siting siting_of(const VideoPixels& px) {
   if (px.planes < 3 || px.rgb) return {};
   const ChromaSiting s = siting_taken(px);

@@ -1,0 +1,200 @@
+// Videos through the convert job, checked against independent oracles: clips made at test time
+// by the ffmpeg command, decoded back by it to raw planes (FFV1 is lossless); each output frame's
+// luma equals the per-image conversion of the decoded luma as a one-channel image (10-bit as
+// 16-bit clamped to 1023, video black where no source); each chroma sample is within 1 LSB of the
+// reference sampler at the exact map of its sited place, derived from the luma geometry; frame
+// count, pts and the audio's packets are the input's (ffprobe, ffmpeg's streamhash).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "geometry/source_taps.hpp"
+#include "job_support.hpp"
+#include "panoproj/convert.hpp"
+#include "panoproj/error.hpp"
+#include "sampling/reference_sampler.hpp"
+#include "test_support.hpp"
+
+namespace panoproj {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string shell(const std::string& cmd) {
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return out;
+  char buf[4096];
+  while (size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  pclose(p);
+  return out;
+}
+
+class Clips : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("panoproj_video_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string p(const std::string& name) const { return (dir_ / name).string(); }
+
+  // A 256x128 equirect clip of 12 frames made by ffmpeg: a blurred test pattern (smooth), or
+  // what `source` says.
+  std::string clip(const std::string& name, const std::string& codec_args, const std::string& more_inputs = "",
+                   const std::string& source = "testsrc2=size=256x128:rate=24:duration=0.5,gblur=sigma=1.5") {
+    const std::string out = p(name);
+    const std::string cmd = "ffmpeg -v error -y -f lavfi -i '" + source + "' " + more_inputs + " " + codec_args + " '" + out + "'";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    return out;
+  }
+
+  // The frames' planes as ffmpeg decodes them, in pixel format fmt (planar), 16-bit samples
+  // where bits > 8.
+  std::vector<std::array<Image, 3>> planes(const std::string& file, const char* fmt, Size size, int bits) const {
+    const std::string raw = p("raw.yuv");
+    const std::string cmd = "ffmpeg -v error -y -i '" + file + "' -f rawvideo -pix_fmt " + fmt + " '" + raw + "'";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+    std::ifstream in(raw, std::ios::binary);
+    const PixelType type = bits > 8 ? PixelType::U16 : PixelType::U8;
+    const Size c{size.width / 2, size.height / 2};
+    std::vector<std::array<Image, 3>> frames;
+    for (;;) {
+      std::array<Image, 3> f{Image(size, 1, type), Image(c, 1, type), Image(c, 1, type)};
+      for (Image& im : f) in.read(reinterpret_cast<char*>(im.data()), static_cast<std::streamsize>(im.byte_size()));
+      if (!in) break;
+      frames.push_back(std::move(f));
+    }
+    return frames;
+  }
+
+  std::string pts(const std::string& file) const {
+    return shell("ffprobe -v error -select_streams v -show_entries frame=pts_time -of csv=p=0 '" + file + "'");
+  }
+
+  Report convert(std::vector<std::pair<const char*, OptionValue>> args) const {
+    return test::run_job("convert", test::job_args("convert", std::move(args)));
+  }
+
+  fs::path dir_;
+};
+
+double sample_at(const Image& plane, const Projection& proj, double x, double y) {
+  const SourceTaps taps(proj);
+  const uint8_t ok = 1;
+  unsigned char out[2];
+  sample_reference(plane, taps, Interp::Bicubic, &x, &y, &ok, 1, out);
+  return test::get(Image::view(out, {1, 1}, 1, plane.type()), 0, 0, 0);
+}
+
+TEST_F(Clips, TenBitLumaIsThePerImageConversionAndChromaSitsWhereItSays) {
+  for (const char* siting : {"left", "topleft"}) {
+    const std::string in = clip(std::string("in_") + siting + ".mkv",
+                                std::string("-c:v ffv1 -pix_fmt yuv420p10le -chroma_sample_location ") + siting);
+    const std::string out = p(std::string("out_") + siting + ".mkv");
+    const Report r = convert({{"inputs", std::vector<std::string>{in}},
+                              {"output", out},
+                              {"dst", std::string("fisheye:fov=200")},
+                              {"size", std::string("128x128")},
+                              {"antialias", std::string("off")},
+                              {"codec", std::string("ffv1")}});
+    ASSERT_EQ(test::integer(r, "frames"), 12);
+    const auto src = planes(in, "yuv420p10le", {256, 128}, 10);
+    const auto dst = planes(out, "yuv420p10le", {128, 128}, 10);
+    ASSERT_EQ(src.size(), 12u);
+    ASSERT_EQ(dst.size(), 12u);
+    EXPECT_EQ(pts(in), pts(out));
+    ConvertOptions o;
+    o.size = Size{128, 128}, o.antialias = Antialias{};
+    const ConversionGeometry g = make_geometry({256, 128}, parse_spec("equirect"), parse_spec("fisheye:fov=200"), o);
+    const Projection chroma_source = rescaled(g.source, {128, 64});
+    const bool top = std::string(siting) == "topleft";
+    for (size_t f = 0; f < src.size(); f += 5) {
+      // Luma: the per-image path on the plane alone, clamped to 10 bits, black (64) where none.
+      Image luma = panoproj::convert(src[f][0], parse_spec("equirect"), parse_spec("fisheye:fov=200"), o);
+      int64_t differ = 0, blacks = 0;
+      for (int64_t y = 0; y < 128; ++y)
+        for (int64_t x = 0; x < 128; ++x) {
+          double sx, sy;
+          const bool has = source_pixel(g.source, g.target, g.rotation, x + 0.5, y + 0.5, sx, sy);
+          const double want = has ? std::min(1023.0, test::get(luma, x, y, 0)) : 64.0;
+          blacks += !has;
+          differ += test::get(dst[f][0], x, y, 0) != want;
+        }
+      EXPECT_EQ(differ, 0) << siting << " frame " << f;
+      EXPECT_GT(blacks, 100) << "the fisheye's corners are outside its field";
+      // Chroma: sample (i, j) sits at luma (2i + 0.5, 2j + 1) (left) or (2i + 0.5, 2j + 0.5)
+      // (topleft); the source's chroma sample k at luma 2k + 0.5 (and rows alike).
+      double most = 0;
+      for (int c = 1; c < 3; ++c)
+        for (int64_t j = 0; j < 64; ++j)
+          for (int64_t i = 0; i < 64; ++i) {
+            double sx, sy;
+            if (!source_pixel(g.source, g.target, g.rotation, 2.0 * i + 0.5, 2.0 * j + (top ? 0.5 : 1.0), sx, sy)) {
+              EXPECT_EQ(test::get(dst[f][c], i, j, 0), 512.0);
+              continue;
+            }
+            const double cx = (sx - 0.5) / 2 + 0.5, cy = top ? (sy - 0.5) / 2 + 0.5 : sy / 2;
+            const double want = std::clamp(sample_at(src[f][c], chroma_source, cx, cy), 0.0, 1023.0);
+            most = std::max(most, std::fabs(test::get(dst[f][c], i, j, 0) - want));
+          }
+      EXPECT_LE(most, 1.0) << siting << " frame " << f;
+    }
+  }
+}
+
+TEST_F(Clips, TenBitOvershootIsClampedTo1023) {
+  // Stripes of 0 and 1023: bicubic rings past both ends.
+  const std::string in = clip("sharp.mkv", "-c:v ffv1 -pix_fmt yuv420p10le", "",
+                              "nullsrc=size=256x128:rate=24:duration=0.1,format=yuv420p10le,"
+                              "geq=lum=if(gt(mod(X+Y\\,16)\\,8)\\,1023\\,0):cb=512:cr=512");
+  const std::string out = p("sharp_out.mkv");
+  convert({{"inputs", std::vector<std::string>{in}},
+           {"output", out},
+           {"dst", std::string("equirect")},
+           {"yaw", 10.3},
+           {"codec", std::string("ffv1")}});
+  const auto src = planes(in, "yuv420p10le", {256, 128}, 10), dst = planes(out, "yuv420p10le", {256, 128}, 10);
+  ASSERT_FALSE(dst.empty());
+  ConvertOptions o;
+  o.yaw = 10.3;
+  const Image luma = panoproj::convert(src[0][0], parse_spec("equirect"), parse_spec("equirect"), o);
+  int64_t over = 0, differ = 0;
+  for (int64_t y = 0; y < 128; ++y)
+    for (int64_t x = 0; x < 256; ++x) {
+      over += test::get(luma, x, y, 0) > 1023;
+      differ += test::get(dst[0][0], x, y, 0) != std::min(1023.0, test::get(luma, x, y, 0));
+    }
+  EXPECT_GT(over, 100) << "the kernel overshoots";
+  EXPECT_EQ(differ, 0);
+}
+
+TEST_F(Clips, FramesTimesAndAudioAreTheInputs) {
+  const std::string in = clip("in.mp4", "-shortest -c:v libx264 -pix_fmt yuv420p -c:a aac",
+                              "-f lavfi -i 'sine=frequency=440:duration=0.5'");
+  const std::string out = p("out.mp4");
+  const Report r = convert({{"inputs", std::vector<std::string>{in}}, {"output", out}, {"dst", std::string("cubemap:layout=eac")}});
+  EXPECT_EQ(test::integer(r, "frames"), 12);
+  EXPECT_EQ(pts(in), pts(out));
+  const auto hash = [&](const std::string& f) {
+    return shell("ffmpeg -v error -i '" + f + "' -map 0:a -c copy -f streamhash -");
+  };
+  EXPECT_NE(hash(in), "");
+  EXPECT_EQ(hash(in), hash(out));
+  EXPECT_EQ(shell("ffprobe -v error -select_streams v -show_entries stream=time_base,chroma_location -of csv=p=0 '" + in + "'"),
+            shell("ffprobe -v error -select_streams v -show_entries stream=time_base,chroma_location -of csv=p=0 '" + out + "'"));
+  // An existing output is kept without overwrite.
+  const auto before = fs::last_write_time(out);
+  EXPECT_THROW(convert({{"inputs", std::vector<std::string>{in}}, {"output", out}, {"dst", std::string("equirect")}}), Error);
+  EXPECT_EQ(fs::last_write_time(out), before);
+}
+
+}  // namespace
+}  // namespace panoproj
