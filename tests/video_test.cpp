@@ -6,6 +6,10 @@
 // count, pts and the audio's packets are the input's (ffprobe, ffmpeg's streamhash).
 #include <gtest/gtest.h>
 
+extern "C" {
+#include <libavformat/avformat.h>
+}
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -174,6 +178,99 @@ TEST_F(Clips, TenBitOvershootIsClampedTo1023) {
     }
   EXPECT_GT(over, 100) << "the kernel overshoots";
   EXPECT_EQ(differ, 0);
+}
+
+// A copy of `video`'s stream with a GoPro telemetry stream (data, tag gpmd) beside it: packet i
+// holds `payload(i)` at the video packet's time. (The ffmpeg command cannot write one.)
+void add_gpmd(const std::string& video, const std::string& out, const std::function<std::string(int)>& payload) {
+  AVFormatContext* in = nullptr;
+  ASSERT_GE(avformat_open_input(&in, video.c_str(), nullptr, nullptr), 0);
+  ASSERT_GE(avformat_find_stream_info(in, nullptr), 0);
+  AVFormatContext* o = nullptr;
+  ASSERT_GE(avformat_alloc_output_context2(&o, nullptr, nullptr, out.c_str()), 0);
+  AVStream* v = avformat_new_stream(o, nullptr);
+  avcodec_parameters_copy(v->codecpar, in->streams[0]->codecpar);
+  v->codecpar->codec_tag = 0;
+  v->time_base = in->streams[0]->time_base;
+  AVStream* d = avformat_new_stream(o, nullptr);
+  d->codecpar->codec_type = AVMEDIA_TYPE_DATA;
+  d->codecpar->codec_id = AV_CODEC_ID_BIN_DATA;
+  d->codecpar->codec_tag = MKTAG('g', 'p', 'm', 'd');
+  d->time_base = in->streams[0]->time_base;
+  ASSERT_GE(avio_open(&o->pb, out.c_str(), AVIO_FLAG_WRITE), 0);
+  ASSERT_GE(avformat_write_header(o, nullptr), 0);
+  AVPacket* p = av_packet_alloc();
+  for (int i = 0; av_read_frame(in, p) >= 0;) {
+    if (p->stream_index != 0) {  // (the tmcd track: not carried here)
+      av_packet_unref(p);
+      continue;
+    }
+    const int64_t dts = p->dts, duration = p->duration;
+    av_packet_rescale_ts(p, in->streams[0]->time_base, v->time_base);
+    p->stream_index = 0;
+    ASSERT_GE(av_interleaved_write_frame(o, p), 0);
+    const std::string bytes = payload(i);
+    AVPacket* q = av_packet_alloc();
+    av_new_packet(q, static_cast<int>(bytes.size()));
+    std::memcpy(q->data, bytes.data(), bytes.size());
+    q->pts = q->dts = av_rescale_q(std::max<int64_t>(dts, 0) + i, in->streams[0]->time_base, d->time_base);
+    q->duration = duration, q->stream_index = 1;
+    ASSERT_GE(av_interleaved_write_frame(o, q), 0);
+    av_packet_free(&q);
+    ++i;
+  }
+  av_write_trailer(o);
+  av_packet_free(&p);
+  avio_closep(&o->pb);
+  avformat_free_context(o);
+  avformat_close_input(&in);
+}
+
+// The packets of a file's data stream.
+std::vector<std::string> data_packets(const std::string& file) {
+  std::vector<std::string> out;
+  AVFormatContext* in = nullptr;
+  if (avformat_open_input(&in, file.c_str(), nullptr, nullptr) < 0) return out;
+  avformat_find_stream_info(in, nullptr);
+  AVPacket* p = av_packet_alloc();
+  while (av_read_frame(in, p) >= 0) {
+    if (in->streams[p->stream_index]->codecpar->codec_type == AVMEDIA_TYPE_DATA)
+      out.emplace_back(reinterpret_cast<const char*>(p->data), static_cast<size_t>(p->size));
+    av_packet_unref(p);
+  }
+  av_packet_free(&p);
+  avformat_close_input(&in);
+  return out;
+}
+
+TEST_F(Clips, GoProTelemetryIsCopiedByteForByteAndATimecodeMadeAgain) {
+  const std::string plain = clip("plain.mp4", "-c:v libx264 -pix_fmt yuv420p -timecode 01:02:03:04");
+  const std::string in = p("gopro.mp4"), out = p("gopro_out.mp4");
+  add_gpmd(plain, in, [](int i) { return "DEVC" + std::string(static_cast<size_t>(5 + i), static_cast<char>('a' + i)); });
+  const std::vector<std::string> telemetry = data_packets(in);
+  ASSERT_EQ(telemetry.size(), 12u);
+  convert({{"inputs", std::vector<std::string>{in}}, {"output", out}, {"dst", std::string("equirect")}});
+  EXPECT_EQ(data_packets(out), telemetry);
+  EXPECT_NE(shell("ffprobe -v error -show_entries stream=codec_tag_string -of csv=p=0 '" + out + "'").find("gpmd"),
+            std::string::npos);
+  // A timecode on the input (a tmcd track) comes out as the same start timecode.
+  const std::string tc = shell("ffprobe -v error -show_entries format_tags=timecode:stream_tags=timecode -of csv=p=0 '" + plain + "'");
+  EXPECT_NE(tc.find("01:02:03:04"), std::string::npos) << tc;
+  const std::string tc_out = p("tc_out.mp4");
+  convert({{"inputs", std::vector<std::string>{plain}}, {"output", tc_out}, {"dst", std::string("equirect")}});
+  EXPECT_NE(shell("ffprobe -v error -show_entries stream_tags=timecode -of csv=p=0 '" + tc_out + "'").find("01:02:03:04"),
+            std::string::npos);
+  // Into Matkroska the telemetry is dropped (it takes no data stream), with a warning naming it.
+  std::vector<std::string> warnings;
+  JobEvents events;
+  events.warning = [&](const std::string& w) { warnings.push_back(w); };
+  job_named("convert").run(test::job_args("convert", {{"inputs", std::vector<std::string>{in}},
+                                                      {"output", p("gopro.mkv")},
+                                                      {"dst", std::string("equirect")}}),
+                           events);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("gpmd"), std::string::npos) << warnings[0];
+  EXPECT_TRUE(data_packets(p("gopro.mkv")).empty());
 }
 
 TEST_F(Clips, FramesTimesAndAudioAreTheInputs) {
