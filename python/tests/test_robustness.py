@@ -1661,3 +1661,102 @@ def test_a_large_rle_hdr_is_read_in_bands_at_a_small_views_scale(cli, tmp_path):
 def test_the_job_interface_refuses_naming_the_value(call, error, needle):
     with pytest.raises(error, match=re.escape(needle)):
         call()
+
+
+# ---------------------------------------------------------------------------------------------
+# Videos (the convert job on a video: jobs/convert/video_convert.hpp). Clips made here by the
+# ffmpeg command (a test oracle), 256x128 and 12 frames.
+
+FFMPEG = shutil.which("ffmpeg")
+
+
+@pytest.fixture(scope="module")
+def clips(tmp_path_factory):
+    if not FFMPEG:
+        pytest.skip("ffmpeg (a test oracle) is not installed")
+    d = tmp_path_factory.mktemp("clips")
+
+    def ffmpeg(*args):
+        subprocess.run([FFMPEG, "-v", "error", "-y", *args], check=True, cwd=d)
+
+    pattern = ["-f", "lavfi", "-i", "testsrc2=size=256x128:rate=24:duration=0.5"]
+    ffmpeg(*pattern, "-c:v", "libx264", "-pix_fmt", "yuv420p", "ok.mp4")
+    ffmpeg(*pattern, "-c:v", "libx264", "-pix_fmt", "yuv420p", "ok.mkv")
+    ffmpeg("-f", "lavfi", "-i", "sine=duration=0.5", "-c:a", "aac", "audio.mp4")
+    mkv = (d / "ok.mkv").read_bytes()
+    mp4 = (d / "ok.mp4").read_bytes()
+    at = mkv.find(b"V_MPEG4/ISO/AVC")
+    (d / "unknown.mkv").write_bytes(mkv[:at] + b"V_MPEG4/ISO/XYZ" + mkv[at + 15:])
+    (d / "truncated.mp4").write_bytes(mp4[:len(mp4) * 4 // 10])
+    (d / "garbage.mp4").write_bytes(np.random.default_rng(5).integers(0, 256, 5000, dtype=np.uint8).tobytes())
+    (d / "empty.mp4").write_bytes(b"")
+    return {p.name: str(p) for p in d.iterdir()}
+
+
+VIDEO_CASES = [
+    ("no_video_stream", "audio.mp4", "o.mp4", [], "it has no video stream"),
+    ("unknown_codec", "unknown.mkv", "o.mp4", [], "no decoder for its video codec"),
+    ("truncated_header", "truncated.mp4", "o.mp4", [], "not a video libavformat can read"),
+    ("garbage", "garbage.mp4", "o.mp4", [], "not a video libavformat can read"),
+    ("empty", "empty.mp4", "o.mp4", [], "empty.mp4"),
+    ("absurd_size", "ok.mp4", "o.mp4", ["--size", "200000x100000"], "over the memory limit"),
+    ("size_the_encoder_refuses", "ok.mp4", "o.mp4", ["--size", "30000x15000"], "refuses these settings"),
+    ("no_muxer", "ok.mp4", "o.xyz", [], "a video's output needs a video container's extension"),
+    ("container_refuses_codec", "ok.mp4", "o.webm", ["--codec", "h264"], "webm does not take h264 video"),
+    ("mp4_refuses_prores", "ok.mp4", "o.mp4", ["--codec", "prores"], "mp4 does not take prores video"),
+    ("stream_out_of_range", "ok.mp4", "o.mp4", ["--stream", "3"], "--stream 3 is out of range: it has 1 video stream"),
+    ("stream_negative", "ok.mp4", "o.mp4", ["--stream", "-1"], "--stream -1 is out of range"),
+    ("pattern_output", "ok.mp4", "o_{n}.mp4", [], "a video's output is one video file"),
+    ("crf_out_of_range", "ok.mp4", "o.mp4", ["--crf", "99"], "--crf 99 is out of range"),
+    ("bitrate_nan", "ok.mp4", "o.mp4", ["--bitrate", "nan"], "--bitrate nan is not a bit rate"),
+    ("bitrate_text", "ok.mp4", "o.mp4", ["--bitrate", "fast"], "--bitrate fast is not a bit rate"),
+    ("gop_negative", "ok.mp4", "o.mp4", ["--gop", "-5"], "--gop -5 is out of range"),
+    ("preset_unknown", "ok.mp4", "o.mp4", ["--preset", "bogus"], "refuses these settings"),
+    ("image_option", "ok.mp4", "o.mp4", ["--quality", "50"], "--quality, --subsampling and --depth are for images"),
+    ("fill", "ok.mp4", "o.mp4", ["--fill", "1,0,0"], "video black"),
+    ("reference_engine", "ok.mp4", "o.mp4", ["--engine", "reference"], "simd or scalar engine"),
+    ("odd_size", "ok.mp4", "o.mp4", ["--size", "255x128"], "does not hold whole chroma samples of yuv420p"),
+    ("nan_yaw", "ok.mp4", "o.mp4", ["--yaw", "nan"], "nan"),
+]
+
+
+@pytest.mark.parametrize("case", VIDEO_CASES, ids=[c[0] for c in VIDEO_CASES])
+def test_bad_video_inputs_and_parameters(cli, clips, tmp_path, case):
+    _, source, out, args, needle = case
+    before = snapshot(tmp_path)
+    r = run(cli, ["convert", clips[source], out, "--to", "equirect", *args], tmp_path)
+    expect_refused(r, needle, rss=HOSTILE_RSS)
+    assert snapshot(tmp_path) == before
+
+
+def test_a_video_output_is_not_overwritten_without_overwrite(cli, clips, tmp_path):
+    _old_files(tmp_path, ["o.mp4"])
+    expect_refused(run(cli, ["convert", clips["ok.mp4"], "o.mp4", "--to", "equirect"], tmp_path),
+                   "o.mp4 exists")
+    _assert_old_intact(tmp_path, ["o.mp4"])
+
+
+@pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")
+@pytest.mark.parametrize("fault", ["write-ENOSPC", "write-EIO", "fsync-EIO"])
+def test_video_write_faults_leave_the_old_file(cli, clips, tmp_path, fault):
+    call, err = fault.split("-")
+    _old_files(tmp_path, ["o.mp4"])
+    # The first write of the process is the muxer's header into the temporary; the fsync its seal.
+    r = run(cli, ["convert", clips["ok.mp4"], "o.mp4", "--to", "equirect", "--overwrite"], tmp_path,
+            strace=["-e", f"trace={call}", "-e", f"inject={call}:error={err}:when=1"])
+    assert "(INJECTED)" in r.trace, r.trace[-2000:]
+    expect_refused(r, "cannot write o.mp4", os.strerror(getattr(__import__("errno"), err)))
+    _assert_old_intact(tmp_path, ["o.mp4"])
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["INT", "TERM"])
+def test_signals_during_a_video_leave_nothing_behind(cli, clips, tmp_path, sig):
+    if not STRACE:
+        pytest.skip("strace (a test oracle) is not installed")
+    _old_files(tmp_path, ["o.mp4"])
+    # Each write of the temporary held 0.1 s: the signal comes while the clip is being written.
+    r = run(cli, ["convert", clips["ok.mp4"], "o.mp4", "--to", "equirect", "--overwrite"], tmp_path,
+            strace=["-e", "trace=write", "-e", "inject=write:delay_enter=100000"],
+            on_start=_signal_once_a_temporary_exists(tmp_path, sig, 0.3))
+    assert r.code in (-sig, 128 + sig), (r.code, r.err)
+    _assert_old_intact(tmp_path, ["o.mp4"])

@@ -479,7 +479,15 @@ class FfWriter final : public VideoWriter {
     AVDictionaryEntry* unused = av_dict_get(opts, "", nullptr, AV_DICT_IGNORE_SUFFIX);
     const std::string left = unused ? unused->key : "";
     av_dict_free(&opts);
-    if (err < 0) fail("encoder " + s.codec + " refuses these settings (" + av_error(err) + ")");
+    if (err < 0) {
+      std::string given = "; " + std::to_string(size_.width) + "x" + std::to_string(size_.height) + " " +
+                          av_get_pix_fmt_name(enc_->pix_fmt);
+      if (s.crf >= 0) given += ", crf " + std::to_string(s.crf);
+      if (s.bitrate > 0) given += ", bit rate " + std::to_string(s.bitrate);
+      if (!s.preset.empty()) given += ", preset " + s.preset;
+      if (s.gop > 0) given += ", gop " + std::to_string(s.gop);
+      fail("encoder " + s.codec + " refuses these settings (" + av_error(err) + given + ")");  // (its own log is off)
+    }
     if (!left.empty()) fail("encoder " + s.codec + " has no option " + left);
   }
 

@@ -87,26 +87,37 @@ class VideoJob {
     reader_ = vb.open(r_.input, r_.stream, true);
     const VideoInfo& info = reader_->info();
     px_ = info.pixels;
-    plan(info);
+    plan_geometry(info);
+    const auto t0 = Clock::now();
     OutputSet set(r_.overwrite);
     const int fd = set.open(r_.output);
     try {
-      VideoSettings s = settings(info);
-      auto writer = vb.create(fd, r_.output, s, reader_.get());
+      // (The encoder first: it may refuse the size before the maps are made.)
+      auto writer = vb.create(fd, r_.output, settings(info), reader_.get());
       for (const std::string& n : writer->notes()) warn(n);
+      plan_planes(info);
       run_frames(*writer);
       if (frames_ == 0) throw Error("cannot read " + r_.input + ": no frame could be decoded", ErrorKind::File);
-      const auto t0 = Clock::now();
+      const auto t1 = Clock::now();
       writer->finish();
-      encode_seconds_ += since(t0);
+      encode_seconds_ += since(t1);
     } catch (...) {
       ::close(fd);
       throw;
     }
     set.seal(fd, r_.output);
     set.commit();
+    seconds_ = since(t0);
     if (reader_->concealed() > 0)
       warn(r_.input + ": " + std::to_string(reader_->concealed()) + " corrupt packets or frames concealed");
+    // A file cut short converts as far as it goes (as FFmpeg does), with a warning.
+    const double tb = static_cast<double>(info.time_base[0]) / info.time_base[1];
+    const double fps = info.frame_rate[1] > 0 ? static_cast<double>(info.frame_rate[0]) / info.frame_rate[1] : 0;
+    const double covered = static_cast<double>(last_pts_) * tb + (fps > 0 ? 1 / fps : 0);
+    if ((info.frames > 0 && frames_ < info.frames) || (fps > 0 && info.duration > covered + 2 / fps))
+      warn(r_.input + " ended early: " + std::to_string(frames_) + " frames decoded, up to " +
+           std::to_string(covered).substr(0, 5) + " s of its " + std::to_string(info.duration).substr(0, 5) +
+           " s (the file is cut short or damaged)");
     return report(info);
   }
 
@@ -116,6 +127,10 @@ class VideoJob {
   }
 
   void check_paths(VideoBackend& vb) {
+    if (r_.output.find('{') != std::string::npos)
+      throw Error("output " + r_.output + ": a video's output is one video file (patterns such as {n} name images)");
+    if (!video_container_of(r_.input) && !is_video_job(r_.input, ""))
+      throw Error("cannot read " + r_.input + ": images to a video are not supported yet (give a video input)");
     check_output_path(r_.output, r_.overwrite);
     if (same_file(r_.input, r_.output)) throw Error("output " + r_.output + " is the input");
     const VideoContainer* c = video_container_of(r_.output);
@@ -138,9 +153,9 @@ class VideoJob {
     if (o.engine == Engine::Reference) throw Error("a video needs the simd or scalar engine (--engine)");
   }
 
-  // The geometry of the luma (and alpha, and RGB) planes and of the chroma planes, their
-  // converters and masks; refuses sizes the subsampling cannot hold.
-  void plan(const VideoInfo& info) {
+  // The geometry of the luma (and alpha, and RGB) planes; refuses sizes the subsampling cannot
+  // hold and jobs over the memory budget.
+  void plan_geometry(const VideoInfo& info) {
     if (info.size.width > 65536 || info.size.height > 65536)
       throw Error("cannot read " + r_.input + ": its frames of " + size_text(info.size) + " are over 65536 px a side",
                   ErrorKind::File);
@@ -150,13 +165,18 @@ class VideoJob {
     luma_ = make_geometry(info.size, from, to, r_.options);
     fit_chroma(info.size, from, to);
     const Size out = luma_->target_frame();
-    const int sw = 1 << px_.log2_chroma_w, sh = 1 << px_.log2_chroma_h;
-    const Size eye = size_of(luma_->target);
     const uint64_t plane_bytes = static_cast<uint64_t>(out.width * out.height) * (px_.bits > 8 ? 2 : 1);
     // Two frames in flight per stage, each about 3 planes' worth; the kept maps and taps.
     require_job_memory(*luma_, px_.planes, px_.bits > 8 ? PixelType::U16 : PixelType::U8, r_.options,
                        add_bytes(12 * plane_bytes, 30 * static_cast<uint64_t>(out.width * out.height)),
                        "the video's frames in flight and kept maps");
+  }
+
+  // The converters of the planes (the chroma planes' at their size and siting) and the samples
+  // each leaves without a source.
+  void plan_planes(const VideoInfo& info) {
+    const int sw = 1 << px_.log2_chroma_w, sh = 1 << px_.log2_chroma_h;
+    const Size eye = size_of(luma_->target);
     luma_converter_.emplace(*luma_, r_.options, Keep::MapsAndTaps);
     const bool subsampled = px_.planes >= 3 && !px_.rgb && (sw > 1 || sh > 1);
     if (subsampled) {
@@ -270,7 +290,7 @@ class VideoJob {
       VideoFrame& o = out[i % 2];
       for (int p = 0; p < px_.planes; ++p)
         convert_plane(p, f.planes[static_cast<size_t>(p)], o.planes[static_cast<size_t>(p)]);
-      o.pts = f.pts;
+      o.pts = last_pts_ = f.pts;
       convert_seconds_ += since(t0);
     };
     stages.write = [&](size_t i) {
@@ -282,9 +302,7 @@ class VideoJob {
       frames_ = static_cast<int64_t>(i) + 1;
       if (events_.progress && expected > 0) events_.progress(std::min(1.0, static_cast<double>(frames_) / expected));
     };
-    const auto t0 = Clock::now();
     run_frame_pipeline(kUnknownFrames, 1, stages);
-    seconds_ = since(t0);
   }
 
   Report report(const VideoInfo& info) const {
@@ -327,7 +345,7 @@ class VideoJob {
   std::optional<ConversionGeometry> luma_, chroma_;
   std::optional<Converter> luma_converter_, chroma_converter_;
   std::array<PlaneMap, 4> planes_;
-  int64_t frames_ = 0;
+  int64_t frames_ = 0, last_pts_ = 0;
   double seconds_ = 0, decode_seconds_ = 0, convert_seconds_ = 0, encode_seconds_ = 0;
 };
 
