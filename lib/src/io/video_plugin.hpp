@@ -30,7 +30,8 @@ struct VideoPixels {
   bool alpha = false;        // the last plane is alpha (at the frame's size)
   int bits = 8;              // significant bits a sample (8 ... 16)
   int log2_chroma_w = 0, log2_chroma_h = 0;
-  ChromaSiting siting = ChromaSiting::Unspecified;
+  ChromaSiting siting = ChromaSiting::Left;  // where the stream says none, its codec's usual
+  bool siting_said = false;                  // the stream says it (an output says it only then)
   bool full_range = false;
   int matrix = 2, primaries = 2, transfer = 2;  // AVCOL_SPC_*, AVCOL_PRI_*, AVCOL_TRC_* (2: unspecified)
   // Whether plane p is subsampled (a chroma plane).

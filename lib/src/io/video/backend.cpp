@@ -109,6 +109,11 @@ VideoPixels pixels_of(AVPixelFormat planar, const AVCodecParameters& p) {
   v.bits = d->comp[0].depth;
   v.log2_chroma_w = d->log2_chroma_w, v.log2_chroma_h = d->log2_chroma_h;
   v.siting = static_cast<ChromaSiting>(std::clamp<int>(p.chroma_location, 0, 6));
+  // Unsaid: centred for JPEG's codings (MJPEG, yuvj formats), else left (MPEG-2, H.264, HEVC).
+  v.siting_said = v.siting != ChromaSiting::Unspecified;
+  if (!v.siting_said)
+    v.siting = p.codec_id == AV_CODEC_ID_MJPEG || std::strncmp(d->name, "yuvj", 4) == 0 ? ChromaSiting::Center
+                                                                                          : ChromaSiting::Left;
   // (yuvj formats are full range whatever the stream says.)
   v.full_range = p.color_range == AVCOL_RANGE_JPEG || std::strncmp(d->name, "yuvj", 4) == 0 || v.rgb;
   v.matrix = p.color_space, v.primaries = p.color_primaries, v.transfer = p.color_trc;
@@ -467,7 +472,8 @@ class FfWriter final : public VideoWriter {
     enc_->colorspace = static_cast<AVColorSpace>(s.pixels.matrix);
     enc_->color_primaries = static_cast<AVColorPrimaries>(s.pixels.primaries);
     enc_->color_trc = static_cast<AVColorTransferCharacteristic>(s.pixels.transfer);
-    enc_->chroma_sample_location = static_cast<AVChromaLocation>(s.pixels.siting);
+    enc_->chroma_sample_location =
+        s.pixels.siting_said ? static_cast<AVChromaLocation>(s.pixels.siting) : AVCHROMA_LOC_UNSPECIFIED;
     if (s.gop > 0) enc_->gop_size = s.gop;
     if (s.bitrate > 0) enc_->bit_rate = s.bitrate;
     enc_->thread_count = s.threads;

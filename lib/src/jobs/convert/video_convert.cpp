@@ -23,19 +23,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// The siting of a stream's chroma, or where it says none, the usual one: left (MPEG-2, H.264,
-// HEVC) for limited range, centre (JPEG) for full-range YUV.
-ChromaSiting siting_taken(const VideoPixels& px) {
-  if (px.siting != ChromaSiting::Unspecified) return px.siting;
-  return px.full_range ? ChromaSiting::Center : ChromaSiting::Left;
-}
-
 // Where a plane's samples sit, from its chroma siting (FFmpeg's AVChromaLocation): cosited with
 // the first luma sample of their s = 2^log2 (offset 0.5 / s - 0.5 chroma pixels: -1/4 for 4:2:0),
 // centred among them (0), or, vertically, with the second of two rows (+1/4).
 Siting siting_of(const VideoPixels& px) {
   if (px.planes < 3 || px.rgb) return {};
-  const ChromaSiting s = siting_taken(px);
+  const ChromaSiting s = px.siting;
   const double cx = 0.5 / (1 << px.log2_chroma_w) - 0.5, cy = 0.5 / (1 << px.log2_chroma_h) - 0.5;
   const bool left = s == ChromaSiting::Left || s == ChromaSiting::TopLeft || s == ChromaSiting::BottomLeft;
   double y = 0;
@@ -73,13 +66,14 @@ int64_t parse_bitrate(const std::string& text) {
 struct PlaneMap {
   const Converter* converter = nullptr;
   std::vector<uint8_t> none;  // 1 where the output sample has no source
+  bool any_none = false;
   uint16_t black = 0, most = 0;  // video black; the largest sample (clamped to where under 16 bits)
 };
 
 // The clip's plan: the reader, the geometry per plane kind, the converters.
 class VideoJob {
  public:
-  VideoJob(const VideoRequest& r, const JobEvents& events) : r_(r), events_(events) {}
+  VideoJob(const VideoRequest& r, const JobEvents& events, VideoWriter* sink) : r_(r), events_(events), sink_(sink) {}
 
   Report run() {
     VideoBackend& vb = video_backend("reading " + r_.input);
@@ -89,6 +83,12 @@ class VideoJob {
     px_ = info.pixels;
     plan_geometry(info);
     const auto t0 = Clock::now();
+    if (sink_) {
+      plan_planes(info);
+      run_frames(*sink_);
+      seconds_ = since(t0);
+      return report(info);
+    }
     OutputSet set(r_.overwrite);
     const int fd = set.open(r_.output);
     try {
@@ -127,6 +127,7 @@ class VideoJob {
   }
 
   void check_paths(VideoBackend& vb) {
+    if (sink_) return check_options();
     if (r_.output.find('{') != std::string::npos)
       throw Error("output " + r_.output + ": a video's output is one video file (patterns such as {n} name images)");
     if (!video_container_of(r_.input) && !is_video_job(r_.input, ""))
@@ -144,6 +145,11 @@ class VideoJob {
     codec_ = &video_codec(r_.codec.empty() ? c->codec : r_.codec);
     if (const std::string why = vb.check_output(r_.output, codec_->encoder); !why.empty())
       throw Error("cannot write " + r_.output + ": " + why);
+    check_options();
+  }
+
+  void check_options() {
+    if (!codec_) codec_ = &video_codec(r_.codec.empty() ? "h264" : r_.codec);
     if (!r_.bitrate.empty()) bitrate_ = parse_bitrate(r_.bitrate);
     if (r_.crf && (*r_.crf < 0 || *r_.crf > 63)) throw Error("--crf " + std::to_string(*r_.crf) + " is out of range (0 to 63)");
     if (r_.gop < 0 || r_.gop > 100000) throw Error("--gop " + std::to_string(r_.gop) + " is out of range (0 to 100000)");
@@ -197,6 +203,7 @@ class VideoJob {
       const bool first = p == 0 || (m.converter != planes_[0].converter && p == 1);
       if (first) m.none = no_source(*m.converter, px_.plane_size(info.size, p));
       else m.none = planes_[m.converter == planes_[0].converter ? 0 : 1].none;
+      m.any_none = std::find(m.none.begin(), m.none.end(), 1) != m.none.end();
     }
   }
 
@@ -263,14 +270,19 @@ class VideoJob {
     const PlaneMap& m = planes_[static_cast<size_t>(p)];
     m.converter->run(in, out);
     const size_t n = static_cast<size_t>(out.width() * out.height());
+    const uint8_t* none = m.none.data();
     if (out.type() == PixelType::U8) {
+      if (!m.any_none) return;
       unsigned char* o = out.data();
-      for (size_t i = 0; i < n; ++i)
-        if (m.none[i]) o[i] = static_cast<unsigned char>(m.black);
+      const auto black = static_cast<unsigned char>(m.black);
+      for (size_t i = 0; i < n; ++i) o[i] = none[i] ? black : o[i];
       return;
     }
     auto* o = reinterpret_cast<uint16_t*>(out.data());
-    for (size_t i = 0; i < n; ++i) o[i] = m.none[i] ? m.black : std::min(o[i], m.most);
+    if (m.any_none)
+      for (size_t i = 0; i < n; ++i) o[i] = none[i] ? m.black : std::min(o[i], m.most);
+    else if (m.most < 65535)
+      for (size_t i = 0; i < n; ++i) o[i] = std::min(o[i], m.most);
   }
 
   void run_frames(VideoWriter& writer) {
@@ -317,7 +329,7 @@ class VideoJob {
                   r_.to.c_str(),
                   static_cast<long long>(frames_), seconds_, fps, decode_seconds_, convert_seconds_, encode_seconds_,
                   name_of(r_.options.interp), name_of(antialias_of(r_.options)).c_str(), name_of(r_.options.engine),
-                  simd_target(), chroma_ ? siting_name(siting_taken(px_)) : "not subsampled");
+                  simd_target(), chroma_ ? siting_name(px_.siting) : "not subsampled");
     if (events_.line) events_.line(line);
     return {{"input", {r_.input}},
             {"output", {r_.output}},
@@ -337,6 +349,7 @@ class VideoJob {
 
   const VideoRequest& r_;
   const JobEvents& events_;
+  VideoWriter* sink_;
   const VideoCodec* codec_ = nullptr;
   int64_t bitrate_ = 0;
   std::unique_ptr<VideoReader> reader_;
@@ -360,8 +373,8 @@ bool is_video_job(const std::string& input, const std::string& output) {
   return sniffs_as_video(head);
 }
 
-Report convert_video(const VideoRequest& request, const JobEvents& events) {
-  return VideoJob(request, events).run();
+Report convert_video(const VideoRequest& request, const JobEvents& events, VideoWriter* sink) {
+  return VideoJob(request, events, sink).run();
 }
 
 }  // namespace panoproj

@@ -37,7 +37,10 @@ struct VideoRequest {
 // video container's, or the output's extension is.
 bool is_video_job(const std::string& input, const std::string& output);
 
-// Throws Error naming the value at the first refusal; nothing is written then.
-Report convert_video(const VideoRequest& request, const JobEvents& events);
+class VideoWriter;
+// Throws Error naming the value at the first refusal; nothing is written then. sink: the
+// converted frames go there instead of an encoder and the output (benchmarks: decode and convert
+// alone; request.output names the container all the same).
+Report convert_video(const VideoRequest& request, const JobEvents& events, VideoWriter* sink = nullptr);
 
 }  // namespace panoproj

@@ -1,0 +1,51 @@
+// A video's decode and convert alone (no encoder, no output): the convert job's pipeline with its
+// frames handed to a sink, for scripts/bench.sh video against ffmpeg's v360 to a null output.
+// Usage: video_throughput IN.mp4 TO_SPEC [--size WxH] [--interp NAME]; prints the report's line.
+#include <cstdio>
+#include <string>
+
+#include "io/video_plugin.hpp"
+#include "jobs/convert/video_convert.hpp"
+#include "panoproj/error.hpp"
+
+namespace {
+
+class Sink final : public panoproj::VideoWriter {
+ public:
+  void write(const panoproj::VideoFrame&) override {}
+  void finish() override {}
+  const std::vector<std::string>& notes() const override { return notes_; }
+
+ private:
+  std::vector<std::string> notes_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: video_throughput IN TO_SPEC [--size WxH] [--interp NAME]\n");
+    return 2;
+  }
+  try {
+    panoproj::VideoRequest r;
+    r.input = argv[1], r.output = "null.mp4", r.to = argv[2];
+    for (int i = 3; i + 1 < argc; i += 2) {
+      const std::string k = argv[i], v = argv[i + 1];
+      if (k == "--size") {
+        const auto x = v.find('x');
+        r.options.size = panoproj::Size{std::stoll(v.substr(0, x)), std::stoll(v.substr(x + 1))};
+      } else if (k == "--interp") {
+        r.options.interp = panoproj::parse_interp(v);
+      }
+    }
+    panoproj::JobEvents events;
+    events.line = [](const std::string& l) { std::printf("%s\n", l.c_str()); };
+    Sink sink;
+    panoproj::convert_video(r, events, &sink);
+  } catch (const panoproj::Error& e) {
+    std::fprintf(stderr, "video_throughput: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
