@@ -66,6 +66,8 @@ struct VideoInfo {
 struct VideoFrame {
   std::array<Image, 4> planes;  // planes beyond VideoPixels::planes are empty
   int64_t pts = 0;              // in the stream's time base
+  // What the planes' pixels belong to where they are views (a decoded frame's buffers, held).
+  std::shared_ptr<void> owner;
 };
 
 class VideoReader {

@@ -632,6 +632,42 @@ HWY_INLINE void GrayU8(const SimdSource& s, const TapBlock& blk, unsigned char* 
   std::memcpy(o + blk.index, bytes, static_cast<size_t>(blk.m));
 }
 
+// The same for one uint16 channel (a 10-bit video's planes): a row's taps two to a 32-bit gather.
+template <int K>
+HWY_INLINE void GrayU16(const SimdSource& s, const TapBlock& blk, unsigned char* o) {
+  static_assert(K == 4 || K == 6);
+  using DF = hn::ScalableTag<float>;
+  using DI = hn::RebindToSigned<DF>;
+  using DU = hn::RebindToUnsigned<DF>;
+  using VF = hn::Vec<DF>;
+  const DF df;
+  const DI di;
+  const DU du;
+  VF fx[K], fy[K];
+  BlockWeights<K>(s, blk, df, fx, fy);
+  const auto at = hn::Load(di, blk.off);
+  const auto sampled = hn::Gt(at, hn::Set(di, -1));
+  const auto off0 = hn::Max(at, hn::Zero(di));
+  const auto* base = reinterpret_cast<const int32_t*>(blk.base);
+  const auto low = hn::Set(du, 0xFFFFu);
+  VF acc = hn::Zero(df);
+  for (int r = 0; r < K; ++r) {
+    const auto row = hn::Add(off0, hn::Set(di, static_cast<int32_t>(r * s.stride)));
+    VF h = hn::Zero(df);
+    for (int k = 0; k < K; k += 2) {
+      const auto word = hn::BitCast(du, hn::GatherOffset(di, base, hn::Add(row, hn::Set(di, 2 * k))));
+      h = hn::MulAdd(hn::ConvertTo(df, hn::BitCast(di, hn::And(word, low))), fx[k], h);
+      h = hn::MulAdd(hn::ConvertTo(df, hn::BitCast(di, hn::ShiftRight<16>(word))), fx[k + 1], h);
+    }
+    acc = hn::MulAdd(h, fy[r], acc);
+  }
+  const auto v = hn::IfThenElseZero(sampled, hn::NearestInt(hn::Min(hn::Max(acc, hn::Zero(df)), hn::Set(df, 65535.0f))));
+  const hn::Rebind<uint16_t, DI> d16;
+  HWY_ALIGN uint16_t words[hn::MaxLanes(d16)];
+  hn::Store(hn::DemoteTo(d16, v), d16, words);
+  std::memcpy(o + 2 * blk.index, words, static_cast<size_t>(2 * blk.m));
+}
+
 // Phase 2: gathers and blends one block's taps, writes its m output pixels (0 where not sampled
 // here: misses and invalid lanes).
 template <PixelType PT, class T, int K>
@@ -657,6 +693,8 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
     if (alpha < 0 && !s.dering) return nc == 1 ? GrayU8<K>(s, blk, out) : SeparableU8<K>(s, blk, out);
   } else if constexpr (PT == PixelType::U8 && K > 2) {
     if (alpha < 0 && !s.dering) return SeparableU8<K>(s, blk, out);
+  } else if constexpr (PT == PixelType::U16 && (K == 4 || K == 6)) {
+    if (alpha < 0 && !s.dering && nc == 1) return GrayU16<K>(s, blk, out);
   }
 #endif
   unsigned char* o = out + blk.index * pb;

@@ -299,10 +299,26 @@ class FfReader final : public VideoReader {
     }
     const VideoPixels& px = info_.pixels;
     const PixelType type = px.bits > 8 ? PixelType::U16 : PixelType::U8;
-    for (int c = 0; c < px.planes; ++c) {
+    // Rows back to back (no padding): the planes are views of the decoder's buffers, held.
+    bool dense = src == frame_;
+    for (int c = 0; c < px.planes; ++c)
+      dense = dense && src->linesize[c] == px.plane_size(info_.size, c).width * static_cast<int64_t>(bytes_of(type));
+    if (dense) {
+      AVFrame* held = av_frame_clone(frame_);
+      if (!held) fail("out of memory");
+      out.owner = std::shared_ptr<void>(held, [](void* f) {
+        auto* p = static_cast<AVFrame*>(f);
+        av_frame_free(&p);
+      });
+      for (int c = 0; c < px.planes; ++c)
+        out.planes[static_cast<size_t>(c)] = Image::view(held->data[c], px.plane_size(info_.size, c), 1, type);
+    }
+    if (!dense) out.owner.reset();
+    for (int c = 0; c < px.planes && !dense; ++c) {
       const Size s = px.plane_size(info_.size, c);
       Image& im = out.planes[static_cast<size_t>(c)];
-      if (im.size() != s || im.type() != type || im.channels() != 1) im = Image(s, 1, type, -1, Image::Unfilled{});
+      if (im.is_view() || im.size() != s || im.type() != type || im.channels() != 1)
+        im = Image(s, 1, type, -1, Image::Unfilled{});
       for (int64_t y = 0; y < s.height; ++y)
         std::memcpy(im.row(y), src->data[c] + y * src->linesize[c], im.row_bytes());
     }
