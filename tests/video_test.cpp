@@ -273,6 +273,40 @@ TEST_F(Clips, GoProTelemetryIsCopiedByteForByteAndATimecodeMadeAgain) {
   EXPECT_TRUE(data_packets(p("gopro.mkv")).empty());
 }
 
+TEST_F(Clips, PartsOfAClipJoinIntoTheWhole) {
+  // 2 s at 24 fps, a keyframe every 10 frames: parts cut between keyframes decode from the one
+  // before; each frame belongs to one part, converted as in the whole.
+  const std::string in = clip("long.mkv", "-c:v ffv1 -g 10 -pix_fmt yuv420p", "",
+                              "testsrc2=size=256x128:rate=24:duration=2,gblur=sigma=1");
+  auto run = [&](const std::string& out, std::vector<std::pair<const char*, OptionValue>> more) {
+    std::vector<std::pair<const char*, OptionValue>> args = {{"inputs", std::vector<std::string>{in}},
+                                                             {"output", p(out)},
+                                                             {"dst", std::string("cubemap:layout=3x2")},
+                                                             {"size", std::string("192x128")},
+                                                             {"codec", std::string("ffv1")}};
+    for (auto& m : more) args.push_back(m);
+    return test::integer(convert(args), "frames");
+  };
+  EXPECT_EQ(run("whole.mkv", {}), 48);
+  EXPECT_EQ(run("a.mkv", {{"duration", std::string("0.7")}}), 17);  // frames 0..16 (t < 0.7)
+  EXPECT_EQ(run("b.mkv", {{"start", std::string("0.7")}, {"duration", std::string("0:00.8")}}), 19);
+  EXPECT_EQ(run("c.mkv", {{"start", std::string("1.5")}}), 12);
+  const auto whole = planes(p("whole.mkv"), "yuv420p", {192, 128}, 8);
+  std::vector<std::array<Image, 3>> joined;
+  for (const char* part : {"a.mkv", "b.mkv", "c.mkv"})
+    for (auto& f : planes(p(part), "yuv420p", {192, 128}, 8)) joined.push_back(std::move(f));
+  ASSERT_EQ(joined.size(), whole.size());
+  for (size_t f = 0; f < whole.size(); ++f)
+    for (int c = 0; c < 3; ++c) EXPECT_TRUE(joined[f][c] == whole[f][c]) << "frame " << f << " plane " << c;
+  // A part's times count from its start.
+  EXPECT_EQ(pts(p("c.mkv")).substr(0, 6), "0.0000") << pts(p("c.mkv"));
+  // Frames picked: every 10th, or at most 5 a second.
+  EXPECT_EQ(run("every.mkv", {{"every", int64_t{10}}}), 5);
+  EXPECT_EQ(run("fps.mkv", {{"fps", std::string("5")}}), 10);
+  EXPECT_THROW(run("none.mkv", {{"start", std::string("3")}}), Error);
+  EXPECT_FALSE(fs::exists(p("none.mkv")));
+}
+
 TEST_F(Clips, FramesTimesAndAudioAreTheInputs) {
   const std::string in = clip("in.mp4", "-shortest -c:v libx264 -pix_fmt yuv420p -c:a aac",
                               "-f lavfi -i 'sine=frequency=440:duration=0.5'");

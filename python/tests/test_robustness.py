@@ -1717,6 +1717,16 @@ VIDEO_CASES = [
     ("reference_engine", "ok.mp4", "o.mp4", ["--engine", "reference"], "simd or scalar engine"),
     ("odd_size", "ok.mp4", "o.mp4", ["--size", "255x128"], "does not hold whole chroma samples of yuv420p"),
     ("nan_yaw", "ok.mp4", "o.mp4", ["--yaw", "nan"], "nan"),
+    ("start_not_a_time", "ok.mp4", "o.mp4", ["--start", "1:xx"], "--start 1:xx is not a time"),
+    ("start_negative", "ok.mp4", "o.mp4", ["--start", "-1"], "--start -1 is not a time"),
+    ("start_nan", "ok.mp4", "o.mp4", ["--start", "nan"], "--start nan is not a time"),
+    ("start_past_the_end", "ok.mp4", "o.mp4", ["--start", "60"], "it has no frame from 60"),
+    ("duration_zero", "ok.mp4", "o.mp4", ["--duration", "0"], "--duration 0 is empty"),
+    ("duration_inf", "ok.mp4", "o.mp4", ["--duration", "inf"], "--duration inf is not a time"),
+    ("fps_zero", "ok.mp4", "o.mp4", ["--fps", "0"], "--fps 0 is not a frame rate"),
+    ("fps_nan", "ok.mp4", "o.mp4", ["--fps", "nan"], "--fps nan is not a frame rate"),
+    ("every_zero", "ok.mp4", "o.mp4", ["--every", "0"], "--every 0 is out of range"),
+    ("fps_and_every", "ok.mp4", "o.mp4", ["--fps", "2", "--every", "3"], "give one"),
 ]
 
 

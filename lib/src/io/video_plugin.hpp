@@ -9,6 +9,7 @@
 // their subsampled size; packed and semi-planar formats are made planar (swscale: the same
 // values, moved).
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -70,6 +71,12 @@ struct VideoFrame {
   std::shared_ptr<void> owner;
 };
 
+// The part of a stream read: the frames (and copied packets) whose time is in [start, end)
+// seconds, their times then counted from start.
+struct VideoRange {
+  double start = 0, end = HUGE_VAL;
+};
+
 class VideoReader {
  public:
   virtual ~VideoReader() = default;
@@ -110,9 +117,11 @@ class VideoWriter {
 class VideoBackend {
  public:
   virtual ~VideoBackend() = default;
-  // Opens `path` for its video stream `stream` (-1: the first); throws Error naming the path.
-  // copy: its other streams' packets are kept for a writer to copy.
-  virtual std::unique_ptr<VideoReader> open(const std::string& path, int stream, bool copy) = 0;
+  // Opens `path` for its video stream `stream` (-1: the first), for the frames of `range` (from
+  // the keyframe before its start); throws Error naming the path. copy: its other streams'
+  // packets are kept for a writer to copy.
+  virtual std::unique_ptr<VideoReader> open(const std::string& path, int stream, bool copy,
+                                            const VideoRange& range = {}) = 0;
   // Whether `codec` names an encoder the libraries have, and the muxer of `path`'s extension
   // takes it; "" when so, else why not.
   virtual std::string check_output(const std::string& path, const std::string& codec) = 0;

@@ -143,7 +143,8 @@ std::string tag_text(uint32_t tag) {
 
 class FfReader final : public VideoReader {
  public:
-  FfReader(const std::string& path, int stream, bool copy) : path_(path), copy_(copy) {
+  FfReader(const std::string& path, int stream, bool copy, const VideoRange& range)
+      : path_(path), copy_(copy), range_(range) {
     int err = avformat_open_input(&fmt_, path.c_str(), nullptr, nullptr);
     if (err < 0) fail("it is not a video libavformat can read (" + av_error(err) + ")");
     err = avformat_find_stream_info(fmt_, nullptr);
@@ -185,6 +186,13 @@ class FfReader final : public VideoReader {
     }
     packet_ = av_packet_alloc();
     frame_ = av_frame_alloc();
+    if (range_.start > 0) {
+      // From the keyframe at or before the start (frames before it are decoded and dropped).
+      const int64_t at = av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)), AV_TIME_BASE_Q,
+                                      st->time_base);
+      err = av_seek_frame(fmt_, info_.stream, at, AVSEEK_FLAG_BACKWARD);
+      if (err < 0) fail("it cannot be read from " + std::to_string(range_.start) + " s (" + av_error(err) + ")");
+    }
   }
 
   ~FfReader() override {
@@ -202,6 +210,16 @@ class FfReader final : public VideoReader {
     for (;;) {
       const int got = avcodec_receive_frame(dec_, frame_);
       if (got == 0) {
+        // (In the stream's time base: a frame is in the range by its own time.)
+        const double t = static_cast<double>(frame_time()) * av_q2d(fmt_->streams[info_.stream]->time_base);
+        if (t >= range_.end) {
+          av_frame_unref(frame_);
+          return false;
+        }
+        if (t < range_.start) {
+          av_frame_unref(frame_);
+          continue;
+        }
         take(out);
         av_frame_unref(frame_);
         return true;
@@ -267,13 +285,43 @@ class FfReader final : public VideoReader {
         if (sent < 0 && sent != AVERROR(EAGAIN)) fail("decoding a packet (" + av_error(sent) + ")");
         return;
       }
-      if (copy_) {
+      if (copy_ && in_range(*packet_)) {
         AVPacket* kept = av_packet_clone(packet_);
         if (!kept) fail("out of memory");
+        shift(*kept, fmt_->streams[kept->stream_index]->time_base);
         queue_.push(kept, path_);
       }
       av_packet_unref(packet_);
     }
+  }
+
+  // The frame's time in the stream's time base (where it has none, the last one's plus its
+  // duration).
+  int64_t frame_time() const {
+    if (frame_->best_effort_timestamp != AV_NOPTS_VALUE) return frame_->best_effort_timestamp;
+#if LIBAVUTIL_VERSION_INT >= AV_VERSION_INT(57, 30, 100)  // (FFmpeg 6.0: pkt_duration renamed)
+    const int64_t duration = frame_->duration;
+#else
+    const int64_t duration = frame_->pkt_duration;
+#endif
+    return last_pts_ == AV_NOPTS_VALUE ? 0 : last_pts_ + std::max<int64_t>(duration, 1);
+  }
+
+  // Whether a copied stream's packet is in the range (by its presentation time).
+  bool in_range(const AVPacket& p) const {
+    if (range_.start <= 0 && std::isinf(range_.end)) return true;
+    const int64_t ts = p.pts != AV_NOPTS_VALUE ? p.pts : p.dts;
+    if (ts == AV_NOPTS_VALUE) return false;
+    const double t = static_cast<double>(ts) * av_q2d(fmt_->streams[p.stream_index]->time_base);
+    return t >= range_.start && t < range_.end;
+  }
+
+  // A time counted from the range's start.
+  void shift(AVPacket& p, AVRational tb) const {
+    if (range_.start <= 0) return;
+    const int64_t by = av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)), AV_TIME_BASE_Q, tb);
+    if (p.pts != AV_NOPTS_VALUE) p.pts -= by;
+    if (p.dts != AV_NOPTS_VALUE) p.dts -= by;
   }
 
   // frame_ into out's planes (made planar first where it is not).
@@ -322,14 +370,11 @@ class FfReader final : public VideoReader {
       for (int64_t y = 0; y < s.height; ++y)
         std::memcpy(im.row(y), src->data[c] + y * src->linesize[c], im.row_bytes());
     }
-    int64_t pts = frame_->best_effort_timestamp;
-#if LIBAVUTIL_VERSION_INT >= AV_VERSION_INT(57, 30, 100)  // (FFmpeg 6.0: pkt_duration renamed)
-    const int64_t duration = frame_->duration;
-#else
-    const int64_t duration = frame_->pkt_duration;
-#endif
-    if (pts == AV_NOPTS_VALUE) pts = last_pts_ == AV_NOPTS_VALUE ? 0 : last_pts_ + std::max<int64_t>(duration, 1);
-    out.pts = last_pts_ = pts;
+    const int64_t pts = frame_time();
+    last_pts_ = pts;
+    out.pts = pts - (range_.start > 0 ? av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)),
+                                                     AV_TIME_BASE_Q, fmt_->streams[info_.stream]->time_base)
+                                      : 0);
   }
 
   struct FrameFree {
@@ -338,6 +383,7 @@ class FfReader final : public VideoReader {
 
   std::string path_;
   bool copy_;
+  VideoRange range_;
   AVFormatContext* fmt_ = nullptr;
   AVCodecContext* dec_ = nullptr;
   AVPacket* packet_ = nullptr;
@@ -603,8 +649,9 @@ class FfBackend final : public VideoBackend {
  public:
   FfBackend() { av_log_set_level(AV_LOG_QUIET); }
 
-  std::unique_ptr<VideoReader> open(const std::string& path, int stream, bool copy) override {
-    return std::make_unique<FfReader>(path, stream, copy);
+  std::unique_ptr<VideoReader> open(const std::string& path, int stream, bool copy,
+                                    const VideoRange& range) override {
+    return std::make_unique<FfReader>(path, stream, copy, range);
   }
 
   std::string check_output(const std::string& path, const std::string& codec) override {

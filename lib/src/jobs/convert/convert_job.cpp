@@ -56,6 +56,11 @@ const std::vector<OptionDef>& rows() {
        {"preset", OptionType::Text, 0, "None", "video: the encoder's preset, e.g. veryfast, medium, slow"},
        {"gop", OptionType::Integer, 0, "None", "video: frames between keyframes (default: the encoder's)", nullptr,
         nullptr, "-g,--gop"},
+       {"start", OptionType::Text, 0, "None",
+        "video: from this time (seconds or [HH:]MM:SS[.s]; the output's times count from it)"},
+       {"duration", OptionType::Text, 0, "None", "video: this long (seconds or [HH:]MM:SS[.s]; default: to the end)"},
+       {"fps", OptionType::Text, 0, "None", "video: at most this many frames a second, e.g. 2 or 0.5 (frames dropped)"},
+       {"every", OptionType::Integer, 0, "None", "video: every n-th frame (frames dropped)"},
        command_option("quiet"),
        command_option("verbose")});
   return rows;
@@ -350,6 +355,12 @@ VideoRequest video_request_of(const Arguments& a) {
   r.bitrate = a.text("bitrate");
   r.preset = a.text("preset");
   r.gop = a.optional_integer("gop").value_or(0);
+  r.start = a.text("start");
+  r.duration = a.text("duration");
+  r.fps = a.text("fps");
+  r.every = a.optional_integer("every").value_or(0);
+  if (const auto e = a.optional_integer("every"); e && *e < 1)
+    throw Error("--every " + std::to_string(*e) + " is out of range (1 to 1000000)");
   return r;
 }
 

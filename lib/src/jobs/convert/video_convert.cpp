@@ -62,6 +62,28 @@ int64_t parse_bitrate(const std::string& text) {
   return static_cast<int64_t>(v * scale);
 }
 
+// "12.5", "1:02.5", "01:02:03" in seconds; throws Error naming the option.
+double parse_time(const std::string& text, const char* option) {
+  double total = 0;
+  size_t at = 0;
+  int parts = 0;
+  bool ok = !text.empty();
+  while (ok && at <= text.size()) {
+    const size_t colon = text.find(':', at);
+    const std::string part = text.substr(at, colon == std::string::npos ? std::string::npos : colon - at);
+    char* end = nullptr;
+    const double v = std::strtod(part.c_str(), &end);
+    ok = !part.empty() && end && *end == '\0' && std::isfinite(v) && v >= 0 && ++parts <= 3 &&
+         (colon == std::string::npos || v == std::floor(v));
+    total = total * 60 + v;
+    if (colon == std::string::npos) break;
+    at = colon + 1;
+  }
+  if (!ok || total > 1e9)
+    throw Error(std::string(option) + " " + text + " is not a time (seconds, e.g. 12.5, or [HH:]MM:SS[.s])");
+  return total;
+}
+
 // One plane's conversion: its Converter and the pixels it leaves without a source.
 struct PlaneMap {
   const Converter* converter = nullptr;
@@ -78,7 +100,7 @@ class VideoJob {
   Report run() {
     VideoBackend& vb = video_backend("reading " + r_.input);
     check_paths(vb);
-    reader_ = vb.open(r_.input, r_.stream, true);
+    reader_ = vb.open(r_.input, r_.stream, true, range_);
     const VideoInfo& info = reader_->info();
     px_ = info.pixels;
     plan_geometry(info);
@@ -97,6 +119,11 @@ class VideoJob {
       for (const std::string& n : writer->notes()) warn(n);
       plan_planes(info);
       run_frames(*writer);
+      if (frames_ == 0 && (range_.start > 0 || !std::isinf(range_.end)))
+        throw Error("cannot read " + r_.input + ": it has no frame from " + std::to_string(range_.start).substr(0, 6) +
+                        " s" + (std::isinf(range_.end) ? "" : " to " + std::to_string(range_.end).substr(0, 6) + " s") +
+                        " (it lasts " + std::to_string(reader_->info().duration).substr(0, 6) + " s)",
+                    ErrorKind::File);
       if (frames_ == 0) throw Error("cannot read " + r_.input + ": no frame could be decoded", ErrorKind::File);
       const auto t1 = Clock::now();
       writer->finish();
@@ -112,11 +139,16 @@ class VideoJob {
       warn(r_.input + ": " + std::to_string(reader_->concealed()) + " corrupt packets or frames concealed");
     // A file cut short converts as far as it goes (as FFmpeg does), with a warning.
     const double tb = static_cast<double>(info.time_base[0]) / info.time_base[1];
-    const double fps = info.frame_rate[1] > 0 ? static_cast<double>(info.frame_rate[0]) / info.frame_rate[1] : 0;
-    const double covered = static_cast<double>(last_pts_) * tb + (fps > 0 ? 1 / fps : 0);
-    if ((info.frames > 0 && frames_ < info.frames) || (fps > 0 && info.duration > covered + 2 / fps))
+    const double rate = info.frame_rate[1] > 0 ? static_cast<double>(info.frame_rate[0]) / info.frame_rate[1] : 0;
+    // (The spacing of the frames taken; the times of the range.)
+    const double step = fps_ > 0 ? 1 / fps_ : rate > 0 ? static_cast<double>(std::max<int64_t>(r_.every, 1)) / rate : 0;
+    const double covered = range_.start + static_cast<double>(last_pts_) * tb + step;
+    const bool whole = range_.start == 0 && std::isinf(range_.end) && fps_ == 0 && r_.every <= 1;
+    if ((whole && info.frames > 0 && frames_ < info.frames) ||
+        (step > 0 && std::min(info.duration, range_.end) > covered + 2 * step))
       warn(r_.input + " ended early: " + std::to_string(frames_) + " frames decoded, up to " +
-           std::to_string(covered).substr(0, 5) + " s of its " + std::to_string(info.duration).substr(0, 5) +
+           std::to_string(covered).substr(0, 5) + " s of " +
+           std::to_string(std::min(info.duration, range_.end)).substr(0, 5) +
            " s (the file is cut short or damaged)");
     return report(info);
   }
@@ -153,6 +185,20 @@ class VideoJob {
     if (!r_.bitrate.empty()) bitrate_ = parse_bitrate(r_.bitrate);
     if (r_.crf && (*r_.crf < 0 || *r_.crf > 63)) throw Error("--crf " + std::to_string(*r_.crf) + " is out of range (0 to 63)");
     if (r_.gop < 0 || r_.gop > 100000) throw Error("--gop " + std::to_string(r_.gop) + " is out of range (0 to 100000)");
+    if (!r_.start.empty()) range_.start = parse_time(r_.start, "--start");
+    if (!r_.duration.empty()) {
+      const double d = parse_time(r_.duration, "--duration");
+      if (d <= 0) throw Error("--duration " + r_.duration + " is empty (give a time over 0)");
+      range_.end = range_.start + d;
+    }
+    if (r_.every < 0 || r_.every > 1000000) throw Error("--every " + std::to_string(r_.every) + " is out of range (1 to 1000000)");
+    if (!r_.fps.empty()) {
+      char* end = nullptr;
+      fps_ = std::strtod(r_.fps.c_str(), &end);
+      if (!end || *end || !std::isfinite(fps_) || fps_ <= 0 || fps_ > 1000)
+        throw Error("--fps " + r_.fps + " is not a frame rate (over 0, up to 1000)");
+      if (r_.every > 0) throw Error("--fps and --every both pick frames: give one");
+    }
     const ConvertOptions& o = r_.options;
     if (o.edges.active() || o.add_alpha)
       throw Error("a video's pixels outside the source's field are video black: --edges, --fill and --alpha are for images");
@@ -259,6 +305,8 @@ class VideoJob {
     s.pixels = px_;
     s.time_base[0] = info.time_base[0], s.time_base[1] = info.time_base[1];
     s.frame_rate[0] = info.frame_rate[0], s.frame_rate[1] = info.frame_rate[1];
+    if (r_.every > 1 && info.frame_rate[0] > 0) s.frame_rate[1] *= static_cast<int>(r_.every);
+    if (fps_ > 0) s.frame_rate[0] = static_cast<int>(std::llround(fps_ * 1000)), s.frame_rate[1] = 1000;
     s.crf = r_.crf ? static_cast<int>(*r_.crf) : -1;
     s.bitrate = bitrate_;
     s.preset = r_.preset;
@@ -291,7 +339,8 @@ class VideoJob {
     FrameStages stages;
     stages.read = [&](size_t i) {
       const auto t0 = Clock::now();
-      const bool more = reader_->read(in[i % 2]);
+      bool more = reader_->read(in[i % 2]);
+      while (more && !picked(in[i % 2])) more = reader_->read(in[i % 2]);
       decode_seconds_ += since(t0);
       return more;
     };
@@ -315,6 +364,19 @@ class VideoJob {
       if (events_.progress && expected > 0) events_.progress(std::min(1.0, static_cast<double>(frames_) / expected));
     };
     run_frame_pipeline(kUnknownFrames, 1, stages);
+  }
+
+  // Whether a frame read is taken: every n-th (--every), or the first at or past each 1 / fps
+  // (--fps: the next one due then counted from it, so that a late frame does not crowd the next).
+  bool picked(const VideoFrame& f) {
+    const int64_t k = read_++;
+    if (r_.every > 1) return k % r_.every == 0;
+    if (fps_ <= 0) return true;
+    const VideoInfo& info = reader_->info();
+    const double t = static_cast<double>(f.pts) * info.time_base[0] / info.time_base[1];
+    if (k > 0 && t < due_ - 1e-9) return false;
+    due_ = std::max(due_ + 1 / fps_, t + 0.5 / fps_);
+    return true;
   }
 
   Report report(const VideoInfo& info) const {
@@ -359,6 +421,9 @@ class VideoJob {
   std::optional<Converter> luma_converter_, chroma_converter_;
   std::array<PlaneMap, 4> planes_;
   int64_t frames_ = 0, last_pts_ = 0;
+  VideoRange range_;
+  double fps_ = 0, due_ = 0;  // --fps; the time the next picked frame is due
+  int64_t read_ = 0;          // frames read (picked or not)
   double seconds_ = 0, decode_seconds_ = 0, convert_seconds_ = 0, encode_seconds_ = 0;
 };
 

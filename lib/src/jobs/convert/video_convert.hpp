@@ -3,7 +3,9 @@
 // plane in their own format (YUV: each chroma plane with its own map at the chroma resolution and
 // the sited position of its samples) and encoded, on three threads at once with two frames in
 // flight per stage (memory flat in the clip's length). Rules:
-//   - the video stream's frames all, each output frame's pts the input's (same time base);
+//   - the video stream's frames (those whose time is in [start, start + duration), the times then
+//     counted from start; every n-th of them, or at most fps a second, the first taken), each
+//     output frame's pts the input's (same time base);
 //     its audio and subtitle streams copied packet for packet, GoPro's gpmd telemetry into MP4
 //     and MOV, a start timecode made again; other streams dropped with a warning naming each.
 //   - outside the source's field: video black (Y at 16 << (bits - 8) for limited range, 0 for
@@ -31,6 +33,9 @@ struct VideoRequest {
   std::string bitrate;             // "8M", "2500k", "" : by crf
   std::string preset;              // "" : the encoder's default
   int64_t gop = 0;                 // 0: the encoder's default
+  std::string start, duration;     // "" : the whole clip; else seconds or [[HH:]MM:]SS[.s]
+  std::string fps;                 // "" : every frame; else at most this many a second
+  int64_t every = 0;               // 0: every frame; else every n-th
 };
 
 // Whether a convert with these paths is a video's: the input's extension or first bytes are a
