@@ -21,6 +21,7 @@ extern "C" {
 #include "job_support.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
+#include "panoproj/io.hpp"
 #include "sampling/reference_sampler.hpp"
 #include "test_support.hpp"
 
@@ -64,7 +65,7 @@ class Clips : public ::testing::Test {
   // where bits > 8.
   std::vector<std::array<Image, 3>> planes(const std::string& file, const char* fmt, Size size, int bits) const {
     const std::string raw = p("raw.yuv");
-    const std::string cmd = "ffmpeg -v error -y -i '" + file + "' -f rawvideo -pix_fmt " + fmt + " '" + raw + "'";
+    const std::string cmd = "ffmpeg -v error -y -i '" + file + "' -vsync 0 -f rawvideo -pix_fmt " + fmt + " '" + raw + "'";
     EXPECT_EQ(std::system(cmd.c_str()), 0);
     std::ifstream in(raw, std::ios::binary);
     const PixelType type = bits > 8 ? PixelType::U16 : PixelType::U8;
@@ -305,6 +306,57 @@ TEST_F(Clips, PartsOfAClipJoinIntoTheWhole) {
   EXPECT_EQ(run("fps.mkv", {{"fps", std::string("5")}}), 10);
   EXPECT_THROW(run("none.mkv", {{"start", std::string("3")}}), Error);
   EXPECT_FALSE(fs::exists(p("none.mkv")));
+}
+
+TEST_F(Clips, FramesToImagesAndImagesToAVideo) {
+  const std::string in = clip("in.mp4", "-c:v libx264 -crf 12 -pix_fmt yuv420p");
+  fs::create_directories(p("frames"));
+  // Every 4th frame as a PNG: the per-image conversion of ffmpeg's RGB decode of that frame.
+  const Report r = convert({{"inputs", std::vector<std::string>{in}},
+                            {"output", p("frames/{n}.png")},
+                            {"dst", std::string("pinhole:hfov=90")},
+                            {"size", std::string("128x96")},
+                            {"every", int64_t{4}}});
+  EXPECT_EQ(test::integer(r, "frames"), 3);
+  std::vector<std::string> images;
+  for (int n = 0; n < 3; ++n) images.push_back(p("frames/" + std::to_string(n) + ".png"));
+  EXPECT_FALSE(fs::exists(p("frames/3.png")));
+  ASSERT_EQ(std::system(("ffmpeg -v error -y -i '" + in + "' -vf select='not(mod(n\\,4))' -vsync 0 -pix_fmt rgb24 '" +
+                         p("ref%d.png") + "'").c_str()),
+            0);
+  ConvertOptions o;
+  o.size = Size{128, 96};
+  for (int n = 0; n < 3; ++n) {
+    const Image want = panoproj::convert(read_image(p("ref" + std::to_string(n + 1) + ".png")), parse_spec("equirect"),
+                                         parse_spec("pinhole:hfov=90"), o);
+    EXPECT_GT(test::psnr(read_image(images[static_cast<size_t>(n)]), want), 38.0) << n;
+  }
+  // The images back to a video at 2 frames a second: their number, rate and times, and pixels.
+  const std::string out = p("from_images.mkv");
+  const Report v = convert({{"inputs", images},
+                            {"output", out},
+                            {"src", std::string("pinhole:hfov=90")},
+                            {"dst", std::string("pinhole:hfov=90")},
+                            {"size", std::string("128x96")},
+                            {"fps", std::string("2")},
+                            {"codec", std::string("ffv1")}});
+  EXPECT_EQ(test::integer(v, "frames"), 3);
+  EXPECT_EQ(pts(out), "0.000000\n0.500000\n1.000000\n");
+  const auto back = planes(out, "yuv420p", {128, 96}, 8);
+  ASSERT_EQ(back.size(), 3u);
+  ASSERT_EQ(std::system(("ffmpeg -v error -y -i '" + out + "' -vsync 0 -pix_fmt rgb24 '" + p("back%d.png") + "'").c_str()), 0);
+  for (int n = 0; n < 3; ++n)
+    EXPECT_GT(test::psnr(read_image(p("back" + std::to_string(n + 1) + ".png")), read_image(images[static_cast<size_t>(n)])), 30.0);
+  // Images unlike each other are refused naming the first that differs.
+  write_image(Image({64, 32}, 3, PixelType::U8), p("small.png"), {});
+  try {
+    convert({{"inputs", std::vector<std::string>{images[0], p("small.png")}}, {"output", p("mixed.mkv")}, {"dst", std::string("equirect")},
+             {"src", std::string("pinhole:hfov=90")}});
+    ADD_FAILURE() << "mixed sizes converted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("small.png"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(p("mixed.mkv")));
 }
 
 TEST_F(Clips, FramesTimesAndAudioAreTheInputs) {

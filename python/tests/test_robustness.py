@@ -1690,6 +1690,7 @@ def clips(tmp_path_factory):
     (d / "truncated.mp4").write_bytes(mp4[:len(mp4) * 4 // 10])
     (d / "garbage.mp4").write_bytes(np.random.default_rng(5).integers(0, 256, 5000, dtype=np.uint8).tobytes())
     (d / "empty.mp4").write_bytes(b"")
+    pp.write(str(d / "f.exr"), np.zeros((32, 64, 3), np.float32))
     return {p.name: str(p) for p in d.iterdir()}
 
 
@@ -1701,7 +1702,9 @@ VIDEO_CASES = [
     ("empty", "empty.mp4", "o.mp4", [], "empty.mp4"),
     ("absurd_size", "ok.mp4", "o.mp4", ["--size", "200000x100000"], "over the memory limit"),
     ("size_the_encoder_refuses", "ok.mp4", "o.mp4", ["--size", "30000x15000"], "refuses these settings"),
-    ("no_muxer", "ok.mp4", "o.xyz", [], "a video's output needs a video container's extension"),
+    ("no_muxer", "ok.mp4", "o.xyz", [], "o.xyz is not a video container's"),
+    ("image_without_n", "ok.mp4", "o.png", [], "images of a video's frames need {n} in it"),
+    ("float_images_to_video", "f.exr", "o.mp4", ["--from", "equirect"], "has float samples"),
     ("container_refuses_codec", "ok.mp4", "o.webm", ["--codec", "h264"], "webm does not take h264 video"),
     ("mp4_refuses_prores", "ok.mp4", "o.mp4", ["--codec", "prores"], "mp4 does not take prores video"),
     ("stream_out_of_range", "ok.mp4", "o.mp4", ["--stream", "3"], "--stream 3 is out of range: it has 1 video stream"),

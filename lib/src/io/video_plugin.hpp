@@ -29,6 +29,7 @@ struct VideoPixels {
   int planes = 3;            // 1 (gray), 2 (gray, alpha), 3 or 4 (alpha last)
   bool rgb = false;          // planes G, B, R
   bool alpha = false;        // the last plane is alpha (at the frame's size)
+  bool packed = false;       // one plane of interleaved R G B (A) samples (images in and out)
   int bits = 8;              // significant bits a sample (8 ... 16)
   int log2_chroma_w = 0, log2_chroma_h = 0;
   ChromaSiting siting = ChromaSiting::Left;  // where the stream says none, its codec's usual
@@ -36,7 +37,7 @@ struct VideoPixels {
   bool full_range = false;
   int matrix = 2, primaries = 2, transfer = 2;  // AVCOL_SPC_*, AVCOL_PRI_*, AVCOL_TRC_* (2: unspecified)
   // Whether plane p is subsampled (a chroma plane).
-  bool chroma(int p) const { return planes >= 3 && (p == 1 || p == 2); }
+  bool chroma(int p) const { return !packed && planes >= 3 && (p == 1 || p == 2); }
   Size plane_size(Size frame, int p) const {
     if (!chroma(p)) return frame;
     return {-(-frame.width >> log2_chroma_w), -(-frame.height >> log2_chroma_h)};
@@ -92,7 +93,8 @@ class VideoReader {
 struct VideoSettings {
   std::string codec;                  // FFmpeg's encoder name ("libx264")
   Size size;
-  VideoPixels pixels;                 // the planes it is given (the source's)
+  VideoPixels pixels;                 // the planes it is given (the source's, or packed RGB: made
+                                      // BT.709 limited-range YUV for the encoder)
   int time_base[2] = {1, 25};         // of the frames' pts (the source stream's)
   int frame_rate[2] = {0, 1};         // their average, {0, 1} unknown
   int crf = -1;                       // -1: the encoder's default
@@ -119,9 +121,10 @@ class VideoBackend {
   virtual ~VideoBackend() = default;
   // Opens `path` for its video stream `stream` (-1: the first), for the frames of `range` (from
   // the keyframe before its start); throws Error naming the path. copy: its other streams'
-  // packets are kept for a writer to copy.
+  // packets are kept for a writer to copy. rgb: frames as one packed RGB(A) plane of 8 or 16
+  // bits (the stream's matrix, range and chroma siting; bicubic chroma), for images.
   virtual std::unique_ptr<VideoReader> open(const std::string& path, int stream, bool copy,
-                                            const VideoRange& range = {}) = 0;
+                                            const VideoRange& range = {}, bool rgb = false) = 0;
   // Whether `codec` names an encoder the libraries have, and the muxer of `path`'s extension
   // takes it; "" when so, else why not.
   virtual std::string check_output(const std::string& path, const std::string& codec) = 0;

@@ -120,6 +120,21 @@ VideoPixels pixels_of(AVPixelFormat planar, const AVCodecParameters& p) {
   return v;
 }
 
+// A scaler between two formats of one size (bicubic chroma, accurate rounding) with the chroma
+// positions given in 1/256 luma pixels (-513: swscale's default); null if it cannot be made.
+SwsContext* scaler(Size size, AVPixelFormat from, AVPixelFormat to, int src_h, int src_v, int dst_h, int dst_v) {
+  SwsContext* s = sws_alloc_context();
+  if (!s) return nullptr;
+  av_opt_set_int(s, "srcw", size.width, 0), av_opt_set_int(s, "srch", size.height, 0);
+  av_opt_set_int(s, "dstw", size.width, 0), av_opt_set_int(s, "dsth", size.height, 0);
+  av_opt_set_int(s, "src_format", from, 0), av_opt_set_int(s, "dst_format", to, 0);
+  av_opt_set_int(s, "sws_flags", SWS_BICUBIC | SWS_FULL_CHR_H_INP, 0);  // (5.1: accurate_rnd and full_chroma_int are worse here)
+  av_opt_set_int(s, "src_h_chr_pos", src_h, 0), av_opt_set_int(s, "src_v_chr_pos", src_v, 0);
+  av_opt_set_int(s, "dst_h_chr_pos", dst_h, 0), av_opt_set_int(s, "dst_v_chr_pos", dst_v, 0);
+  if (sws_init_context(s, nullptr, nullptr) < 0) sws_freeContext(s), s = nullptr;
+  return s;
+}
+
 const char* kind_name(AVMediaType t) {
   switch (t) {
     case AVMEDIA_TYPE_AUDIO: return "audio";
@@ -143,7 +158,7 @@ std::string tag_text(uint32_t tag) {
 
 class FfReader final : public VideoReader {
  public:
-  FfReader(const std::string& path, int stream, bool copy, const VideoRange& range)
+  FfReader(const std::string& path, int stream, bool copy, const VideoRange& range, bool rgb)
       : path_(path), copy_(copy), range_(range) {
     int err = avformat_open_input(&fmt_, path.c_str(), nullptr, nullptr);
     if (err < 0) fail("it is not a video libavformat can read (" + av_error(err) + ")");
@@ -171,6 +186,8 @@ class FfReader final : public VideoReader {
     info_.codec = codec->name;
     info_.size = {st->codecpar->width, st->codecpar->height};
     info_.pixels = pixels_of(planar_, *st->codecpar);
+    from_full_range_ = info_.pixels.full_range;
+    if (rgb) to_rgb(*st->codecpar);
     info_.time_base[0] = st->time_base.num, info_.time_base[1] = st->time_base.den;
     info_.frame_rate[0] = st->avg_frame_rate.num, info_.frame_rate[1] = st->avg_frame_rate.den;
     if (st->duration > 0)
@@ -295,6 +312,36 @@ class FfReader final : public VideoReader {
     }
   }
 
+  // Frames as packed RGB(A) from here on.
+  void to_rgb(const AVCodecParameters& p) {
+    VideoPixels& v = info_.pixels;
+    const bool deep = v.bits > 8;
+    planar_ = v.alpha ? (deep ? AV_PIX_FMT_RGBA64LE : AV_PIX_FMT_RGBA) : (deep ? AV_PIX_FMT_RGB48LE : AV_PIX_FMT_RGB24);
+    yuv_ = !v.rgb && v.planes >= 3;
+    matrix_ = p.color_space;
+    if (matrix_ == AVCOL_SPC_UNSPECIFIED || matrix_ == AVCOL_SPC_RGB)  // (HD's usual, else SD's)
+      matrix_ = info_.size.height >= 720 ? AVCOL_SPC_BT709 : AVCOL_SPC_SMPTE170M;
+    v.pixel_format = av_get_pix_fmt_name(planar_);
+    v.planes = 1, v.packed = true, v.rgb = true, v.full_range = true;
+    v.bits = deep ? 16 : 8;
+  }
+
+  // The scaler to RGB: the stream's matrix and range, its chroma siting (in 1/256 luma pixels).
+  SwsContext* rgb_scaler(AVPixelFormat from) {
+    const VideoPixels& v = info_.pixels;
+    const bool left = v.siting == ChromaSiting::Left || v.siting == ChromaSiting::TopLeft ||
+                      v.siting == ChromaSiting::BottomLeft;
+    const int vpos = v.siting == ChromaSiting::TopLeft || v.siting == ChromaSiting::Top      ? 0
+                     : v.siting == ChromaSiting::BottomLeft || v.siting == ChromaSiting::Bottom ? 256
+                                                                                                : 128;
+    SwsContext* s = scaler(info_.size, from, planar_, left ? 0 : 128, vpos, -513, -513);
+    if (!s) fail("its frames cannot be made RGB");
+    const bool full = from_full_range_;
+    sws_setColorspaceDetails(s, sws_getCoefficients(yuv_ ? matrix_ : SWS_CS_DEFAULT), full,
+                             sws_getCoefficients(SWS_CS_DEFAULT), 1, 0, 1 << 16, 1 << 16);
+    return s;
+  }
+
   // The frame's time in the stream's time base (where it has none, the last one's plus its
   // duration).
   int64_t frame_time() const {
@@ -305,6 +352,34 @@ class FfReader final : public VideoReader {
     const int64_t duration = frame_->pkt_duration;
 #endif
     return last_pts_ == AV_NOPTS_VALUE ? 0 : last_pts_ + std::max<int64_t>(duration, 1);
+  }
+
+  void take_rgb(VideoFrame& out) {
+    const VideoPixels& px = info_.pixels;
+    if (!sws_ || sws_from_ != frame_->format) {
+      sws_freeContext(sws_);
+      sws_from_ = frame_->format;
+      sws_ = rgb_scaler(static_cast<AVPixelFormat>(frame_->format));
+    }
+    Image& im = out.planes[0];
+    const int channels = px.alpha ? 4 : 3;
+    const PixelType type = px.bits > 8 ? PixelType::U16 : PixelType::U8;
+    if (im.is_view() || im.size() != info_.size || im.channels() != channels || im.type() != type)
+      im = Image(info_.size, channels, type, px.alpha ? 3 : -1, Image::Unfilled{});
+    out.owner.reset();
+    uint8_t* dst[4] = {im.data(), nullptr, nullptr, nullptr};
+    const int stride[4] = {static_cast<int>(im.row_bytes()), 0, 0, 0};
+    if (sws_scale(sws_, frame_->data, frame_->linesize, 0, frame_->height, dst, stride) < 0)
+      fail("its frames cannot be made RGB");
+    const int64_t pts = frame_time();
+    last_pts_ = pts;
+    out.pts = pts - start_shift();
+  }
+
+  int64_t start_shift() const {
+    return range_.start > 0 ? av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)),
+                                           AV_TIME_BASE_Q, fmt_->streams[info_.stream]->time_base)
+                            : 0;
   }
 
   // Whether a copied stream's packet is in the range (by its presentation time).
@@ -331,6 +406,7 @@ class FfReader final : public VideoReader {
            std::to_string(frame_->height) + "), which panoproj does not follow");
     if ((frame_->flags & AV_FRAME_FLAG_CORRUPT) || frame_->decode_error_flags) ++concealed_;
     const AVFrame* src = frame_;
+    if (info_.pixels.packed) return take_rgb(out);
     if (frame_->format != planar_) {
       sws_ = sws_getCachedContext(sws_, frame_->width, frame_->height, static_cast<AVPixelFormat>(frame_->format),
                                   frame_->width, frame_->height, planar_, SWS_POINT, nullptr, nullptr, nullptr);
@@ -372,9 +448,7 @@ class FfReader final : public VideoReader {
     }
     const int64_t pts = frame_time();
     last_pts_ = pts;
-    out.pts = pts - (range_.start > 0 ? av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)),
-                                                     AV_TIME_BASE_Q, fmt_->streams[info_.stream]->time_base)
-                                      : 0);
+    out.pts = pts - start_shift();
   }
 
   struct FrameFree {
@@ -391,6 +465,9 @@ class FfReader final : public VideoReader {
   std::unique_ptr<AVFrame, FrameFree> planar_frame_;
   SwsContext* sws_ = nullptr;
   AVPixelFormat planar_ = AV_PIX_FMT_NONE;
+  int sws_from_ = -1;  // the format sws_ converts from (RGB frames)
+  bool yuv_ = false, from_full_range_ = false;
+  int matrix_ = AVCOL_SPC_UNSPECIFIED;
   VideoInfo info_;
   PacketQueue queue_;
   bool at_end_ = false;
@@ -512,6 +589,7 @@ class FfWriter final : public VideoWriter {
     size_ = s.size, pixels_ = s.pixels;
     given_ = av_get_pix_fmt(s.pixels.pixel_format.c_str());
     enc_->pix_fmt = given_;
+    if (s.pixels.packed) return open_rgb_encoder(codec, s);
     if (codec->pix_fmts) {  // the encoder's nearest where it lacks the planes' format
       bool takes = false;
       for (const AVPixelFormat* f = codec->pix_fmts; *f != AV_PIX_FMT_NONE; ++f) takes |= *f == given_;
@@ -526,6 +604,34 @@ class FfWriter final : public VideoWriter {
                          av_get_pix_fmt_name(enc_->pix_fmt));
       }
     }
+    configure(s);
+  }
+
+  // Packed RGB frames (images): made 4:2:0 BT.709 limited range where the encoder takes it (8 or
+  // 10 bits by the samples' depth), else its nearest format.
+  void open_rgb_encoder(const AVCodec* codec, const VideoSettings& s) {
+    const AVPixelFormat want = s.pixels.bits > 8 ? AV_PIX_FMT_YUV420P10LE : AV_PIX_FMT_YUV420P;
+    enc_->pix_fmt = codec->pix_fmts ? avcodec_find_best_pix_fmt_of_list(codec->pix_fmts, given_, 0, nullptr) : want;
+    for (const AVPixelFormat* f = codec->pix_fmts; f && *f != AV_PIX_FMT_NONE; ++f)
+      if (*f == want) enc_->pix_fmt = want;
+    const AVPixFmtDescriptor* d = av_pix_fmt_desc_get(enc_->pix_fmt);
+    const bool yuv = d && !(d->flags & AV_PIX_FMT_FLAG_RGB) && d->nb_components >= 3;
+    sws_ = scaler(s.size, given_, enc_->pix_fmt, -513, -513, 0, 128);  // (chroma sited left, as H.264's)
+    converted_ = av_frame_alloc();
+    if (!sws_ || !converted_) fail("its frames cannot be converted to " + std::string(av_get_pix_fmt_name(enc_->pix_fmt)));
+    sws_setColorspaceDetails(sws_, sws_getCoefficients(SWS_CS_DEFAULT), 1, sws_getCoefficients(SWS_CS_ITU709),
+                             yuv ? 0 : 1, 0, 1 << 16, 1 << 16);
+    VideoSettings tagged = s;
+    tagged.pixels.full_range = !yuv;
+    tagged.pixels.matrix = yuv ? AVCOL_SPC_BT709 : AVCOL_SPC_RGB;
+    tagged.pixels.primaries = AVCOL_PRI_BT709, tagged.pixels.transfer = AVCOL_TRC_IEC61966_2_1;  // sRGB's curve
+    tagged.pixels.siting = ChromaSiting::Left, tagged.pixels.siting_said = yuv;
+    configure(tagged);
+  }
+
+  // The encoder's size, times, colour and rate, then opened.
+  void configure(const VideoSettings& s) {
+    const AVCodec* codec = enc_->codec;
     enc_->width = static_cast<int>(size_.width), enc_->height = static_cast<int>(size_.height);
     enc_->sample_aspect_ratio = {1, 1};
     enc_->time_base = {s.time_base[0], s.time_base[1]};
@@ -649,9 +755,9 @@ class FfBackend final : public VideoBackend {
  public:
   FfBackend() { av_log_set_level(AV_LOG_QUIET); }
 
-  std::unique_ptr<VideoReader> open(const std::string& path, int stream, bool copy,
-                                    const VideoRange& range) override {
-    return std::make_unique<FfReader>(path, stream, copy, range);
+  std::unique_ptr<VideoReader> open(const std::string& path, int stream, bool copy, const VideoRange& range,
+                                    bool rgb) override {
+    return std::make_unique<FfReader>(path, stream, copy, range, rgb);
   }
 
   std::string check_output(const std::string& path, const std::string& codec) override {

@@ -335,18 +335,13 @@ class FrameRunner {
 
 VideoRequest video_request_of(const Arguments& a) {
   VideoRequest r;
-  const std::vector<std::string> inputs = a.paths("inputs");
-  if (inputs.size() != 1) throw Error("a video is converted alone: give one input and one output");
-  r.input = inputs[0];
+  r.inputs = a.paths("inputs");
   r.output = a.text("output");
   r.from = a.optional_text("src");
   r.to = a.text("dst");
   r.options = a.options();
-  const WriteOptions w = a.write(), image_defaults;
-  if (w.quality != image_defaults.quality || w.subsampling != image_defaults.subsampling || w.type)
-    throw Error("--quality, --subsampling and --depth are for images: a video keeps its pixel format (--crf, "
-                "--bitrate and --preset set its quality)");
-  r.overwrite = w.overwrite;
+  r.write = a.write();
+  r.write.threads = r.options.threads;
   r.stream = static_cast<int>(std::clamp<int64_t>(a.optional_integer("stream").value_or(-1), -1, 1 << 20));
   if (const auto s = a.optional_integer("stream"); s && *s < 0)
     throw Error("--stream " + std::to_string(*s) + " is out of range (0 for the first video stream)");

@@ -9,9 +9,11 @@
 #include <fstream>
 
 #include "io/atomic_output.hpp"
+#include "io/formats.hpp"
 #include "io/video_formats.hpp"
 #include "io/video_plugin.hpp"
 #include "jobs/convert/frame_pipeline.hpp"
+#include "jobs/convert/image_frames.hpp"
 #include "jobs/file_source.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/interrupt.hpp"
@@ -98,33 +100,35 @@ class VideoJob {
   VideoJob(const VideoRequest& r, const JobEvents& events, VideoWriter* sink) : r_(r), events_(events), sink_(sink) {}
 
   Report run() {
-    VideoBackend& vb = video_backend("reading " + r_.input);
+    const std::string& input = r_.inputs.at(0);
+    from_images_ = !is_video_job(input, "");
+    to_images_ = !sink_ && !video_container_of(r_.output);
+    VideoBackend* vb = from_images_ && to_images_ ? nullptr : &video_backend("reading " + input);
     check_paths(vb);
-    reader_ = vb.open(r_.input, r_.stream, true, range_);
+    reader_ = from_images_ ? image_list_reader(r_.inputs, fps_ > 0 ? fps_ : 25)
+                           : vb->open(input, r_.stream, !to_images_, range_, to_images_);
+    if (from_images_) fps_ = 0;  // (the images' rate, every one taken)
     const VideoInfo& info = reader_->info();
     px_ = info.pixels;
     plan_geometry(info);
     const auto t0 = Clock::now();
-    if (sink_) {
+    if (sink_ || to_images_) {
+      std::unique_ptr<VideoWriter> images = sink_ ? nullptr : image_sequence_writer(r_.output, r_.write);
       plan_planes(info);
-      run_frames(*sink_);
+      run_frames(sink_ ? *sink_ : *images);
+      require_frames();
       seconds_ = since(t0);
-      return report(info);
+      return finish(info);
     }
-    OutputSet set(r_.overwrite);
+    OutputSet set(r_.write.overwrite);
     const int fd = set.open(r_.output);
     try {
       // (The encoder first: it may refuse the size before the maps are made.)
-      auto writer = vb.create(fd, r_.output, settings(info), reader_.get());
+      auto writer = vb->create(fd, r_.output, settings(info), reader_.get());
       for (const std::string& n : writer->notes()) warn(n);
       plan_planes(info);
       run_frames(*writer);
-      if (frames_ == 0 && (range_.start > 0 || !std::isinf(range_.end)))
-        throw Error("cannot read " + r_.input + ": it has no frame from " + std::to_string(range_.start).substr(0, 6) +
-                        " s" + (std::isinf(range_.end) ? "" : " to " + std::to_string(range_.end).substr(0, 6) + " s") +
-                        " (it lasts " + std::to_string(reader_->info().duration).substr(0, 6) + " s)",
-                    ErrorKind::File);
-      if (frames_ == 0) throw Error("cannot read " + r_.input + ": no frame could be decoded", ErrorKind::File);
+      require_frames();
       const auto t1 = Clock::now();
       writer->finish();
       encode_seconds_ += since(t1);
@@ -135,8 +139,26 @@ class VideoJob {
     set.seal(fd, r_.output);
     set.commit();
     seconds_ = since(t0);
+    return finish(info);
+  }
+
+ private:
+  void require_frames() const {
+    if (frames_ > 0) return;
+    const std::string& input = r_.inputs[0];
+    if (range_.start > 0 || !std::isinf(range_.end))
+      throw Error("cannot read " + input + ": it has no frame from " + std::to_string(range_.start).substr(0, 6) +
+                      " s" + (std::isinf(range_.end) ? "" : " to " + std::to_string(range_.end).substr(0, 6) + " s") +
+                      " (it lasts " + std::to_string(reader_->info().duration).substr(0, 6) + " s)",
+                  ErrorKind::File);
+    throw Error("cannot read " + input + ": no frame could be decoded", ErrorKind::File);
+  }
+
+  // The warnings of a clip read, and the report.
+  Report finish(const VideoInfo& info) const {
+    const std::string& input = r_.inputs[0];
     if (reader_->concealed() > 0)
-      warn(r_.input + ": " + std::to_string(reader_->concealed()) + " corrupt packets or frames concealed");
+      warn(input + ": " + std::to_string(reader_->concealed()) + " corrupt packets or frames concealed");
     // A file cut short converts as far as it goes (as FFmpeg does), with a warning.
     const double tb = static_cast<double>(info.time_base[0]) / info.time_base[1];
     const double rate = info.frame_rate[1] > 0 ? static_cast<double>(info.frame_rate[0]) / info.frame_rate[1] : 0;
@@ -146,38 +168,57 @@ class VideoJob {
     const bool whole = range_.start == 0 && std::isinf(range_.end) && fps_ == 0 && r_.every <= 1;
     if ((whole && info.frames > 0 && frames_ < info.frames) ||
         (step > 0 && std::min(info.duration, range_.end) > covered + 2 * step))
-      warn(r_.input + " ended early: " + std::to_string(frames_) + " frames decoded, up to " +
+      warn(input + " ended early: " + std::to_string(frames_) + " frames decoded, up to " +
            std::to_string(covered).substr(0, 5) + " s of " +
            std::to_string(std::min(info.duration, range_.end)).substr(0, 5) +
            " s (the file is cut short or damaged)");
     return report(info);
   }
 
- private:
   void warn(const std::string& line) const {
     if (events_.warning) events_.warning(line);
   }
 
-  void check_paths(VideoBackend& vb) {
-    if (sink_) return check_options();
+  // The paths and the options (vb: null where no video is read or written).
+  void check_paths(VideoBackend* vb) {
+    check_options();
+    if (sink_) return;
+    const std::string& input = r_.inputs[0];
+    if (r_.inputs.size() > 1 && !from_images_)
+      throw Error("a video is converted alone: give one video (or images to make one) and the output");
+    for (const std::string& i : r_.inputs)
+      if (from_images_ && is_video_job(i, "")) throw Error("input " + i + " is a video among images: give it alone");
+    if (from_images_ && to_images_) throw InternalError("images to images are the image path's");
+    if (to_images_) {
+      if (from_images_ || r_.output.find("{n}") == std::string::npos)
+        throw Error("output " + r_.output + " is not a video container's (" + container_extensions() +
+                    "): images of a video's frames need {n} in it, e.g. frames/{n}.png");
+      return;
+    }
     if (r_.output.find('{') != std::string::npos)
       throw Error("output " + r_.output + ": a video's output is one video file (patterns such as {n} name images)");
-    if (!video_container_of(r_.input) && !is_video_job(r_.input, ""))
-      throw Error("cannot read " + r_.input + ": images to a video are not supported yet (give a video input)");
-    check_output_path(r_.output, r_.overwrite);
-    if (same_file(r_.input, r_.output)) throw Error("output " + r_.output + " is the input");
+    check_output_path(r_.output, r_.write.overwrite);
+    for (const std::string& i : r_.inputs)
+      if (same_file(i, r_.output)) throw Error("output " + r_.output + " is the input");
     const VideoContainer* c = video_container_of(r_.output);
-    if (!c) {
-      std::string exts;
-      for (const VideoContainer& k : video_containers())
-        for (std::string_view e : k.extensions) exts += (exts.empty() ? "" : " ") + std::string(e);
-      throw Error("cannot write " + r_.output + ": a video's output needs a video container's extension (" + exts +
-                  ")");
-    }
     codec_ = &video_codec(r_.codec.empty() ? c->codec : r_.codec);
-    if (const std::string why = vb.check_output(r_.output, codec_->encoder); !why.empty())
+    if (const std::string why = vb->check_output(r_.output, codec_->encoder); !why.empty())
       throw Error("cannot write " + r_.output + ": " + why);
-    check_options();
+    const WriteOptions image_defaults;
+    if (r_.write.quality != image_defaults.quality || r_.write.subsampling != image_defaults.subsampling || r_.write.type)
+      throw Error("--quality, --subsampling and --depth are for images: a video keeps its pixel format (--crf, "
+                  "--bitrate and --preset set its quality)");
+    const ConvertOptions& o = r_.options;
+    if (o.edges.active() || o.add_alpha)
+      throw Error("a video's pixels outside the source's field are video black: --edges, --fill and --alpha are for images");
+    (void)input;
+  }
+
+  static std::string container_extensions() {
+    std::string exts;
+    for (const VideoContainer& k : video_containers())
+      for (std::string_view e : k.extensions) exts += (exts.empty() ? "" : " ") + std::string(e);
+    return exts;
   }
 
   void check_options() {
@@ -199,19 +240,17 @@ class VideoJob {
         throw Error("--fps " + r_.fps + " is not a frame rate (over 0, up to 1000)");
       if (r_.every > 0) throw Error("--fps and --every both pick frames: give one");
     }
-    const ConvertOptions& o = r_.options;
-    if (o.edges.active() || o.add_alpha)
-      throw Error("a video's pixels outside the source's field are video black: --edges, --fill and --alpha are for images");
-    if (o.engine == Engine::Reference) throw Error("a video needs the simd or scalar engine (--engine)");
+    if (r_.options.engine == Engine::Reference) throw Error("a video needs the simd or scalar engine (--engine)");
   }
 
   // The geometry of the luma (and alpha, and RGB) planes; refuses sizes the subsampling cannot
   // hold and jobs over the memory budget.
   void plan_geometry(const VideoInfo& info) {
     if (info.size.width > 65536 || info.size.height > 65536)
-      throw Error("cannot read " + r_.input + ": its frames of " + size_text(info.size) + " are over 65536 px a side",
+      throw Error("cannot read " + r_.inputs[0] + ": its frames of " + size_text(info.size) +
+                      " are over 65536 px a side",
                   ErrorKind::File);
-    const ProjectionSpec from = infer_source_spec(r_.from, r_.input, info.size, std::nullopt);
+    const ProjectionSpec from = infer_source_spec(r_.from, r_.inputs[0], info.size, std::nullopt);
     from_text_ = from.str();
     const ProjectionSpec to = parse_spec(r_.to);
     luma_ = make_geometry(info.size, from, to, r_.options);
@@ -244,6 +283,7 @@ class VideoJob {
       m.converter = subsampled && px_.chroma(p) ? &*chroma_converter_ : &*luma_converter_;
       m.black = black_of(px_, p);
       m.most = static_cast<uint16_t>((1 << px_.bits) - 1);
+      if (px_.packed) break;  // (RGB: black is 0, what pixels without a source get)
       // (The first plane of each converter marks its pixels without a source: a full plane in,
       // 0 out only where nothing was sampled.)
       const bool first = p == 0 || (m.converter != planes_[0].converter && p == 1);
@@ -253,10 +293,18 @@ class VideoJob {
     }
   }
 
+  // The output's chroma subsampling (log2 per axis): the frames' own, 4:2:0 for RGB encoded, none
+  // for RGB written as images or for gray.
+  std::pair<int, int> out_subsampling() const {
+    if (px_.packed) return to_images_ || sink_ ? std::pair{0, 0} : std::pair{1, 1};
+    return px_.planes >= 3 ? std::pair{px_.log2_chroma_w, px_.log2_chroma_h} : std::pair{0, 0};
+  }
+
   // Whether the output's eyes hold whole chroma samples.
   bool holds_chroma(const ConversionGeometry& g) const {
     const Size eye = size_of(g.target);
-    return px_.planes < 3 || (eye.width % (1 << px_.log2_chroma_w) == 0 && eye.height % (1 << px_.log2_chroma_h) == 0);
+    const auto [lw, lh] = out_subsampling();
+    return eye.width % (1 << lw) == 0 && eye.height % (1 << lh) == 0;
   }
 
   // An output size that does not hold whole chroma samples: the default one is made the next
@@ -267,9 +315,15 @@ class VideoJob {
     const Size out = luma_->target_frame();
     std::optional<ConversionGeometry> fitted;
     ConvertOptions o = r_.options;
-    for (int64_t w = out.width + 1; w <= out.width + 64 && !fitted; ++w) {
-      const auto h = static_cast<int64_t>(std::llround(static_cast<double>(out.height * w) / static_cast<double>(out.width)));
-      o.size = Size{w, h};
+    const auto [lw, lh] = out_subsampling();
+    const auto up = [](int64_t v, int log2) { return (v + (1 << log2) - 1) >> log2 << log2; };
+    // Each side rounded up, else (a cube's whole faces) the next widths at the same aspect.
+    std::vector<Size> sizes = {{up(out.width, lw), up(out.height, lh)}};
+    for (int64_t w = out.width + 1; w <= out.width + 64; ++w)
+      sizes.push_back({w, std::llround(static_cast<double>(out.height * w) / static_cast<double>(out.width))});
+    for (const Size& size : sizes) {
+      if (fitted) break;
+      o.size = size;
       try {
         ConversionGeometry g = make_geometry(in, from, to, o);
         if (holds_chroma(g)) fitted = std::move(g);
@@ -277,8 +331,8 @@ class VideoJob {
       }
     }
     const std::string why = "output size " + size_text(out) + " does not hold whole chroma samples of " +
-                            px_.pixel_format + " (" + std::to_string(1 << px_.log2_chroma_w) + "x" +
-                            std::to_string(1 << px_.log2_chroma_h) + " pixels each" +
+                            (px_.packed ? std::string("yuv420p") : px_.pixel_format) + " (" + std::to_string(1 << lw) +
+                            "x" + std::to_string(1 << lh) + " pixels each" +
                             (luma_->stereo.target != StereoLayout::Mono ? ", in each eye" : "") + ")";
     if (r_.options.size || !fitted)
       throw Error(why + (fitted ? ": give --size " + size_text(fitted->target_frame()) : ": give --size"));
@@ -379,6 +433,11 @@ class VideoJob {
     return true;
   }
 
+  std::string input_text() const {
+    if (r_.inputs.size() == 1) return r_.inputs[0];
+    return r_.inputs[0] + " ... " + r_.inputs.back() + " (" + std::to_string(r_.inputs.size()) + " images)";
+  }
+
   Report report(const VideoInfo& info) const {
     const Size out = luma_->target_frame();
     const double fps = seconds_ > 0 ? static_cast<double>(frames_) / seconds_ : 0;
@@ -386,14 +445,15 @@ class VideoJob {
     std::snprintf(line, sizeof line,
                   "%s (%s %s %s, %s) -> %s (%s %s, %s): %lld frames in %.2f s (%.1f fps; decode %.2f s, convert "
                   "%.2f s, encode %.2f s), %s, antialias %s, %s engine (%s), chroma %s",
-                  r_.input.c_str(), size_text(info.size).c_str(), info.codec.c_str(), px_.pixel_format.c_str(),
-                  from_text_.c_str(), r_.output.c_str(), size_text(out).c_str(), codec_->encoder,
+                  input_text().c_str(), size_text(info.size).c_str(), info.codec.c_str(), px_.pixel_format.c_str(),
+                  from_text_.c_str(), r_.output.c_str(), size_text(out).c_str(),
+                  to_images_ ? format_of_path(r_.output).title : codec_->encoder,
                   r_.to.c_str(),
                   static_cast<long long>(frames_), seconds_, fps, decode_seconds_, convert_seconds_, encode_seconds_,
                   name_of(r_.options.interp), name_of(antialias_of(r_.options)).c_str(), name_of(r_.options.engine),
-                  simd_target(), chroma_ ? siting_name(px_.siting) : "not subsampled");
+                  simd_target(), chroma_ ? siting_name(px_.siting) : px_.packed ? "in RGB" : "not subsampled");
     if (events_.line) events_.line(line);
-    return {{"input", {r_.input}},
+    return {{"input", {r_.inputs[0]}},
             {"output", {r_.output}},
             {"input_size", report_size(info.size)},
             {"output_size", report_size(out)},
@@ -412,6 +472,7 @@ class VideoJob {
   const VideoRequest& r_;
   const JobEvents& events_;
   VideoWriter* sink_;
+  bool from_images_ = false, to_images_ = false;
   const VideoCodec* codec_ = nullptr;
   int64_t bitrate_ = 0;
   std::unique_ptr<VideoReader> reader_;

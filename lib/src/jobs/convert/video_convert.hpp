@@ -14,19 +14,24 @@
 //     sizes that do); the pixel format, range, matrix, primaries, transfer and chroma siting are
 //     the input's (an encoder that lacks the format gets its nearest, with a warning).
 //   - written through a temporary, renamed at the end: a failure, Ctrl-C or SIGTERM leaves none.
+//   - frames to images (an output pattern with {n}): decoded as RGB (the stream's matrix, range
+//     and siting), converted and written one by one as a batch's images are; images to a video:
+//     RGB made BT.709 limited-range 4:2:0 for the encoder, at --fps (default 25).
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "panoproj/jobs.hpp"
 
 namespace panoproj {
 
 struct VideoRequest {
-  std::string input, output;
+  std::vector<std::string> inputs;  // a video, or images (all of one size) to make one
+  std::string output;               // a video, or a pattern with {n} for the frames as images
+  WriteOptions write;               // overwrite; for images, their quality and depth
   std::optional<std::string> from;
   std::string to;
   ConvertOptions options;
-  bool overwrite = false;
   int stream = -1;                 // among the video streams; -1: the first
   std::string codec;               // "" : the container's default
   std::optional<int64_t> crf;      // the encoder's default if none
@@ -34,12 +39,13 @@ struct VideoRequest {
   std::string preset;              // "" : the encoder's default
   int64_t gop = 0;                 // 0: the encoder's default
   std::string start, duration;     // "" : the whole clip; else seconds or [[HH:]MM:]SS[.s]
-  std::string fps;                 // "" : every frame; else at most this many a second
+  std::string fps;                 // "" : every frame; else at most this many a second (images
+                                   // to a video: their rate, default 25)
   int64_t every = 0;               // 0: every frame; else every n-th
 };
 
 // Whether a convert with these paths is a video's: the input's extension or first bytes are a
-// video container's, or the output's extension is.
+// video container's, or the output's extension is (images to a video).
 bool is_video_job(const std::string& input, const std::string& output);
 
 class VideoWriter;
