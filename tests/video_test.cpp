@@ -359,6 +359,33 @@ TEST_F(Clips, FramesToImagesAndImagesToAVideo) {
   EXPECT_FALSE(fs::exists(p("mixed.mkv")));
 }
 
+TEST_F(Clips, Hdr10MetadataIsKept) {
+  // HEVC 10-bit PQ with HDR10's SEI (x265 puts it in the frames only, not in the container).
+  const std::string in = clip("hdr.mkv",
+                              "-frames:v 3 -c:v libx265 -pix_fmt yuv420p10le -color_primaries bt2020 -color_trc smpte2084 "
+                              "-colorspace bt2020nc -x265-params log-level=none:hdr10=1:master-display='G(13250,34500)"
+                              "B(7500,3000)R(34000,16000)WP(15635,16450)L(10000000,1)':max-cll=1000,400");
+  const std::string out = p("hdr.mp4");
+  convert({{"inputs", std::vector<std::string>{in}},
+           {"output", out},
+           {"dst", std::string("cubemap:layout=3x2")},
+           {"size", std::string("192x128")},
+           {"codec", std::string("hevc")}});
+  const std::string frames = shell("ffprobe -v error -select_streams v -read_intervals %+#1 -show_entries "
+                                   "frame_side_data=max_content,max_average,max_luminance,min_luminance,red_x -of compact '" +
+                                   out + "'");
+  EXPECT_NE(frames.find("red_x=34000/50000"), std::string::npos) << frames;
+  EXPECT_NE(frames.find("max_luminance=10000000/10000"), std::string::npos) << frames;
+  EXPECT_NE(frames.find("max_content=1000|max_average=400"), std::string::npos) << frames;
+  const std::string stream = shell("ffprobe -v error -show_entries stream_side_data=max_content,red_x:stream=color_transfer,"
+                                   "color_primaries,pix_fmt -of compact '" + out + "'");
+  EXPECT_NE(stream.find("red_x=34000/50000"), std::string::npos) << stream;  // (MP4's mdcv box)
+  EXPECT_NE(stream.find("max_content=1000"), std::string::npos) << stream;   // (clli)
+  EXPECT_NE(stream.find("yuv420p10le"), std::string::npos) << stream;
+  EXPECT_NE(stream.find("smpte2084"), std::string::npos) << stream;
+  EXPECT_NE(stream.find("bt2020"), std::string::npos) << stream;
+}
+
 TEST_F(Clips, FramesTimesAndAudioAreTheInputs) {
   const std::string in = clip("in.mp4", "-shortest -c:v libx264 -pix_fmt yuv420p -c:a aac",
                               "-f lavfi -i 'sine=frequency=440:duration=0.5'");

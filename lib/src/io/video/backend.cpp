@@ -4,6 +4,7 @@
 // API moved in 6.1 and 7.x the #if on the library versions says so.
 extern "C" {
 #include <libavcodec/avcodec.h>
+#include <libavutil/mastering_display_metadata.h>
 #include <libavformat/avformat.h>
 #include <libavutil/avutil.h>
 #include <libavutil/imgutils.h>
@@ -173,6 +174,7 @@ class FfReader final : public VideoReader {
     dec_ = avcodec_alloc_context3(codec);
     if (!dec_ || avcodec_parameters_to_context(dec_, st->codecpar) < 0) fail("its decoder cannot be set up");
     dec_->thread_count = 0;
+    dec_->max_pixels = int64_t{1} << 27;  // (a frame over 16384 x 8192 refused, not allocated)
     dec_->pkt_timebase = st->time_base;
     err = avcodec_open2(dec_, codec, nullptr);
     if (err < 0) fail("its " + std::string(codec->name) + " decoder cannot be opened (" + av_error(err) + ")");
@@ -213,6 +215,7 @@ class FfReader final : public VideoReader {
   }
 
   ~FfReader() override {
+    av_frame_free(&pending_);
     av_frame_free(&frame_);
     av_packet_free(&packet_);
     avcodec_free_context(&dec_);
@@ -224,6 +227,40 @@ class FfReader final : public VideoReader {
   int64_t concealed() const override { return concealed_; }
 
   bool read(VideoFrame& out) override {
+    if (pending_) {  // (decoded ahead for its side data)
+      av_frame_move_ref(frame_, pending_);
+      av_frame_free(&pending_);
+    } else if (!next_frame()) {
+      return false;
+    }
+    take(out);
+    av_frame_unref(frame_);
+    return true;
+  }
+
+  // The first frame's side data of `type` (HDR10's, which HEVC carries in its frames), the frame
+  // decoded ahead and kept for read(); "" if none.
+  std::string first_frame_side_data(AVFrameSideDataType type) {
+    if (!primed_) {
+      primed_ = true;
+      if (next_frame()) {
+        pending_ = av_frame_alloc();
+        if (!pending_) fail("out of memory");
+        av_frame_move_ref(pending_, frame_);
+      }
+    }
+    const AVFrameSideData* sd = pending_ ? av_frame_get_side_data(pending_, type) : nullptr;
+    return sd ? std::string(reinterpret_cast<const char*>(sd->data), sd->size) : std::string();
+  }
+
+  // The copied streams' packets read so far (AVFormatContext's streams name their parameters).
+  PacketQueue& queue() { return queue_; }
+  const AVFormatContext* format() const { return fmt_; }
+  bool copying() const { return copy_; }
+
+ private:
+  // The next frame in the range into frame_; false at the end.
+  bool next_frame() {
     for (;;) {
       const int got = avcodec_receive_frame(dec_, frame_);
       if (got == 0) {
@@ -237,8 +274,6 @@ class FfReader final : public VideoReader {
           av_frame_unref(frame_);
           continue;
         }
-        take(out);
-        av_frame_unref(frame_);
         return true;
       }
       if (got == AVERROR_EOF) return false;
@@ -253,12 +288,6 @@ class FfReader final : public VideoReader {
     }
   }
 
-  // The copied streams' packets read so far (AVFormatContext's streams name their parameters).
-  PacketQueue& queue() { return queue_; }
-  const AVFormatContext* format() const { return fmt_; }
-  bool copying() const { return copy_; }
-
- private:
   [[noreturn]] void fail(const std::string& why) const {
     throw Error("cannot read " + path_ + ": " + why, ErrorKind::File);
   }
@@ -471,6 +500,8 @@ class FfReader final : public VideoReader {
   VideoInfo info_;
   PacketQueue queue_;
   bool at_end_ = false;
+  AVFrame* pending_ = nullptr;  // the first frame, decoded ahead (first_frame_side_data)
+  bool primed_ = false;
   int64_t concealed_ = 0;
   int64_t last_pts_ = AV_NOPTS_VALUE;
 };
@@ -508,6 +539,58 @@ bool takes_data(const AVOutputFormat* f, const OtherStream& s) {
   return mov && s.tag == "gpmd";
 }
 
+// A stream's side data of `type` (HDR10's mastering display and light level): its bytes, or
+// none. (FFmpeg 6.1 moved it to codecpar->coded_side_data; 7.0 removed the stream calls.)
+std::string stream_side_data(const AVStream* st, AVPacketSideDataType type) {
+#if LIBAVFORMAT_VERSION_INT >= AV_VERSION_INT(60, 15, 100)
+  const AVPacketSideData* sd =
+      av_packet_side_data_get(st->codecpar->coded_side_data, st->codecpar->nb_coded_side_data, type);
+  return sd ? std::string(reinterpret_cast<const char*>(sd->data), sd->size) : std::string();
+#else
+  size_t size = 0;
+  const uint8_t* data = av_stream_get_side_data(st, type, &size);
+  return data ? std::string(reinterpret_cast<const char*>(data), size) : std::string();
+#endif
+}
+
+bool set_stream_side_data(AVStream* st, AVPacketSideDataType type, const std::string& bytes) {
+#if LIBAVFORMAT_VERSION_INT >= AV_VERSION_INT(60, 15, 100)
+  AVPacketSideData* sd = av_packet_side_data_new(&st->codecpar->coded_side_data, &st->codecpar->nb_coded_side_data,
+                                                 type, bytes.size(), 0);
+  if (!sd) return false;
+  std::memcpy(sd->data, bytes.data(), bytes.size());
+#else
+  uint8_t* data = av_stream_new_side_data(st, type, bytes.size());
+  if (!data) return false;
+  std::memcpy(data, bytes.data(), bytes.size());
+#endif
+  return true;
+}
+
+// x265's master-display and max-cll parameters from HDR10's side data ("" where none).
+std::string x265_hdr_params(const std::string& mastering, const std::string& light) {
+  std::string out;
+  if (mastering.size() >= sizeof(AVMasteringDisplayMetadata)) {
+    AVMasteringDisplayMetadata m;
+    std::memcpy(&m, mastering.data(), sizeof m);
+    if (m.has_primaries && m.has_luminance) {
+      // In 1/50000 for the chromaticities, 1/10000 cd/m2 for luminance (x265's units); G, B, R.
+      auto c = [](AVRational r) { return std::to_string(av_rescale(r.num, 50000, r.den)); };
+      auto l = [](AVRational r) { return std::to_string(av_rescale(r.num, 10000, r.den)); };
+      out += "master-display=G(" + c(m.display_primaries[1][0]) + "," + c(m.display_primaries[1][1]) + ")B(" +
+             c(m.display_primaries[2][0]) + "," + c(m.display_primaries[2][1]) + ")R(" + c(m.display_primaries[0][0]) +
+             "," + c(m.display_primaries[0][1]) + ")WP(" + c(m.white_point[0]) + "," + c(m.white_point[1]) + ")L(" +
+             l(m.max_luminance) + "," + l(m.min_luminance) + ")";
+    }
+  }
+  if (light.size() >= sizeof(AVContentLightMetadata)) {
+    AVContentLightMetadata l;
+    std::memcpy(&l, light.data(), sizeof l);
+    out += std::string(out.empty() ? "" : ":") + "max-cll=" + std::to_string(l.MaxCLL) + "," + std::to_string(l.MaxFALL);
+  }
+  return out;
+}
+
 class FfWriter final : public VideoWriter {
  public:
   FfWriter(int fd, const std::string& path, const VideoSettings& s, FfReader* from) : fd_(fd), path_(path), from_(from) {
@@ -515,12 +598,16 @@ class FfWriter final : public VideoWriter {
     if (err < 0 || !fmt_) fail("no muxer takes its extension");
     const AVCodec* codec = avcodec_find_encoder_by_name(s.codec.c_str());
     if (!codec) fail("these FFmpeg libraries have no encoder " + s.codec);
+    if (from_) read_hdr();
     open_encoder(codec, s);
     video_ = avformat_new_stream(fmt_, nullptr);
     if (!video_ || avcodec_parameters_from_context(video_->codecpar, enc_) < 0) fail("its video stream cannot be set up");
     video_->time_base = enc_->time_base;
     video_->avg_frame_rate = enc_->framerate;
     if (from_) add_copied();
+    if ((!mastering_.empty() && !set_stream_side_data(video_, AV_PKT_DATA_MASTERING_DISPLAY_METADATA, mastering_)) ||
+        (!light_.empty() && !set_stream_side_data(video_, AV_PKT_DATA_CONTENT_LIGHT_LEVEL, light_)))
+      fail("out of memory");
     const size_t buffer_bytes = 1 << 16;
     auto* buffer = static_cast<unsigned char*>(av_malloc(buffer_bytes));
     io_ = avio_alloc_context(buffer, static_cast<int>(buffer_bytes), 1, &fd_, nullptr, write_fd, seek_fd);
@@ -649,6 +736,8 @@ class FfWriter final : public VideoWriter {
     AVDictionary* opts = nullptr;
     if (s.crf >= 0 && s.bitrate == 0) av_dict_set_int(&opts, "crf", s.crf, 0);
     if (!s.preset.empty()) av_dict_set(&opts, "preset", s.preset.c_str(), 0);
+    if (const std::string hdr = x265_hdr_params(mastering_, light_); !hdr.empty() && std::strcmp(codec->name, "libx265") == 0)
+      av_dict_set(&opts, "x265-params", ("hdr10=1:" + hdr).c_str(), 0);
     const int err = avcodec_open2(enc_, codec, &opts);
     AVDictionaryEntry* unused = av_dict_get(opts, "", nullptr, AV_DICT_IGNORE_SUFFIX);
     const std::string left = unused ? unused->key : "";
@@ -663,6 +752,18 @@ class FfWriter final : public VideoWriter {
       fail("encoder " + s.codec + " refuses these settings (" + av_error(err) + given + ")");  // (its own log is off)
     }
     if (!left.empty()) fail("encoder " + s.codec + " has no option " + left);
+  }
+
+  // HDR10's static metadata (mastering display, content light level) as the source's container
+  // says it: on the output's stream (the muxer's boxes or elements) and, for x265, in its SEI.
+  void read_hdr() {
+    const AVStream* in = from_->format()->streams[from_->info().stream];
+    mastering_ = stream_side_data(in, AV_PKT_DATA_MASTERING_DISPLAY_METADATA);
+    light_ = stream_side_data(in, AV_PKT_DATA_CONTENT_LIGHT_LEVEL);
+    // (Else the first frame's: HEVC's SEI, which libx265's FFmpeg wrapper does not export to a
+    // container; both structures are the same in a frame's and a stream's side data.)
+    if (mastering_.empty()) mastering_ = from_->first_frame_side_data(AV_FRAME_DATA_MASTERING_DISPLAY_METADATA);
+    if (light_.empty()) light_ = from_->first_frame_side_data(AV_FRAME_DATA_CONTENT_LIGHT_LEVEL);
   }
 
   // A stream for each other stream of the source the container takes; one note for each dropped.
@@ -742,6 +843,7 @@ class FfWriter final : public VideoWriter {
   AVCodecContext* enc_ = nullptr;
   AVStream* video_ = nullptr;
   std::vector<AVStream*> copied_;  // by source stream index
+  std::string mastering_, light_;  // HDR10's side data of the source's stream, if any
   AVPacket* packet_ = nullptr;
   AVFrame *frame_ = nullptr, *converted_ = nullptr;
   SwsContext* sws_ = nullptr;
