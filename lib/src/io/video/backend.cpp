@@ -161,6 +161,18 @@ class FfReader final : public VideoReader {
  public:
   FfReader(const std::string& path, int stream, bool copy, const VideoRange& range, bool rgb)
       : path_(path), copy_(copy), range_(range) {
+    try {  // (a constructor that throws runs no destructor)
+      open(stream, rgb);
+    } catch (...) {
+      release();
+      throw;
+    }
+  }
+
+  ~FfReader() override { release(); }
+
+  void open(int stream, bool rgb) {
+    const std::string& path = path_;
     int err = avformat_open_input(&fmt_, path.c_str(), nullptr, nullptr);
     if (err < 0) fail("it is not a video libavformat can read (" + av_error(err) + ")");
     err = avformat_find_stream_info(fmt_, nullptr);
@@ -214,13 +226,14 @@ class FfReader final : public VideoReader {
     }
   }
 
-  ~FfReader() override {
+  void release() {
     av_frame_free(&pending_);
     av_frame_free(&frame_);
     av_packet_free(&packet_);
     avcodec_free_context(&dec_);
     avformat_close_input(&fmt_);
     sws_freeContext(sws_);
+    sws_ = nullptr;
   }
 
   const VideoInfo& info() const override { return info_; }
@@ -594,6 +607,18 @@ std::string x265_hdr_params(const std::string& mastering, const std::string& lig
 class FfWriter final : public VideoWriter {
  public:
   FfWriter(int fd, const std::string& path, const VideoSettings& s, FfReader* from) : fd_(fd), path_(path), from_(from) {
+    try {  // (a constructor that throws runs no destructor)
+      open(s);
+    } catch (...) {
+      release();
+      throw;
+    }
+  }
+
+  ~FfWriter() override { release(); }
+
+  void open(const VideoSettings& s) {
+    const std::string& path = path_;
     int err = avformat_alloc_output_context2(&fmt_, nullptr, nullptr, path.c_str());
     if (err < 0 || !fmt_) fail("no muxer takes its extension");
     const AVCodec* codec = avcodec_find_encoder_by_name(s.codec.c_str());
@@ -620,7 +645,7 @@ class FfWriter final : public VideoWriter {
     frame_ = av_frame_alloc();
   }
 
-  ~FfWriter() override {
+  void release() {
     av_frame_free(&frame_);
     av_frame_free(&converted_);
     av_packet_free(&packet_);
@@ -628,7 +653,9 @@ class FfWriter final : public VideoWriter {
     if (io_) av_freep(&io_->buffer);
     avio_context_free(&io_);
     avformat_free_context(fmt_);
+    fmt_ = nullptr;
     sws_freeContext(sws_);
+    sws_ = nullptr;
   }
 
   void write(const VideoFrame& f) override {
