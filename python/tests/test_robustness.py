@@ -1690,12 +1690,17 @@ def clips(tmp_path_factory):
     (d / "truncated.mp4").write_bytes(mp4[:len(mp4) * 4 // 10])
     (d / "garbage.mp4").write_bytes(np.random.default_rng(5).integers(0, 256, 5000, dtype=np.uint8).tobytes())
     (d / "empty.mp4").write_bytes(b"")
+    os.mkfifo(d / "fifo.mp4")
     pp.write(str(d / "f.exr"), np.zeros((32, 64, 3), np.float32))
-    return {p.name: str(p) for p in d.iterdir()}
+    files = {p.name: str(p) for p in d.iterdir()}
+    files["missing.mp4"] = str(d / "missing.mp4")
+    return files
 
 
 VIDEO_CASES = [
     ("no_video_stream", "audio.mp4", "o.mp4", [], "it has no video stream"),
+    ("fifo", "fifo.mp4", "o.mp4", [], "fifo.mp4"),
+    ("missing", "missing.mp4", "o.mp4", [], "missing.mp4"),
     ("unknown_codec", "unknown.mkv", "o.mp4", [], "no decoder for its video codec"),
     ("truncated_header", "truncated.mp4", "o.mp4", [], "not a video libavformat can read"),
     ("garbage", "garbage.mp4", "o.mp4", [], "not a video libavformat can read"),

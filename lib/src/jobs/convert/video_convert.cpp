@@ -6,8 +6,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 
+#include "base/input_check.hpp"
 #include "io/atomic_output.hpp"
 #include "io/formats.hpp"
 #include "io/video_formats.hpp"
@@ -103,6 +105,8 @@ class VideoJob {
     const std::string& input = r_.inputs.at(0);
     from_images_ = !is_video_job(input, "");
     to_images_ = !sink_ && !video_container_of(r_.output);
+    // (A regular file, not a FIFO or device, before libavformat opens it; missing named as such.)
+    if (!from_images_) (void)read_head(input, 16, "input", "a video file");
     VideoBackend* vb = from_images_ && to_images_ ? nullptr : &video_backend("reading " + input);
     check_paths(vb);
     reader_ = from_images_ ? image_list_reader(r_.inputs, fps_ > 0 ? fps_ : 25)
@@ -492,6 +496,9 @@ class VideoJob {
 
 bool is_video_job(const std::string& input, const std::string& output) {
   if (video_container_of(input) || video_container_of(output)) return true;
+  // (Only a regular file is sniffed: a FIFO or device is the image path's to refuse, unread.)
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(input, ec)) return false;
   std::ifstream f(input, std::ios::binary);
   std::string head(512, '\0');
   f.read(head.data(), static_cast<std::streamsize>(head.size()));
