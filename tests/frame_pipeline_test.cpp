@@ -49,7 +49,8 @@ struct Failure {
 // Runs n frames (or, with `end`, frames until read says frame `end` is none); each stage sleeps a
 // little (so they overlap) and throws "<stage> <frame>" where told. Returns the exception's
 // message, "" if none.
-std::string run(size_t n, int readers, Log& log, std::vector<Failure> failures = {}, size_t end = SIZE_MAX) {
+std::string run(size_t n, int readers, Log& log, std::vector<Failure> failures = {},
+                size_t end = SIZE_MAX) {
   auto step = [&](Stage stage, size_t i, std::vector<size_t>& started, std::vector<size_t>& done, int micros) {
     log.add(started, i);
     auto fail = [&] {
@@ -74,7 +75,8 @@ std::string run(size_t n, int readers, Log& log, std::vector<Failure> failures =
       std::this_thread::sleep_for(std::chrono::microseconds(100));
     // Reuse: frame i's read slot was frame i - slots's, whose convert must have returned.
     const size_t slots = static_cast<size_t>(readers) + 1;
-    if (i >= slots && log.count(log.converted_done) < i - slots + 1) ADD_FAILURE() << "read " << i << " before convert " << i - slots;
+    if (i >= slots && log.count(log.converted_done) < i - slots + 1)
+      ADD_FAILURE() << "read " << i << " before convert " << i - slots;
     try {
       step(Stage::Read, i, log.read_started, log.read_done, 3000);
     } catch (...) {

@@ -13,7 +13,9 @@
 namespace panoproj {
 namespace {
 
-Projection make(const char* spec, Size size) { return make_projection(parse_spec(spec), size); }
+Projection make(const char* spec, Size size) {
+  return make_projection(parse_spec(spec), size);
+}
 
 // The reference: the exact map at the sited positions, sampled by the reference sampler.
 Image reference(const Image& src, const ConversionGeometry& g, Interp interp) {
@@ -23,7 +25,8 @@ Image reference(const Image& src, const ConversionGeometry& g, Interp interp) {
   for (int64_t y = 0; y < ts.height; ++y)
     for (int64_t x = 0; x < ts.width; ++x) {
       double sx = 0, sy = 0;
-      const uint8_t ok = source_pixel(g.source, g.target, g.rotation, static_cast<double>(x) + 0.5 + g.siting.target_x,
+      const uint8_t ok = source_pixel(g.source, g.target, g.rotation,
+                                      static_cast<double>(x) + 0.5 + g.siting.target_x,
                                       static_cast<double>(y) + 0.5 + g.siting.target_y, sx, sy);
       sx -= g.siting.source_x, sy -= g.siting.source_y;
       sample_reference(src, taps, interp, &sx, &sy, &ok, 1, out.pixel(x, y));
@@ -33,7 +36,8 @@ Image reference(const Image& src, const ConversionGeometry& g, Interp interp) {
 
 // The scene's first channel as a one-channel 16-bit plane.
 Image plane(const Projection& p, double cycles_per_px) {
-  const Image rgb = test::render(p, test::band_limited_scene(cycles_per_px, size_of(p).width), PixelType::U16);
+  const Image rgb =
+      test::render(p, test::band_limited_scene(cycles_per_px, size_of(p).width), PixelType::U16);
   Image out(rgb.size(), 1, PixelType::U16);
   for (int64_t y = 0; y < rgb.height(); ++y)
     for (int64_t x = 0; x < rgb.width(); ++x) std::memcpy(out.pixel(x, y), rgb.pixel(x, y), 2);
@@ -43,7 +47,8 @@ Image plane(const Projection& p, double cycles_per_px) {
 double most_difference(const Image& a, const Image& b) {
   double most = 0;
   for (int64_t y = 0; y < a.height(); ++y)
-    for (int64_t x = 0; x < a.width(); ++x) most = std::max(most, std::fabs(test::get(a, x, y, 0) - test::get(b, x, y, 0)));
+    for (int64_t x = 0; x < a.width(); ++x)
+      most = std::max(most, std::fabs(test::get(a, x, y, 0) - test::get(b, x, y, 0)));
   return most;
 }
 
@@ -73,15 +78,34 @@ TEST_P(SitedPlanes, MatchTheReferenceMapAtTheSitedPositions) {
   EXPECT_GT(most_difference(out, reference(src, centred, Interp::Bicubic)), 200.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Cases, SitedPlanes,
-    ::testing::Values(
-        // H.264's 4:2:0 (left): a quarter chroma pixel left on both sides.
-        SitingCase{"equirect", "cubemap:layout=3x2", {256, 128}, {192, 128}, {-0.25, 0, -0.25, 0}, Engine::Simd},
-        SitingCase{"equirect", "fisheye:fov=200", {256, 128}, {96, 96}, {-0.25, 0, -0.25, 0}, Engine::Scalar},
-        // Top-left siting, and a source and target sited apart.
-        SitingCase{"equirect", "pinhole:hfov=90", {256, 128}, {80, 60}, {-0.25, -0.25, 0, 0.25}, Engine::Simd},
-        SitingCase{"cubemap:layout=3x2", "equirect", {192, 128}, {256, 128}, {-0.25, 0, -0.25, 0}, Engine::Simd}));
+INSTANTIATE_TEST_SUITE_P(Cases, SitedPlanes,
+                         ::testing::Values(
+                             // H.264's 4:2:0 (left): a quarter chroma pixel left on both sides.
+                             SitingCase{"equirect",
+                                        "cubemap:layout=3x2",
+                                        {256, 128},
+                                        {192, 128},
+                                        {-0.25, 0, -0.25, 0},
+                                        Engine::Simd},
+                             SitingCase{"equirect",
+                                        "fisheye:fov=200",
+                                        {256, 128},
+                                        {96, 96},
+                                        {-0.25, 0, -0.25, 0},
+                                        Engine::Scalar},
+                             // Top-left siting, and a source and target sited apart.
+                             SitingCase{"equirect",
+                                        "pinhole:hfov=90",
+                                        {256, 128},
+                                        {80, 60},
+                                        {-0.25, -0.25, 0, 0.25},
+                                        Engine::Simd},
+                             SitingCase{"cubemap:layout=3x2",
+                                        "equirect",
+                                        {192, 128},
+                                        {256, 128},
+                                        {-0.25, 0, -0.25, 0},
+                                        Engine::Simd}));
 
 class SitedSubPixels : public ::testing::TestWithParam<double> {};
 TEST_P(SitedSubPixels, SitAsTheirPixel) {

@@ -43,8 +43,9 @@ std::string shell(const std::string& cmd) {
 class Clips : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("panoproj_video_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() /
+           ("panoproj_video_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -53,19 +54,23 @@ class Clips : public ::testing::Test {
 
   // A 256x128 equirect clip of 12 frames made by ffmpeg: a blurred test pattern (smooth), or
   // what `source` says.
-  std::string clip(const std::string& name, const std::string& codec_args, const std::string& more_inputs = "",
-                   const std::string& source = "testsrc2=size=256x128:rate=24:duration=0.5,gblur=sigma=1.5") {
+  std::string clip(
+      const std::string& name, const std::string& codec_args, const std::string& more_inputs = "",
+      const std::string& source = "testsrc2=size=256x128:rate=24:duration=0.5,gblur=sigma=1.5") {
     const std::string out = p(name);
-    const std::string cmd = "ffmpeg -v error -y -f lavfi -i '" + source + "' " + more_inputs + " " + codec_args + " '" + out + "'";
+    const std::string cmd = "ffmpeg -v error -y -f lavfi -i '" + source + "' " + more_inputs + " " +
+                            codec_args + " '" + out + "'";
     EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
     return out;
   }
 
   // The frames' planes as ffmpeg decodes them, in pixel format fmt (planar), 16-bit samples
   // where bits > 8.
-  std::vector<std::array<Image, 3>> planes(const std::string& file, const char* fmt, Size size, int bits) const {
+  std::vector<std::array<Image, 3>> planes(const std::string& file, const char* fmt, Size size,
+                                           int bits) const {
     const std::string raw = p("raw.yuv");
-    const std::string cmd = "ffmpeg -v error -y -i '" + file + "' -vsync 0 -f rawvideo -pix_fmt " + fmt + " '" + raw + "'";
+    const std::string cmd = "ffmpeg -v error -y -i '" + file + "' -vsync 0 -f rawvideo -pix_fmt " +
+                            fmt + " '" + raw + "'";
     EXPECT_EQ(std::system(cmd.c_str()), 0);
     std::ifstream in(raw, std::ios::binary);
     const PixelType type = bits > 8 ? PixelType::U16 : PixelType::U8;
@@ -73,7 +78,8 @@ class Clips : public ::testing::Test {
     std::vector<std::array<Image, 3>> frames;
     for (;;) {
       std::array<Image, 3> f{Image(size, 1, type), Image(c, 1, type), Image(c, 1, type)};
-      for (Image& im : f) in.read(reinterpret_cast<char*>(im.data()), static_cast<std::streamsize>(im.byte_size()));
+      for (Image& im : f)
+        in.read(reinterpret_cast<char*>(im.data()), static_cast<std::streamsize>(im.byte_size()));
       if (!in) break;
       frames.push_back(std::move(f));
     }
@@ -81,7 +87,8 @@ class Clips : public ::testing::Test {
   }
 
   std::string pts(const std::string& file) const {
-    return shell("ffprobe -v error -select_streams v -show_entries frame=pts_time -of csv=p=0 '" + file + "'");
+    return shell("ffprobe -v error -select_streams v -show_entries frame=pts_time -of csv=p=0 '" +
+                 file + "'");
   }
 
   Report convert(std::vector<std::pair<const char*, OptionValue>> args) const {
@@ -101,8 +108,9 @@ double sample_at(const Image& plane, const Projection& proj, double x, double y)
 
 TEST_F(Clips, TenBitLumaIsThePerImageConversionAndChromaSitsWhereItSays) {
   for (const char* siting : {"left", "topleft"}) {
-    const std::string in = clip(std::string("in_") + siting + ".mkv",
-                                std::string("-c:v ffv1 -pix_fmt yuv420p10le -chroma_sample_location ") + siting);
+    const std::string in =
+        clip(std::string("in_") + siting + ".mkv",
+             std::string("-c:v ffv1 -pix_fmt yuv420p10le -chroma_sample_location ") + siting);
     const std::string out = p(std::string("out_") + siting + ".mkv");
     const Report r = convert({{"inputs", std::vector<std::string>{in}},
                               {"output", out},
@@ -118,12 +126,14 @@ TEST_F(Clips, TenBitLumaIsThePerImageConversionAndChromaSitsWhereItSays) {
     EXPECT_EQ(pts(in), pts(out));
     ConvertOptions o;
     o.size = Size{128, 128}, o.antialias = Antialias{};
-    const ConversionGeometry g = make_geometry({256, 128}, parse_spec("equirect"), parse_spec("fisheye:fov=200"), o);
+    const ConversionGeometry g =
+        make_geometry({256, 128}, parse_spec("equirect"), parse_spec("fisheye:fov=200"), o);
     const Projection chroma_source = rescaled(g.source, {128, 64});
     const bool top = std::string(siting) == "topleft";
     for (size_t f = 0; f < src.size(); f += 5) {
       // Luma: the per-image path on the plane alone, clamped to 10 bits, black (64) where none.
-      Image luma = panoproj::convert(src[f][0], parse_spec("equirect"), parse_spec("fisheye:fov=200"), o);
+      Image luma =
+          panoproj::convert(src[f][0], parse_spec("equirect"), parse_spec("fisheye:fov=200"), o);
       int64_t differ = 0, blacks = 0;
       for (int64_t y = 0; y < 128; ++y)
         for (int64_t x = 0; x < 128; ++x) {
@@ -142,12 +152,14 @@ TEST_F(Clips, TenBitLumaIsThePerImageConversionAndChromaSitsWhereItSays) {
         for (int64_t j = 0; j < 64; ++j)
           for (int64_t i = 0; i < 64; ++i) {
             double sx, sy;
-            if (!source_pixel(g.source, g.target, g.rotation, 2.0 * i + 0.5, 2.0 * j + (top ? 0.5 : 1.0), sx, sy)) {
+            if (!source_pixel(g.source, g.target, g.rotation, 2.0 * i + 0.5,
+                              2.0 * j + (top ? 0.5 : 1.0), sx, sy)) {
               EXPECT_EQ(test::get(dst[f][c], i, j, 0), 512.0);
               continue;
             }
             const double cx = (sx - 0.5) / 2 + 0.5, cy = top ? (sy - 0.5) / 2 + 0.5 : sy / 2;
-            const double want = std::clamp(sample_at(src[f][c], chroma_source, cx, cy), 0.0, 1023.0);
+            const double want =
+                std::clamp(sample_at(src[f][c], chroma_source, cx, cy), 0.0, 1023.0);
             most = std::max(most, std::fabs(test::get(dst[f][c], i, j, 0) - want));
           }
       EXPECT_LE(most, 1.0) << siting << " frame " << f;
@@ -166,11 +178,13 @@ TEST_F(Clips, TenBitOvershootIsClampedTo1023) {
            {"dst", std::string("equirect")},
            {"yaw", 10.3},
            {"codec", std::string("ffv1")}});
-  const auto src = planes(in, "yuv420p10le", {256, 128}, 10), dst = planes(out, "yuv420p10le", {256, 128}, 10);
+  const auto src = planes(in, "yuv420p10le", {256, 128}, 10),
+             dst = planes(out, "yuv420p10le", {256, 128}, 10);
   ASSERT_FALSE(dst.empty());
   ConvertOptions o;
   o.yaw = 10.3;
-  const Image luma = panoproj::convert(src[0][0], parse_spec("equirect"), parse_spec("equirect"), o);
+  const Image luma =
+      panoproj::convert(src[0][0], parse_spec("equirect"), parse_spec("equirect"), o);
   int64_t over = 0, differ = 0;
   for (int64_t y = 0; y < 128; ++y)
     for (int64_t x = 0; x < 256; ++x) {
@@ -183,7 +197,8 @@ TEST_F(Clips, TenBitOvershootIsClampedTo1023) {
 
 // A copy of `video`'s stream with a GoPro telemetry stream (data, tag gpmd) beside it: packet i
 // holds `payload(i)` at the video packet's time. (The ffmpeg command cannot write one.)
-void add_gpmd(const std::string& video, const std::string& out, const std::function<std::string(int)>& payload) {
+void add_gpmd(const std::string& video, const std::string& out,
+              const std::function<std::string(int)>& payload) {
   AVFormatContext* in = nullptr;
   ASSERT_GE(avformat_open_input(&in, video.c_str(), nullptr, nullptr), 0);
   ASSERT_GE(avformat_find_stream_info(in, nullptr), 0);
@@ -214,7 +229,8 @@ void add_gpmd(const std::string& video, const std::string& out, const std::funct
     AVPacket* q = av_packet_alloc();
     av_new_packet(q, static_cast<int>(bytes.size()));
     std::memcpy(q->data, bytes.data(), bytes.size());
-    q->pts = q->dts = av_rescale_q(std::max<int64_t>(dts, 0) + i, in->streams[0]->time_base, d->time_base);
+    q->pts = q->dts =
+        av_rescale_q(std::max<int64_t>(dts, 0) + i, in->streams[0]->time_base, d->time_base);
     q->duration = duration, q->stream_index = 1;
     ASSERT_GE(av_interleaved_write_frame(o, q), 0);
     av_packet_free(&q);
@@ -245,22 +261,35 @@ std::vector<std::string> data_packets(const std::string& file) {
 }
 
 TEST_F(Clips, GoProTelemetryIsCopiedByteForByteAndATimecodeMadeAgain) {
-  const std::string plain = clip("plain.mp4", "-c:v libx264 -pix_fmt yuv420p -timecode 01:02:03:04");
+  const std::string plain =
+      clip("plain.mp4", "-c:v libx264 -pix_fmt yuv420p -timecode 01:02:03:04");
   const std::string in = p("gopro.mp4"), out = p("gopro_out.mp4");
-  add_gpmd(plain, in, [](int i) { return "DEVC" + std::string(static_cast<size_t>(5 + i), static_cast<char>('a' + i)); });
+  add_gpmd(plain, in, [](int i) {
+    return "DEVC" + std::string(static_cast<size_t>(5 + i), static_cast<char>('a' + i));
+  });
   const std::vector<std::string> telemetry = data_packets(in);
   ASSERT_EQ(telemetry.size(), 12u);
-  convert({{"inputs", std::vector<std::string>{in}}, {"output", out}, {"dst", std::string("equirect")}});
+  convert({{"inputs", std::vector<std::string>{in}},
+           {"output", out},
+           {"dst", std::string("equirect")}});
   EXPECT_EQ(data_packets(out), telemetry);
-  EXPECT_NE(shell("ffprobe -v error -show_entries stream=codec_tag_string -of csv=p=0 '" + out + "'").find("gpmd"),
-            std::string::npos);
+  EXPECT_NE(
+      shell("ffprobe -v error -show_entries stream=codec_tag_string -of csv=p=0 '" + out + "'")
+          .find("gpmd"),
+      std::string::npos);
   // A timecode on the input (a tmcd track) comes out as the same start timecode.
-  const std::string tc = shell("ffprobe -v error -show_entries format_tags=timecode:stream_tags=timecode -of csv=p=0 '" + plain + "'");
+  const std::string tc = shell(
+      "ffprobe -v error -show_entries format_tags=timecode:stream_tags=timecode -of csv=p=0 '" +
+      plain + "'");
   EXPECT_NE(tc.find("01:02:03:04"), std::string::npos) << tc;
   const std::string tc_out = p("tc_out.mp4");
-  convert({{"inputs", std::vector<std::string>{plain}}, {"output", tc_out}, {"dst", std::string("equirect")}});
-  EXPECT_NE(shell("ffprobe -v error -show_entries stream_tags=timecode -of csv=p=0 '" + tc_out + "'").find("01:02:03:04"),
-            std::string::npos);
+  convert({{"inputs", std::vector<std::string>{plain}},
+           {"output", tc_out},
+           {"dst", std::string("equirect")}});
+  EXPECT_NE(
+      shell("ffprobe -v error -show_entries stream_tags=timecode -of csv=p=0 '" + tc_out + "'")
+          .find("01:02:03:04"),
+      std::string::npos);
   // Into Matkroska the telemetry is dropped (it takes no data stream), with a warning naming it.
   std::vector<std::string> warnings;
   JobEvents events;
@@ -280,11 +309,12 @@ TEST_F(Clips, PartsOfAClipJoinIntoTheWhole) {
   const std::string in = clip("long.mkv", "-c:v ffv1 -g 10 -pix_fmt yuv420p", "",
                               "testsrc2=size=256x128:rate=24:duration=2,gblur=sigma=1");
   auto run = [&](const std::string& out, std::vector<std::pair<const char*, OptionValue>> more) {
-    std::vector<std::pair<const char*, OptionValue>> args = {{"inputs", std::vector<std::string>{in}},
-                                                             {"output", p(out)},
-                                                             {"dst", std::string("cubemap:layout=3x2")},
-                                                             {"size", std::string("192x128")},
-                                                             {"codec", std::string("ffv1")}};
+    std::vector<std::pair<const char*, OptionValue>> args = {
+        {"inputs", std::vector<std::string>{in}},
+        {"output", p(out)},
+        {"dst", std::string("cubemap:layout=3x2")},
+        {"size", std::string("192x128")},
+        {"codec", std::string("ffv1")}};
     for (auto& m : more) args.push_back(m);
     return test::integer(convert(args), "frames");
   };
@@ -298,7 +328,8 @@ TEST_F(Clips, PartsOfAClipJoinIntoTheWhole) {
     for (auto& f : planes(p(part), "yuv420p", {192, 128}, 8)) joined.push_back(std::move(f));
   ASSERT_EQ(joined.size(), whole.size());
   for (size_t f = 0; f < whole.size(); ++f)
-    for (int c = 0; c < 3; ++c) EXPECT_TRUE(joined[f][c] == whole[f][c]) << "frame " << f << " plane " << c;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_TRUE(joined[f][c] == whole[f][c]) << "frame " << f << " plane " << c;
   // A part's times count from its start.
   EXPECT_EQ(pts(p("c.mkv")).substr(0, 6), "0.0000") << pts(p("c.mkv"));
   // Frames picked: every 10th, or at most 5 a second.
@@ -321,14 +352,16 @@ TEST_F(Clips, FramesToImagesAndImagesToAVideo) {
   std::vector<std::string> images;
   for (int n = 0; n < 3; ++n) images.push_back(p("frames/" + std::to_string(n) + ".png"));
   EXPECT_FALSE(fs::exists(p("frames/3.png")));
-  ASSERT_EQ(std::system(("ffmpeg -v error -y -i '" + in + "' -vf select='not(mod(n\\,4))' -vsync 0 -pix_fmt rgb24 '" +
-                         p("ref%d.png") + "'").c_str()),
+  ASSERT_EQ(std::system(("ffmpeg -v error -y -i '" + in +
+                         "' -vf select='not(mod(n\\,4))' -vsync 0 -pix_fmt rgb24 '" +
+                         p("ref%d.png") + "'")
+                            .c_str()),
             0);
   ConvertOptions o;
   o.size = Size{128, 96};
   for (int n = 0; n < 3; ++n) {
-    const Image want = panoproj::convert(read_image(p("ref" + std::to_string(n + 1) + ".png")), parse_spec("equirect"),
-                                         parse_spec("pinhole:hfov=90"), o);
+    const Image want = panoproj::convert(read_image(p("ref" + std::to_string(n + 1) + ".png")),
+                                         parse_spec("equirect"), parse_spec("pinhole:hfov=90"), o);
     EXPECT_GT(test::psnr(read_image(images[static_cast<size_t>(n)]), want), 38.0) << n;
   }
   // The images back to a video at 2 frames a second: their number, rate and times, and pixels.
@@ -344,13 +377,20 @@ TEST_F(Clips, FramesToImagesAndImagesToAVideo) {
   EXPECT_EQ(pts(out), "0.000000\n0.500000\n1.000000\n");
   const auto back = planes(out, "yuv420p", {128, 96}, 8);
   ASSERT_EQ(back.size(), 3u);
-  ASSERT_EQ(std::system(("ffmpeg -v error -y -i '" + out + "' -vsync 0 -pix_fmt rgb24 '" + p("back%d.png") + "'").c_str()), 0);
+  ASSERT_EQ(std::system(("ffmpeg -v error -y -i '" + out + "' -vsync 0 -pix_fmt rgb24 '" +
+                         p("back%d.png") + "'")
+                            .c_str()),
+            0);
   for (int n = 0; n < 3; ++n)
-    EXPECT_GT(test::psnr(read_image(p("back" + std::to_string(n + 1) + ".png")), read_image(images[static_cast<size_t>(n)])), 30.0);
+    EXPECT_GT(test::psnr(read_image(p("back" + std::to_string(n + 1) + ".png")),
+                         read_image(images[static_cast<size_t>(n)])),
+              30.0);
   // Images unlike each other are refused naming the first that differs.
   write_image(Image({64, 32}, 3, PixelType::U8), p("small.png"), {});
   try {
-    convert({{"inputs", std::vector<std::string>{images[0], p("small.png")}}, {"output", p("mixed.mkv")}, {"dst", std::string("equirect")},
+    convert({{"inputs", std::vector<std::string>{images[0], p("small.png")}},
+             {"output", p("mixed.mkv")},
+             {"dst", std::string("equirect")},
              {"src", std::string("pinhole:hfov=90")}});
     ADD_FAILURE() << "mixed sizes converted";
   } catch (const Error& e) {
@@ -361,24 +401,28 @@ TEST_F(Clips, FramesToImagesAndImagesToAVideo) {
 
 TEST_F(Clips, Hdr10MetadataIsKept) {
   // HEVC 10-bit PQ with HDR10's SEI (x265 puts it in the frames only, not in the container).
-  const std::string in = clip("hdr.mkv",
-                              "-frames:v 3 -c:v libx265 -pix_fmt yuv420p10le -color_primaries bt2020 -color_trc smpte2084 "
-                              "-colorspace bt2020nc -x265-params log-level=none:hdr10=1:master-display='G(13250,34500)"
-                              "B(7500,3000)R(34000,16000)WP(15635,16450)L(10000000,1)':max-cll=1000,400");
+  const std::string in = clip(
+      "hdr.mkv",
+      "-frames:v 3 -c:v libx265 -pix_fmt yuv420p10le -color_primaries bt2020 -color_trc smpte2084 "
+      "-colorspace bt2020nc -x265-params log-level=none:hdr10=1:master-display='G(13250,34500)"
+      "B(7500,3000)R(34000,16000)WP(15635,16450)L(10000000,1)':max-cll=1000,400");
   const std::string out = p("hdr.mp4");
   convert({{"inputs", std::vector<std::string>{in}},
            {"output", out},
            {"dst", std::string("cubemap:layout=3x2")},
            {"size", std::string("192x128")},
            {"codec", std::string("hevc")}});
-  const std::string frames = shell("ffprobe -v error -select_streams v -read_intervals %+#1 -show_entries "
-                                   "frame_side_data=max_content,max_average,max_luminance,min_luminance,red_x -of compact '" +
-                                   out + "'");
+  const std::string frames = shell(
+      "ffprobe -v error -select_streams v -read_intervals %+#1 -show_entries "
+      "frame_side_data=max_content,max_average,max_luminance,min_luminance,red_x -of compact '" +
+      out + "'");
   EXPECT_NE(frames.find("red_x=34000/50000"), std::string::npos) << frames;
   EXPECT_NE(frames.find("max_luminance=10000000/10000"), std::string::npos) << frames;
   EXPECT_NE(frames.find("max_content=1000|max_average=400"), std::string::npos) << frames;
-  const std::string stream = shell("ffprobe -v error -show_entries stream_side_data=max_content,red_x:stream=color_transfer,"
-                                   "color_primaries,pix_fmt -of compact '" + out + "'");
+  const std::string stream = shell(
+      "ffprobe -v error -show_entries stream_side_data=max_content,red_x:stream=color_transfer,"
+      "color_primaries,pix_fmt -of compact '" +
+      out + "'");
   EXPECT_NE(stream.find("red_x=34000/50000"), std::string::npos) << stream;  // (MP4's mdcv box)
   EXPECT_NE(stream.find("max_content=1000"), std::string::npos) << stream;   // (clli)
   EXPECT_NE(stream.find("yuv420p10le"), std::string::npos) << stream;
@@ -390,7 +434,9 @@ TEST_F(Clips, FramesTimesAndAudioAreTheInputs) {
   const std::string in = clip("in.mp4", "-shortest -c:v libx264 -pix_fmt yuv420p -c:a aac",
                               "-f lavfi -i 'sine=frequency=440:duration=0.5'");
   const std::string out = p("out.mp4");
-  const Report r = convert({{"inputs", std::vector<std::string>{in}}, {"output", out}, {"dst", std::string("cubemap:layout=eac")}});
+  const Report r = convert({{"inputs", std::vector<std::string>{in}},
+                            {"output", out},
+                            {"dst", std::string("cubemap:layout=eac")}});
   EXPECT_EQ(test::integer(r, "frames"), 12);
   EXPECT_EQ(pts(in), pts(out));
   const auto hash = [&](const std::string& f) {
@@ -398,11 +444,18 @@ TEST_F(Clips, FramesTimesAndAudioAreTheInputs) {
   };
   EXPECT_NE(hash(in), "");
   EXPECT_EQ(hash(in), hash(out));
-  EXPECT_EQ(shell("ffprobe -v error -select_streams v -show_entries stream=time_base,chroma_location -of csv=p=0 '" + in + "'"),
-            shell("ffprobe -v error -select_streams v -show_entries stream=time_base,chroma_location -of csv=p=0 '" + out + "'"));
+  EXPECT_EQ(shell("ffprobe -v error -select_streams v -show_entries "
+                  "stream=time_base,chroma_location -of csv=p=0 '" +
+                  in + "'"),
+            shell("ffprobe -v error -select_streams v -show_entries "
+                  "stream=time_base,chroma_location -of csv=p=0 '" +
+                  out + "'"));
   // An existing output is kept without overwrite.
   const auto before = fs::last_write_time(out);
-  EXPECT_THROW(convert({{"inputs", std::vector<std::string>{in}}, {"output", out}, {"dst", std::string("equirect")}}), Error);
+  EXPECT_THROW(convert({{"inputs", std::vector<std::string>{in}},
+                        {"output", out},
+                        {"dst", std::string("equirect")}}),
+               Error);
   EXPECT_EQ(fs::last_write_time(out), before);
 }
 

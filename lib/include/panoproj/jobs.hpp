@@ -37,7 +37,8 @@ class Arguments {
   std::string text(std::string_view name) const;
   std::optional<std::string> optional_text(std::string_view name) const;
   int64_t integer(std::string_view name) const;
-  std::optional<int64_t> optional_integer(std::string_view name) const;  // none: not given, no default
+  std::optional<int64_t> optional_integer(
+      std::string_view name) const;  // none: not given, no default
   bool flag(std::string_view name) const;
   double angle(std::string_view name) const;
   std::vector<std::string> paths(std::string_view name) const;

@@ -52,7 +52,8 @@ inline bool source_pixel(const Projection& src, const Projection& dst, const Eig
 }
 
 // Rays through the pixel centres (x0 + i + centre, y), i < n; ok[i] = 0 where there is none.
-void to_ray_row(const Projection& p, double y, int64_t x0, int64_t n, Ray* rays, uint8_t* ok, double centre = 0.5);
+void to_ray_row(const Projection& p, double y, int64_t x0, int64_t n, Ray* rays, uint8_t* ok,
+                double centre = 0.5);
 
 // Where the samples of a plane sit in its frame, in pixels from the pixel centres: sample (i, j)
 // of the target at (i + 0.5 + target_x, j + 0.5 + target_y), and a source position p read at

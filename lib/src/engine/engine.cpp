@@ -53,8 +53,9 @@ int footprint_reach_beyond(Interp interp) { return std::max(0, kFootprintTaps / 
 // The Converter's state: the projections, options and kept maps (convert.hpp's promises are kept
 // here), and the tiles.
 struct Converter::Impl {
-  Impl(Projection source, Projection target, const Siting& siting, const Eigen::Matrix3d& rotation, Interp interp, Engine engine,
-       int threads, Keep keep, Antialias antialias, EdgeFill edges, Stereo stereo);
+  Impl(Projection source, Projection target, const Siting& siting, const Eigen::Matrix3d& rotation,
+       Interp interp, Engine engine, int threads, Keep keep, Antialias antialias, EdgeFill edges,
+       Stereo stereo);
   PixelRect source_footprint() const;
   using Reader = std::function<void(const RowsArrived&)>;
   using Finished = std::function<void(const PixelRect&)>;
@@ -106,8 +107,8 @@ struct Converter::Impl {
 };
 
 Converter::Converter(const ConversionGeometry& g, const ConvertOptions& o, Keep keep)
-    : impl_(std::make_unique<Impl>(g.source, g.target, g.siting, g.rotation, o.interp, o.engine, o.threads,
-                                   keep, antialias_of(o), o.edges, g.stereo)) {}
+    : impl_(std::make_unique<Impl>(g.source, g.target, g.siting, g.rotation, o.interp, o.engine,
+                                   o.threads, keep, antialias_of(o), o.edges, g.stereo)) {}
 Converter::~Converter() = default;
 Converter::Converter(Converter&&) noexcept = default;
 Converter& Converter::operator=(Converter&&) noexcept = default;
@@ -132,12 +133,20 @@ void Converter::run_reading(const Image& src, Image& out,
   impl_->run(src, out, stats, progress, &read, finished);
 }
 
-Converter::Impl::Impl(Projection source, Projection target, const Siting& siting, const Eigen::Matrix3d& rotation,
-                      Interp interp, Engine engine, int threads, Keep keep, Antialias antialias, EdgeFill edges,
-                      Stereo stereo)
-    : source_(std::move(source)), target_(std::move(target)), siting_(siting), stereo_(stereo), antialias_(antialias),
+Converter::Impl::Impl(Projection source, Projection target, const Siting& siting,
+                      const Eigen::Matrix3d& rotation, Interp interp, Engine engine, int threads,
+                      Keep keep, Antialias antialias, EdgeFill edges, Stereo stereo)
+    : source_(std::move(source)),
+      target_(std::move(target)),
+      siting_(siting),
+      stereo_(stereo),
+      antialias_(antialias),
       edges_(edges),
-      rotation_(rotation), interp_(interp), engine_(engine), threads_(threads), keep_(keep) {
+      rotation_(rotation),
+      interp_(interp),
+      engine_(engine),
+      threads_(threads),
+      keep_(keep) {
   if (antialias_.mode != Antialias::Mode::Off && engine_ == Engine::Reference)
     throw Error("antialias " + name_of(antialias_) + " needs the simd or scalar engine (or --antialias off)");
   if (siting_.any() && (engine_ == Engine::Reference || edges_.active()))
@@ -173,8 +182,8 @@ int64_t Converter::Impl::tile_count() const {
 }
 
 bool Converter::Impl::fused(const PixelRect& rect, SimdGeometry& g) const {
-  return engine_ == Engine::Simd && !siting_.any() && simd_geometry_for(source_, target_, rotation_, rect, g) &&
-         exact_for(interp_, g);
+  return engine_ == Engine::Simd && !siting_.any() &&
+         simd_geometry_for(source_, target_, rotation_, rect, g) && exact_for(interp_, g);
 }
 
 void Converter::Impl::build_cache() const {
@@ -185,7 +194,8 @@ void Converter::Impl::build_cache() const {
     SimdGeometry g;
     const PixelRect rect = tile(t);
     if (!fused(rect, g))
-      map_tile(source_, target_, rotation_, rect, maps[static_cast<size_t>(t)], interp_ == Interp::Nearest, siting_);
+      map_tile(source_, target_, rotation_, rect, maps[static_cast<size_t>(t)],
+               interp_ == Interp::Nearest, siting_);
   });
   cache_ = std::move(maps);
   static_assert(PlannedTaps::kBytesPerPixel <= kCachedMapBytesPerPixel);  // a tile keeps its map or its taps
@@ -231,8 +241,9 @@ PixelRect Converter::Impl::source_footprint() const {
   parallel_tasks(n_tiles, threads_, [&](int64_t t, int w) {
     std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};  // this tile's
     const PixelRect rect = tile(t);
-    widen_to_positions(source_, rotation_, target_, rect, cached(t), engine_ == Engine::Simd && !siting_.any(),
-                       local[static_cast<size_t>(w)], b, siting_);
+    widen_to_positions(source_, rotation_, target_, rect, cached(t),
+                       engine_ == Engine::Simd && !siting_.any(), local[static_cast<size_t>(w)], b,
+                       siting_);
     if (b[0] > b[2]) return;
     auto& all = box[static_cast<size_t>(w)];
     all = {std::min(all[0], b[0]), std::min(all[1], b[1]), std::max(all[2], b[2]), std::max(all[3], b[3])};
@@ -397,8 +408,8 @@ void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats
     out = Image(size_of(target_), src.channels(), src.type(), src.alpha_channel(), Image::Unfilled{});
   const int64_t n_tiles = tile_count();
   if (keep_ != Keep::Nothing) std::call_once(cache_once_, [this] { build_cache(); });
-  const TileSampling sampling(src, source_, lenses_, rotation_, interp_, engine_ == Engine::Simd, siting_,
-                              size_of(target_));
+  const TileSampling sampling(src, source_, lenses_, rotation_, interp_, engine_ == Engine::Simd,
+                              siting_, size_of(target_));
   PlannedTaps* const planned = planned_for(src, sampling.taps());
   // Where x wraps, footprints measure steps across the seam the short way.
   const double wrap = sampling.taps().wrap_period();

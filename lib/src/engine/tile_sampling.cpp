@@ -115,7 +115,8 @@ void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Pr
   const TileMap* tm = kept.map;
   SimdGeometry g;
   const bool in_registers = !tm && fused(sp, r, t, rect, g);
-  if (!tm && !in_registers) map_tile(sp, t, r, rect, wk.map, interp_ == Interp::Nearest, siting_for(t)), tm = &wk.map;
+  if (!tm && !in_registers)
+    map_tile(sp, t, r, rect, wk.map, interp_ == Interp::Nearest, siting_for(t)), tm = &wk.map;
   if (tm) wk.stats.interpolated_cells += tm->interpolated_cells, wk.stats.exact_cells += tm->exact_cells;
   wk.stats.fused_tiles += in_registers;
   if (!in_registers) return map(src_, taps_, simd_src_, *tm, out, stride, wk, fp);

@@ -102,8 +102,8 @@ class TileSampling {
   // its whole-frame map).
   void widen_to_positions(const Projection& t, const PixelRect& rect, TileScratch& wk,
                           std::array<double, 4>& b) const {
-    panoproj::widen_to_positions(source_, rotation_, t, rect, nullptr, simd_ && !siting_.any(), wk.map, b,
-                                 siting_for(t));
+    panoproj::widen_to_positions(source_, rotation_, t, rect, nullptr, simd_ && !siting_.any(),
+                                 wk.map, b, siting_for(t));
   }
   // Whether rect of target t from the source runs fused (g filled).
   bool fused(const Projection& t, const PixelRect& rect, SimdGeometry& g) const {
@@ -116,7 +116,8 @@ class TileSampling {
 
   // The siting on target t (the target, or its sub-pixel frame).
   Siting siting_for(const Projection& t) const {
-    return siting_.any() ? siting_.on_sub_target(static_cast<int>(size_of(t).width / target_.width)) : siting_;
+    return siting_.any() ? siting_.on_sub_target(static_cast<int>(size_of(t).width / target_.width))
+                         : siting_;
   }
   const Image& image() const { return src_; }
   const SourceTaps& taps() const { return taps_; }

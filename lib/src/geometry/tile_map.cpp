@@ -137,8 +137,9 @@ void map_tile(const Projection& src, const Projection& dst, const Eigen::Matrix3
         // (output) or its positions' bounding box (source) is not covered as a whole.
         std::visit(
             [&](const auto& d) {
-              const bool all = d.covers(static_cast<double>(px0) + hx, static_cast<double>(py0) + hy,
-                                        static_cast<double>(px0 + w - 1) + hx, static_cast<double>(py0 + h - 1) + hy);
+              const bool all = d.covers(
+                  static_cast<double>(px0) + hx, static_cast<double>(py0) + hy,
+                  static_cast<double>(px0 + w - 1) + hx, static_cast<double>(py0 + h - 1) + hy);
               for (int64_t j = 0; j < h; ++j) {
                 const size_t row =
                     static_cast<size_t>((cy * kCell + j) * rect.width() + cx * kCell);

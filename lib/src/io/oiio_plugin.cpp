@@ -19,8 +19,8 @@ struct Loaded {
 
 Loaded load() {
   Loaded l;
-  if (void* make = load_plugin(kPluginName, "PANOPROJ_OIIO_PLUGIN", "panoproj_oiio_abi", kOiioPluginAbi,
-                               "panoproj_oiio_backend", l.error))
+  if (void* make = load_plugin(kPluginName, "PANOPROJ_OIIO_PLUGIN", "panoproj_oiio_abi",
+                               kOiioPluginAbi, "panoproj_oiio_backend", l.error))
     l.backend = reinterpret_cast<OiioBackend* (*)()>(make)();
   return l;
 }

@@ -9,7 +9,8 @@
 namespace panoproj {
 
 // The address of the plugin `file`'s `make_symbol` (a function the caller casts to its type and
-// calls), once its `abi_symbol` returns `abi`; null and `error` set to why not ("not found (...)", "not loadable: ...", "not this panoproj's").
+// calls), once its `abi_symbol` returns `abi`; null and `error` set to why not ("not found (...)",
+// "not loadable: ...", "not this panoproj's").
 void* load_plugin(const char* file, const char* env, const char* abi_symbol, int abi,
                   const char* make_symbol, std::string& error);
 

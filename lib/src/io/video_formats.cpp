@@ -10,19 +10,17 @@ namespace panoproj {
 
 const std::vector<VideoContainer>& video_containers() {
   static const std::vector<VideoContainer> rows = {
-      {"mp4", {".mp4", ".m4v"}, "h264"},
-      {"mov", {".mov"}, "h264"},
-      {"mkv", {".mkv"}, "h264"},
-      {"webm", {".webm"}, "vp9"},
-      {"avi", {".avi"}, "h264"},
-      {"mpegts", {".ts", ".mts", ".m2ts"}, "h264"},
+      {"mp4", {".mp4", ".m4v"}, "h264"}, {"mov", {".mov"}, "h264"},
+      {"mkv", {".mkv"}, "h264"},         {"webm", {".webm"}, "vp9"},
+      {"avi", {".avi"}, "h264"},         {"mpegts", {".ts", ".mts", ".m2ts"}, "h264"},
   };
   return rows;
 }
 
 const VideoContainer* video_container_of(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   for (const VideoContainer& c : video_containers())
     for (std::string_view e : c.extensions)
       if (e == ext) return &c;
@@ -37,15 +35,18 @@ bool sniffs_as_video(const std::string& head) {
       if (brand == image) return false;
     return true;
   }
-  if (head.size() >= 4 && head.compare(0, 4, "\x1a\x45\xdf\xa3") == 0) return true;  // Matroska, WebM
-  if (head.size() >= 12 && head.compare(0, 4, "RIFF") == 0 && head.compare(8, 3, "AVI") == 0) return true;
-  return head.size() >= 377 && head[0] == 0x47 && head[188] == 0x47 && head[376] == 0x47;  // MPEG-TS
+  if (head.size() >= 4 && head.compare(0, 4, "\x1a\x45\xdf\xa3") == 0)
+    return true;  // Matroska, WebM
+  if (head.size() >= 12 && head.compare(0, 4, "RIFF") == 0 && head.compare(8, 3, "AVI") == 0)
+    return true;
+  return head.size() >= 377 && head[0] == 0x47 && head[188] == 0x47 &&
+         head[376] == 0x47;  // MPEG-TS
 }
 
 const std::vector<VideoCodec>& video_codecs() {
   static const std::vector<VideoCodec> rows = {
-      {"h264", "libx264"}, {"hevc", "libx265"}, {"av1", "libsvtav1"},
-      {"vp9", "libvpx-vp9"}, {"ffv1", "ffv1"},  {"prores", "prores_ks"},
+      {"h264", "libx264"},   {"hevc", "libx265"}, {"av1", "libsvtav1"},
+      {"vp9", "libvpx-vp9"}, {"ffv1", "ffv1"},    {"prores", "prores_ks"},
   };
   return rows;
 }

@@ -10,7 +10,7 @@
 namespace panoproj {
 
 struct VideoContainer {
-  const char* name;   // what reports say ("mp4")
+  const char* name;  // what reports say ("mp4")
   std::vector<std::string_view> extensions;
   const char* codec;  // the default --codec
 };

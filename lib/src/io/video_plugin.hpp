@@ -35,7 +35,8 @@ struct VideoPixels {
   ChromaSiting siting = ChromaSiting::Left;  // where the stream says none, its codec's usual
   bool siting_said = false;                  // the stream says it (an output says it only then)
   bool full_range = false;
-  int matrix = 2, primaries = 2, transfer = 2;  // AVCOL_SPC_*, AVCOL_PRI_*, AVCOL_TRC_* (2: unspecified)
+  int matrix = 2, primaries = 2,
+      transfer = 2;  // AVCOL_SPC_*, AVCOL_PRI_*, AVCOL_TRC_* (2: unspecified)
   // Whether plane p is subsampled (a chroma plane).
   bool chroma(int p) const { return !packed && planes >= 3 && (p == 1 || p == 2); }
   Size plane_size(Size frame, int p) const {
@@ -91,17 +92,17 @@ class VideoReader {
 
 // What the encoder makes.
 struct VideoSettings {
-  std::string codec;                  // FFmpeg's encoder name ("libx264")
+  std::string codec;  // FFmpeg's encoder name ("libx264")
   Size size;
-  VideoPixels pixels;                 // the planes it is given (the source's, or packed RGB: made
-                                      // BT.709 limited-range YUV for the encoder)
-  int time_base[2] = {1, 25};         // of the frames' pts (the source stream's)
-  int frame_rate[2] = {0, 1};         // their average, {0, 1} unknown
-  int crf = -1;                       // -1: the encoder's default
-  int64_t bitrate = 0;                // bits a second, 0: by crf
-  std::string preset;                 // "" : the encoder's default
-  int gop = 0;                        // frames between keyframes, 0: the encoder's default
-  int threads = 0;                    // the encoder's threads, 0: its choice
+  VideoPixels pixels;          // the planes it is given (the source's, or packed RGB: made
+                               // BT.709 limited-range YUV for the encoder)
+  int time_base[2] = {1, 25};  // of the frames' pts (the source stream's)
+  int frame_rate[2] = {0, 1};  // their average, {0, 1} unknown
+  int crf = -1;                // -1: the encoder's default
+  int64_t bitrate = 0;         // bits a second, 0: by crf
+  std::string preset;          // "" : the encoder's default
+  int gop = 0;                 // frames between keyframes, 0: the encoder's default
+  int threads = 0;             // the encoder's threads, 0: its choice
 };
 
 class VideoWriter {
@@ -130,7 +131,8 @@ class VideoBackend {
   virtual std::string check_output(const std::string& path, const std::string& codec) = 0;
   // A writer into the open file `fd` (the temporary of `path`, which names the muxer and
   // messages); copying the other streams of `copy_from` (may be null).
-  virtual std::unique_ptr<VideoWriter> create(int fd, const std::string& path, const VideoSettings& settings,
+  virtual std::unique_ptr<VideoWriter> create(int fd, const std::string& path,
+                                              const VideoSettings& settings,
                                               VideoReader* copy_from) = 0;
   // "FFmpeg 5.1.9 (libavformat 59.27.100 ...)".
   virtual std::string version() = 0;

@@ -72,10 +72,12 @@ bool shows_whole_sphere(const Projection& p) {
   return m.whole_sphere && m.whole_sphere(p);
 }
 
-void to_ray_row(const Projection& p, double y, int64_t x0, int64_t n, Ray* rays, uint8_t* ok, double centre) {
+void to_ray_row(const Projection& p, double y, int64_t x0, int64_t n, Ray* rays, uint8_t* ok,
+                double centre) {
   std::visit(
       [&](const auto& q) {
-        for (int64_t i = 0; i < n; ++i) ok[i] = q.to_ray(static_cast<double>(x0 + i) + centre, y, rays[i]) ? 1 : 0;
+        for (int64_t i = 0; i < n; ++i)
+          ok[i] = q.to_ray(static_cast<double>(x0 + i) + centre, y, rays[i]) ? 1 : 0;
       },
       p);
 }

@@ -625,7 +625,8 @@ HWY_INLINE void GrayU8(const SimdSource& s, const TapBlock& blk, unsigned char* 
     }
     acc = hn::MulAdd(h, fy[r], acc);
   }
-  const auto v = hn::IfThenElseZero(sampled, hn::NearestInt(hn::Min(hn::Max(acc, hn::Zero(df)), hn::Set(df, 255.0f))));
+  const auto v = hn::IfThenElseZero(
+      sampled, hn::NearestInt(hn::Min(hn::Max(acc, hn::Zero(df)), hn::Set(df, 255.0f))));
   const hn::Rebind<uint8_t, DI> d8;
   HWY_ALIGN uint8_t bytes[hn::MaxLanes(d8)];
   hn::Store(hn::DemoteTo(d8, v), d8, bytes);
@@ -655,13 +656,15 @@ HWY_INLINE void GrayU16(const SimdSource& s, const TapBlock& blk, unsigned char*
     const auto row = hn::Add(off0, hn::Set(di, static_cast<int32_t>(r * s.stride)));
     VF h = hn::Zero(df);
     for (int k = 0; k < K; k += 2) {
-      const auto word = hn::BitCast(du, hn::GatherOffset(di, base, hn::Add(row, hn::Set(di, 2 * k))));
+      const auto word =
+          hn::BitCast(du, hn::GatherOffset(di, base, hn::Add(row, hn::Set(di, 2 * k))));
       h = hn::MulAdd(hn::ConvertTo(df, hn::BitCast(di, hn::And(word, low))), fx[k], h);
       h = hn::MulAdd(hn::ConvertTo(df, hn::BitCast(di, hn::ShiftRight<16>(word))), fx[k + 1], h);
     }
     acc = hn::MulAdd(h, fy[r], acc);
   }
-  const auto v = hn::IfThenElseZero(sampled, hn::NearestInt(hn::Min(hn::Max(acc, hn::Zero(df)), hn::Set(df, 65535.0f))));
+  const auto v = hn::IfThenElseZero(
+      sampled, hn::NearestInt(hn::Min(hn::Max(acc, hn::Zero(df)), hn::Set(df, 65535.0f))));
   const hn::Rebind<uint16_t, DI> d16;
   HWY_ALIGN uint16_t words[hn::MaxLanes(d16)];
   hn::Store(hn::DemoteTo(d16, v), d16, words);
@@ -690,7 +693,8 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
   if constexpr (PT == PixelType::U8 && K == 2) {
     if (alpha < 0) return BilinearU8(s, TapPairs(s, blk.base, blk.off, blk.m), PackedWeightsU8(blk), out + blk.index * pb);
   } else if constexpr (PT == PixelType::U8 && (K == 4 || K == 6)) {
-    if (alpha < 0 && !s.dering) return nc == 1 ? GrayU8<K>(s, blk, out) : SeparableU8<K>(s, blk, out);
+    if (alpha < 0 && !s.dering)
+      return nc == 1 ? GrayU8<K>(s, blk, out) : SeparableU8<K>(s, blk, out);
   } else if constexpr (PT == PixelType::U8 && K > 2) {
     if (alpha < 0 && !s.dering) return SeparableU8<K>(s, blk, out);
   } else if constexpr (PT == PixelType::U16 && (K == 4 || K == 6)) {

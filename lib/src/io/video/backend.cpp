@@ -4,10 +4,10 @@
 // API moved in 6.1 and 7.x the #if on the library versions says so.
 extern "C" {
 #include <libavcodec/avcodec.h>
-#include <libavutil/mastering_display_metadata.h>
 #include <libavformat/avformat.h>
 #include <libavutil/avutil.h>
 #include <libavutil/imgutils.h>
+#include <libavutil/mastering_display_metadata.h>
 #include <libavutil/opt.h>
 #include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
@@ -41,8 +41,10 @@ class PacketQueue {
     std::lock_guard<std::mutex> lock(mutex_);
     bytes_ += p->size;
     if (bytes_ > kMostBytes)
-      throw Error("cannot read " + path + ": over 1 GiB of audio or data packets ahead of its video (badly interleaved)",
-                  ErrorKind::File);
+      throw Error(
+          "cannot read " + path +
+              ": over 1 GiB of audio or data packets ahead of its video (badly interleaved)",
+          ErrorKind::File);
     packets_.push_back(p);
   }
   AVPacket* pop() {
@@ -66,15 +68,17 @@ class PacketQueue {
 // A planar format of native-endian samples of 8 to 16 bits, one component a plane (what crosses
 // to the library as is); false for packed, semi-planar, bitstream, float, palette, hardware.
 bool crosses_as_is(const AVPixFmtDescriptor* d) {
-  if (!d || !(d->flags & AV_PIX_FMT_FLAG_PLANAR) || (d->flags & (AV_PIX_FMT_FLAG_BITSTREAM | AV_PIX_FMT_FLAG_FLOAT |
-                                                                   AV_PIX_FMT_FLAG_PAL | AV_PIX_FMT_FLAG_HWACCEL |
-                                                                   AV_PIX_FMT_FLAG_BE)))
+  if (!d || !(d->flags & AV_PIX_FMT_FLAG_PLANAR) ||
+      (d->flags & (AV_PIX_FMT_FLAG_BITSTREAM | AV_PIX_FMT_FLAG_FLOAT | AV_PIX_FMT_FLAG_PAL |
+                   AV_PIX_FMT_FLAG_HWACCEL | AV_PIX_FMT_FLAG_BE)))
     return false;
   if (d->nb_components < 1 || d->nb_components > 4) return false;
   const int bytes = d->comp[0].depth > 8 ? 2 : 1;
   for (int c = 0; c < d->nb_components; ++c) {
     const AVComponentDescriptor& k = d->comp[c];
-    if (k.plane != c || k.step != bytes || k.offset != 0 || k.shift != 0 || k.depth != d->comp[0].depth) return false;
+    if (k.plane != c || k.step != bytes || k.offset != 0 || k.shift != 0 ||
+        k.depth != d->comp[0].depth)
+      return false;
   }
   return true;
 }
@@ -90,10 +94,13 @@ AVPixelFormat planar_for(AVPixelFormat f) {
   const bool rgb = d->flags & AV_PIX_FMT_FLAG_RGB, alpha = d->flags & AV_PIX_FMT_FLAG_ALPHA;
   AVPixelFormat best = AV_PIX_FMT_NONE;
   int best_depth = 99;
-  for (const AVPixFmtDescriptor* q = av_pix_fmt_desc_next(nullptr); q; q = av_pix_fmt_desc_next(q)) {
-    if (!crosses_as_is(q) || q->nb_components != d->nb_components || bool(q->flags & AV_PIX_FMT_FLAG_RGB) != rgb ||
+  for (const AVPixFmtDescriptor* q = av_pix_fmt_desc_next(nullptr); q;
+       q = av_pix_fmt_desc_next(q)) {
+    if (!crosses_as_is(q) || q->nb_components != d->nb_components ||
+        bool(q->flags & AV_PIX_FMT_FLAG_RGB) != rgb ||
         bool(q->flags & AV_PIX_FMT_FLAG_ALPHA) != alpha || q->log2_chroma_w != d->log2_chroma_w ||
-        q->log2_chroma_h != d->log2_chroma_h || q->comp[0].depth < depth || q->comp[0].depth >= best_depth)
+        q->log2_chroma_h != d->log2_chroma_h || q->comp[0].depth < depth ||
+        q->comp[0].depth >= best_depth)
       continue;
     best = av_pix_fmt_desc_get_id(q), best_depth = q->comp[0].depth;
   }
@@ -113,23 +120,27 @@ VideoPixels pixels_of(AVPixelFormat planar, const AVCodecParameters& p) {
   // Unsaid: centred for JPEG's codings (MJPEG, yuvj formats), else left (MPEG-2, H.264, HEVC).
   v.siting_said = v.siting != ChromaSiting::Unspecified;
   if (!v.siting_said)
-    v.siting = p.codec_id == AV_CODEC_ID_MJPEG || std::strncmp(d->name, "yuvj", 4) == 0 ? ChromaSiting::Center
-                                                                                          : ChromaSiting::Left;
+    v.siting = p.codec_id == AV_CODEC_ID_MJPEG || std::strncmp(d->name, "yuvj", 4) == 0
+                   ? ChromaSiting::Center
+                   : ChromaSiting::Left;
   // (yuvj formats are full range whatever the stream says.)
-  v.full_range = p.color_range == AVCOL_RANGE_JPEG || std::strncmp(d->name, "yuvj", 4) == 0 || v.rgb;
+  v.full_range =
+      p.color_range == AVCOL_RANGE_JPEG || std::strncmp(d->name, "yuvj", 4) == 0 || v.rgb;
   v.matrix = p.color_space, v.primaries = p.color_primaries, v.transfer = p.color_trc;
   return v;
 }
 
 // A scaler between two formats of one size (bicubic chroma, accurate rounding) with the chroma
 // positions given in 1/256 luma pixels (-513: swscale's default); null if it cannot be made.
-SwsContext* scaler(Size size, AVPixelFormat from, AVPixelFormat to, int src_h, int src_v, int dst_h, int dst_v) {
+SwsContext* scaler(Size size, AVPixelFormat from, AVPixelFormat to, int src_h, int src_v, int dst_h,
+                   int dst_v) {
   SwsContext* s = sws_alloc_context();
   if (!s) return nullptr;
   av_opt_set_int(s, "srcw", size.width, 0), av_opt_set_int(s, "srch", size.height, 0);
   av_opt_set_int(s, "dstw", size.width, 0), av_opt_set_int(s, "dsth", size.height, 0);
   av_opt_set_int(s, "src_format", from, 0), av_opt_set_int(s, "dst_format", to, 0);
-  av_opt_set_int(s, "sws_flags", SWS_BICUBIC | SWS_FULL_CHR_H_INP, 0);  // (5.1: accurate_rnd and full_chroma_int are worse here)
+  av_opt_set_int(s, "sws_flags", SWS_BICUBIC | SWS_FULL_CHR_H_INP,
+                 0);  // (5.1: accurate_rnd and full_chroma_int are worse here)
   av_opt_set_int(s, "src_h_chr_pos", src_h, 0), av_opt_set_int(s, "src_v_chr_pos", src_v, 0);
   av_opt_set_int(s, "dst_h_chr_pos", dst_h, 0), av_opt_set_int(s, "dst_v_chr_pos", dst_v, 0);
   if (sws_init_context(s, nullptr, nullptr) < 0) sws_freeContext(s), s = nullptr;
@@ -138,12 +149,18 @@ SwsContext* scaler(Size size, AVPixelFormat from, AVPixelFormat to, int src_h, i
 
 const char* kind_name(AVMediaType t) {
   switch (t) {
-    case AVMEDIA_TYPE_AUDIO: return "audio";
-    case AVMEDIA_TYPE_SUBTITLE: return "subtitle";
-    case AVMEDIA_TYPE_DATA: return "data";
-    case AVMEDIA_TYPE_ATTACHMENT: return "attachment";
-    case AVMEDIA_TYPE_VIDEO: return "video";
-    default: return "unknown";
+    case AVMEDIA_TYPE_AUDIO:
+      return "audio";
+    case AVMEDIA_TYPE_SUBTITLE:
+      return "subtitle";
+    case AVMEDIA_TYPE_DATA:
+      return "data";
+    case AVMEDIA_TYPE_ATTACHMENT:
+      return "attachment";
+    case AVMEDIA_TYPE_VIDEO:
+      return "video";
+    default:
+      return "unknown";
   }
 }
 
@@ -181,20 +198,23 @@ class FfReader final : public VideoReader {
     const AVStream* st = fmt_->streams[info_.stream];
     const AVCodec* codec = avcodec_find_decoder(st->codecpar->codec_id);
     if (!codec)
-      fail("no decoder for its video codec " + std::string(avcodec_get_name(st->codecpar->codec_id)) +
-           " in these FFmpeg libraries");
+      fail("no decoder for its video codec " +
+           std::string(avcodec_get_name(st->codecpar->codec_id)) + " in these FFmpeg libraries");
     dec_ = avcodec_alloc_context3(codec);
-    if (!dec_ || avcodec_parameters_to_context(dec_, st->codecpar) < 0) fail("its decoder cannot be set up");
+    if (!dec_ || avcodec_parameters_to_context(dec_, st->codecpar) < 0)
+      fail("its decoder cannot be set up");
     dec_->thread_count = 0;
     dec_->max_pixels = int64_t{1} << 27;  // (a frame over 16384 x 8192 refused, not allocated)
     dec_->pkt_timebase = st->time_base;
     err = avcodec_open2(dec_, codec, nullptr);
-    if (err < 0) fail("its " + std::string(codec->name) + " decoder cannot be opened (" + av_error(err) + ")");
+    if (err < 0)
+      fail("its " + std::string(codec->name) + " decoder cannot be opened (" + av_error(err) + ")");
     if (st->codecpar->width < 1 || st->codecpar->height < 1 || st->codecpar->format < 0)
       fail("its video stream has no frame size or pixel format");
     planar_ = planar_for(static_cast<AVPixelFormat>(st->codecpar->format));
     if (planar_ == AV_PIX_FMT_NONE)
-      fail("its pixel format " + std::string(av_get_pix_fmt_name(static_cast<AVPixelFormat>(st->codecpar->format))) +
+      fail("its pixel format " +
+           std::string(av_get_pix_fmt_name(static_cast<AVPixelFormat>(st->codecpar->format))) +
            " has no planar form of 8 to 16 bits");
     info_.container = fmt_->iformat->name;
     info_.codec = codec->name;
@@ -212,17 +232,20 @@ class FfReader final : public VideoReader {
     for (unsigned i = 0; i < fmt_->nb_streams; ++i) {
       if (static_cast<int>(i) == info_.stream) continue;
       const AVCodecParameters* p = fmt_->streams[i]->codecpar;
-      info_.others.push_back({static_cast<int>(i), kind_name(p->codec_type), avcodec_get_name(p->codec_id),
-                              tag_text(p->codec_tag)});
+      info_.others.push_back({static_cast<int>(i), kind_name(p->codec_type),
+                              avcodec_get_name(p->codec_id), tag_text(p->codec_tag)});
     }
     packet_ = av_packet_alloc();
     frame_ = av_frame_alloc();
     if (range_.start > 0) {
       // From the keyframe at or before the start (frames before it are decoded and dropped).
-      const int64_t at = av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)), AV_TIME_BASE_Q,
-                                      st->time_base);
+      const int64_t at =
+          av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)),
+                       AV_TIME_BASE_Q, st->time_base);
       err = av_seek_frame(fmt_, info_.stream, at, AVSEEK_FLAG_BACKWARD);
-      if (err < 0) fail("it cannot be read from " + std::to_string(range_.start) + " s (" + av_error(err) + ")");
+      if (err < 0)
+        fail("it cannot be read from " + std::to_string(range_.start) + " s (" + av_error(err) +
+             ")");
     }
   }
 
@@ -278,7 +301,8 @@ class FfReader final : public VideoReader {
       const int got = avcodec_receive_frame(dec_, frame_);
       if (got == 0) {
         // (In the stream's time base: a frame is in the range by its own time.)
-        const double t = static_cast<double>(frame_time()) * av_q2d(fmt_->streams[info_.stream]->time_base);
+        const double t =
+            static_cast<double>(frame_time()) * av_q2d(fmt_->streams[info_.stream]->time_base);
         if (t >= range_.end) {
           av_frame_unref(frame_);
           return false;
@@ -309,7 +333,8 @@ class FfReader final : public VideoReader {
     int seen = 0;
     for (unsigned i = 0; i < fmt_->nb_streams; ++i) {
       const AVStream* st = fmt_->streams[i];
-      if (st->codecpar->codec_type != AVMEDIA_TYPE_VIDEO || (st->disposition & AV_DISPOSITION_ATTACHED_PIC))
+      if (st->codecpar->codec_type != AVMEDIA_TYPE_VIDEO ||
+          (st->disposition & AV_DISPOSITION_ATTACHED_PIC))
         continue;
       if (wanted < 0 || seen == wanted) {
         info_.stream = static_cast<int>(i);
@@ -358,7 +383,8 @@ class FfReader final : public VideoReader {
   void to_rgb(const AVCodecParameters& p) {
     VideoPixels& v = info_.pixels;
     const bool deep = v.bits > 8;
-    planar_ = v.alpha ? (deep ? AV_PIX_FMT_RGBA64LE : AV_PIX_FMT_RGBA) : (deep ? AV_PIX_FMT_RGB48LE : AV_PIX_FMT_RGB24);
+    planar_ = v.alpha ? (deep ? AV_PIX_FMT_RGBA64LE : AV_PIX_FMT_RGBA)
+                      : (deep ? AV_PIX_FMT_RGB48LE : AV_PIX_FMT_RGB24);
     yuv_ = !v.rgb && v.planes >= 3;
     matrix_ = p.color_space;
     if (matrix_ == AVCOL_SPC_UNSPECIFIED || matrix_ == AVCOL_SPC_RGB)  // (HD's usual, else SD's)
@@ -373,9 +399,10 @@ class FfReader final : public VideoReader {
     const VideoPixels& v = info_.pixels;
     const bool left = v.siting == ChromaSiting::Left || v.siting == ChromaSiting::TopLeft ||
                       v.siting == ChromaSiting::BottomLeft;
-    const int vpos = v.siting == ChromaSiting::TopLeft || v.siting == ChromaSiting::Top      ? 0
-                     : v.siting == ChromaSiting::BottomLeft || v.siting == ChromaSiting::Bottom ? 256
-                                                                                                : 128;
+    const int vpos = v.siting == ChromaSiting::TopLeft || v.siting == ChromaSiting::Top ? 0
+                     : v.siting == ChromaSiting::BottomLeft || v.siting == ChromaSiting::Bottom
+                         ? 256
+                         : 128;
     SwsContext* s = scaler(info_.size, from, planar_, left ? 0 : 128, vpos, -513, -513);
     if (!s) fail("its frames cannot be made RGB");
     const bool full = from_full_range_;
@@ -419,9 +446,10 @@ class FfReader final : public VideoReader {
   }
 
   int64_t start_shift() const {
-    return range_.start > 0 ? av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)),
-                                           AV_TIME_BASE_Q, fmt_->streams[info_.stream]->time_base)
-                            : 0;
+    return range_.start > 0
+               ? av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)),
+                              AV_TIME_BASE_Q, fmt_->streams[info_.stream]->time_base)
+               : 0;
   }
 
   // Whether a copied stream's packet is in the range (by its presentation time).
@@ -436,7 +464,8 @@ class FfReader final : public VideoReader {
   // A time counted from the range's start.
   void shift(AVPacket& p, AVRational tb) const {
     if (range_.start <= 0) return;
-    const int64_t by = av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)), AV_TIME_BASE_Q, tb);
+    const int64_t by = av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)),
+                                    AV_TIME_BASE_Q, tb);
     if (p.pts != AV_NOPTS_VALUE) p.pts -= by;
     if (p.dts != AV_NOPTS_VALUE) p.dts -= by;
   }
@@ -450,8 +479,9 @@ class FfReader final : public VideoReader {
     const AVFrame* src = frame_;
     if (info_.pixels.packed) return take_rgb(out);
     if (frame_->format != planar_) {
-      sws_ = sws_getCachedContext(sws_, frame_->width, frame_->height, static_cast<AVPixelFormat>(frame_->format),
-                                  frame_->width, frame_->height, planar_, SWS_POINT, nullptr, nullptr, nullptr);
+      sws_ = sws_getCachedContext(sws_, frame_->width, frame_->height,
+                                  static_cast<AVPixelFormat>(frame_->format), frame_->width,
+                                  frame_->height, planar_, SWS_POINT, nullptr, nullptr, nullptr);
       if (!planar_frame_) planar_frame_.reset(av_frame_alloc());
       AVFrame* p = planar_frame_.get();
       if (p->width != frame_->width || !p->data[0]) {
@@ -459,7 +489,8 @@ class FfReader final : public VideoReader {
         p->format = planar_, p->width = frame_->width, p->height = frame_->height;
         if (av_frame_get_buffer(p, 0) < 0) fail("out of memory");
       }
-      if (!sws_ || sws_scale(sws_, frame_->data, frame_->linesize, 0, frame_->height, p->data, p->linesize) < 0)
+      if (!sws_ || sws_scale(sws_, frame_->data, frame_->linesize, 0, frame_->height, p->data,
+                             p->linesize) < 0)
         fail("its pixel format cannot be made planar");
       src = p;
     }
@@ -468,7 +499,8 @@ class FfReader final : public VideoReader {
     // Rows back to back (no padding): the planes are views of the decoder's buffers, held.
     bool dense = src == frame_;
     for (int c = 0; c < px.planes; ++c)
-      dense = dense && src->linesize[c] == px.plane_size(info_.size, c).width * static_cast<int64_t>(bytes_of(type));
+      dense = dense && src->linesize[c] == px.plane_size(info_.size, c).width *
+                                               static_cast<int64_t>(bytes_of(type));
     if (dense) {
       AVFrame* held = av_frame_clone(frame_);
       if (!held) fail("out of memory");
@@ -477,7 +509,8 @@ class FfReader final : public VideoReader {
         av_frame_free(&p);
       });
       for (int c = 0; c < px.planes; ++c)
-        out.planes[static_cast<size_t>(c)] = Image::view(held->data[c], px.plane_size(info_.size, c), 1, type);
+        out.planes[static_cast<size_t>(c)] =
+            Image::view(held->data[c], px.plane_size(info_.size, c), 1, type);
     }
     if (!dense) out.owner.reset();
     for (int c = 0; c < px.planes && !dense; ++c) {
@@ -556,8 +589,8 @@ bool takes_data(const AVOutputFormat* f, const OtherStream& s) {
 // none. (FFmpeg 6.1 moved it to codecpar->coded_side_data; 7.0 removed the stream calls.)
 std::string stream_side_data(const AVStream* st, AVPacketSideDataType type) {
 #if LIBAVFORMAT_VERSION_INT >= AV_VERSION_INT(60, 15, 100)
-  const AVPacketSideData* sd =
-      av_packet_side_data_get(st->codecpar->coded_side_data, st->codecpar->nb_coded_side_data, type);
+  const AVPacketSideData* sd = av_packet_side_data_get(st->codecpar->coded_side_data,
+                                                       st->codecpar->nb_coded_side_data, type);
   return sd ? std::string(reinterpret_cast<const char*>(sd->data), sd->size) : std::string();
 #else
   size_t size = 0;
@@ -568,8 +601,8 @@ std::string stream_side_data(const AVStream* st, AVPacketSideDataType type) {
 
 bool set_stream_side_data(AVStream* st, AVPacketSideDataType type, const std::string& bytes) {
 #if LIBAVFORMAT_VERSION_INT >= AV_VERSION_INT(60, 15, 100)
-  AVPacketSideData* sd = av_packet_side_data_new(&st->codecpar->coded_side_data, &st->codecpar->nb_coded_side_data,
-                                                 type, bytes.size(), 0);
+  AVPacketSideData* sd = av_packet_side_data_new(
+      &st->codecpar->coded_side_data, &st->codecpar->nb_coded_side_data, type, bytes.size(), 0);
   if (!sd) return false;
   std::memcpy(sd->data, bytes.data(), bytes.size());
 #else
@@ -590,23 +623,26 @@ std::string x265_hdr_params(const std::string& mastering, const std::string& lig
       // In 1/50000 for the chromaticities, 1/10000 cd/m2 for luminance (x265's units); G, B, R.
       auto c = [](AVRational r) { return std::to_string(av_rescale(r.num, 50000, r.den)); };
       auto l = [](AVRational r) { return std::to_string(av_rescale(r.num, 10000, r.den)); };
-      out += "master-display=G(" + c(m.display_primaries[1][0]) + "," + c(m.display_primaries[1][1]) + ")B(" +
-             c(m.display_primaries[2][0]) + "," + c(m.display_primaries[2][1]) + ")R(" + c(m.display_primaries[0][0]) +
-             "," + c(m.display_primaries[0][1]) + ")WP(" + c(m.white_point[0]) + "," + c(m.white_point[1]) + ")L(" +
-             l(m.max_luminance) + "," + l(m.min_luminance) + ")";
+      out += "master-display=G(" + c(m.display_primaries[1][0]) + "," +
+             c(m.display_primaries[1][1]) + ")B(" + c(m.display_primaries[2][0]) + "," +
+             c(m.display_primaries[2][1]) + ")R(" + c(m.display_primaries[0][0]) + "," +
+             c(m.display_primaries[0][1]) + ")WP(" + c(m.white_point[0]) + "," +
+             c(m.white_point[1]) + ")L(" + l(m.max_luminance) + "," + l(m.min_luminance) + ")";
     }
   }
   if (light.size() >= sizeof(AVContentLightMetadata)) {
     AVContentLightMetadata l;
     std::memcpy(&l, light.data(), sizeof l);
-    out += std::string(out.empty() ? "" : ":") + "max-cll=" + std::to_string(l.MaxCLL) + "," + std::to_string(l.MaxFALL);
+    out += std::string(out.empty() ? "" : ":") + "max-cll=" + std::to_string(l.MaxCLL) + "," +
+           std::to_string(l.MaxFALL);
   }
   return out;
 }
 
 class FfWriter final : public VideoWriter {
  public:
-  FfWriter(int fd, const std::string& path, const VideoSettings& s, FfReader* from) : fd_(fd), path_(path), from_(from) {
+  FfWriter(int fd, const std::string& path, const VideoSettings& s, FfReader* from)
+      : fd_(fd), path_(path), from_(from) {
     try {  // (a constructor that throws runs no destructor)
       open(s);
     } catch (...) {
@@ -626,16 +662,19 @@ class FfWriter final : public VideoWriter {
     if (from_) read_hdr();
     open_encoder(codec, s);
     video_ = avformat_new_stream(fmt_, nullptr);
-    if (!video_ || avcodec_parameters_from_context(video_->codecpar, enc_) < 0) fail("its video stream cannot be set up");
+    if (!video_ || avcodec_parameters_from_context(video_->codecpar, enc_) < 0)
+      fail("its video stream cannot be set up");
     video_->time_base = enc_->time_base;
     video_->avg_frame_rate = enc_->framerate;
     if (from_) add_copied();
-    if ((!mastering_.empty() && !set_stream_side_data(video_, AV_PKT_DATA_MASTERING_DISPLAY_METADATA, mastering_)) ||
+    if ((!mastering_.empty() &&
+         !set_stream_side_data(video_, AV_PKT_DATA_MASTERING_DISPLAY_METADATA, mastering_)) ||
         (!light_.empty() && !set_stream_side_data(video_, AV_PKT_DATA_CONTENT_LIGHT_LEVEL, light_)))
       fail("out of memory");
     const size_t buffer_bytes = 1 << 16;
     auto* buffer = static_cast<unsigned char*>(av_malloc(buffer_bytes));
-    io_ = avio_alloc_context(buffer, static_cast<int>(buffer_bytes), 1, &fd_, nullptr, write_fd, seek_fd);
+    io_ = avio_alloc_context(buffer, static_cast<int>(buffer_bytes), 1, &fd_, nullptr, write_fd,
+                             seek_fd);
     if (!io_) fail("out of memory");
     fmt_->pb = io_;
     fmt_->flags |= AVFMT_FLAG_CUSTOM_IO;
@@ -661,18 +700,23 @@ class FfWriter final : public VideoWriter {
   void write(const VideoFrame& f) override {
     AVFrame* fr = frame_;
     av_frame_unref(fr);
-    fr->format = given_, fr->width = static_cast<int>(size_.width), fr->height = static_cast<int>(size_.height);
+    fr->format = given_, fr->width = static_cast<int>(size_.width),
+    fr->height = static_cast<int>(size_.height);
     if (av_frame_get_buffer(fr, 0) < 0) fail("out of memory");
     for (int c = 0; c < pixels_.planes; ++c) {
       const Image& im = f.planes[static_cast<size_t>(c)];
-      for (int64_t y = 0; y < im.height(); ++y) std::memcpy(fr->data[c] + y * fr->linesize[c], im.row(y), im.row_bytes());
+      for (int64_t y = 0; y < im.height(); ++y)
+        std::memcpy(fr->data[c] + y * fr->linesize[c], im.row(y), im.row_bytes());
     }
     if (given_ != enc_->pix_fmt) {
       av_frame_unref(converted_);
-      converted_->format = enc_->pix_fmt, converted_->width = fr->width, converted_->height = fr->height;
+      converted_->format = enc_->pix_fmt, converted_->width = fr->width,
+      converted_->height = fr->height;
       if (av_frame_get_buffer(converted_, 0) < 0) fail("out of memory");
-      if (sws_scale(sws_, fr->data, fr->linesize, 0, fr->height, converted_->data, converted_->linesize) < 0)
-        fail("its frames cannot be converted to " + std::string(av_get_pix_fmt_name(enc_->pix_fmt)));
+      if (sws_scale(sws_, fr->data, fr->linesize, 0, fr->height, converted_->data,
+                    converted_->linesize) < 0)
+        fail("its frames cannot be converted to " +
+             std::string(av_get_pix_fmt_name(enc_->pix_fmt)));
       fr = converted_;
     }
     fr->pts = f.pts;
@@ -695,7 +739,9 @@ class FfWriter final : public VideoWriter {
   const std::vector<std::string>& notes() const override { return notes_; }
 
  private:
-  [[noreturn]] void fail(const std::string& why) const { throw Error("cannot write " + path_ + ": " + why, ErrorKind::File); }
+  [[noreturn]] void fail(const std::string& why) const {
+    throw Error("cannot write " + path_ + ": " + why, ErrorKind::File);
+  }
 
   void open_encoder(const AVCodec* codec, const VideoSettings& s) {
     enc_ = avcodec_alloc_context3(codec);
@@ -706,16 +752,19 @@ class FfWriter final : public VideoWriter {
     if (s.pixels.packed) return open_rgb_encoder(codec, s);
     if (codec->pix_fmts) {  // the encoder's nearest where it lacks the planes' format
       bool takes = false;
-      for (const AVPixelFormat* f = codec->pix_fmts; *f != AV_PIX_FMT_NONE; ++f) takes |= *f == given_;
+      for (const AVPixelFormat* f = codec->pix_fmts; *f != AV_PIX_FMT_NONE; ++f)
+        takes |= *f == given_;
       if (!takes) {
         enc_->pix_fmt = avcodec_find_best_pix_fmt_of_list(codec->pix_fmts, given_, 0, nullptr);
         sws_ = sws_getContext(static_cast<int>(size_.width), static_cast<int>(size_.height), given_,
-                              static_cast<int>(size_.width), static_cast<int>(size_.height), enc_->pix_fmt,
-                              SWS_BICUBIC | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, nullptr, nullptr, nullptr);
+                              static_cast<int>(size_.width), static_cast<int>(size_.height),
+                              enc_->pix_fmt, SWS_BICUBIC | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT,
+                              nullptr, nullptr, nullptr);
         converted_ = av_frame_alloc();
-        if (!sws_ || !converted_) fail("its pixel format " + s.pixels.pixel_format + " cannot be converted for " + s.codec);
-        notes_.push_back("encoder " + s.codec + " takes no " + s.pixels.pixel_format + ": written as " +
-                         av_get_pix_fmt_name(enc_->pix_fmt));
+        if (!sws_ || !converted_)
+          fail("its pixel format " + s.pixels.pixel_format + " cannot be converted for " + s.codec);
+        notes_.push_back("encoder " + s.codec + " takes no " + s.pixels.pixel_format +
+                         ": written as " + av_get_pix_fmt_name(enc_->pix_fmt));
       }
     }
     configure(s);
@@ -725,20 +774,25 @@ class FfWriter final : public VideoWriter {
   // 10 bits by the samples' depth), else its nearest format.
   void open_rgb_encoder(const AVCodec* codec, const VideoSettings& s) {
     const AVPixelFormat want = s.pixels.bits > 8 ? AV_PIX_FMT_YUV420P10LE : AV_PIX_FMT_YUV420P;
-    enc_->pix_fmt = codec->pix_fmts ? avcodec_find_best_pix_fmt_of_list(codec->pix_fmts, given_, 0, nullptr) : want;
+    enc_->pix_fmt = codec->pix_fmts
+                        ? avcodec_find_best_pix_fmt_of_list(codec->pix_fmts, given_, 0, nullptr)
+                        : want;
     for (const AVPixelFormat* f = codec->pix_fmts; f && *f != AV_PIX_FMT_NONE; ++f)
       if (*f == want) enc_->pix_fmt = want;
     const AVPixFmtDescriptor* d = av_pix_fmt_desc_get(enc_->pix_fmt);
     const bool yuv = d && !(d->flags & AV_PIX_FMT_FLAG_RGB) && d->nb_components >= 3;
-    sws_ = scaler(s.size, given_, enc_->pix_fmt, -513, -513, 0, 128);  // (chroma sited left, as H.264's)
+    sws_ = scaler(s.size, given_, enc_->pix_fmt, -513, -513, 0,
+                  128);  // (chroma sited left, as H.264's)
     converted_ = av_frame_alloc();
-    if (!sws_ || !converted_) fail("its frames cannot be converted to " + std::string(av_get_pix_fmt_name(enc_->pix_fmt)));
-    sws_setColorspaceDetails(sws_, sws_getCoefficients(SWS_CS_DEFAULT), 1, sws_getCoefficients(SWS_CS_ITU709),
-                             yuv ? 0 : 1, 0, 1 << 16, 1 << 16);
+    if (!sws_ || !converted_)
+      fail("its frames cannot be converted to " + std::string(av_get_pix_fmt_name(enc_->pix_fmt)));
+    sws_setColorspaceDetails(sws_, sws_getCoefficients(SWS_CS_DEFAULT), 1,
+                             sws_getCoefficients(SWS_CS_ITU709), yuv ? 0 : 1, 0, 1 << 16, 1 << 16);
     VideoSettings tagged = s;
     tagged.pixels.full_range = !yuv;
     tagged.pixels.matrix = yuv ? AVCOL_SPC_BT709 : AVCOL_SPC_RGB;
-    tagged.pixels.primaries = AVCOL_PRI_BT709, tagged.pixels.transfer = AVCOL_TRC_IEC61966_2_1;  // sRGB's curve
+    tagged.pixels.primaries = AVCOL_PRI_BT709,
+    tagged.pixels.transfer = AVCOL_TRC_IEC61966_2_1;  // sRGB's curve
     tagged.pixels.siting = ChromaSiting::Left, tagged.pixels.siting_said = yuv;
     configure(tagged);
   }
@@ -754,8 +808,9 @@ class FfWriter final : public VideoWriter {
     enc_->colorspace = static_cast<AVColorSpace>(s.pixels.matrix);
     enc_->color_primaries = static_cast<AVColorPrimaries>(s.pixels.primaries);
     enc_->color_trc = static_cast<AVColorTransferCharacteristic>(s.pixels.transfer);
-    enc_->chroma_sample_location =
-        s.pixels.siting_said ? static_cast<AVChromaLocation>(s.pixels.siting) : AVCHROMA_LOC_UNSPECIFIED;
+    enc_->chroma_sample_location = s.pixels.siting_said
+                                       ? static_cast<AVChromaLocation>(s.pixels.siting)
+                                       : AVCHROMA_LOC_UNSPECIFIED;
     if (s.gop > 0) enc_->gop_size = s.gop;
     if (s.bitrate > 0) enc_->bit_rate = s.bitrate;
     enc_->thread_count = s.threads;
@@ -763,20 +818,22 @@ class FfWriter final : public VideoWriter {
     AVDictionary* opts = nullptr;
     if (s.crf >= 0 && s.bitrate == 0) av_dict_set_int(&opts, "crf", s.crf, 0);
     if (!s.preset.empty()) av_dict_set(&opts, "preset", s.preset.c_str(), 0);
-    if (const std::string hdr = x265_hdr_params(mastering_, light_); !hdr.empty() && std::strcmp(codec->name, "libx265") == 0)
+    if (const std::string hdr = x265_hdr_params(mastering_, light_);
+        !hdr.empty() && std::strcmp(codec->name, "libx265") == 0)
       av_dict_set(&opts, "x265-params", ("hdr10=1:" + hdr).c_str(), 0);
     const int err = avcodec_open2(enc_, codec, &opts);
     AVDictionaryEntry* unused = av_dict_get(opts, "", nullptr, AV_DICT_IGNORE_SUFFIX);
     const std::string left = unused ? unused->key : "";
     av_dict_free(&opts);
     if (err < 0) {
-      std::string given = "; " + std::to_string(size_.width) + "x" + std::to_string(size_.height) + " " +
-                          av_get_pix_fmt_name(enc_->pix_fmt);
+      std::string given = "; " + std::to_string(size_.width) + "x" + std::to_string(size_.height) +
+                          " " + av_get_pix_fmt_name(enc_->pix_fmt);
       if (s.crf >= 0) given += ", crf " + std::to_string(s.crf);
       if (s.bitrate > 0) given += ", bit rate " + std::to_string(s.bitrate);
       if (!s.preset.empty()) given += ", preset " + s.preset;
       if (s.gop > 0) given += ", gop " + std::to_string(s.gop);
-      fail("encoder " + s.codec + " refuses these settings (" + av_error(err) + given + ")");  // (its own log is off)
+      fail("encoder " + s.codec + " refuses these settings (" + av_error(err) + given +
+           ")");  // (its own log is off)
     }
     if (!left.empty()) fail("encoder " + s.codec + " has no option " + left);
   }
@@ -789,7 +846,8 @@ class FfWriter final : public VideoWriter {
     light_ = stream_side_data(in, AV_PKT_DATA_CONTENT_LIGHT_LEVEL);
     // (Else the first frame's: HEVC's SEI, which libx265's FFmpeg wrapper does not export to a
     // container; both structures are the same in a frame's and a stream's side data.)
-    if (mastering_.empty()) mastering_ = from_->first_frame_side_data(AV_FRAME_DATA_MASTERING_DISPLAY_METADATA);
+    if (mastering_.empty())
+      mastering_ = from_->first_frame_side_data(AV_FRAME_DATA_MASTERING_DISPLAY_METADATA);
     if (light_.empty()) light_ = from_->first_frame_side_data(AV_FRAME_DATA_CONTENT_LIGHT_LEVEL);
   }
 
@@ -805,17 +863,19 @@ class FfWriter final : public VideoWriter {
       if (!tc) tc = av_dict_get(st->metadata, "timecode", nullptr, 0);
       const AVMediaType t = st->codecpar->codec_type;
       const bool media = t == AVMEDIA_TYPE_AUDIO || t == AVMEDIA_TYPE_SUBTITLE;
-      const bool takes = media ? avformat_query_codec(fmt_->oformat, st->codecpar->codec_id, FF_COMPLIANCE_NORMAL) == 1
+      const bool takes = media ? avformat_query_codec(fmt_->oformat, st->codecpar->codec_id,
+                                                      FF_COMPLIANCE_NORMAL) == 1
                                : t == AVMEDIA_TYPE_DATA && takes_data(fmt_->oformat, o);
       if (!takes) {
         if (o.tag != "tmcd")
           notes_.push_back("stream " + std::to_string(o.index) + " (" + o.kind + ", " + o.codec +
-                           (o.tag.empty() ? "" : ", " + o.tag) + ") dropped: " + fmt_->oformat->name +
-                           " does not take it");
+                           (o.tag.empty() ? "" : ", " + o.tag) +
+                           ") dropped: " + fmt_->oformat->name + " does not take it");
         continue;
       }
       AVStream* out = avformat_new_stream(fmt_, nullptr);
-      if (!out || avcodec_parameters_copy(out->codecpar, st->codecpar) < 0) fail("a copied stream cannot be set up");
+      if (!out || avcodec_parameters_copy(out->codecpar, st->codecpar) < 0)
+        fail("a copied stream cannot be set up");
       out->codecpar->codec_tag = t == AVMEDIA_TYPE_DATA ? st->codecpar->codec_tag : 0;
       out->time_base = st->time_base;
       out->disposition = st->disposition;
@@ -824,7 +884,8 @@ class FfWriter final : public VideoWriter {
       copied_[static_cast<size_t>(o.index)] = out;
       if (o.tag == "SA3D" || st->codecpar->ch_layout.nb_channels == 4)
         notes_.push_back("stream " + std::to_string(o.index) + " (" + o.codec +
-                         ", 4 channels) copied; its spatial audio box (SA3D), if any, is not written by libavformat 5.1");
+                         ", 4 channels) copied; its spatial audio box (SA3D), if any, is not "
+                         "written by libavformat 5.1");
     }
     if (tc) av_dict_set(&video_->metadata, "timecode", tc->value, 0);
   }
@@ -859,7 +920,8 @@ class FfWriter final : public VideoWriter {
 
   void mux(AVPacket* p) {
     const int err = av_interleaved_write_frame(fmt_, p);
-    if (err < 0) fail(io_->error < 0 ? av_error(io_->error) : "muxing a packet (" + av_error(err) + ")");
+    if (err < 0)
+      fail(io_->error < 0 ? av_error(io_->error) : "muxing a packet (" + av_error(err) + ")");
   }
 
   int fd_;
@@ -884,14 +946,15 @@ class FfBackend final : public VideoBackend {
  public:
   FfBackend() { av_log_set_level(AV_LOG_QUIET); }
 
-  std::unique_ptr<VideoReader> open(const std::string& path, int stream, bool copy, const VideoRange& range,
-                                    bool rgb) override {
+  std::unique_ptr<VideoReader> open(const std::string& path, int stream, bool copy,
+                                    const VideoRange& range, bool rgb) override {
     return std::make_unique<FfReader>(path, stream, copy, range, rgb);
   }
 
   std::string check_output(const std::string& path, const std::string& codec) override {
     const AVOutputFormat* f = av_guess_format(nullptr, path.c_str(), nullptr);
-    if (!f || (f->flags & AVFMT_NOFILE)) return "no muxer of these FFmpeg libraries takes its extension";
+    if (!f || (f->flags & AVFMT_NOFILE))
+      return "no muxer of these FFmpeg libraries takes its extension";
     const AVCodec* c = avcodec_find_encoder_by_name(codec.c_str());
     if (!c) return "these FFmpeg libraries have no encoder " + codec;
     if (avformat_query_codec(f, c->id, FF_COMPLIANCE_NORMAL) != 1)
@@ -899,22 +962,26 @@ class FfBackend final : public VideoBackend {
     return "";
   }
 
-  std::unique_ptr<VideoWriter> create(int fd, const std::string& path, const VideoSettings& settings,
+  std::unique_ptr<VideoWriter> create(int fd, const std::string& path,
+                                      const VideoSettings& settings,
                                       VideoReader* copy_from) override {
     auto* from = dynamic_cast<FfReader*>(copy_from);
     return std::make_unique<FfWriter>(fd, path, settings, from && from->copying() ? from : nullptr);
   }
 
   std::string version() override {
-    return std::string("FFmpeg ") + av_version_info() + " (libavformat " + AV_STRINGIFY(LIBAVFORMAT_VERSION) +
-           ", libavcodec " + AV_STRINGIFY(LIBAVCODEC_VERSION) + ")";
+    return std::string("FFmpeg ") + av_version_info() + " (libavformat " +
+           AV_STRINGIFY(LIBAVFORMAT_VERSION) + ", libavcodec " + AV_STRINGIFY(LIBAVCODEC_VERSION) +
+           ")";
   }
 };
 
 }  // namespace
 }  // namespace panoproj
 
-extern "C" __attribute__((visibility("default"))) int panoproj_video_abi() { return panoproj::kVideoPluginAbi; }
+extern "C" __attribute__((visibility("default"))) int panoproj_video_abi() {
+  return panoproj::kVideoPluginAbi;
+}
 extern "C" __attribute__((visibility("default"))) panoproj::VideoBackend* panoproj_video_backend() {
   static panoproj::FfBackend backend;
   return &backend;

@@ -47,19 +47,24 @@ const std::vector<OptionDef>& rows() {
         "write no metadata (default: the input's EXIF, ICC profile ..., less orientation, size and "
         "thumbnail)"},
        {"stream", OptionType::Integer, 0, "None",
-        "video: the video stream to convert, counted among the video streams from 0 (default: the first)"},
+        "video: the video stream to convert, counted among the video streams from 0 (default: the "
+        "first)"},
        {"codec", OptionType::Text, 0, "None",
         "video: the output's codec (default: h264; vp9 for .webm)", nullptr,
         "h264|hevc|av1|vp9|ffv1|prores"},
-       {"crf", OptionType::Integer, 0, "None", "video: the encoder's constant quality (default: its own, 23 for h264)"},
+       {"crf", OptionType::Integer, 0, "None",
+        "video: the encoder's constant quality (default: its own, 23 for h264)"},
        {"bitrate", OptionType::Text, 0, "None", "video: a bit rate instead of crf, e.g. 8M, 2500k"},
-       {"preset", OptionType::Text, 0, "None", "video: the encoder's preset, e.g. veryfast, medium, slow"},
-       {"gop", OptionType::Integer, 0, "None", "video: frames between keyframes (default: the encoder's)", nullptr,
-        nullptr, "-g,--gop"},
+       {"preset", OptionType::Text, 0, "None",
+        "video: the encoder's preset, e.g. veryfast, medium, slow"},
+       {"gop", OptionType::Integer, 0, "None",
+        "video: frames between keyframes (default: the encoder's)", nullptr, nullptr, "-g,--gop"},
        {"start", OptionType::Text, 0, "None",
         "video: from this time (seconds or [HH:]MM:SS[.s]; the output's times count from it)"},
-       {"duration", OptionType::Text, 0, "None", "video: this long (seconds or [HH:]MM:SS[.s]; default: to the end)"},
-       {"fps", OptionType::Text, 0, "None", "video: at most this many frames a second, e.g. 2 or 0.5 (frames dropped)"},
+       {"duration", OptionType::Text, 0, "None",
+        "video: this long (seconds or [HH:]MM:SS[.s]; default: to the end)"},
+       {"fps", OptionType::Text, 0, "None",
+        "video: at most this many frames a second, e.g. 2 or 0.5 (frames dropped)"},
        {"every", OptionType::Integer, 0, "None", "video: every n-th frame (frames dropped)"},
        command_option("quiet"),
        command_option("verbose")});
@@ -342,9 +347,11 @@ VideoRequest video_request_of(const Arguments& a) {
   r.options = a.options();
   r.write = a.write();
   r.write.threads = r.options.threads;
-  r.stream = static_cast<int>(std::clamp<int64_t>(a.optional_integer("stream").value_or(-1), -1, 1 << 20));
+  r.stream =
+      static_cast<int>(std::clamp<int64_t>(a.optional_integer("stream").value_or(-1), -1, 1 << 20));
   if (const auto s = a.optional_integer("stream"); s && *s < 0)
-    throw Error("--stream " + std::to_string(*s) + " is out of range (0 for the first video stream)");
+    throw Error("--stream " + std::to_string(*s) +
+                " is out of range (0 for the first video stream)");
   r.codec = a.text("codec");
   r.crf = a.optional_integer("crf");
   r.bitrate = a.text("bitrate");

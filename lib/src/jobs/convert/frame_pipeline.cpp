@@ -15,7 +15,11 @@ namespace {
 class Pipeline {
  public:
   Pipeline(size_t n, int readers, const FrameStages& stages)
-      : n_(n), readers_(std::max(readers, 1)), stages_(stages), limit_(n), read_(static_cast<size_t>(readers_), 0) {}
+      : n_(n),
+        readers_(std::max(readers, 1)),
+        stages_(stages),
+        limit_(n),
+        read_(static_cast<size_t>(readers_), 0) {}
 
   void run() {
     std::vector<std::thread> threads;
@@ -71,10 +75,14 @@ class Pipeline {
     bool more = true;
     const auto read = [&](size_t i) { more = stages_.read(i); };
     for (size_t i = first; i < n_; i += static_cast<size_t>(readers_)) {
-      if (!step(i, [&] { return converted_ + slots > i; }, read, [&] {
-            if (more) read_[first] = i / static_cast<size_t>(readers_) + 1;
-            else limit_ = std::min(limit_, i);  // the end: no error
-          }))
+      if (!step(
+              i, [&] { return converted_ + slots > i; }, read,
+              [&] {
+                if (more)
+                  read_[first] = i / static_cast<size_t>(readers_) + 1;
+                else
+                  limit_ = std::min(limit_, i);  // the end: no error
+              }))
         return;
       if (!more) return;
     }
@@ -140,7 +148,7 @@ class Pipeline {
   std::condition_variable changed_;
   size_t limit_;
   std::exception_ptr error_;
-  std::vector<size_t> read_;  // per reader, the frames it has read
+  std::vector<size_t> read_;                           // per reader, the frames it has read
   size_t converted_ = 0, written_ = 0, reported_ = 0;  // frames done by each stage, from the first
 };
 

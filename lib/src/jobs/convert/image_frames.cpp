@@ -16,12 +16,14 @@ class ImageListReader final : public VideoReader {
     for (const std::string& path : images) {
       const ImageInfo i = read_image_info(path);
       if (i.type == PixelType::F16 || i.type == PixelType::F32)
-        throw Error("input " + path + " has float samples: a video's are integers (write it as 8 or 16 bits first)");
+        throw Error("input " + path +
+                    " has float samples: a video's are integers (write it as 8 or 16 bits first)");
       if (path == images.front()) first_ = i;
       if (i.size != first_.size || i.channels != first_.channels || i.type != first_.type)
-        throw Error("input " + path + " (" + size_text(i.size) + ", " + std::to_string(i.channels) + " channels of " +
-                    name_of(i.type) + ") differs from " + images.front() + " (" + size_text(first_.size) + ", " +
-                    std::to_string(first_.channels) + " of " + name_of(first_.type) + "): a video's frames are alike");
+        throw Error("input " + path + " (" + size_text(i.size) + ", " + std::to_string(i.channels) +
+                    " channels of " + name_of(i.type) + ") differs from " + images.front() + " (" +
+                    size_text(first_.size) + ", " + std::to_string(first_.channels) + " of " +
+                    name_of(first_.type) + "): a video's frames are alike");
     }
     info_.container = "images";
     info_.codec = format_named(first_.format).title;
@@ -76,9 +78,11 @@ class ImageListReader final : public VideoReader {
 
 class ImageSequenceWriter final : public VideoWriter {
  public:
-  ImageSequenceWriter(const std::string& pattern, const WriteOptions& write) : pattern_(pattern), write_(write) {
+  ImageSequenceWriter(const std::string& pattern, const WriteOptions& write)
+      : pattern_(pattern), write_(write) {
     if (pattern.find("{n}") == std::string::npos)
-      throw Error("output " + pattern + " names one image for a video's frames (put {n} in it, e.g. frames/{n}.png)");
+      throw Error("output " + pattern +
+                  " names one image for a video's frames (put {n} in it, e.g. frames/{n}.png)");
     format_of_path(pattern);  // (an image format's extension, else the error naming them)
     check_output_path(path(0), write.overwrite);
   }
@@ -106,7 +110,8 @@ std::unique_ptr<VideoReader> image_list_reader(const std::vector<std::string>& i
   return std::make_unique<ImageListReader>(images, fps);
 }
 
-std::unique_ptr<VideoWriter> image_sequence_writer(const std::string& pattern, const WriteOptions& write) {
+std::unique_ptr<VideoWriter> image_sequence_writer(const std::string& pattern,
+                                                   const WriteOptions& write) {
   return std::make_unique<ImageSequenceWriter>(pattern, write);
 }
 

@@ -18,6 +18,7 @@ std::unique_ptr<VideoReader> image_list_reader(const std::vector<std::string>& i
 
 // Frame n to pattern's {n} (throws Error unless the pattern has {n}; an existing first file is
 // refused without overwrite before any work).
-std::unique_ptr<VideoWriter> image_sequence_writer(const std::string& pattern, const WriteOptions& write);
+std::unique_ptr<VideoWriter> image_sequence_writer(const std::string& pattern,
+                                                   const WriteOptions& write);
 
 }  // namespace panoproj

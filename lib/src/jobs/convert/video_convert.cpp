@@ -25,7 +25,9 @@ namespace panoproj {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 // Where a plane's samples sit, from its chroma siting (FFmpeg's AVChromaLocation): cosited with
 // the first luma sample of their s = 2^log2 (offset 0.5 / s - 0.5 chroma pixels: -1/4 for 4:2:0),
@@ -34,10 +36,12 @@ Siting siting_of(const VideoPixels& px) {
   if (px.planes < 3 || px.rgb) return {};
   const ChromaSiting s = px.siting;
   const double cx = 0.5 / (1 << px.log2_chroma_w) - 0.5, cy = 0.5 / (1 << px.log2_chroma_h) - 0.5;
-  const bool left = s == ChromaSiting::Left || s == ChromaSiting::TopLeft || s == ChromaSiting::BottomLeft;
+  const bool left =
+      s == ChromaSiting::Left || s == ChromaSiting::TopLeft || s == ChromaSiting::BottomLeft;
   double y = 0;
   if (s == ChromaSiting::TopLeft || s == ChromaSiting::Top) y = cy;
-  if ((s == ChromaSiting::BottomLeft || s == ChromaSiting::Bottom) && px.log2_chroma_h == 1) y = 0.25;
+  if ((s == ChromaSiting::BottomLeft || s == ChromaSiting::Bottom) && px.log2_chroma_h == 1)
+    y = 0.25;
   const double x = left ? cx : 0;
   return {x, y, x, y};
 }
@@ -50,7 +54,8 @@ uint16_t black_of(const VideoPixels& px, int p) {
 }
 
 const char* siting_name(ChromaSiting s) {
-  static const char* const kNames[] = {"unspecified", "left", "center", "topleft", "top", "bottomleft", "bottom"};
+  static const char* const kNames[] = {"unspecified", "left",       "center", "topleft",
+                                       "top",         "bottomleft", "bottom"};
   return kNames[static_cast<int>(s)];
 }
 
@@ -59,8 +64,10 @@ int64_t parse_bitrate(const std::string& text) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
   double scale = 1;
-  if (end && (*end == 'k' || *end == 'K')) scale = 1e3, ++end;
-  else if (end && (*end == 'M' || *end == 'm')) scale = 1e6, ++end;
+  if (end && (*end == 'k' || *end == 'K'))
+    scale = 1e3, ++end;
+  else if (end && (*end == 'M' || *end == 'm'))
+    scale = 1e6, ++end;
   if (text.empty() || !end || *end != '\0' || !std::isfinite(v) || v <= 0 || v * scale > 1e11)
     throw Error("--bitrate " + text + " is not a bit rate (e.g. 8M, 2500k, 800000; up to 100G)");
   return static_cast<int64_t>(v * scale);
@@ -74,7 +81,8 @@ double parse_time(const std::string& text, const char* option) {
   bool ok = !text.empty();
   while (ok && at <= text.size()) {
     const size_t colon = text.find(':', at);
-    const std::string part = text.substr(at, colon == std::string::npos ? std::string::npos : colon - at);
+    const std::string part =
+        text.substr(at, colon == std::string::npos ? std::string::npos : colon - at);
     char* end = nullptr;
     const double v = std::strtod(part.c_str(), &end);
     ok = !part.empty() && end && *end == '\0' && std::isfinite(v) && v >= 0 && ++parts <= 3 &&
@@ -84,7 +92,8 @@ double parse_time(const std::string& text, const char* option) {
     at = colon + 1;
   }
   if (!ok || total > 1e9)
-    throw Error(std::string(option) + " " + text + " is not a time (seconds, e.g. 12.5, or [HH:]MM:SS[.s])");
+    throw Error(std::string(option) + " " + text +
+                " is not a time (seconds, e.g. 12.5, or [HH:]MM:SS[.s])");
   return total;
 }
 
@@ -99,7 +108,8 @@ struct PlaneMap {
 // The clip's plan: the reader, the geometry per plane kind, the converters.
 class VideoJob {
  public:
-  VideoJob(const VideoRequest& r, const JobEvents& events, VideoWriter* sink) : r_(r), events_(events), sink_(sink) {}
+  VideoJob(const VideoRequest& r, const JobEvents& events, VideoWriter* sink)
+      : r_(r), events_(events), sink_(sink) {}
 
   Report run() {
     const std::string& input = r_.inputs.at(0);
@@ -117,7 +127,8 @@ class VideoJob {
     plan_geometry(info);
     const auto t0 = Clock::now();
     if (sink_ || to_images_) {
-      std::unique_ptr<VideoWriter> images = sink_ ? nullptr : image_sequence_writer(r_.output, r_.write);
+      std::unique_ptr<VideoWriter> images =
+          sink_ ? nullptr : image_sequence_writer(r_.output, r_.write);
       plan_planes(info);
       run_frames(sink_ ? *sink_ : *images);
       require_frames();
@@ -151,10 +162,13 @@ class VideoJob {
     if (frames_ > 0) return;
     const std::string& input = r_.inputs[0];
     if (range_.start > 0 || !std::isinf(range_.end))
-      throw Error("cannot read " + input + ": it has no frame from " + std::to_string(range_.start).substr(0, 6) +
-                      " s" + (std::isinf(range_.end) ? "" : " to " + std::to_string(range_.end).substr(0, 6) + " s") +
-                      " (it lasts " + std::to_string(reader_->info().duration).substr(0, 6) + " s)",
-                  ErrorKind::File);
+      throw Error(
+          "cannot read " + input + ": it has no frame from " +
+              std::to_string(range_.start).substr(0, 6) + " s" +
+              (std::isinf(range_.end) ? ""
+                                      : " to " + std::to_string(range_.end).substr(0, 6) + " s") +
+              " (it lasts " + std::to_string(reader_->info().duration).substr(0, 6) + " s)",
+          ErrorKind::File);
     throw Error("cannot read " + input + ": no frame could be decoded", ErrorKind::File);
   }
 
@@ -162,12 +176,16 @@ class VideoJob {
   Report finish(const VideoInfo& info) const {
     const std::string& input = r_.inputs[0];
     if (reader_->concealed() > 0)
-      warn(input + ": " + std::to_string(reader_->concealed()) + " corrupt packets or frames concealed");
+      warn(input + ": " + std::to_string(reader_->concealed()) +
+           " corrupt packets or frames concealed");
     // A file cut short converts as far as it goes (as FFmpeg does), with a warning.
     const double tb = static_cast<double>(info.time_base[0]) / info.time_base[1];
-    const double rate = info.frame_rate[1] > 0 ? static_cast<double>(info.frame_rate[0]) / info.frame_rate[1] : 0;
+    const double rate =
+        info.frame_rate[1] > 0 ? static_cast<double>(info.frame_rate[0]) / info.frame_rate[1] : 0;
     // (The spacing of the frames taken; the times of the range.)
-    const double step = fps_ > 0 ? 1 / fps_ : rate > 0 ? static_cast<double>(std::max<int64_t>(r_.every, 1)) / rate : 0;
+    const double step = fps_ > 0   ? 1 / fps_
+                        : rate > 0 ? static_cast<double>(std::max<int64_t>(r_.every, 1)) / rate
+                                   : 0;
     const double covered = range_.start + static_cast<double>(last_pts_) * tb + step;
     const bool whole = range_.start == 0 && std::isinf(range_.end) && fps_ == 0 && r_.every <= 1;
     if ((whole && info.frames > 0 && frames_ < info.frames) ||
@@ -189,18 +207,22 @@ class VideoJob {
     if (sink_) return;
     const std::string& input = r_.inputs[0];
     if (r_.inputs.size() > 1 && !from_images_)
-      throw Error("a video is converted alone: give one video (or images to make one) and the output");
+      throw Error(
+          "a video is converted alone: give one video (or images to make one) and the output");
     for (const std::string& i : r_.inputs)
-      if (from_images_ && is_video_job(i, "")) throw Error("input " + i + " is a video among images: give it alone");
+      if (from_images_ && is_video_job(i, ""))
+        throw Error("input " + i + " is a video among images: give it alone");
     if (from_images_ && to_images_) throw InternalError("images to images are the image path's");
     if (to_images_) {
       if (from_images_ || r_.output.find("{n}") == std::string::npos)
-        throw Error("output " + r_.output + " is not a video container's (" + container_extensions() +
+        throw Error("output " + r_.output + " is not a video container's (" +
+                    container_extensions() +
                     "): images of a video's frames need {n} in it, e.g. frames/{n}.png");
       return;
     }
     if (r_.output.find('{') != std::string::npos)
-      throw Error("output " + r_.output + ": a video's output is one video file (patterns such as {n} name images)");
+      throw Error("output " + r_.output +
+                  ": a video's output is one video file (patterns such as {n} name images)");
     check_output_path(r_.output, r_.write.overwrite);
     for (const std::string& i : r_.inputs)
       if (same_file(i, r_.output)) throw Error("output " + r_.output + " is the input");
@@ -209,12 +231,17 @@ class VideoJob {
     if (const std::string why = vb->check_output(r_.output, codec_->encoder); !why.empty())
       throw Error("cannot write " + r_.output + ": " + why);
     const WriteOptions image_defaults;
-    if (r_.write.quality != image_defaults.quality || r_.write.subsampling != image_defaults.subsampling || r_.write.type)
-      throw Error("--quality, --subsampling and --depth are for images: a video keeps its pixel format (--crf, "
-                  "--bitrate and --preset set its quality)");
+    if (r_.write.quality != image_defaults.quality ||
+        r_.write.subsampling != image_defaults.subsampling || r_.write.type)
+      throw Error(
+          "--quality, --subsampling and --depth are for images: a video keeps its pixel format "
+          "(--crf, "
+          "--bitrate and --preset set its quality)");
     const ConvertOptions& o = r_.options;
     if (o.edges.active() || o.add_alpha)
-      throw Error("a video's pixels outside the source's field are video black: --edges, --fill and --alpha are for images");
+      throw Error(
+          "a video's pixels outside the source's field are video black: --edges, --fill and "
+          "--alpha are for images");
     (void)input;
   }
 
@@ -228,15 +255,18 @@ class VideoJob {
   void check_options() {
     if (!codec_) codec_ = &video_codec(r_.codec.empty() ? "h264" : r_.codec);
     if (!r_.bitrate.empty()) bitrate_ = parse_bitrate(r_.bitrate);
-    if (r_.crf && (*r_.crf < 0 || *r_.crf > 63)) throw Error("--crf " + std::to_string(*r_.crf) + " is out of range (0 to 63)");
-    if (r_.gop < 0 || r_.gop > 100000) throw Error("--gop " + std::to_string(r_.gop) + " is out of range (0 to 100000)");
+    if (r_.crf && (*r_.crf < 0 || *r_.crf > 63))
+      throw Error("--crf " + std::to_string(*r_.crf) + " is out of range (0 to 63)");
+    if (r_.gop < 0 || r_.gop > 100000)
+      throw Error("--gop " + std::to_string(r_.gop) + " is out of range (0 to 100000)");
     if (!r_.start.empty()) range_.start = parse_time(r_.start, "--start");
     if (!r_.duration.empty()) {
       const double d = parse_time(r_.duration, "--duration");
       if (d <= 0) throw Error("--duration " + r_.duration + " is empty (give a time over 0)");
       range_.end = range_.start + d;
     }
-    if (r_.every < 0 || r_.every > 1000000) throw Error("--every " + std::to_string(r_.every) + " is out of range (1 to 1000000)");
+    if (r_.every < 0 || r_.every > 1000000)
+      throw Error("--every " + std::to_string(r_.every) + " is out of range (1 to 1000000)");
     if (!r_.fps.empty()) {
       char* end = nullptr;
       fps_ = std::strtod(r_.fps.c_str(), &end);
@@ -244,7 +274,8 @@ class VideoJob {
         throw Error("--fps " + r_.fps + " is not a frame rate (over 0, up to 1000)");
       if (r_.every > 0) throw Error("--fps and --every both pick frames: give one");
     }
-    if (r_.options.engine == Engine::Reference) throw Error("a video needs the simd or scalar engine (--engine)");
+    if (r_.options.engine == Engine::Reference)
+      throw Error("a video needs the simd or scalar engine (--engine)");
   }
 
   // The geometry of the luma (and alpha, and RGB) planes; refuses sizes the subsampling cannot
@@ -260,11 +291,13 @@ class VideoJob {
     luma_ = make_geometry(info.size, from, to, r_.options);
     fit_chroma(info.size, from, to);
     const Size out = luma_->target_frame();
-    const uint64_t plane_bytes = static_cast<uint64_t>(out.width * out.height) * (px_.bits > 8 ? 2 : 1);
+    const uint64_t plane_bytes =
+        static_cast<uint64_t>(out.width * out.height) * (px_.bits > 8 ? 2 : 1);
     // Two frames in flight per stage, each about 3 planes' worth; the kept maps and taps.
-    require_job_memory(*luma_, px_.planes, px_.bits > 8 ? PixelType::U16 : PixelType::U8, r_.options,
-                       add_bytes(12 * plane_bytes, 30 * static_cast<uint64_t>(out.width * out.height)),
-                       "the video's frames in flight and kept maps");
+    require_job_memory(
+        *luma_, px_.planes, px_.bits > 8 ? PixelType::U16 : PixelType::U8, r_.options,
+        add_bytes(12 * plane_bytes, 30 * static_cast<uint64_t>(out.width * out.height)),
+        "the video's frames in flight and kept maps");
   }
 
   // The converters of the planes (the chroma planes' at their size and siting) and the samples
@@ -291,8 +324,10 @@ class VideoJob {
       // (The first plane of each converter marks its pixels without a source: a full plane in,
       // 0 out only where nothing was sampled.)
       const bool first = p == 0 || (m.converter != planes_[0].converter && p == 1);
-      if (first) m.none = no_source(*m.converter, px_.plane_size(info.size, p));
-      else m.none = planes_[m.converter == planes_[0].converter ? 0 : 1].none;
+      if (first)
+        m.none = no_source(*m.converter, px_.plane_size(info.size, p));
+      else
+        m.none = planes_[m.converter == planes_[0].converter ? 0 : 1].none;
       m.any_none = std::find(m.none.begin(), m.none.end(), 1) != m.none.end();
     }
   }
@@ -324,7 +359,8 @@ class VideoJob {
     // Each side rounded up, else (a cube's whole faces) the next widths at the same aspect.
     std::vector<Size> sizes = {{up(out.width, lw), up(out.height, lh)}};
     for (int64_t w = out.width + 1; w <= out.width + 64; ++w)
-      sizes.push_back({w, std::llround(static_cast<double>(out.height * w) / static_cast<double>(out.width))});
+      sizes.push_back(
+          {w, std::llround(static_cast<double>(out.height * w) / static_cast<double>(out.width))});
     for (const Size& size : sizes) {
       if (fitted) break;
       o.size = size;
@@ -334,12 +370,14 @@ class VideoJob {
       } catch (const Error&) {  // (a size the projection does not take: the next)
       }
     }
-    const std::string why = "output size " + size_text(out) + " does not hold whole chroma samples of " +
-                            (px_.packed ? std::string("yuv420p") : px_.pixel_format) + " (" + std::to_string(1 << lw) +
-                            "x" + std::to_string(1 << lh) + " pixels each" +
-                            (luma_->stereo.target != StereoLayout::Mono ? ", in each eye" : "") + ")";
+    const std::string why =
+        "output size " + size_text(out) + " does not hold whole chroma samples of " +
+        (px_.packed ? std::string("yuv420p") : px_.pixel_format) + " (" + std::to_string(1 << lw) +
+        "x" + std::to_string(1 << lh) + " pixels each" +
+        (luma_->stereo.target != StereoLayout::Mono ? ", in each eye" : "") + ")";
     if (r_.options.size || !fitted)
-      throw Error(why + (fitted ? ": give --size " + size_text(fitted->target_frame()) : ": give --size"));
+      throw Error(
+          why + (fitted ? ": give --size " + size_text(fitted->target_frame()) : ": give --size"));
     warn(why + ": made " + size_text(fitted->target_frame()));
     luma_ = std::move(fitted);
   }
@@ -347,12 +385,16 @@ class VideoJob {
   std::vector<uint8_t> no_source(const Converter& c, Size in) const {
     const PixelType type = px_.bits > 8 ? PixelType::U16 : PixelType::U8;
     Image full(in, 1, type);
-    if (type == PixelType::U8) std::fill(full.data(), full.data() + full.byte_size(), 255);
-    else std::fill(reinterpret_cast<uint16_t*>(full.data()), reinterpret_cast<uint16_t*>(full.data() + full.byte_size()), 65535);
+    if (type == PixelType::U8)
+      std::fill(full.data(), full.data() + full.byte_size(), 255);
+    else
+      std::fill(reinterpret_cast<uint16_t*>(full.data()),
+                reinterpret_cast<uint16_t*>(full.data() + full.byte_size()), 65535);
     const Image out = c.run(full);
     std::vector<uint8_t> none(static_cast<size_t>(out.width() * out.height()));
     for (size_t i = 0; i < none.size(); ++i)
-      none[i] = type == PixelType::U8 ? out.data()[i] == 0 : reinterpret_cast<const uint16_t*>(out.data())[i] == 0;
+      none[i] = type == PixelType::U8 ? out.data()[i] == 0
+                                      : reinterpret_cast<const uint16_t*>(out.data())[i] == 0;
     return none;
   }
 
@@ -364,7 +406,8 @@ class VideoJob {
     s.time_base[0] = info.time_base[0], s.time_base[1] = info.time_base[1];
     s.frame_rate[0] = info.frame_rate[0], s.frame_rate[1] = info.frame_rate[1];
     if (r_.every > 1 && info.frame_rate[0] > 0) s.frame_rate[1] *= static_cast<int>(r_.every);
-    if (fps_ > 0) s.frame_rate[0] = static_cast<int>(std::llround(fps_ * 1000)), s.frame_rate[1] = 1000;
+    if (fps_ > 0)
+      s.frame_rate[0] = static_cast<int>(std::llround(fps_ * 1000)), s.frame_rate[1] = 1000;
     s.crf = r_.crf ? static_cast<int>(*r_.crf) : -1;
     s.bitrate = bitrate_;
     s.preset = r_.preset;
@@ -419,7 +462,8 @@ class VideoJob {
     };
     stages.written = [&](size_t i) {
       frames_ = static_cast<int64_t>(i) + 1;
-      if (events_.progress && expected > 0) events_.progress(std::min(1.0, static_cast<double>(frames_) / expected));
+      if (events_.progress && expected > 0)
+        events_.progress(std::min(1.0, static_cast<double>(frames_) / expected));
     };
     run_frame_pipeline(kUnknownFrames, 1, stages);
   }
@@ -439,23 +483,28 @@ class VideoJob {
 
   std::string input_text() const {
     if (r_.inputs.size() == 1) return r_.inputs[0];
-    return r_.inputs[0] + " ... " + r_.inputs.back() + " (" + std::to_string(r_.inputs.size()) + " images)";
+    return r_.inputs[0] + " ... " + r_.inputs.back() + " (" + std::to_string(r_.inputs.size()) +
+           " images)";
   }
 
   Report report(const VideoInfo& info) const {
     const Size out = luma_->target_frame();
     const double fps = seconds_ > 0 ? static_cast<double>(frames_) / seconds_ : 0;
     char line[2048];
-    std::snprintf(line, sizeof line,
-                  "%s (%s %s %s, %s) -> %s (%s %s, %s): %lld frames in %.2f s (%.1f fps; decode %.2f s, convert "
-                  "%.2f s, encode %.2f s), %s, antialias %s, %s engine (%s), chroma %s",
-                  input_text().c_str(), size_text(info.size).c_str(), info.codec.c_str(), px_.pixel_format.c_str(),
-                  from_text_.c_str(), r_.output.c_str(), size_text(out).c_str(),
-                  to_images_ ? format_of_path(r_.output).title : codec_->encoder,
-                  r_.to.c_str(),
-                  static_cast<long long>(frames_), seconds_, fps, decode_seconds_, convert_seconds_, encode_seconds_,
-                  name_of(r_.options.interp), name_of(antialias_of(r_.options)).c_str(), name_of(r_.options.engine),
-                  simd_target(), chroma_ ? siting_name(px_.siting) : px_.packed ? "in RGB" : "not subsampled");
+    std::snprintf(
+        line, sizeof line,
+        "%s (%s %s %s, %s) -> %s (%s %s, %s): %lld frames in %.2f s (%.1f fps; decode %.2f s, "
+        "convert "
+        "%.2f s, encode %.2f s), %s, antialias %s, %s engine (%s), chroma %s",
+        input_text().c_str(), size_text(info.size).c_str(), info.codec.c_str(),
+        px_.pixel_format.c_str(), from_text_.c_str(), r_.output.c_str(), size_text(out).c_str(),
+        to_images_ ? format_of_path(r_.output).title : codec_->encoder, r_.to.c_str(),
+        static_cast<long long>(frames_), seconds_, fps, decode_seconds_, convert_seconds_,
+        encode_seconds_, name_of(r_.options.interp), name_of(antialias_of(r_.options)).c_str(),
+        name_of(r_.options.engine), simd_target(),
+        chroma_      ? siting_name(px_.siting)
+        : px_.packed ? "in RGB"
+                     : "not subsampled");
     if (events_.line) events_.line(line);
     return {{"input", {r_.inputs[0]}},
             {"output", {r_.output}},

@@ -32,16 +32,16 @@ struct VideoRequest {
   std::optional<std::string> from;
   std::string to;
   ConvertOptions options;
-  int stream = -1;                 // among the video streams; -1: the first
-  std::string codec;               // "" : the container's default
-  std::optional<int64_t> crf;      // the encoder's default if none
-  std::string bitrate;             // "8M", "2500k", "" : by crf
-  std::string preset;              // "" : the encoder's default
-  int64_t gop = 0;                 // 0: the encoder's default
-  std::string start, duration;     // "" : the whole clip; else seconds or [[HH:]MM:]SS[.s]
-  std::string fps;                 // "" : every frame; else at most this many a second (images
-                                   // to a video: their rate, default 25)
-  int64_t every = 0;               // 0: every frame; else every n-th
+  int stream = -1;              // among the video streams; -1: the first
+  std::string codec;            // "" : the container's default
+  std::optional<int64_t> crf;   // the encoder's default if none
+  std::string bitrate;          // "8M", "2500k", "" : by crf
+  std::string preset;           // "" : the encoder's default
+  int64_t gop = 0;              // 0: the encoder's default
+  std::string start, duration;  // "" : the whole clip; else seconds or [[HH:]MM:]SS[.s]
+  std::string fps;              // "" : every frame; else at most this many a second (images
+                                // to a video: their rate, default 25)
+  int64_t every = 0;            // 0: every frame; else every n-th
 };
 
 // Whether a convert with these paths is a video's: the input's extension or first bytes are a
@@ -52,6 +52,7 @@ class VideoWriter;
 // Throws Error naming the value at the first refusal; nothing is written then. sink: the
 // converted frames go there instead of an encoder and the output (benchmarks: decode and convert
 // alone; request.output names the container all the same).
-Report convert_video(const VideoRequest& request, const JobEvents& events, VideoWriter* sink = nullptr);
+Report convert_video(const VideoRequest& request, const JobEvents& events,
+                     VideoWriter* sink = nullptr);
 
 }  // namespace panoproj
