@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   }
   try {
     panoproj::VideoRequest r;
-    r.input = argv[1], r.output = "null.mp4", r.to = argv[2];
+    r.inputs = {argv[1]}, r.output = "null.mp4", r.to = argv[2];
     for (int i = 3; i + 1 < argc; i += 2) {
       const std::string k = argv[i], v = argv[i + 1];
       if (k == "--size") {

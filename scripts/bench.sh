@@ -8,13 +8,15 @@
 # "cv" first, cv2.remap of pip's OpenCV 4.14 and 5.0 in one process with panoproj's convert and
 # Plan.run (bench/bench_cv_lines.py); with "profile" first, where bilinear's time goes by engine
 # phase (bench/profile_phases.py, perf); with "video" first, videos against FFmpeg's v360: decode
-# and convert alone, transcodes against the encoder's floor, peak RSS (bench/bench_video.py).
+# and convert alone, transcodes against the encoder's floor, peak RSS (bench/bench_video.py); with
+# "video-quality" first, a video's luma PSNR and chroma error against an analytic truth, panoproj
+# against v360 (bench/video_quality.py).
 # Installs what is missing, builds in build-bench/, runs.
 # Usage: scripts/bench.sh [--threads N] [--runs N]  |  scripts/bench.sh big [--threads N]
 #        scripts/bench.sh python [--runs N] [--only keep]  |  scripts/bench.sh plot [--runs N]
 #        scripts/bench.sh io [--rounds N] [--runs N] [--batch-runs N] [--only startup,jpeg,ppm,batch,big]
 #        scripts/bench.sh cv [--runs N] [--rounds N]  |  scripts/bench.sh profile [--runs N]
-#        scripts/bench.sh video [--runs N] [--frames N] [--only filter,transcode,rss]
+#        scripts/bench.sh video [--runs N] [--frames N] [--only filter,transcode,rss]  |  scripts/bench.sh video-quality
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [[ ${1:-} == io ]]; then
@@ -23,6 +25,12 @@ if [[ ${1:-} == io ]]; then
   read -ra py_args < <(bash "$root/scripts/python-env.sh" --cmake-args)
   bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF "${py_args[@]}"
   exec "$root/.venv/bin/python" "$root/bench/bench_io.py" "$@"
+fi
+if [[ ${1:-} == video-quality ]]; then
+  bash "$root/scripts/install-deps.sh" ffmpeg
+  bash "$root/scripts/python-env.sh"
+  bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF
+  exec "$root/.venv/bin/python" "$root/bench/video_quality.py"
 fi
 if [[ ${1:-} == video ]]; then
   shift
