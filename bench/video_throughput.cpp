@@ -29,14 +29,14 @@ int main(int argc, char** argv) {
   }
   try {
     panoproj::VideoRequest r;
-    r.inputs = {argv[1]}, r.output = "null.mp4", r.to = argv[2];
+    r.files.inputs = {argv[1]}, r.files.output = "null.mp4", r.files.to = argv[2];
     for (int i = 3; i + 1 < argc; i += 2) {
       const std::string k = argv[i], v = argv[i + 1];
       if (k == "--size") {
         const auto x = v.find('x');
-        r.options.size = panoproj::Size{std::stoll(v.substr(0, x)), std::stoll(v.substr(x + 1))};
+        r.files.options.size = panoproj::Size{std::stoll(v.substr(0, x)), std::stoll(v.substr(x + 1))};
       } else if (k == "--interp") {
-        r.options.interp = panoproj::parse_interp(v);
+        r.files.options.interp = panoproj::parse_interp(v);
       }
     }
     panoproj::JobEvents events;

@@ -1,8 +1,5 @@
 #include "io/oiio_plugin.hpp"
 
-#include <atomic>
-#include <mutex>
-
 #include "io/formats.hpp"
 #include "io/plugin_loader.hpp"
 #include "panoproj/error.hpp"
@@ -10,57 +7,36 @@
 namespace panoproj {
 namespace {
 
-constexpr const char* kPluginName = "libpanoproj_oiio.so";
-
-struct Loaded {
-  OiioBackend* backend = nullptr;
-  std::string error;  // why it could not be loaded (kept: every later use says the same)
-};
-
-Loaded load() {
-  Loaded l;
-  if (void* make = load_plugin(kPluginName, "PANOPROJ_OIIO_PLUGIN", "panoproj_oiio_abi",
-                               kOiioPluginAbi, "panoproj_oiio_backend", l.error))
-    l.backend = reinterpret_cast<OiioBackend* (*)()>(make)();
-  return l;
-}
-
-Loaded g_loaded;
-std::once_flag g_once;
-std::atomic<bool> g_ready{false};
+Plugin<OiioBackend> g_plugin("libpanoproj_oiio.so", "PANOPROJ_OIIO_PLUGIN", "panoproj_oiio_abi", kOiioPluginAbi,
+                             "panoproj_oiio_backend");
 
 OiioFallback g_fallback = nullptr;
 const char* g_fallback_hint = "";
 
-const Loaded& loaded() {
-  std::call_once(g_once, [] { g_loaded = load(), g_ready = g_loaded.backend != nullptr; });
-  return g_loaded;
-}
-
 }  // namespace
 
 OiioBackend& oiio_backend(const std::string& why) {
-  const Loaded& l = loaded();
-  if (l.backend) return *l.backend;
+  if (OiioBackend* b = g_plugin.get()) return *b;
   std::string why_not;
   if (g_fallback) {
     if (OiioBackend* b = g_fallback(why_not)) return *b;
     throw Error(why + " needs OpenImageIO (TIFF, EXR, HDR, metadata by name): " + g_fallback_hint +
-                    ", or apt install libopenimageio2.4 (plugin " + kPluginName + " " + l.error + "; " + why_not + ")",
+                    ", or apt install libopenimageio2.4 (plugin " + g_plugin.file() + " " + g_plugin.error() + "; " +
+                    why_not + ")",
                 ErrorKind::File);
   }
   throw Error(why + " needs OpenImageIO 2.4 (TIFF, EXR, HDR, metadata by name; apt install libopenimageio2.4): plugin " +
-                  kPluginName + " " + l.error,
+                  g_plugin.file() + " " + g_plugin.error(),
               ErrorKind::File);
 }
 
 void set_oiio_fallback(OiioFallback get, const char* hint) { g_fallback = get, g_fallback_hint = hint; }
 
-bool oiio_loaded() { return g_ready; }
+bool oiio_loaded() { return g_plugin.loaded(); }
 
 bool oiio_available() {
   std::string why_not;
-  return loaded().backend != nullptr || (g_fallback && g_fallback(why_not) != nullptr);
+  return g_plugin.get() != nullptr || (g_fallback && g_fallback(why_not) != nullptr);
 }
 
 // The formats read and written through OpenImageIO: floats in any channels for TIFF and OpenEXR,

@@ -589,12 +589,12 @@ HWY_INLINE void SeparableU8(const SimdSource& s, const TapBlock& blk, unsigned c
 }
 #endif
 
-// Phase 2 for 4- and 6-tap kernels on one uint8 channel (a video's planes, gray images): a row's
-// taps are consecutive bytes, one 32-bit gather a row for 4 (for 6, a second at byte 2, whose
-// last two bytes are taps 4 and 5: no byte past the last tap is read), blended in float. Writes
-// the block's pixels.
-template <int K>
-HWY_INLINE void GrayU8(const SimdSource& s, const TapBlock& blk, unsigned char* o) {
+// Phase 2 for 4- and 6-tap kernels on one channel of uint8 or uint16 samples (a video's planes,
+// gray images): a row's taps are consecutive samples, so a 32-bit gather fetches four uint8 taps
+// or two uint16 ones (uint8 with 6 taps: a second gather at tap 2, whose last two bytes are taps 4
+// and 5; no byte past the last tap is read), blended in float. Writes the block's pixels.
+template <class T, int K>
+HWY_INLINE void GrayTaps(const SimdSource& s, const TapBlock& blk, unsigned char* o) {
   static_assert(K == 4 || K == 6);
   using DF = hn::ScalableTag<float>;
   using DI = hn::RebindToSigned<DF>;
@@ -603,72 +603,35 @@ HWY_INLINE void GrayU8(const SimdSource& s, const TapBlock& blk, unsigned char* 
   const DF df;
   const DI di;
   const DU du;
+  constexpr int kPerWord = 4 / static_cast<int>(sizeof(T));
   VF fx[K], fy[K];
   BlockWeights<K>(s, blk, df, fx, fy);
   const auto at = hn::Load(di, blk.off);
   const auto sampled = hn::Gt(at, hn::Set(di, -1));
   const auto off0 = hn::Max(at, hn::Zero(di));  // lanes not sampled read the base row
-  const auto byte = hn::Set(du, 0xFFu);
+  const auto mask = hn::Set(du, sizeof(T) == 1 ? 0xFFu : 0xFFFFu);
   auto tap = [&](hn::Vec<DU> word, int k) {
-    return hn::ConvertTo(df, hn::BitCast(di, hn::And(hn::ShiftRightSame(word, 8 * k), byte)));
+    return hn::ConvertTo(df, hn::BitCast(di, hn::And(hn::ShiftRightSame(word, 8 * static_cast<int>(sizeof(T)) * k), mask)));
   };
   const auto* base = reinterpret_cast<const int32_t*>(blk.base);
   VF acc = hn::Zero(df);
   for (int r = 0; r < K; ++r) {
     const auto row = hn::Add(off0, hn::Set(di, static_cast<int32_t>(r * s.stride)));
-    const auto word = hn::BitCast(du, hn::GatherOffset(di, base, row));
-    VF h = hn::Mul(tap(word, 0), fx[0]);
-    for (int k = 1; k < 4; ++k) h = hn::MulAdd(tap(word, k), fx[k], h);
-    if constexpr (K == 6) {
-      const auto more = hn::BitCast(du, hn::GatherOffset(di, base, hn::Add(row, hn::Set(di, 2))));
-      h = hn::MulAdd(tap(more, 3), fx[5], hn::MulAdd(tap(more, 2), fx[4], h));
-    }
-    acc = hn::MulAdd(h, fy[r], acc);
-  }
-  const auto v = hn::IfThenElseZero(
-      sampled, hn::NearestInt(hn::Min(hn::Max(acc, hn::Zero(df)), hn::Set(df, 255.0f))));
-  const hn::Rebind<uint8_t, DI> d8;
-  HWY_ALIGN uint8_t bytes[hn::MaxLanes(d8)];
-  hn::Store(hn::DemoteTo(d8, v), d8, bytes);
-  std::memcpy(o + blk.index, bytes, static_cast<size_t>(blk.m));
-}
-
-// The same for one uint16 channel (a 10-bit video's planes): a row's taps two to a 32-bit gather.
-template <int K>
-HWY_INLINE void GrayU16(const SimdSource& s, const TapBlock& blk, unsigned char* o) {
-  static_assert(K == 4 || K == 6);
-  using DF = hn::ScalableTag<float>;
-  using DI = hn::RebindToSigned<DF>;
-  using DU = hn::RebindToUnsigned<DF>;
-  using VF = hn::Vec<DF>;
-  const DF df;
-  const DI di;
-  const DU du;
-  VF fx[K], fy[K];
-  BlockWeights<K>(s, blk, df, fx, fy);
-  const auto at = hn::Load(di, blk.off);
-  const auto sampled = hn::Gt(at, hn::Set(di, -1));
-  const auto off0 = hn::Max(at, hn::Zero(di));
-  const auto* base = reinterpret_cast<const int32_t*>(blk.base);
-  const auto low = hn::Set(du, 0xFFFFu);
-  VF acc = hn::Zero(df);
-  for (int r = 0; r < K; ++r) {
-    const auto row = hn::Add(off0, hn::Set(di, static_cast<int32_t>(r * s.stride)));
     VF h = hn::Zero(df);
-    for (int k = 0; k < K; k += 2) {
-      const auto word =
-          hn::BitCast(du, hn::GatherOffset(di, base, hn::Add(row, hn::Set(di, 2 * k))));
-      h = hn::MulAdd(hn::ConvertTo(df, hn::BitCast(di, hn::And(word, low))), fx[k], h);
-      h = hn::MulAdd(hn::ConvertTo(df, hn::BitCast(di, hn::ShiftRight<16>(word))), fx[k + 1], h);
+    for (int first = 0; first < K; first += kPerWord) {
+      const int from = std::min(first, K - kPerWord);  // the word's first tap
+      const auto word = hn::BitCast(
+          du, hn::GatherOffset(di, base, hn::Add(row, hn::Set(di, from * static_cast<int>(sizeof(T))))));
+      for (int k = first; k < std::min(first + kPerWord, K); ++k) h = hn::MulAdd(tap(word, k - from), fx[k], h);
     }
     acc = hn::MulAdd(h, fy[r], acc);
   }
-  const auto v = hn::IfThenElseZero(
-      sampled, hn::NearestInt(hn::Min(hn::Max(acc, hn::Zero(df)), hn::Set(df, 65535.0f))));
-  const hn::Rebind<uint16_t, DI> d16;
-  HWY_ALIGN uint16_t words[hn::MaxLanes(d16)];
-  hn::Store(hn::DemoteTo(d16, v), d16, words);
-  std::memcpy(o + 2 * blk.index, words, static_cast<size_t>(2 * blk.m));
+  const float unit = sizeof(T) == 1 ? 255.0f : 65535.0f;
+  const auto v = hn::IfThenElseZero(sampled, hn::NearestInt(hn::Min(hn::Max(acc, hn::Zero(df)), hn::Set(df, unit))));
+  const hn::Rebind<T, DI> dt;
+  HWY_ALIGN T samples[hn::MaxLanes(dt)];
+  hn::Store(hn::DemoteTo(dt, v), dt, samples);
+  std::memcpy(o + sizeof(T) * static_cast<size_t>(blk.index), samples, sizeof(T) * static_cast<size_t>(blk.m));
 }
 
 // Phase 2: gathers and blends one block's taps, writes its m output pixels (0 where not sampled
@@ -694,11 +657,11 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
     if (alpha < 0) return BilinearU8(s, TapPairs(s, blk.base, blk.off, blk.m), PackedWeightsU8(blk), out + blk.index * pb);
   } else if constexpr (PT == PixelType::U8 && (K == 4 || K == 6)) {
     if (alpha < 0 && !s.dering)
-      return nc == 1 ? GrayU8<K>(s, blk, out) : SeparableU8<K>(s, blk, out);
+      return nc == 1 ? GrayTaps<uint8_t, K>(s, blk, out) : SeparableU8<K>(s, blk, out);
   } else if constexpr (PT == PixelType::U8 && K > 2) {
     if (alpha < 0 && !s.dering) return SeparableU8<K>(s, blk, out);
   } else if constexpr (PT == PixelType::U16 && (K == 4 || K == 6)) {
-    if (alpha < 0 && !s.dering && nc == 1) return GrayU16<K>(s, blk, out);
+    if (alpha < 0 && !s.dering && nc == 1) return GrayTaps<uint16_t, K>(s, blk, out);
   }
 #endif
   unsigned char* o = out + blk.index * pb;

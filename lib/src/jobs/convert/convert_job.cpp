@@ -340,13 +340,8 @@ class FrameRunner {
 
 VideoRequest video_request_of(const Arguments& a) {
   VideoRequest r;
-  r.inputs = a.paths("inputs");
-  r.output = a.text("output");
-  r.from = a.optional_text("src");
-  r.to = a.text("dst");
-  r.options = a.options();
-  r.write = a.write();
-  r.write.threads = r.options.threads;
+  r.files = request_of(a);
+  r.files.write.threads = r.files.options.threads;
   r.stream =
       static_cast<int>(std::clamp<int64_t>(a.optional_integer("stream").value_or(-1), -1, 1 << 20));
   if (const auto s = a.optional_integer("stream"); s && *s < 0)

@@ -112,14 +112,14 @@ class VideoJob {
       : r_(r), events_(events), sink_(sink) {}
 
   Report run() {
-    const std::string& input = r_.inputs.at(0);
+    const std::string& input = r_.files.inputs.at(0);
     from_images_ = !is_video_job(input, "");
-    to_images_ = !sink_ && !video_container_of(r_.output);
+    to_images_ = !sink_ && !video_container_of(r_.files.output);
     // (A regular file, not a FIFO or device, before libavformat opens it; missing named as such.)
     if (!from_images_) (void)read_head(input, 16, "input", "a video file");
     VideoBackend* vb = from_images_ && to_images_ ? nullptr : &video_backend("reading " + input);
     check_paths(vb);
-    reader_ = from_images_ ? image_list_reader(r_.inputs, fps_ > 0 ? fps_ : 25)
+    reader_ = from_images_ ? image_list_reader(r_.files.inputs, fps_ > 0 ? fps_ : 25)
                            : vb->open(input, r_.stream, !to_images_, range_, to_images_);
     if (from_images_) fps_ = 0;  // (the images' rate, every one taken)
     const VideoInfo& info = reader_->info();
@@ -128,18 +128,18 @@ class VideoJob {
     const auto t0 = Clock::now();
     if (sink_ || to_images_) {
       std::unique_ptr<VideoWriter> images =
-          sink_ ? nullptr : image_sequence_writer(r_.output, r_.write);
+          sink_ ? nullptr : image_sequence_writer(r_.files.output, r_.files.write);
       plan_planes(info);
       run_frames(sink_ ? *sink_ : *images);
       require_frames();
       seconds_ = since(t0);
       return finish(info);
     }
-    OutputSet set(r_.write.overwrite);
-    const int fd = set.open(r_.output);
+    OutputSet set(r_.files.write.overwrite);
+    const int fd = set.open(r_.files.output);
     try {
       // (The encoder first: it may refuse the size before the maps are made.)
-      auto writer = vb->create(fd, r_.output, settings(info), reader_.get());
+      auto writer = vb->create(fd, r_.files.output, settings(info), reader_.get());
       for (const std::string& n : writer->notes()) warn(n);
       plan_planes(info);
       run_frames(*writer);
@@ -151,7 +151,7 @@ class VideoJob {
       ::close(fd);
       throw;
     }
-    set.seal(fd, r_.output);
+    set.seal(fd, r_.files.output);
     set.commit();
     seconds_ = since(t0);
     return finish(info);
@@ -160,7 +160,7 @@ class VideoJob {
  private:
   void require_frames() const {
     if (frames_ > 0) return;
-    const std::string& input = r_.inputs[0];
+    const std::string& input = r_.files.inputs[0];
     if (range_.start > 0 || !std::isinf(range_.end))
       throw Error(
           "cannot read " + input + ": it has no frame from " +
@@ -174,7 +174,7 @@ class VideoJob {
 
   // The warnings of a clip read, and the report.
   Report finish(const VideoInfo& info) const {
-    const std::string& input = r_.inputs[0];
+    const std::string& input = r_.files.inputs[0];
     if (reader_->concealed() > 0)
       warn(input + ": " + std::to_string(reader_->concealed()) +
            " corrupt packets or frames concealed");
@@ -205,44 +205,41 @@ class VideoJob {
   void check_paths(VideoBackend* vb) {
     check_options();
     if (sink_) return;
-    const std::string& input = r_.inputs[0];
-    if (r_.inputs.size() > 1 && !from_images_)
+    if (r_.files.inputs.size() > 1 && !from_images_)
       throw Error(
           "a video is converted alone: give one video (or images to make one) and the output");
-    for (const std::string& i : r_.inputs)
+    for (const std::string& i : r_.files.inputs)
       if (from_images_ && is_video_job(i, ""))
         throw Error("input " + i + " is a video among images: give it alone");
     if (from_images_ && to_images_) throw InternalError("images to images are the image path's");
     if (to_images_) {
-      if (from_images_ || r_.output.find("{n}") == std::string::npos)
-        throw Error("output " + r_.output + " is not a video container's (" +
+      if (from_images_ || r_.files.output.find("{n}") == std::string::npos)
+        throw Error("output " + r_.files.output + " is not a video container's (" +
                     container_extensions() +
                     "): images of a video's frames need {n} in it, e.g. frames/{n}.png");
       return;
     }
-    if (r_.output.find('{') != std::string::npos)
-      throw Error("output " + r_.output +
+    if (r_.files.output.find('{') != std::string::npos)
+      throw Error("output " + r_.files.output +
                   ": a video's output is one video file (patterns such as {n} name images)");
-    check_output_path(r_.output, r_.write.overwrite);
-    for (const std::string& i : r_.inputs)
-      if (same_file(i, r_.output)) throw Error("output " + r_.output + " is the input");
-    const VideoContainer* c = video_container_of(r_.output);
+    check_output_path(r_.files.output, r_.files.write.overwrite);
+    for (const std::string& i : r_.files.inputs)
+      if (same_file(i, r_.files.output)) throw Error("output " + r_.files.output + " is the input");
+    const VideoContainer* c = video_container_of(r_.files.output);
     codec_ = &video_codec(r_.codec.empty() ? c->codec : r_.codec);
-    if (const std::string why = vb->check_output(r_.output, codec_->encoder); !why.empty())
-      throw Error("cannot write " + r_.output + ": " + why);
+    if (const std::string why = vb->check_output(r_.files.output, codec_->encoder); !why.empty())
+      throw Error("cannot write " + r_.files.output + ": " + why);
     const WriteOptions image_defaults;
-    if (r_.write.quality != image_defaults.quality ||
-        r_.write.subsampling != image_defaults.subsampling || r_.write.type)
+    if (r_.files.write.quality != image_defaults.quality ||
+        r_.files.write.subsampling != image_defaults.subsampling || r_.files.write.type)
       throw Error(
           "--quality, --subsampling and --depth are for images: a video keeps its pixel format "
-          "(--crf, "
-          "--bitrate and --preset set its quality)");
-    const ConvertOptions& o = r_.options;
+          "(--crf, --bitrate and --preset set its quality)");
+    const ConvertOptions& o = r_.files.options;
     if (o.edges.active() || o.add_alpha)
       throw Error(
           "a video's pixels outside the source's field are video black: --edges, --fill and "
           "--alpha are for images");
-    (void)input;
   }
 
   static std::string container_extensions() {
@@ -274,7 +271,7 @@ class VideoJob {
         throw Error("--fps " + r_.fps + " is not a frame rate (over 0, up to 1000)");
       if (r_.every > 0) throw Error("--fps and --every both pick frames: give one");
     }
-    if (r_.options.engine == Engine::Reference)
+    if (r_.files.options.engine == Engine::Reference)
       throw Error("a video needs the simd or scalar engine (--engine)");
   }
 
@@ -282,20 +279,20 @@ class VideoJob {
   // hold and jobs over the memory budget.
   void plan_geometry(const VideoInfo& info) {
     if (info.size.width > 65536 || info.size.height > 65536)
-      throw Error("cannot read " + r_.inputs[0] + ": its frames of " + size_text(info.size) +
+      throw Error("cannot read " + r_.files.inputs[0] + ": its frames of " + size_text(info.size) +
                       " are over 65536 px a side",
                   ErrorKind::File);
-    const ProjectionSpec from = infer_source_spec(r_.from, r_.inputs[0], info.size, std::nullopt);
+    const ProjectionSpec from = infer_source_spec(r_.files.from, r_.files.inputs[0], info.size, std::nullopt);
     from_text_ = from.str();
-    const ProjectionSpec to = parse_spec(r_.to);
-    luma_ = make_geometry(info.size, from, to, r_.options);
+    const ProjectionSpec to = parse_spec(r_.files.to);
+    luma_ = make_geometry(info.size, from, to, r_.files.options);
     fit_chroma(info.size, from, to);
     const Size out = luma_->target_frame();
     const uint64_t plane_bytes =
         static_cast<uint64_t>(out.width * out.height) * (px_.bits > 8 ? 2 : 1);
     // Two frames in flight per stage, each about 3 planes' worth; the kept maps and taps.
     require_job_memory(
-        *luma_, px_.planes, px_.bits > 8 ? PixelType::U16 : PixelType::U8, r_.options,
+        *luma_, px_.planes, px_.bits > 8 ? PixelType::U16 : PixelType::U8, r_.files.options,
         add_bytes(12 * plane_bytes, 30 * static_cast<uint64_t>(out.width * out.height)),
         "the video's frames in flight and kept maps");
   }
@@ -305,7 +302,7 @@ class VideoJob {
   void plan_planes(const VideoInfo& info) {
     const int sw = 1 << px_.log2_chroma_w, sh = 1 << px_.log2_chroma_h;
     const Size eye = size_of(luma_->target);
-    luma_converter_.emplace(*luma_, r_.options, Keep::MapsAndTaps);
+    luma_converter_.emplace(*luma_, r_.files.options, Keep::MapsAndTaps);
     const bool subsampled = px_.planes >= 3 && !px_.rgb && (sw > 1 || sh > 1);
     if (subsampled) {
       chroma_ = *luma_;
@@ -313,7 +310,7 @@ class VideoJob {
       chroma_->source = rescaled(luma_->source, se);
       chroma_->target = rescaled(luma_->target, te);
       chroma_->siting = siting_of(px_);
-      chroma_converter_.emplace(*chroma_, r_.options, Keep::Maps);
+      chroma_converter_.emplace(*chroma_, r_.files.options, Keep::Maps);
     }
     for (int p = 0; p < px_.planes; ++p) {
       PlaneMap& m = planes_[static_cast<size_t>(p)];
@@ -353,7 +350,7 @@ class VideoJob {
     if (holds_chroma(*luma_)) return;
     const Size out = luma_->target_frame();
     std::optional<ConversionGeometry> fitted;
-    ConvertOptions o = r_.options;
+    ConvertOptions o = r_.files.options;
     const auto [lw, lh] = out_subsampling();
     const auto up = [](int64_t v, int log2) { return (v + (1 << log2) - 1) >> log2 << log2; };
     // Each side rounded up, else (a cube's whole faces) the next widths at the same aspect.
@@ -375,7 +372,7 @@ class VideoJob {
         (px_.packed ? std::string("yuv420p") : px_.pixel_format) + " (" + std::to_string(1 << lw) +
         "x" + std::to_string(1 << lh) + " pixels each" +
         (luma_->stereo.target != StereoLayout::Mono ? ", in each eye" : "") + ")";
-    if (r_.options.size || !fitted)
+    if (r_.files.options.size || !fitted)
       throw Error(
           why + (fitted ? ": give --size " + size_text(fitted->target_frame()) : ": give --size"));
     warn(why + ": made " + size_text(fitted->target_frame()));
@@ -482,8 +479,8 @@ class VideoJob {
   }
 
   std::string input_text() const {
-    if (r_.inputs.size() == 1) return r_.inputs[0];
-    return r_.inputs[0] + " ... " + r_.inputs.back() + " (" + std::to_string(r_.inputs.size()) +
+    if (r_.files.inputs.size() == 1) return r_.files.inputs[0];
+    return r_.files.inputs[0] + " ... " + r_.files.inputs.back() + " (" + std::to_string(r_.files.inputs.size()) +
            " images)";
   }
 
@@ -497,17 +494,17 @@ class VideoJob {
         "convert "
         "%.2f s, encode %.2f s), %s, antialias %s, %s engine (%s), chroma %s",
         input_text().c_str(), size_text(info.size).c_str(), info.codec.c_str(),
-        px_.pixel_format.c_str(), from_text_.c_str(), r_.output.c_str(), size_text(out).c_str(),
-        to_images_ ? format_of_path(r_.output).title : codec_->encoder, r_.to.c_str(),
+        px_.pixel_format.c_str(), from_text_.c_str(), r_.files.output.c_str(), size_text(out).c_str(),
+        to_images_ ? format_of_path(r_.files.output).title : codec_->encoder, r_.files.to.c_str(),
         static_cast<long long>(frames_), seconds_, fps, decode_seconds_, convert_seconds_,
-        encode_seconds_, name_of(r_.options.interp), name_of(antialias_of(r_.options)).c_str(),
-        name_of(r_.options.engine), simd_target(),
+        encode_seconds_, name_of(r_.files.options.interp), name_of(antialias_of(r_.files.options)).c_str(),
+        name_of(r_.files.options.engine), simd_target(),
         chroma_      ? siting_name(px_.siting)
         : px_.packed ? "in RGB"
                      : "not subsampled");
     if (events_.line) events_.line(line);
-    return {{"input", {r_.inputs[0]}},
-            {"output", {r_.output}},
+    return {{"input", {r_.files.inputs[0]}},
+            {"output", {r_.files.output}},
             {"input_size", report_size(info.size)},
             {"output_size", report_size(out)},
             {"frames", {frames_}},
@@ -519,7 +516,7 @@ class VideoJob {
             {"codec", {std::string(codec_->encoder)}},
             {"concealed", {reader_->concealed()}},
             {"src", {from_text_}},
-            {"dst", {r_.to}}};
+            {"dst", {r_.files.to}}};
   }
 
   const VideoRequest& r_;

@@ -21,17 +21,16 @@
 #include <string>
 #include <vector>
 
+#include "jobs/convert/convert_plan.hpp"
 #include "panoproj/jobs.hpp"
 
 namespace panoproj {
 
 struct VideoRequest {
-  std::vector<std::string> inputs;  // a video, or images (all of one size) to make one
-  std::string output;               // a video, or a pattern with {n} for the frames as images
-  WriteOptions write;               // overwrite; for images, their quality and depth
-  std::optional<std::string> from;
-  std::string to;
-  ConvertOptions options;
+  // The paths, specs and options as for images: inputs a video, or images (all of one size) to
+  // make one; output a video, or a pattern with {n} for the frames as images; write: overwrite,
+  // and for images their quality and depth.
+  ConvertRequest files;
   int stream = -1;              // among the video streams; -1: the first
   std::string codec;            // "" : the container's default
   std::optional<int64_t> crf;   // the encoder's default if none
