@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <deque>
 #include <filesystem>
@@ -62,24 +63,36 @@ class ProgressBar {
     if (enabled_ && shown_) (void)!::write(fd_, "\r\033[K", 4);
     last_ = -1;
   }
-  void update(double fraction) {
+  // The bar at `fraction`, with the time left at the rate so far and the job's status ("frame
+  // 57, 9.8 fps").
+  void update(double fraction, const std::string& status = {}) {
     if (!enabled_) return;
     const int percent = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * 100);
-    if (percent == last_) return;
-    last_ = percent;
+    if (percent == last_ && status == status_) return;
+    last_ = percent, status_ = status;
     shown_ = true;
-    char line[128];
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    char eta[32] = "";
+    if (fraction > 0.02 && fraction < 1) {
+      const auto left = static_cast<int64_t>(elapsed * (1 - fraction) / fraction);
+      std::snprintf(eta, sizeof eta, ", %lld:%02lld left", static_cast<long long>(left / 60),
+                    static_cast<long long>(left % 60));
+    }
+    char line[256];
     const int filled = percent * 30 / 100;
-    const int n = std::snprintf(line, sizeof line, "\r[%.*s%.*s] %3d%%", filled,
+    const int n = std::snprintf(line, sizeof line, "\r[%.*s%.*s] %3d%%%s%s%s\033[K", filled,
                                 "##############################", 30 - filled,
-                                "..............................", percent);
-    (void)!::write(fd_, line, static_cast<size_t>(n));
+                                "..............................", percent, status.empty() ? "" : ", ",
+                                status.c_str(), eta);
+    (void)!::write(fd_, line, static_cast<size_t>(std::min<int>(n, sizeof line - 1)));
   }
 
  private:
   int fd_;
   bool enabled_, shown_ = false;
   int last_ = -1;
+  std::string status_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
 // A job's subcommand, made from its rows (jobs.hpp): a flag or positional per row the command
@@ -161,6 +174,7 @@ int run_job(const Command& command) {
   ProgressBar bar(hold.fd(), !quiet);
   JobEvents events;
   events.progress = [&](double f) { bar.update(f); };
+  events.status = [&](double f, const std::string& s) { bar.update(f, s); };
   if (!quiet)
     events.line = [&](const std::string& line) {
       bar.clear();

@@ -433,7 +433,7 @@ class VideoJob {
 
   void run_frames(VideoWriter& writer) {
     std::array<VideoFrame, 2> in, out;
-    const double expected = static_cast<double>(reader_->info().frames);
+    const double expected = expected_frames();
     FrameStages stages;
     stages.read = [&](size_t i) {
       const auto t0 = Clock::now();
@@ -457,12 +457,31 @@ class VideoJob {
       writer.write(out[i % 2]);
       encode_seconds_ += since(t0);
     };
+    const auto t0 = Clock::now();
     stages.written = [&](size_t i) {
       frames_ = static_cast<int64_t>(i) + 1;
-      if (events_.progress && expected > 0)
-        events_.progress(std::min(1.0, static_cast<double>(frames_) / expected));
+      const double fraction = expected > 0 ? std::min(1.0, static_cast<double>(frames_) / expected) : 0;
+      if (events_.status) {
+        char s[64];
+        std::snprintf(s, sizeof s, "frame %lld, %.1f fps", static_cast<long long>(frames_),
+                      static_cast<double>(frames_) / std::max(1e-9, since(t0)));
+        events_.status(fraction, s);
+      } else if (events_.progress && expected > 0) {
+        events_.progress(fraction);
+      }
     };
     run_frame_pipeline(kUnknownFrames, 1, stages);
+  }
+
+  // The frames the job will write, as far as the container tells (0: unknown): for progress.
+  double expected_frames() const {
+    const VideoInfo& info = reader_->info();
+    const bool whole = range_.start == 0 && std::isinf(range_.end) && fps_ == 0 && r_.every <= 1;
+    if (whole && info.frames > 0) return static_cast<double>(info.frames);
+    const double rate = info.frame_rate[1] > 0 ? static_cast<double>(info.frame_rate[0]) / info.frame_rate[1] : 0;
+    const double span = std::min(info.duration, range_.end) - range_.start;
+    const double taken = fps_ > 0 ? std::min(fps_, rate) : rate / static_cast<double>(std::max<int64_t>(r_.every, 1));
+    return std::max(0.0, span * taken);
   }
 
   // Whether a frame read is taken: every n-th (--every), or the first at or past each 1 / fps
