@@ -1747,6 +1747,19 @@ def test_bad_video_inputs_and_parameters(cli, clips, tmp_path, case):
     assert snapshot(tmp_path) == before
 
 
+def test_a_damaged_video_converts_with_its_concealed_packets_counted(cli, clips, tmp_path):
+    data = bytearray(pathlib.Path(clips["ok.mp4"]).read_bytes())
+    rng = np.random.default_rng(1)
+    for at in rng.integers(len(data) * 3 // 10, len(data) * 7 // 10, 40):
+        data[at] ^= 0xFF
+    (tmp_path / "damaged.mp4").write_bytes(bytes(data))
+    r = run(cli, ["convert", "damaged.mp4", "o.mp4", "--to", "equirect"], tmp_path)
+    assert r.code == 0, r.err
+    assert re.search(r"damaged.mp4: \d+ corrupt packets or frames concealed", r.err), r.err
+    assert (tmp_path / "o.mp4").stat().st_size > 0
+    assert listing(tmp_path) == ["damaged.mp4", "o.mp4"]
+
+
 def test_a_video_output_is_not_overwritten_without_overwrite(cli, clips, tmp_path):
     _old_files(tmp_path, ["o.mp4"])
     expect_refused(run(cli, ["convert", clips["ok.mp4"], "o.mp4", "--to", "equirect"], tmp_path),

@@ -188,8 +188,10 @@ class VideoJob {
                                    : 0;
     const double covered = range_.start + static_cast<double>(last_pts_) * tb + step;
     const bool whole = range_.start == 0 && std::isinf(range_.end) && fps_ == 0 && r_.every <= 1;
-    if ((whole && info.frames > 0 && frames_ < info.frames) ||
-        (step > 0 && std::min(info.duration, range_.end) > covered + 2 * step))
+    if (whole && info.frames > 0 && frames_ < info.frames)
+      warn(input + ": " + std::to_string(frames_) + " of its " + std::to_string(info.frames) +
+           " frames decoded (the file is damaged)");
+    else if (step > 0 && std::min(info.duration, range_.end) > covered + 2 * step)
       warn(input + " ended early: " + std::to_string(frames_) + " frames decoded, up to " +
            std::to_string(covered).substr(0, 5) + " s of " +
            std::to_string(std::min(info.duration, range_.end)).substr(0, 5) +
