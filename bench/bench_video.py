@@ -10,8 +10,10 @@ fisheye (200 degrees a lens, 4096x2048) made from it by panoproj.
   equirect -> cube 3x2 (3072x2048), EAC (3072x2048), a 90-degree 1920x1080 pinhole, and the dual
   fisheye -> equirect (4096x2048). Frames a second and the ratio (target: 2x).
 - transcode: the whole process with libx264 crf 20 at --preset medium and veryfast (cube 3x2):
-  panoproj, v360 with cubic, and the floor: decode + the same encoder on frames of the output's
-  size (`-vf crop=3072:2048`). The ratio to the floor (target: at most 1.25x) and to v360.
+  panoproj, v360 with cubic, and two floors: decode + the same encoder on frames of the output's
+  size (`-vf crop=3072:2048`: the turning picture cropped, which x264 encodes faster than the
+  cube's faces), and the same encoder on the cube's own frames (panoproj's, made once into a
+  lossless FFV1 file, decoded). The ratios to the floors (target: at most 1.25x) and to v360.
 - rss: panoproj's peak RSS converting the clip of --frames and of 5x as many (flat in length).
 Each subject runs --runs times, interleaved; figures are medians, with the spread (min-max).
 """
@@ -76,7 +78,7 @@ def median_spread(v):
     return statistics.median(v), min(v), max(v)
 
 
-def filter_throughput(frames, runs):
+def filter_throughput(frames, runs, only):
     c, d = clip(frames), dual_clip(frames)
     cases = [
         ("cube 3x2", c, "cubemap:layout=3x2", "3072x2048", "v360=e:c3x2:interp=cubic:w=3072:h=2048"),
@@ -88,6 +90,8 @@ def filter_throughput(frames, runs):
     ]
     print(f"\n== filter throughput: decode + convert, no encoder ({frames} frames, {runs} runs, fps median [min-max])")
     for name, src, to, size, v360 in cases:
+        if only and not any(o in name for o in only):
+            continue
         subjects = {
             "panoproj": [str(THROUGHPUT), str(src), to, "--size", size],
             "v360": ["ffmpeg", "-v", "error", "-i", str(src), "-vf", v360, "-f", "null", "-"],
@@ -99,11 +103,21 @@ def filter_throughput(frames, runs):
               f"v360 {fps(v[0]):5.1f} fps [{fps(v[2]):.1f}-{fps(v[1]):.1f}]   ratio {v[0] / p[0]:.2f}x")
 
 
-def transcode(frames, runs):
+def cube_frames(frames):
+    """The cube's frames, lossless: the second floor's input."""
+    out = DATA / f"cube_{frames}.mkv"
+    if not out.exists():
+        subprocess.run([str(CLI), "convert", str(clip(frames)), str(out), "--to", "cubemap:layout=3x2", "--size",
+                        "3072x2048", "--codec", "ffv1", "-q"], check=True)
+    return out
+
+
+def transcode(frames, runs, presets):
     src = clip(frames)
+    cube = cube_frames(frames)
     out = DATA / "out.mp4"
     print(f"\n== transcode to cube 3x2 3072x2048, libx264 crf 20 ({frames} frames, {runs} runs, seconds median [min-max])")
-    for preset in ("medium", "veryfast"):
+    for preset in presets:
         enc = ["-c:v", "libx264", "-crf", "20", "-preset", preset]
         subjects = {
             "panoproj": [str(CLI), "convert", str(src), str(out), "--to", "cubemap:layout=3x2", "--size", "3072x2048",
@@ -111,12 +125,15 @@ def transcode(frames, runs):
             "v360": ["ffmpeg", "-v", "error", "-y", "-i", str(src), "-vf", "v360=e:c3x2:interp=cubic:w=3072:h=2048",
                      *enc, str(out)],
             "floor": ["ffmpeg", "-v", "error", "-y", "-i", str(src), "-vf", "crop=3072:2048", *enc, str(out)],
+            "floor (cube frames)": ["ffmpeg", "-v", "error", "-y", "-i", str(cube), *enc, str(out)],
         }
         t = rounds(subjects, runs)
         m = {k: median_spread(v) for k, v in t.items()}
         line = "   ".join(f"{k} {v[0]:.2f} s [{v[1]:.2f}-{v[2]:.2f}]" for k, v in m.items())
-        print(f"{preset:9s} {line}   panoproj/floor {m['panoproj'][0] / m['floor'][0]:.2f}x   "
-              f"panoproj/v360 {m['panoproj'][0] / m['v360'][0]:.2f}x")
+        print(f"{preset:9s} {line}\n          panoproj/floor {m['panoproj'][0] / m['floor'][0]:.2f}x   "
+              f"panoproj/floor (cube frames) {m['panoproj'][0] / m['floor (cube frames)'][0]:.2f}x   "
+              f"panoproj/v360 {m['panoproj'][0] / m['v360'][0]:.2f}x   "
+              f"v360/floor (cube frames) {m['v360'][0] / m['floor (cube frames)'][0]:.2f}x")
 
 
 def rss(frames):
@@ -133,14 +150,16 @@ def main():
     ap.add_argument("--runs", type=int, default=11)
     ap.add_argument("--frames", type=int, default=120)
     ap.add_argument("--only", default="filter,transcode,rss")
+    ap.add_argument("--presets", default="medium,veryfast")
+    ap.add_argument("--cases", default="", help="filter cases whose names contain one of these (comma-separated)")
     a = ap.parse_args()
     if not shutil.which("ffmpeg"):
         raise SystemExit("bench_video: needs the ffmpeg command (apt install ffmpeg)")
     only = set(a.only.split(","))
     if "filter" in only:
-        filter_throughput(a.frames, a.runs)
+        filter_throughput(a.frames, a.runs, [c for c in a.cases.split(",") if c])
     if "transcode" in only:
-        transcode(a.frames, a.runs)
+        transcode(a.frames, a.runs, a.presets.split(","))
     if "rss" in only:
         rss(a.frames)
 

@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
       const std::string k = argv[i], v = argv[i + 1];
       if (k == "--size") {
         const auto x = v.find('x');
-        r.files.options.size = panoproj::Size{std::stoll(v.substr(0, x)), std::stoll(v.substr(x + 1))};
+        r.files.options.size =
+            panoproj::Size{std::stoll(v.substr(0, x)), std::stoll(v.substr(x + 1))};
       } else if (k == "--interp") {
         r.files.options.interp = panoproj::parse_interp(v);
       }

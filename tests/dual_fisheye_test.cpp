@@ -241,3 +241,34 @@ TEST(DualFisheye, BadSpecsAndFramesAreOneLineErrors) {
 
 }  // namespace
 }  // namespace panoproj
+
+namespace panoproj {
+namespace {
+
+TEST(DualFisheye, KeptLensMapsAndTapsGiveTheSameBytes) {
+  // Each lens keeps its maps (sited chroma planes: no fused tiles) or its planned taps; later runs
+  // replay them, as the frames of a video do, to the bytes of a converter that keeps nothing.
+  // (Tiles inside one lens and tiles across both.)
+  const Projection d = make_projection(parse_spec("dual-fisheye:fov=200"), {512, 256});
+  const Projection e = make_projection(parse_spec("equirect"), {640, 320});
+  const Image rgb = test::render(d, test::band_limited_scene(0.1, 512), PixelType::U8);
+  for (const Siting siting : {Siting{}, Siting{-0.25, 0, -0.25, 0}})
+    for (const Antialias aa : {Antialias{}, parse_antialias("auto")}) {
+      SCOPED_TRACE(std::to_string(siting.source_x) + " " + name_of(aa));
+      ConvertOptions o;
+      o.interp = Interp::Bicubic, o.antialias = aa;
+      const ConversionGeometry g{d, e, rotation_from_ypr(10, 5, 0), {}, siting};
+      const Converter kept(g, o, Keep::MapsAndTaps), lean(g, o, Keep::Nothing);
+      const Image want = lean.run(rgb);
+      for (int run = 0; run < 3; ++run) {
+        EngineStats st;
+        EXPECT_TRUE(kept.run(rgb, &st) == want) << "run " << run;
+        if (run > 0 && !siting.any()) {
+          EXPECT_GT(st.replayed_tiles, 0);
+        }
+      }
+    }
+}
+
+}  // namespace
+}  // namespace panoproj

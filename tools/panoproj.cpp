@@ -71,7 +71,8 @@ class ProgressBar {
     if (percent == last_ && status == status_) return;
     last_ = percent, status_ = status;
     shown_ = true;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     char eta[32] = "";
     if (fraction > 0.02 && fraction < 1) {
       const auto left = static_cast<int64_t>(elapsed * (1 - fraction) / fraction);
@@ -82,8 +83,8 @@ class ProgressBar {
     const int filled = percent * 30 / 100;
     const int n = std::snprintf(line, sizeof line, "\r[%.*s%.*s] %3d%%%s%s%s\033[K", filled,
                                 "##############################", 30 - filled,
-                                "..............................", percent, status.empty() ? "" : ", ",
-                                status.c_str(), eta);
+                                "..............................", percent,
+                                status.empty() ? "" : ", ", status.c_str(), eta);
     (void)!::write(fd_, line, static_cast<size_t>(std::min<int>(n, sizeof line - 1)));
   }
 

@@ -295,7 +295,7 @@ class PyPlan {
         options_(options_from(options, kUseConvert)),
         geometry_(
             make_geometry(size_pair(source_size), parse_spec(src), parse_spec(dst), options_)),
-        kept_bytes_(image_bytes(geometry_.target_frame(), 1, kCachedMapBytesPerPixel)),
+        kept_bytes_(image_bytes(geometry_.target_frame(), 1, kept_bytes_per_pixel(geometry_))),
         converter_(Converter(geometry_, options_,
                              kept_bytes_ <= static_cast<uint64_t>(kMapCacheBudget)
                                  ? Keep::MapsAndTaps
@@ -311,7 +311,8 @@ class PyPlan {
     const Image& in = source_for(raw, options_, with_alpha);
     const bool flat = py::isinstance<py::array>(src) && src.cast<py::array>().ndim() == 2 && in.channels() == 1;
     require_job_memory(geometry_, raw.channels(), raw.type(), options_, kept_bytes_,
-                       "the maps and taps the plan keeps (up to " + std::to_string(kCachedMapBytesPerPixel) + " bytes a pixel)");
+                       "the maps and taps the plan keeps (up to " +
+                           std::to_string(kept_bytes_per_pixel(geometry_)) + " bytes a pixel)");
     if (out) {
       // Written in place: must be C-contiguous, writable, of the output's shape and dtype.
       const Size s = geometry_.target_frame();

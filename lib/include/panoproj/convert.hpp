@@ -58,6 +58,10 @@ struct ConversionGeometry {
   Size target_frame() const { return stereo_frame(size_of(target), stereo.target); }
 };
 
+// The most bytes a Converter of this geometry keeps per output pixel (kCachedMapBytesPerPixel; a
+// dual-fisheye source's two lenses, twice that).
+int kept_bytes_per_pixel(const ConversionGeometry& geometry);
+
 struct EngineStats {
   int64_t tiles = 0;
   int64_t fused_tiles = 0;   // geometry in registers, no map (simd engine, the common pairs)

@@ -85,7 +85,8 @@ struct JobEvents {
   std::function<void(double)> progress;
   std::function<void(const std::string&)> line;
   std::function<void(const std::string&)> warning;  // what the user should see even when quiet
-  std::function<void(double, const std::string&)> status;  // progress with a word ("frame 57, 9.8 fps")
+  std::function<void(double, const std::string&)>
+      status;  // progress with a word ("frame 57, 9.8 fps")
 };
 
 // The written and empty files of staged parts (summed over parts by the scheduler).

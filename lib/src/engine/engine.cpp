@@ -96,7 +96,14 @@ struct Converter::Impl {
   int64_t tile_count() const;
   // True (and g filled) where the tile's geometry runs in registers fused with the sampling.
   bool fused(const PixelRect& rect, SimdGeometry& g) const;
-  const TileMap* cached(int64_t t) const;  // the kept map of a tile that has one, else null
+  // The same from source projection sp (the source, or a lens) through rotation r.
+  bool fused(const Projection& sp, const Eigen::Matrix3d& r, const PixelRect& rect,
+             SimdGeometry& g) const;
+  int parts() const;  // what a tile keeps per: the source, or a dual fisheye's two lenses
+  // The kept map of a tile's part k that has one, else null.
+  const TileMap* cached(int64_t t, int k = 0) const;
+  // What tile t keeps, its taps in planned (null: none).
+  KeptTile kept(int64_t t, PlannedTaps* planned) const;
   // Whether run_reading can start tiles before the whole source is in.
   bool streams() const;
   // Tiles in the order their source rows come in: by the source row of their centre.
@@ -152,14 +159,13 @@ Converter::Impl::Impl(Projection source, Projection target, const Siting& siting
   if (siting_.any() && (engine_ == Engine::Reference || edges_.active()))
     throw Error("sited planes (video chroma) need the simd or scalar engine and no edge fill");
   if (const DualFisheye* d = sampling_facts(source_).dual) {
-    // Each lens alone, blended (or cut) per tile; their maps are not kept (Keep keeps those
-    // of source_, which the lenses do not use).
+    // Each lens alone, blended (or cut) per tile; Keep keeps each lens's maps or taps (not
+    // source_'s, which the lenses do not use).
     if (d->feather() > 0 && engine_ == Engine::Reference)
       throw Error("dual-fisheye: the feathered blend needs the simd or scalar engine (or feather=0)");
     if (d->feather() > 0 && antialias_.mode == Antialias::Mode::Mip)
       throw Error("dual-fisheye: antialias mip does not blend the lenses (use --antialias auto or supersample, or feather=0)");
     lenses_ = lens_sources(*d, rotation_);
-    keep_ = Keep::Nothing;
   }
   const int most = antialias_.mode == Antialias::Mode::Supersample ? antialias_.n
                   : antialias_.mode == Antialias::Mode::Auto      ? Antialias::kMaxAuto
@@ -182,24 +188,45 @@ int64_t Converter::Impl::tile_count() const {
 }
 
 bool Converter::Impl::fused(const PixelRect& rect, SimdGeometry& g) const {
-  return engine_ == Engine::Simd && !siting_.any() &&
-         simd_geometry_for(source_, target_, rotation_, rect, g) && exact_for(interp_, g);
+  return fused(source_, rotation_, rect, g);
+}
+
+bool Converter::Impl::fused(const Projection& sp, const Eigen::Matrix3d& r, const PixelRect& rect,
+                            SimdGeometry& g) const {
+  return engine_ == Engine::Simd && !siting_.any() && simd_geometry_for(sp, target_, r, rect, g) &&
+         exact_for(interp_, g);
+}
+
+int Converter::Impl::parts() const {
+  return lenses_.empty() ? 1 : 2;
+}
+
+int kept_bytes_per_pixel(const ConversionGeometry& g) {
+  return static_cast<int>(kCachedMapBytesPerPixel) * (sampling_facts(g.source).dual ? 2 : 1);
 }
 
 void Converter::Impl::build_cache() const {
   // Fused tiles recompute their geometry in registers faster than they could read a map: only the
-  // others keep one (an empty TileMap marks a fused tile).
-  std::vector<TileMap> maps(static_cast<size_t>(tile_count()));
+  // others keep one (an empty TileMap marks a fused tile). A dual fisheye's tiles keep one per
+  // lens (parts(): tile t's part k at t * parts() + k).
+  const auto n = static_cast<size_t>(tile_count() * parts());
+  std::vector<TileMap> maps(n);
   parallel_tasks(tile_count(), threads_, [&](int64_t t, int) {
     SimdGeometry g;
     const PixelRect rect = tile(t);
-    if (!fused(rect, g))
-      map_tile(source_, target_, rotation_, rect, maps[static_cast<size_t>(t)],
-               interp_ == Interp::Nearest, siting_);
+    for (int k = 0; k < parts(); ++k) {
+      const Projection& sp = lenses_.empty() ? source_ : lenses_[static_cast<size_t>(k)].lens;
+      const Eigen::Matrix3d& r =
+          lenses_.empty() ? rotation_ : lenses_[static_cast<size_t>(k)].rotation;
+      if (!fused(sp, r, rect, g))
+        map_tile(sp, target_, r, rect, maps[static_cast<size_t>(t * parts() + k)],
+                 interp_ == Interp::Nearest, siting_);
+    }
   });
   cache_ = std::move(maps);
   static_assert(PlannedTaps::kBytesPerPixel <= kCachedMapBytesPerPixel);  // a tile keeps its map or its taps
-  if (keep_ == Keep::MapsAndTaps && engine_ == Engine::Simd) planned_ = std::make_unique<PlannedTaps[]>(static_cast<size_t>(tile_count()));
+  if (keep_ == Keep::MapsAndTaps && engine_ == Engine::Simd)
+    planned_ = std::make_unique<PlannedTaps[]>(n);
   rows_kept_ = std::make_unique<std::atomic<int64_t>[]>(static_cast<size_t>(tile_count()));
   for (int64_t t = 0; t < tile_count(); ++t) rows_kept_[static_cast<size_t>(t)].store(-1, std::memory_order_relaxed);
   if (antialias_.mode == Antialias::Mode::Auto) footprints_ = std::make_unique<KeptFootprint[]>(static_cast<size_t>(tile_count()));
@@ -214,10 +241,20 @@ PlannedTaps* Converter::Impl::planned_for(const Image& src, const SourceTaps& ta
   return same_layout(*planned_layout_, s) ? planned_.get() : nullptr;
 }
 
-const TileMap* Converter::Impl::cached(int64_t t) const {
+const TileMap* Converter::Impl::cached(int64_t t, int k) const {
   if (keep_ == Keep::Nothing) return nullptr;
-  const TileMap& tm = cache_[static_cast<size_t>(t)];
+  const TileMap& tm = cache_[static_cast<size_t>(t * parts() + k)];
   return tm.rect.width() > 0 ? &tm : nullptr;
+}
+
+KeptTile Converter::Impl::kept(int64_t t, PlannedTaps* planned) const {
+  KeptTile k;
+  k.footprint = footprints_ ? &footprints_[t] : nullptr;
+  for (int p = 0; p < parts(); ++p) {
+    k.maps[p] = cached(t, p);
+    k.taps[p] = planned ? &planned[t * parts() + p] : nullptr;
+  }
+  return k;
 }
 
 PixelRect Converter::Impl::source_footprint() const {
@@ -440,8 +477,7 @@ void Converter::Impl::run_frame(const Image& src, Image& out, EngineStats* stats
     if (read && !feed.has(all_rows) &&
         !feed.wait(stream ? std::min(all_rows, rows_read(*strategy, t, workers[static_cast<size_t>(w)])) : all_rows))
       return;  // the read failed: its error ends the run
-    strategy->tile(rect, {cached(t), planned ? &planned[t] : nullptr, footprints_ ? &footprints_[t] : nullptr},
-                   out.pixel(rect.x0, rect.y0),
+    strategy->tile(rect, kept(t, planned), out.pixel(rect.x0, rect.y0),
                    static_cast<int64_t>(out.row_bytes()), workers[static_cast<size_t>(w)]);
     if (finished && !edges_.active())
       finished({rect.x0, rect.y0, rect.x0 + rect.width(), rect.y0 + rect.height()});

@@ -106,13 +106,13 @@ void TileSampling::map(const Image& im, const SourceTaps& taps, const SimdSource
 void TileSampling::from(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t,
                         const PixelRect& rect, const KeptTile& kept, unsigned char* out,
                         int64_t stride, TileScratch& wk, const FootprintField* fp) const {
-  PlannedTaps* const planned = kept.taps;
+  PlannedTaps* const planned = kept.taps[0];
   if (planned && planned->ready()) {  // the geometry and planning of an earlier run
     wk.stats.fused_tiles++, wk.stats.replayed_tiles++;
     simd_replay(*planned, rect, simd_src_, interp_, fp, out, stride);
     return resolve_misses(src_, taps_, rect, planned->misses, out, stride, wk, fp);
   }
-  const TileMap* tm = kept.map;
+  const TileMap* tm = kept.map();
   SimdGeometry g;
   const bool in_registers = !tm && fused(sp, r, t, rect, g);
   if (!tm && !in_registers)
@@ -143,13 +143,13 @@ void TileSampling::rect(const Projection& t, const PixelRect& rect, const KeptTi
   const int side = dual_weights(*taps_.facts().dual, t, rotation_, rect, wk.weights);
   if (side >= 0) {
     const LensSource& l = lenses_[static_cast<size_t>(side)];
-    return from(l.lens, l.rotation, t, rect, {}, out, stride, wk, fp);
+    return from(l.lens, l.rotation, t, rect, kept.part(side), out, stride, wk, fp);
   }
   const auto pb = static_cast<int64_t>(src_.pixel_bytes());
   wk.other.resize(static_cast<size_t>(rect.width() * rect.height() * pb));
-  from(lenses_[0].lens, lenses_[0].rotation, t, rect, {}, out, stride, wk, fp);
-  from(lenses_[1].lens, lenses_[1].rotation, t, rect, {}, wk.other.data(), rect.width() * pb, wk,
-       fp);
+  from(lenses_[0].lens, lenses_[0].rotation, t, rect, kept.part(0), out, stride, wk, fp);
+  from(lenses_[1].lens, lenses_[1].rotation, t, rect, kept.part(1), wk.other.data(),
+       rect.width() * pb, wk, fp);
   blend_lenses(wk.weights.data(), rect, src_.type(), src_.channels(), src_.alpha_channel(), out,
                stride, wk.other.data(), rect.width() * pb);
 }

@@ -30,12 +30,15 @@ struct KeptFootprint : KeptOnce {
 };
 
 // What a Converter keeps of one tile for its later runs (Keep, convert.hpp): its map (a tile not
-// fused), or the taps it plans (a fused one, where they fit the source: planned_taps.hpp); with
-// auto antialiasing its footprint measure.
+// fused), or the taps it plans (a fused one, where they fit the source: planned_taps.hpp), one
+// each per lens of a dual-fisheye source (else [0]); with auto antialiasing its footprint measure.
 struct KeptTile {
-  const TileMap* map = nullptr;
-  PlannedTaps* taps = nullptr;
+  const TileMap* maps[2] = {nullptr, nullptr};
+  PlannedTaps* taps[2] = {nullptr, nullptr};
   KeptFootprint* footprint = nullptr;
+  const TileMap* map() const { return maps[0]; }
+  // Part k alone (a lens's).
+  KeptTile part(int k) const { return {{maps[k], nullptr}, {taps[k], nullptr}, footprint}; }
 };
 
 // One worker thread's buffers and counts.
@@ -120,6 +123,7 @@ class TileSampling {
                          : siting_;
   }
   const Image& image() const { return src_; }
+  bool lensed() const { return !lenses_.empty(); }  // a dual fisheye's lenses sampled alone
   const SourceTaps& taps() const { return taps_; }
   Interp interp() const { return interp_; }
 

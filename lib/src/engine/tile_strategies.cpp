@@ -120,7 +120,8 @@ class Mip final : public TileStrategy {
   explicit Mip(const StrategyInputs& job) : job_(job), pyramid_(job.sampling.image(), job.source) {}
   void tile(const PixelRect& rect, const KeptTile& kept, unsigned char* corner, int64_t stride,
             TileScratch& wk) const override {
-    const TileMap* tm = kept.map;
+    const TileMap* tm =
+        job_.sampling.lensed() ? nullptr : kept.map();  // (a lens's map is not the source's)
     SimdGeometry g;
     if (!tm) {
       if (job_.sampling.fused(job_.target, rect, g))

@@ -7,8 +7,8 @@
 namespace panoproj {
 namespace {
 
-Plugin<OiioBackend> g_plugin("libpanoproj_oiio.so", "PANOPROJ_OIIO_PLUGIN", "panoproj_oiio_abi", kOiioPluginAbi,
-                             "panoproj_oiio_backend");
+Plugin<OiioBackend> g_plugin("libpanoproj_oiio.so", "PANOPROJ_OIIO_PLUGIN", "panoproj_oiio_abi",
+                             kOiioPluginAbi, "panoproj_oiio_backend");
 
 OiioFallback g_fallback = nullptr;
 const char* g_fallback_hint = "";
@@ -21,18 +21,22 @@ OiioBackend& oiio_backend(const std::string& why) {
   if (g_fallback) {
     if (OiioBackend* b = g_fallback(why_not)) return *b;
     throw Error(why + " needs OpenImageIO (TIFF, EXR, HDR, metadata by name): " + g_fallback_hint +
-                    ", or apt install libopenimageio2.4 (plugin " + g_plugin.file() + " " + g_plugin.error() + "; " +
-                    why_not + ")",
+                    ", or apt install libopenimageio2.4 (plugin " + g_plugin.file() + " " +
+                    g_plugin.error() + "; " + why_not + ")",
                 ErrorKind::File);
   }
-  throw Error(why + " needs OpenImageIO 2.4 (TIFF, EXR, HDR, metadata by name; apt install libopenimageio2.4): plugin " +
+  throw Error(why +
+                  " needs OpenImageIO 2.4 (TIFF, EXR, HDR, metadata by name; apt install "
+                  "libopenimageio2.4): plugin " +
                   g_plugin.file() + " " + g_plugin.error(),
               ErrorKind::File);
 }
 
 void set_oiio_fallback(OiioFallback get, const char* hint) { g_fallback = get, g_fallback_hint = hint; }
 
-bool oiio_loaded() { return g_plugin.loaded(); }
+bool oiio_loaded() {
+  return g_plugin.loaded();
+}
 
 bool oiio_available() {
   std::string why_not;

@@ -21,7 +21,8 @@ void* load_plugin(const char* file, const char* env, const char* abi_symbol, int
 template <class Backend>
 class Plugin {
  public:
-  constexpr Plugin(const char* file, const char* env, const char* abi_symbol, int abi, const char* make_symbol)
+  constexpr Plugin(const char* file, const char* env, const char* abi_symbol, int abi,
+                   const char* make_symbol)
       : file_(file), env_(env), abi_symbol_(abi_symbol), make_symbol_(make_symbol), abi_(abi) {}
   Backend* get() {
     std::call_once(once_, [this] {

@@ -611,7 +611,9 @@ HWY_INLINE void GrayTaps(const SimdSource& s, const TapBlock& blk, unsigned char
   const auto off0 = hn::Max(at, hn::Zero(di));  // lanes not sampled read the base row
   const auto mask = hn::Set(du, sizeof(T) == 1 ? 0xFFu : 0xFFFFu);
   auto tap = [&](hn::Vec<DU> word, int k) {
-    return hn::ConvertTo(df, hn::BitCast(di, hn::And(hn::ShiftRightSame(word, 8 * static_cast<int>(sizeof(T)) * k), mask)));
+    return hn::ConvertTo(
+        df, hn::BitCast(
+                di, hn::And(hn::ShiftRightSame(word, 8 * static_cast<int>(sizeof(T)) * k), mask)));
   };
   const auto* base = reinterpret_cast<const int32_t*>(blk.base);
   VF acc = hn::Zero(df);
@@ -621,17 +623,21 @@ HWY_INLINE void GrayTaps(const SimdSource& s, const TapBlock& blk, unsigned char
     for (int first = 0; first < K; first += kPerWord) {
       const int from = std::min(first, K - kPerWord);  // the word's first tap
       const auto word = hn::BitCast(
-          du, hn::GatherOffset(di, base, hn::Add(row, hn::Set(di, from * static_cast<int>(sizeof(T))))));
-      for (int k = first; k < std::min(first + kPerWord, K); ++k) h = hn::MulAdd(tap(word, k - from), fx[k], h);
+          du, hn::GatherOffset(di, base,
+                               hn::Add(row, hn::Set(di, from * static_cast<int>(sizeof(T))))));
+      for (int k = first; k < std::min(first + kPerWord, K); ++k)
+        h = hn::MulAdd(tap(word, k - from), fx[k], h);
     }
     acc = hn::MulAdd(h, fy[r], acc);
   }
   const float unit = sizeof(T) == 1 ? 255.0f : 65535.0f;
-  const auto v = hn::IfThenElseZero(sampled, hn::NearestInt(hn::Min(hn::Max(acc, hn::Zero(df)), hn::Set(df, unit))));
+  const auto v = hn::IfThenElseZero(
+      sampled, hn::NearestInt(hn::Min(hn::Max(acc, hn::Zero(df)), hn::Set(df, unit))));
   const hn::Rebind<T, DI> dt;
   HWY_ALIGN T samples[hn::MaxLanes(dt)];
   hn::Store(hn::DemoteTo(dt, v), dt, samples);
-  std::memcpy(o + sizeof(T) * static_cast<size_t>(blk.index), samples, sizeof(T) * static_cast<size_t>(blk.m));
+  std::memcpy(o + sizeof(T) * static_cast<size_t>(blk.index), samples,
+              sizeof(T) * static_cast<size_t>(blk.m));
 }
 
 // Phase 2: gathers and blends one block's taps, writes its m output pixels (0 where not sampled

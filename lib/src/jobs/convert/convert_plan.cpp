@@ -153,7 +153,7 @@ void plan_geometry(ConvertPlan& p) {
 // (footprint, then conversion) and again per frame. A job over the budget stops before any work.
 void plan_memory(ConvertPlan& p) {
   const Size out = p.geometry->target_frame();
-  const uint64_t map_bytes = image_bytes(out, 1, kCachedMapBytesPerPixel);
+  const uint64_t map_bytes = image_bytes(out, 1, kept_bytes_per_pixel(*p.geometry));
   const bool keep = map_bytes <= static_cast<uint64_t>(kMapCacheBudget);
   const PixelType out_type = p.request.write.type.value_or(p.type);
   const int out_channels = output_channels(p.channels, p.options);

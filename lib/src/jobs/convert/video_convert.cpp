@@ -284,7 +284,8 @@ class VideoJob {
       throw Error("cannot read " + r_.files.inputs[0] + ": its frames of " + size_text(info.size) +
                       " are over 65536 px a side",
                   ErrorKind::File);
-    const ProjectionSpec from = infer_source_spec(r_.files.from, r_.files.inputs[0], info.size, std::nullopt);
+    const ProjectionSpec from =
+        infer_source_spec(r_.files.from, r_.files.inputs[0], info.size, std::nullopt);
     from_text_ = from.str();
     const ProjectionSpec to = parse_spec(r_.files.to);
     luma_ = make_geometry(info.size, from, to, r_.files.options);
@@ -462,7 +463,8 @@ class VideoJob {
     const auto t0 = Clock::now();
     stages.written = [&](size_t i) {
       frames_ = static_cast<int64_t>(i) + 1;
-      const double fraction = expected > 0 ? std::min(1.0, static_cast<double>(frames_) / expected) : 0;
+      const double fraction =
+          expected > 0 ? std::min(1.0, static_cast<double>(frames_) / expected) : 0;
       if (events_.status) {
         char s[64];
         std::snprintf(s, sizeof s, "frame %lld, %.1f fps", static_cast<long long>(frames_),
@@ -480,9 +482,11 @@ class VideoJob {
     const VideoInfo& info = reader_->info();
     const bool whole = range_.start == 0 && std::isinf(range_.end) && fps_ == 0 && r_.every <= 1;
     if (whole && info.frames > 0) return static_cast<double>(info.frames);
-    const double rate = info.frame_rate[1] > 0 ? static_cast<double>(info.frame_rate[0]) / info.frame_rate[1] : 0;
+    const double rate =
+        info.frame_rate[1] > 0 ? static_cast<double>(info.frame_rate[0]) / info.frame_rate[1] : 0;
     const double span = std::min(info.duration, range_.end) - range_.start;
-    const double taken = fps_ > 0 ? std::min(fps_, rate) : rate / static_cast<double>(std::max<int64_t>(r_.every, 1));
+    const double taken = fps_ > 0 ? std::min(fps_, rate)
+                                  : rate / static_cast<double>(std::max<int64_t>(r_.every, 1));
     return std::max(0.0, span * taken);
   }
 
@@ -501,8 +505,8 @@ class VideoJob {
 
   std::string input_text() const {
     if (r_.files.inputs.size() == 1) return r_.files.inputs[0];
-    return r_.files.inputs[0] + " ... " + r_.files.inputs.back() + " (" + std::to_string(r_.files.inputs.size()) +
-           " images)";
+    return r_.files.inputs[0] + " ... " + r_.files.inputs.back() + " (" +
+           std::to_string(r_.files.inputs.size()) + " images)";
   }
 
   Report report(const VideoInfo& info) const {
@@ -515,11 +519,13 @@ class VideoJob {
         "convert "
         "%.2f s, encode %.2f s), %s, antialias %s, %s engine (%s), chroma %s",
         input_text().c_str(), size_text(info.size).c_str(), info.codec.c_str(),
-        px_.pixel_format.c_str(), from_text_.c_str(), r_.files.output.c_str(), size_text(out).c_str(),
+        px_.pixel_format.c_str(), from_text_.c_str(), r_.files.output.c_str(),
+        size_text(out).c_str(),
         to_images_ ? format_of_path(r_.files.output).title : codec_->encoder, r_.files.to.c_str(),
         static_cast<long long>(frames_), seconds_, fps, decode_seconds_, convert_seconds_,
-        encode_seconds_, name_of(r_.files.options.interp), name_of(antialias_of(r_.files.options)).c_str(),
-        name_of(r_.files.options.engine), simd_target(),
+        encode_seconds_, name_of(r_.files.options.interp),
+        name_of(antialias_of(r_.files.options)).c_str(), name_of(r_.files.options.engine),
+        simd_target(),
         chroma_      ? siting_name(px_.siting)
         : px_.packed ? "in RGB"
                      : "not subsampled");
