@@ -12,8 +12,9 @@ fisheye (200 degrees a lens, 4096x2048) made from it by panoproj.
 - transcode: the whole process with libx264 crf 20 at --preset medium and veryfast (cube 3x2):
   panoproj, v360 with cubic, and two floors: decode + the same encoder on frames of the output's
   size (`-vf crop=3072:2048`: the turning picture cropped, which x264 encodes faster than the
-  cube's faces), and the same encoder on the cube's own frames (panoproj's, made once into a
-  lossless FFV1 file, decoded). The ratios to the floors (target: at most 1.25x) and to v360.
+  cube's faces), and the same encoder on the cube's own frames (panoproj's, made once into raw
+  YUV, read from the page cache: nothing but the encoder). The ratios to the floors (target: at
+  most 1.25x) and to v360.
 - rss: panoproj's peak RSS converting the clip of --frames and of 5x as many (flat in length).
 Each subject runs --runs times, interleaved; figures are medians, with the spread (min-max).
 """
@@ -104,12 +105,13 @@ def filter_throughput(frames, runs, only):
 
 
 def cube_frames(frames):
-    """The cube's frames, lossless: the second floor's input."""
-    out = DATA / f"cube_{frames}.mkv"
+    """The cube's frames as raw yuv420p (from a lossless FFV1 file): the second floor's input."""
+    lossless, out = DATA / f"cube_{frames}.mkv", DATA / f"cube_{frames}.yuv"
     if not out.exists():
-        subprocess.run([str(CLI), "convert", str(clip(frames)), str(out), "--to", "cubemap:layout=3x2", "--size",
-                        "3072x2048", "--codec", "ffv1", "-q"], check=True)
-    return out
+        subprocess.run([str(CLI), "convert", str(clip(frames)), str(lossless), "--to", "cubemap:layout=3x2", "--size",
+                        "3072x2048", "--codec", "ffv1", "-q", "--overwrite"], check=True)
+        subprocess.run(["ffmpeg", "-v", "error", "-y", "-i", str(lossless), "-f", "rawvideo", str(out)], check=True)
+    return ["-f", "rawvideo", "-pix_fmt", "yuv420p", "-s", "3072x2048", "-r", "30", "-i", str(out)]
 
 
 def transcode(frames, runs, presets):
@@ -125,7 +127,7 @@ def transcode(frames, runs, presets):
             "v360": ["ffmpeg", "-v", "error", "-y", "-i", str(src), "-vf", "v360=e:c3x2:interp=cubic:w=3072:h=2048",
                      *enc, str(out)],
             "floor": ["ffmpeg", "-v", "error", "-y", "-i", str(src), "-vf", "crop=3072:2048", *enc, str(out)],
-            "floor (cube frames)": ["ffmpeg", "-v", "error", "-y", "-i", str(cube), *enc, str(out)],
+            "floor (cube frames)": ["ffmpeg", "-v", "error", "-y", *cube, *enc, str(out)],
         }
         t = rounds(subjects, runs)
         m = {k: median_spread(v) for k, v in t.items()}
