@@ -14,10 +14,12 @@ extern "C" {
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <string>
 
 #include "geometry/source_taps.hpp"
+#include "io/video_plugin.hpp"
 #include "job_support.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
@@ -397,6 +399,65 @@ TEST_F(Clips, FramesToImagesAndImagesToAVideo) {
     EXPECT_NE(std::string(e.what()).find("small.png"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(p("mixed.mkv")));
+}
+
+// Files of a folder, by path below it, and their bytes.
+std::map<std::string, std::string> folder_files(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) {
+      std::ifstream f(e.path(), std::ios::binary);
+      files[fs::relative(e.path(), dir).string()] =
+          std::string(std::istreambuf_iterator<char>(f), {});
+    }
+  return files;
+}
+
+TEST_F(Clips, ViewsOfAVideoAreTheViewsOfItsFramesAsImages) {
+  const std::string in = clip("walk.mp4", "-c:v libx264 -crf 12 -pix_fmt yuv420p");
+  // Frames 0, 4 and 8 decoded as RGB (the reader the job uses; its RGB is checked against
+  // ffmpeg's in FramesToImagesAndImagesToAVideo), written losslessly as the job names them.
+  fs::create_directories(p("frames"));
+  std::vector<std::string> images;
+  {
+    auto reader = video_backend("test").open(in, -1, false, {}, true);
+    VideoFrame f;
+    for (int n = 0; reader->read(f); ++n)
+      if (n % 4 == 0) {
+        char name[32];
+        std::snprintf(name, sizeof name, "frames/walk_%06d.png", n / 4);
+        images.push_back(p(name));
+        write_image(f.planes[0], images.back(), {});
+      }
+  }
+  ASSERT_EQ(images.size(), 3u);
+  auto views = [&](std::vector<std::string> inputs, const std::string& out,
+                   std::vector<std::pair<const char*, OptionValue>> more) {
+    std::vector<std::pair<const char*, OptionValue>> args = {
+        {"images", std::move(inputs)},
+        {"out_dir", p(out)},
+        {"size", std::string("48x48")},
+        {"format", std::string("png")},
+        {"rig", std::string("cube+ring:n=3,fov=100,pitch=20")}};
+    for (auto& m : more) args.push_back(m);
+    return test::run_job("views", test::job_args("views", std::move(args)));
+  };
+  const Report r = views({in}, "from_video", {{"every", int64_t{4}}});
+  views(images, "from_images", {});
+  EXPECT_EQ(test::integer(r, "images"), 27);
+  auto a = folder_files(p("from_video")), b = folder_files(p("from_images"));
+  a.erase("panoproj-output.json"), b.erase("panoproj-output.json");  // (they list the inputs)
+  EXPECT_EQ(a.size(), 27u + 6u);  // (images; cameras, images, rigs, frames, points3D, transforms)
+  ASSERT_EQ(a.size(), b.size());
+  for (const auto& [path, bytes] : a) EXPECT_TRUE(b.count(path) && b[path] == bytes) << path;
+  // At most 8 frames a second: frames 0, 3, 6, 9 of 24 a second.
+  EXPECT_EQ(test::integer(views({in}, "fps", {{"fps", std::string("8")}}), "images"), 36);
+  // A video with other inputs, and a video's options for images, are refused; nothing written.
+  EXPECT_THROW(views({in, images[0]}, "mixed", {}), Error);
+  EXPECT_THROW(views(images, "images_start", {{"start", std::string("1")}}), Error);
+  EXPECT_THROW(views({in}, "past_end", {{"start", std::string("9")}}), Error);
+  EXPECT_FALSE(fs::exists(p("mixed")) || fs::exists(p("images_start")) ||
+               fs::exists(p("past_end")));
 }
 
 TEST_F(Clips, Hdr10MetadataIsKept) {

@@ -77,6 +77,11 @@ def views(
     format: Literal['jpg', 'png'] = 'jpg',
     layout: Literal['flat', 'folders'] = 'flat',
     quality: int = 95,
+    stream: Optional[int] = None,
+    start: Optional[str] = None,
+    duration: Optional[str] = None,
+    fps: Optional[str] = None,
+    every: Optional[int] = None,
     overwrite: bool = False,
     client: Any = None,
     **options: Unpack[ViewsOptions],
@@ -94,6 +99,11 @@ def views(
     sequence of mappings with name, yaw, pitch, roll, hfov, vfov, size. ``size``: each view's
     (W, H) unless the rig gives one; default: the source's resolution.
 
+    ``images`` may instead be one video: each frame taken (``start``, ``duration``: a part by
+    time; ``fps`` or ``every``: fewer frames; ``stream``: another video stream) is a panorama
+    named ``{stem}_000000``, ``{stem}_000001`` ... in order (the frames of SfM or splatting from a
+    360 video); a video's views are made in one process.
+
     ``client``: a ``dask.distributed`` Client; each frame is then a task (the workers must see
     the inputs and the output's parent folder at the same paths), with the same bytes as a local
     run. Returns a report: the views (size, focal, world_from_camera), frames, source spec.
@@ -108,6 +118,11 @@ def views(
             'format': format,
             'layout': layout,
             'quality': quality,
+            'stream': stream,
+            'start': start,
+            'duration': duration,
+            'fps': fps,
+            'every': every,
             'overwrite': overwrite,
         },
         options,

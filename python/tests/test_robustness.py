@@ -1747,6 +1747,48 @@ def test_bad_video_inputs_and_parameters(cli, clips, tmp_path, case):
     assert snapshot(tmp_path) == before
 
 
+VIDEO_VIEWS_CASES = [
+    ("garbage", ["garbage.mp4"], [], "not a video libavformat can read"),
+    ("no_video_stream", ["audio.mp4"], [], "it has no video stream"),
+    ("fifo", ["fifo.mp4"], [], "fifo.mp4"),
+    ("video_and_image", ["ok.mp4", "f.exr"], [], "is a video: give it alone"),
+    ("image_and_video", ["f.exr", "ok.mp4"], ["--from", "equirect"], "is a video among images"),
+    ("start_for_an_image", ["f.exr"], ["--from", "equirect", "--start", "1"], "are for a video"),
+    ("past_the_end", ["ok.mp4"], ["--start", "60"], "no frame in the range given"),
+    ("fps_nan", ["ok.mp4"], ["--fps", "nan"], "--fps nan is not a frame rate"),
+    ("stream_out_of_range", ["ok.mp4"], ["--stream", "2"], "--stream 2 is out of range"),
+    ("absurd_view", ["ok.mp4"], ["--size", "70000x70000"], "size: 70000x70000"),
+]
+
+
+@pytest.mark.parametrize("case", VIDEO_VIEWS_CASES, ids=[c[0] for c in VIDEO_VIEWS_CASES])
+def test_bad_video_views(cli, clips, tmp_path, case):
+    _, sources, args, needle = case
+    before = snapshot(tmp_path)
+    r = run(cli, ["views", *[clips[s] for s in sources], "out", *args], tmp_path)
+    expect_refused(r, needle, rss=HOSTILE_RSS)
+    assert snapshot(tmp_path) == before
+
+
+@pytest.mark.parametrize("flag,value", [("--crf", "20"), ("--codec", "hevc"), ("--fps", "2"), ("-g", "5")])
+def test_a_videos_options_for_an_image_are_refused(cli, tmp_path, flag, value):
+    pp.write(str(tmp_path / "pano.png"), np.zeros((32, 64, 3), np.uint8))
+    before = snapshot(tmp_path)
+    r = run(cli, ["convert", "pano.png", "o.png", "--to", "pinhole", flag, value], tmp_path)
+    expect_refused(r, f"{flag if flag != '-g' else '--gop'} is for a video: pano.png is not one")
+    assert snapshot(tmp_path) == before
+
+
+def test_a_videos_views_refuse_a_client(clips, tmp_path):
+    class Client:  # (begin refuses before any task is submitted)
+        def submit(self, *a, **k):
+            raise AssertionError("submitted")
+
+    with pytest.raises(ValueError, match="its views are made in one process"):
+        pp.views(clips["ok.mp4"], str(tmp_path / "out"), client=Client())
+    assert listing(tmp_path) == []
+
+
 def test_a_damaged_video_converts_with_its_concealed_packets_counted(cli, clips, tmp_path):
     data = bytearray(pathlib.Path(clips["ok.mp4"]).read_bytes())
     rng = np.random.default_rng(1)

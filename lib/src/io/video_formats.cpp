@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <fstream>
 
 #include "panoproj/error.hpp"
 
@@ -25,6 +26,18 @@ const VideoContainer* video_container_of(const std::string& path) {
     for (std::string_view e : c.extensions)
       if (e == ext) return &c;
   return nullptr;
+}
+
+bool is_video_file(const std::string& path) {
+  if (video_container_of(path)) return true;
+  // (Only a regular file is sniffed: a FIFO or device is the image path's to refuse, unread.)
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
+  std::ifstream f(path, std::ios::binary);
+  std::string head(512, '\0');
+  f.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(std::max<std::streamsize>(f.gcount(), 0)));
+  return sniffs_as_video(head);
 }
 
 bool sniffs_as_video(const std::string& head) {

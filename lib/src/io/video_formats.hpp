@@ -18,6 +18,9 @@ struct VideoContainer {
 const std::vector<VideoContainer>& video_containers();
 // The container of a path's extension (any case); null if none.
 const VideoContainer* video_container_of(const std::string& path);
+// Whether a path names a video: its extension is a container's, or it is a regular file whose
+// first bytes sniff as one.
+bool is_video_file(const std::string& path);
 // Whether a file's first bytes are a video container's (ISO BMFF with a video brand, Matroska,
 // AVI, MPEG-TS).
 bool sniffs_as_video(const std::string& head);

@@ -27,10 +27,16 @@ std::string level_by_pose(ConversionGeometry& geometry, const std::optional<Phot
   return o.str();
 }
 
-FileSource open_file_source(const std::string& input, const std::optional<std::string>& from, const ConvertOptions& options,
-                            const char* what) {
+FileSource open_file_source(const std::string& input, const std::optional<std::string>& from,
+                            const ConvertOptions& options, const char* what) {
   const ImageInfo info = read_image_info(input);
-  const auto ps = from ? std::nullopt : read_photo_sphere(input);
+  return source_of(info, input, from, from ? std::nullopt : read_photo_sphere(input), options,
+                   what);
+}
+
+FileSource source_of(const ImageInfo& info, const std::string& input,
+                     const std::optional<std::string>& from, const std::optional<PhotoSphere>& ps,
+                     const ConvertOptions& options, const char* what) {
   const ProjectionSpec spec = infer_source_spec(from, input, info.size, ps);
   ConvertOptions o = options;
   o.size = Size{1, 1};  // (the target is replaced per part)

@@ -32,7 +32,11 @@ struct FileSource {
 
 // Reads the header (and Photo Sphere XMP unless `from` is given); `what` names the job in a
 // refusal (e.g. of a stereo source).
-FileSource open_file_source(const std::string& input, const std::optional<std::string>& from, const ConvertOptions& options,
-                            const char* what);
+FileSource open_file_source(const std::string& input, const std::optional<std::string>& from,
+                            const ConvertOptions& options, const char* what);
+// The same of a header already read (a video's frames: info from its stream, no Photo Sphere).
+FileSource source_of(const ImageInfo& info, const std::string& input,
+                     const std::optional<std::string>& from, const std::optional<PhotoSphere>& ps,
+                     const ConvertOptions& options, const char* what);
 
 }  // namespace panoproj

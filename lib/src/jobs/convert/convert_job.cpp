@@ -12,6 +12,7 @@
 #include "jobs/convert/convert_plan.hpp"
 #include "jobs/convert/frame_pipeline.hpp"
 #include "jobs/convert/video_convert.hpp"
+#include "jobs/frame_selection.hpp"
 #include "jobs/list.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
@@ -20,54 +21,69 @@
 namespace panoproj {
 namespace {
 
+// The rows only a video's output takes.
+const std::vector<OptionDef>& encoder_rows() {
+  static const std::vector<OptionDef> rows{
+      {"codec", OptionType::Text, 0, "None",
+       "video: the output's codec (default: h264; vp9 for .webm)", nullptr,
+       "h264|hevc|av1|vp9|ffv1|prores"},
+      {"crf", OptionType::Integer, 0, "None",
+       "video: the encoder's constant quality (default: its own, 23 for h264)"},
+      {"bitrate", OptionType::Text, 0, "None", "video: a bit rate instead of crf, e.g. 8M, 2500k"},
+      {"preset", OptionType::Text, 0, "None",
+       "video: the encoder's preset, e.g. veryfast, medium, slow"},
+      {"gop", OptionType::Integer, 0, "None",
+       "video: frames between keyframes (default: the encoder's)", nullptr, nullptr, "-g,--gop"},
+  };
+  return rows;
+}
+
+// A video's rows given for an image: refused, naming the first.
+void refuse_video_rows(const Arguments& a, const std::string& input) {
+  for (const auto* rows : {&encoder_rows(), &frame_selection_rows()})
+    for (const OptionDef& d : *rows)
+      if (d.type == OptionType::Integer ? a.optional_integer(d.name).has_value()
+                                        : !a.text(d.name).empty()) {
+        const std::string flag = flag_of(d);  // ("-g,--gop": the long one)
+        throw Error(flag.substr(flag.rfind(',') + 1) + " is for a video: " + input + " is not one");
+      }
+}
+
 const std::vector<OptionDef>& rows() {
-  static const std::vector<OptionDef> rows = job_rows(
-      {
-          {"inputs", OptionType::Paths, 0, "None",
-           "IN... OUT: an input image (or a cube-face pattern with {face}/{index}/{axis}) and the "
-           "output; several "
-           "inputs (same size) need an output pattern with {stem} or {n}",
-           nullptr, nullptr, "files", kPositional | kRequired},
-          {"output", OptionType::Path, 0, "None",
-           "the output: a path, a face pattern or a batch pattern", nullptr, nullptr, nullptr,
-           kPositional | kRequired},
-          {"src", OptionType::Text, 0, "None",
-           "source projection spec (default: 2:1 image = equirect; face pattern = "
-           "cubemap:layout=files)",
-           nullptr, nullptr, "from"},
-          {"dst", OptionType::Text, 0, "None", "target projection spec, e.g. fisheye:fov=180",
-           nullptr, nullptr, "to", kRequired},
-      },
-      kUseConvert | kUseFiles,
-      {write_option("depth"),
-       write_option("overwrite"),
-       write_option("quality"),
-       write_option("subsampling"),
-       {"no_metadata", OptionType::Flag, 0, "False",
-        "write no metadata (default: the input's EXIF, ICC profile ..., less orientation, size and "
-        "thumbnail)"},
-       {"stream", OptionType::Integer, 0, "None",
-        "video: the video stream to convert, counted among the video streams from 0 (default: the "
-        "first)"},
-       {"codec", OptionType::Text, 0, "None",
-        "video: the output's codec (default: h264; vp9 for .webm)", nullptr,
-        "h264|hevc|av1|vp9|ffv1|prores"},
-       {"crf", OptionType::Integer, 0, "None",
-        "video: the encoder's constant quality (default: its own, 23 for h264)"},
-       {"bitrate", OptionType::Text, 0, "None", "video: a bit rate instead of crf, e.g. 8M, 2500k"},
-       {"preset", OptionType::Text, 0, "None",
-        "video: the encoder's preset, e.g. veryfast, medium, slow"},
-       {"gop", OptionType::Integer, 0, "None",
-        "video: frames between keyframes (default: the encoder's)", nullptr, nullptr, "-g,--gop"},
-       {"start", OptionType::Text, 0, "None",
-        "video: from this time (seconds or [HH:]MM:SS[.s]; the output's times count from it)"},
-       {"duration", OptionType::Text, 0, "None",
-        "video: this long (seconds or [HH:]MM:SS[.s]; default: to the end)"},
-       {"fps", OptionType::Text, 0, "None",
-        "video: at most this many frames a second, e.g. 2 or 0.5 (frames dropped)"},
-       {"every", OptionType::Integer, 0, "None", "video: every n-th frame (frames dropped)"},
-       command_option("quiet"),
-       command_option("verbose")});
+  static const std::vector<OptionDef> rows = [] {
+    std::vector<OptionDef> r = job_rows(
+        {
+            {"inputs", OptionType::Paths, 0, "None",
+             "IN... OUT: an input image (or a cube-face pattern with {face}/{index}/{axis}) and "
+             "the "
+             "output; several "
+             "inputs (same size) need an output pattern with {stem} or {n}",
+             nullptr, nullptr, "files", kPositional | kRequired},
+            {"output", OptionType::Path, 0, "None",
+             "the output: a path, a face pattern or a batch pattern", nullptr, nullptr, nullptr,
+             kPositional | kRequired},
+            {"src", OptionType::Text, 0, "None",
+             "source projection spec (default: 2:1 image = equirect; face pattern = "
+             "cubemap:layout=files)",
+             nullptr, nullptr, "from"},
+            {"dst", OptionType::Text, 0, "None", "target projection spec, e.g. fisheye:fov=180",
+             nullptr, nullptr, "to", kRequired},
+        },
+        kUseConvert | kUseFiles,
+        {write_option("depth"),
+         write_option("overwrite"),
+         write_option("quality"),
+         write_option("subsampling"),
+         {"no_metadata", OptionType::Flag, 0, "False",
+          "write no metadata (default: the input's EXIF, ICC profile ..., less orientation, size "
+          "and "
+          "thumbnail)"},
+         command_option("quiet"),
+         command_option("verbose")});
+    for (const auto* video : {&encoder_rows(), &frame_selection_rows()})
+      r.insert(r.end() - 2, video->begin(), video->end());
+    return r;
+  }();
   return rows;
 }
 
@@ -342,22 +358,12 @@ VideoRequest video_request_of(const Arguments& a) {
   VideoRequest r;
   r.files = request_of(a);
   r.files.write.threads = r.files.options.threads;
-  r.stream =
-      static_cast<int>(std::clamp<int64_t>(a.optional_integer("stream").value_or(-1), -1, 1 << 20));
-  if (const auto s = a.optional_integer("stream"); s && *s < 0)
-    throw Error("--stream " + std::to_string(*s) +
-                " is out of range (0 for the first video stream)");
+  r.frames = frame_selection_of(a);
   r.codec = a.text("codec");
   r.crf = a.optional_integer("crf");
   r.bitrate = a.text("bitrate");
   r.preset = a.text("preset");
   r.gop = a.optional_integer("gop").value_or(0);
-  r.start = a.text("start");
-  r.duration = a.text("duration");
-  r.fps = a.text("fps");
-  r.every = a.optional_integer("every").value_or(0);
-  if (const auto e = a.optional_integer("every"); e && *e < 1)
-    throw Error("--every " + std::to_string(*e) + " is out of range (1 to 1000000)");
   return r;
 }
 
@@ -365,6 +371,7 @@ Report run(const Arguments& args, const JobEvents& events) {
   const std::vector<std::string> inputs = args.paths("inputs");
   if (!inputs.empty() && is_video_job(inputs[0], args.text("output")))
     return convert_video(video_request_of(args), events);
+  if (!inputs.empty()) refuse_video_rows(args, inputs[0]);
   ConvertPlan plan = plan_convert(request_of(args));
   FrameRunner runner(plan, events);
   return {{"frames", {runner.run()}},

@@ -6,8 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 
 #include "base/input_check.hpp"
 #include "io/atomic_output.hpp"
@@ -73,30 +71,6 @@ int64_t parse_bitrate(const std::string& text) {
   return static_cast<int64_t>(v * scale);
 }
 
-// "12.5", "1:02.5", "01:02:03" in seconds; throws Error naming the option.
-double parse_time(const std::string& text, const char* option) {
-  double total = 0;
-  size_t at = 0;
-  int parts = 0;
-  bool ok = !text.empty();
-  while (ok && at <= text.size()) {
-    const size_t colon = text.find(':', at);
-    const std::string part =
-        text.substr(at, colon == std::string::npos ? std::string::npos : colon - at);
-    char* end = nullptr;
-    const double v = std::strtod(part.c_str(), &end);
-    ok = !part.empty() && end && *end == '\0' && std::isfinite(v) && v >= 0 && ++parts <= 3 &&
-         (colon == std::string::npos || v == std::floor(v));
-    total = total * 60 + v;
-    if (colon == std::string::npos) break;
-    at = colon + 1;
-  }
-  if (!ok || total > 1e9)
-    throw Error(std::string(option) + " " + text +
-                " is not a time (seconds, e.g. 12.5, or [HH:]MM:SS[.s])");
-  return total;
-}
-
 // One plane's conversion: its Converter and the pixels it leaves without a source.
 struct PlaneMap {
   const Converter* converter = nullptr;
@@ -119,10 +93,11 @@ class VideoJob {
     if (!from_images_) (void)read_head(input, 16, "input", "a video file");
     VideoBackend* vb = from_images_ && to_images_ ? nullptr : &video_backend("reading " + input);
     check_paths(vb);
-    reader_ = from_images_ ? image_list_reader(r_.files.inputs, fps_ > 0 ? fps_ : 25)
-                           : vb->open(input, r_.stream, !to_images_, range_, to_images_);
-    if (from_images_) fps_ = 0;  // (the images' rate, every one taken)
+    reader_ = from_images_ ? image_list_reader(r_.files.inputs, sel_.fps > 0 ? sel_.fps : 25)
+                           : vb->open(input, sel_.stream, !to_images_, sel_.range, to_images_);
+    if (from_images_) sel_.fps = 0;  // (the images' rate, every one taken)
     const VideoInfo& info = reader_->info();
+    picker_.emplace(sel_, info);
     px_ = info.pixels;
     plan_geometry(info);
     const auto t0 = Clock::now();
@@ -161,12 +136,13 @@ class VideoJob {
   void require_frames() const {
     if (frames_ > 0) return;
     const std::string& input = r_.files.inputs[0];
-    if (range_.start > 0 || !std::isinf(range_.end))
+    const VideoRange& range = sel_.range;
+    if (range.start > 0 || !std::isinf(range.end))
       throw Error(
           "cannot read " + input + ": it has no frame from " +
-              std::to_string(range_.start).substr(0, 6) + " s" +
-              (std::isinf(range_.end) ? ""
-                                      : " to " + std::to_string(range_.end).substr(0, 6) + " s") +
+              std::to_string(range.start).substr(0, 6) + " s" +
+              (std::isinf(range.end) ? ""
+                                     : " to " + std::to_string(range.end).substr(0, 6) + " s") +
               " (it lasts " + std::to_string(reader_->info().duration).substr(0, 6) + " s)",
           ErrorKind::File);
     throw Error("cannot read " + input + ": no frame could be decoded", ErrorKind::File);
@@ -182,19 +158,15 @@ class VideoJob {
     const double tb = static_cast<double>(info.time_base[0]) / info.time_base[1];
     const double rate =
         info.frame_rate[1] > 0 ? static_cast<double>(info.frame_rate[0]) / info.frame_rate[1] : 0;
-    // (The spacing of the frames taken; the times of the range.)
-    const double step = fps_ > 0   ? 1 / fps_
-                        : rate > 0 ? static_cast<double>(std::max<int64_t>(r_.every, 1)) / rate
-                                   : 0;
-    const double covered = range_.start + static_cast<double>(last_pts_) * tb + step;
-    const bool whole = range_.start == 0 && std::isinf(range_.end) && fps_ == 0 && r_.every <= 1;
-    if (whole && info.frames > 0 && frames_ < info.frames)
+    const double step = sel_.step(rate);
+    const double covered = sel_.range.start + static_cast<double>(last_pts_) * tb + step;
+    if (sel_.whole() && info.frames > 0 && frames_ < info.frames)
       warn(input + ": " + std::to_string(frames_) + " of its " + std::to_string(info.frames) +
            " frames decoded (the file is damaged)");
-    else if (step > 0 && std::min(info.duration, range_.end) > covered + 2 * step)
+    else if (step > 0 && std::min(info.duration, sel_.range.end) > covered + 2 * step)
       warn(input + " ended early: " + std::to_string(frames_) + " frames decoded, up to " +
            std::to_string(covered).substr(0, 5) + " s of " +
-           std::to_string(std::min(info.duration, range_.end)).substr(0, 5) +
+           std::to_string(std::min(info.duration, sel_.range.end)).substr(0, 5) +
            " s (the file is cut short or damaged)");
     return report(info);
   }
@@ -258,21 +230,6 @@ class VideoJob {
       throw Error("--crf " + std::to_string(*r_.crf) + " is out of range (0 to 63)");
     if (r_.gop < 0 || r_.gop > 100000)
       throw Error("--gop " + std::to_string(r_.gop) + " is out of range (0 to 100000)");
-    if (!r_.start.empty()) range_.start = parse_time(r_.start, "--start");
-    if (!r_.duration.empty()) {
-      const double d = parse_time(r_.duration, "--duration");
-      if (d <= 0) throw Error("--duration " + r_.duration + " is empty (give a time over 0)");
-      range_.end = range_.start + d;
-    }
-    if (r_.every < 0 || r_.every > 1000000)
-      throw Error("--every " + std::to_string(r_.every) + " is out of range (1 to 1000000)");
-    if (!r_.fps.empty()) {
-      char* end = nullptr;
-      fps_ = std::strtod(r_.fps.c_str(), &end);
-      if (!end || *end || !std::isfinite(fps_) || fps_ <= 0 || fps_ > 1000)
-        throw Error("--fps " + r_.fps + " is not a frame rate (over 0, up to 1000)");
-      if (r_.every > 0) throw Error("--fps and --every both pick frames: give one");
-    }
     if (r_.files.options.engine == Engine::Reference)
       throw Error("a video needs the simd or scalar engine (--engine)");
   }
@@ -405,9 +362,9 @@ class VideoJob {
     s.pixels = px_;
     s.time_base[0] = info.time_base[0], s.time_base[1] = info.time_base[1];
     s.frame_rate[0] = info.frame_rate[0], s.frame_rate[1] = info.frame_rate[1];
-    if (r_.every > 1 && info.frame_rate[0] > 0) s.frame_rate[1] *= static_cast<int>(r_.every);
-    if (fps_ > 0)
-      s.frame_rate[0] = static_cast<int>(std::llround(fps_ * 1000)), s.frame_rate[1] = 1000;
+    if (sel_.every > 1 && info.frame_rate[0] > 0) s.frame_rate[1] *= static_cast<int>(sel_.every);
+    if (sel_.fps > 0)
+      s.frame_rate[0] = static_cast<int>(std::llround(sel_.fps * 1000)), s.frame_rate[1] = 1000;
     s.crf = r_.crf ? static_cast<int>(*r_.crf) : -1;
     s.bitrate = bitrate_;
     s.preset = r_.preset;
@@ -436,12 +393,12 @@ class VideoJob {
 
   void run_frames(VideoWriter& writer) {
     std::array<VideoFrame, 2> in, out;
-    const double expected = expected_frames();
+    const double expected = sel_.expected(reader_->info());
     FrameStages stages;
     stages.read = [&](size_t i) {
       const auto t0 = Clock::now();
       bool more = reader_->read(in[i % 2]);
-      while (more && !picked(in[i % 2])) more = reader_->read(in[i % 2]);
+      while (more && !picker_->take(in[i % 2].pts)) more = reader_->read(in[i % 2]);
       decode_seconds_ += since(t0);
       return more;
     };
@@ -475,32 +432,6 @@ class VideoJob {
       }
     };
     run_frame_pipeline(kUnknownFrames, 1, stages);
-  }
-
-  // The frames the job will write, as far as the container tells (0: unknown): for progress.
-  double expected_frames() const {
-    const VideoInfo& info = reader_->info();
-    const bool whole = range_.start == 0 && std::isinf(range_.end) && fps_ == 0 && r_.every <= 1;
-    if (whole && info.frames > 0) return static_cast<double>(info.frames);
-    const double rate =
-        info.frame_rate[1] > 0 ? static_cast<double>(info.frame_rate[0]) / info.frame_rate[1] : 0;
-    const double span = std::min(info.duration, range_.end) - range_.start;
-    const double taken = fps_ > 0 ? std::min(fps_, rate)
-                                  : rate / static_cast<double>(std::max<int64_t>(r_.every, 1));
-    return std::max(0.0, span * taken);
-  }
-
-  // Whether a frame read is taken: every n-th (--every), or the first at or past each 1 / fps
-  // (--fps: the next one due then counted from it, so that a late frame does not crowd the next).
-  bool picked(const VideoFrame& f) {
-    const int64_t k = read_++;
-    if (r_.every > 1) return k % r_.every == 0;
-    if (fps_ <= 0) return true;
-    const VideoInfo& info = reader_->info();
-    const double t = static_cast<double>(f.pts) * info.time_base[0] / info.time_base[1];
-    if (k > 0 && t < due_ - 1e-9) return false;
-    due_ = std::max(due_ + 1 / fps_, t + 0.5 / fps_);
-    return true;
   }
 
   std::string input_text() const {
@@ -559,24 +490,15 @@ class VideoJob {
   std::optional<Converter> luma_converter_, chroma_converter_;
   std::array<PlaneMap, 4> planes_;
   int64_t frames_ = 0, last_pts_ = 0;
-  VideoRange range_;
-  double fps_ = 0, due_ = 0;  // --fps; the time the next picked frame is due
-  int64_t read_ = 0;          // frames read (picked or not)
+  FrameSelection sel_ = r_.frames;  // (fps cleared for images to a video: their rate)
+  std::optional<FramePicker> picker_;
   double seconds_ = 0, decode_seconds_ = 0, convert_seconds_ = 0, encode_seconds_ = 0;
 };
 
 }  // namespace
 
 bool is_video_job(const std::string& input, const std::string& output) {
-  if (video_container_of(input) || video_container_of(output)) return true;
-  // (Only a regular file is sniffed: a FIFO or device is the image path's to refuse, unread.)
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(input, ec)) return false;
-  std::ifstream f(input, std::ios::binary);
-  std::string head(512, '\0');
-  f.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<size_t>(std::max<std::streamsize>(f.gcount(), 0)));
-  return sniffs_as_video(head);
+  return is_video_file(input) || video_container_of(output);
 }
 
 Report convert_video(const VideoRequest& request, const JobEvents& events, VideoWriter* sink) {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "jobs/convert/convert_plan.hpp"
+#include "jobs/frame_selection.hpp"
 #include "panoproj/jobs.hpp"
 
 namespace panoproj {
@@ -31,16 +32,13 @@ struct VideoRequest {
   // make one; output a video, or a pattern with {n} for the frames as images; write: overwrite,
   // and for images their quality and depth.
   ConvertRequest files;
-  int stream = -1;              // among the video streams; -1: the first
-  std::string codec;            // "" : the container's default
-  std::optional<int64_t> crf;   // the encoder's default if none
-  std::string bitrate;          // "8M", "2500k", "" : by crf
-  std::string preset;           // "" : the encoder's default
-  int64_t gop = 0;              // 0: the encoder's default
-  std::string start, duration;  // "" : the whole clip; else seconds or [[HH:]MM:]SS[.s]
-  std::string fps;              // "" : every frame; else at most this many a second (images
-                                // to a video: their rate, default 25)
-  int64_t every = 0;            // 0: every frame; else every n-th
+  FrameSelection frames;       // the stream and its frames taken (images to a video: fps
+                               // their rate, default 25)
+  std::string codec;           // "" : the container's default
+  std::optional<int64_t> crf;  // the encoder's default if none
+  std::string bitrate;         // "8M", "2500k", "" : by crf
+  std::string preset;          // "" : the encoder's default
+  int64_t gop = 0;             // 0: the encoder's default
 };
 
 // Whether a convert with these paths is a video's: the input's extension or first bytes are a
