@@ -1692,6 +1692,20 @@ def clips(tmp_path_factory):
     (d / "empty.mp4").write_bytes(b"")
     os.mkfifo(d / "fifo.mp4")
     pp.write(str(d / "f.exr"), np.zeros((32, 64, 3), np.float32))
+    # Headers that lie: raw frames said to be 65535x255 (the packets hold 256x128), 2^31 - 1
+    # samples in MP4's sample table, the durations of every MP4 box at 2^32 - 1 ticks.
+    ffmpeg(*pattern, "-frames:v", "3", "-c:v", "rawvideo", "-pix_fmt", "yuv420p", "raw.mkv")
+    raw = bytearray((d / "raw.mkv").read_bytes())
+    w, h = raw.find(b"\xb0\x82\x01\x00"), raw.find(b"\xba\x81\x80")
+    raw[w:w + 4], raw[h:h + 3] = b"\xb0\x82\xff\xff", b"\xba\x81\xff"
+    (d / "huge_frames.mkv").write_bytes(bytes(raw))
+    stsz = mp4.find(b"stsz")
+    (d / "absurd_count.mp4").write_bytes(mp4[:stsz + 12] + (2**31 - 1).to_bytes(4, "big") + mp4[stsz + 16:])
+    long = bytearray(mp4)
+    for box, at in ((b"mvhd", 20), (b"tkhd", 24), (b"mdhd", 20)):  # (version 0: its duration's offset)
+        k = long.find(box)
+        long[k + at:k + at + 4] = b"\xff\xff\xff\xff"
+    (d / "absurd_duration.mp4").write_bytes(bytes(long))
     files = {p.name: str(p) for p in d.iterdir()}
     files["missing.mp4"] = str(d / "missing.mp4")
     return files
@@ -1706,6 +1720,9 @@ VIDEO_CASES = [
     ("garbage", "garbage.mp4", "o.mp4", [], "not a video libavformat can read"),
     ("empty", "empty.mp4", "o.mp4", [], "empty.mp4"),
     ("absurd_size", "ok.mp4", "o.mp4", ["--size", "200000x100000"], "over the memory limit"),
+    ("header_says_huge_frames", "huge_frames.mkv", "o.mp4", ["--from", "pinhole:hfov=170", "--size", "512x256"],
+     "huge_frames.mkv: decoding a packet"),
+    ("absurd_frame_count", "absurd_count.mp4", "o.mp4", [], "not a video libavformat can read"),
     ("size_the_encoder_refuses", "ok.mp4", "o.mp4", ["--size", "30000x15000"], "refuses these settings"),
     ("no_muxer", "ok.mp4", "o.xyz", [], "o.xyz is not a video container's"),
     ("image_without_n", "ok.mp4", "o.png", [], "images of a video's frames need {n} in it"),
@@ -1800,6 +1817,13 @@ def test_a_damaged_video_converts_with_its_concealed_packets_counted(cli, clips,
     assert re.search(r"damaged.mp4: \d+ corrupt packets or frames concealed", r.err), r.err
     assert (tmp_path / "o.mp4").stat().st_size > 0
     assert listing(tmp_path) == ["damaged.mp4", "o.mp4"]
+
+
+def test_a_clip_that_says_it_lasts_a_century_converts_its_frames_in_bounded_time(cli, clips, tmp_path):
+    r = run(cli, ["convert", clips["absurd_duration.mp4"], "o.mp4", "--to", "equirect"], tmp_path)
+    assert r.code == 0, r.err
+    assert ": 12 frames in" in r.out, r.out
+    assert listing(tmp_path) == ["o.mp4"]
 
 
 def test_a_video_output_is_not_overwritten_without_overwrite(cli, clips, tmp_path):

@@ -14,6 +14,9 @@
 //                                  hfov (or fov), vfov, size (WxH) or width/height; block or flow
 //                                  style, optionally under a top key "views:"; the same YAML
 //                                  inline (text starting "- " or "views:")
+// A video instead of panoramas: each frame taken (jobs/frame_selection.hpp) is a panorama named
+// {stem}_NNNNNN (its number among those taken, from 0), decoded as RGB one at a time; not staged
+// (its frames are read in order by one process).
 // Sizes: a view's own size, else the job's size, else the source's resolution at its centre
 // (focal = pixels per radian there). The focal follows from the width and hfov; the height from
 // vfov unless given.
