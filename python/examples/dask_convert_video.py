@@ -18,12 +18,15 @@ import os
 import pathlib
 import shutil
 import subprocess
+import sysconfig
 import tempfile
 
 
 def panoproj_command():
-    """The panoproj command: $PANOPROJ_CLI, else the one on PATH."""
-    cli = os.environ.get("PANOPROJ_CLI") or shutil.which("panoproj")
+    """The panoproj command: $PANOPROJ_CLI, else the one pip installed with this Python's
+    panoproj (its environment's scripts, active or not), else the one on PATH."""
+    beside = pathlib.Path(sysconfig.get_path("scripts")) / "panoproj"
+    cli = os.environ.get("PANOPROJ_CLI") or (str(beside) if beside.is_file() else shutil.which("panoproj"))
     if not cli:
         raise FileNotFoundError("the panoproj command is not on PATH (pip install panoproj)")
     return cli
