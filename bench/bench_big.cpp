@@ -41,9 +41,9 @@ double convert_in_child(const Arguments& job) {
   const pid_t pid = fork();
   if (pid == 0) {
     try {
-      job_named("convert").run(job, {.progress = {}, .line = [](const std::string& line) {
-                                       std::printf("  %s\n", line.c_str());
-                                     }});
+      JobEvents events;
+      events.line = [](const std::string& line) { std::printf("  %s\n", line.c_str()); };
+      job_named("convert").run(job, events);
       std::fflush(stdout);
       _exit(0);
     } catch (const std::exception& e) {
