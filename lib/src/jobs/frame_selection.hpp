@@ -34,14 +34,20 @@ FrameSelection frame_selection_of(const Arguments& a);
 // Whether any of the rows was given other than its default (an image job refuses them).
 bool frame_selection_given(const FrameSelection& s);
 
-// Takes or drops each frame read, in presentation order.
+// Reads a stream's frames, in presentation order, passing over those not taken.
 class FramePicker {
  public:
   FramePicker(const FrameSelection& selection, const VideoInfo& info)
       : s_(selection), tb_(static_cast<double>(info.time_base[0]) / info.time_base[1]) {}
-  bool take(int64_t pts);
+  // The next frame taken of reader's into f; false at the end.
+  bool next(VideoReader& reader, VideoFrame& f) {
+    while (reader.read(f))
+      if (take(f.pts)) return true;
+    return false;
+  }
 
  private:
+  bool take(int64_t pts);
   FrameSelection s_;
   double tb_;
   int64_t read_ = 0;  // frames read (taken or not)

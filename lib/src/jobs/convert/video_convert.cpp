@@ -397,8 +397,7 @@ class VideoJob {
     FrameStages stages;
     stages.read = [&](size_t i) {
       const auto t0 = Clock::now();
-      bool more = reader_->read(in[i % 2]);
-      while (more && !picker_->take(in[i % 2].pts)) more = reader_->read(in[i % 2]);
+      const bool more = picker_->next(*reader_, in[i % 2]);
       decode_seconds_ += since(t0);
       return more;
     };

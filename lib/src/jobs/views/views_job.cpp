@@ -119,11 +119,7 @@ class VideoPanoramas {
   }
   const Frame& frame() const { return frame_; }
   // The next frame taken into f; false at the end.
-  bool next(VideoFrame& f) {
-    while (reader_->read(f))
-      if (picker_->take(f.pts)) return true;
-    return false;
-  }
+  bool next(VideoFrame& f) { return picker_->next(*reader_, f); }
   double expected() const { return job_.frames.expected(reader_->info()); }
   int64_t concealed() const { return reader_->concealed(); }
 
