@@ -82,19 +82,19 @@ def median_spread(v):
 def filter_throughput(frames, runs, only):
     c, d = clip(frames), dual_clip(frames)
     cases = [
-        ("cube 3x2", c, "cubemap:layout=3x2", "3072x2048", "v360=e:c3x2:interp=cubic:w=3072:h=2048"),
-        ("EAC", c, "cubemap:layout=eac", "3072x2048", "v360=e:eac:interp=cubic:w=3072:h=2048"),
-        ("pinhole 90", c, "pinhole:hfov=90", "1920x1080",
+        ("cube 3x2", c, "equirect", "cubemap:layout=3x2", "3072x2048", "v360=e:c3x2:interp=cubic:w=3072:h=2048"),
+        ("EAC", c, "equirect", "cubemap:layout=eac", "3072x2048", "v360=e:eac:interp=cubic:w=3072:h=2048"),
+        ("pinhole 90", c, "equirect", "pinhole:hfov=90", "1920x1080",
          "v360=e:flat:interp=cubic:w=1920:h=1080:h_fov=90:v_fov=58.7155"),
-        ("dual fisheye -> equirect", d, "equirect", "4096x2048",
+        ("dual fisheye -> equirect", d, "dual-fisheye:fov=200", "equirect", "4096x2048",
          "v360=dfisheye:e:ih_fov=200:iv_fov=200:interp=cubic:w=4096:h=2048"),
     ]
     print(f"\n== filter throughput: decode + convert, no encoder ({frames} frames, {runs} runs, fps median [min-max])")
-    for name, src, to, size, v360 in cases:
+    for name, src, frm, to, size, v360 in cases:
         if only and not any(o in name for o in only):
             continue
-        subjects = {
-            "panoproj": [str(THROUGHPUT), str(src), to, "--size", size],
+        subjects = {  # (--from always: a dual fisheye's 2:1 frame would be taken for an equirect)
+            "panoproj": [str(THROUGHPUT), str(src), to, "--size", size, "--from", frm],
             "v360": ["ffmpeg", "-v", "error", "-i", str(src), "-vf", v360, "-f", "null", "-"],
         }
         t = rounds(subjects, runs)

@@ -1,6 +1,7 @@
 // A video's decode and convert alone (no encoder, no output): the convert job's pipeline with its
 // frames handed to a sink, for scripts/bench.sh video against ffmpeg's v360 to a null output.
-// Usage: video_throughput IN.mp4 TO_SPEC [--size WxH] [--interp NAME]; prints the report's line.
+// Usage: video_throughput IN.mp4 TO_SPEC [--size WxH] [--interp NAME] [--from SPEC]; prints the
+// report's line.
 #include <cstdio>
 #include <string>
 
@@ -24,7 +25,8 @@ class Sink final : public panoproj::VideoWriter {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: video_throughput IN TO_SPEC [--size WxH] [--interp NAME]\n");
+    std::fprintf(stderr,
+                 "usage: video_throughput IN TO_SPEC [--size WxH] [--interp NAME] [--from SPEC]\n");
     return 2;
   }
   try {
@@ -38,6 +40,11 @@ int main(int argc, char** argv) {
             panoproj::Size{std::stoll(v.substr(0, x)), std::stoll(v.substr(x + 1))};
       } else if (k == "--interp") {
         r.files.options.interp = panoproj::parse_interp(v);
+      } else if (k == "--from") {
+        r.files.from = v;
+      } else {
+        std::fprintf(stderr, "video_throughput: unknown option %s\n", k.c_str());
+        return 2;
       }
     }
     panoproj::JobEvents events;

@@ -246,8 +246,9 @@ namespace panoproj {
 namespace {
 
 TEST(DualFisheye, KeptLensMapsAndTapsGiveTheSameBytes) {
-  // Each lens keeps its maps (sited chroma planes: no fused tiles) or its planned taps; later runs
-  // replay them, as the frames of a video do, to the bytes of a converter that keeps nothing.
+  // Each lens keeps its maps (sited chroma planes: no fused tiles) or its planned taps, and each
+  // tile its blend of the lenses; later runs replay them, as the frames of a video do, to the
+  // bytes of a converter that keeps nothing.
   // (Tiles inside one lens and tiles across both.)
   const Projection d = make_projection(parse_spec("dual-fisheye:fov=200"), {512, 256});
   const Projection e = make_projection(parse_spec("equirect"), {640, 320});
@@ -268,6 +269,65 @@ TEST(DualFisheye, KeptLensMapsAndTapsGiveTheSameBytes) {
         }
       }
     }
+}
+
+}  // namespace
+}  // namespace panoproj
+
+namespace panoproj {
+namespace {
+
+TEST(DualFisheye, OneChannelBlendsAsEachChannelOfThree) {
+  // The one-channel integer blend (a video's planes) has a loop of its own: each sample is
+  // w a + (1 - w) b rounded, as each channel of a three-channel blend is, the lenses' own
+  // samples where w is 0 or 1.
+  const PixelRect rect{0, 0, 37, 5};
+  const int64_t n = rect.width() * rect.height();
+  std::vector<float> w(static_cast<size_t>(n));
+  std::vector<uint16_t> a(static_cast<size_t>(n)), b(static_cast<size_t>(n));
+  uint32_t seed = 7;
+  auto next = [&] { return seed = seed * 1664525u + 1013904223u, seed >> 8; };
+  for (int64_t i = 0; i < n; ++i) {
+    const uint32_t k = next() % 8;
+    w[static_cast<size_t>(i)] = k == 0   ? 0.0f
+                                : k == 1 ? 1.0f
+                                         : static_cast<float>(next() % 65536) / 65536.0f;
+    a[static_cast<size_t>(i)] = static_cast<uint16_t>(next() % 65536);
+    b[static_cast<size_t>(i)] = static_cast<uint16_t>(next() % 65536);
+  }
+  for (const PixelType type : {PixelType::U8, PixelType::U16}) {
+    SCOPED_TRACE(name_of(type));
+    const int bytes = type == PixelType::U8 ? 1 : 2;
+    auto fill = [&](const std::vector<uint16_t>& v, int nc) {
+      std::vector<unsigned char> im(static_cast<size_t>(n * nc * bytes));
+      for (int64_t i = 0; i < n; ++i)
+        for (int c = 0; c < nc; ++c) {
+          const uint16_t s = bytes == 1 ? static_cast<uint16_t>(v[static_cast<size_t>(i)] >> 8)
+                                        : v[static_cast<size_t>(i)];
+          std::memcpy(im.data() + (i * nc + c) * bytes, &s, static_cast<size_t>(bytes));
+        }
+      return im;
+    };
+    std::vector<unsigned char> a1 = fill(a, 1), b1 = fill(b, 1), a3 = fill(a, 3), b3 = fill(b, 3);
+    blend_lenses(w.data(), rect, type, 1, -1, a1.data(), rect.width() * bytes, b1.data(),
+                 rect.width() * bytes);
+    blend_lenses(w.data(), rect, type, 3, -1, a3.data(), 3 * rect.width() * bytes, b3.data(),
+                 3 * rect.width() * bytes);
+    const std::vector<unsigned char> b0 = fill(b, 1), a0 = fill(a, 1);
+    for (int64_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) {
+        uint16_t one = 0, three = 0;
+        std::memcpy(&one, a1.data() + i * bytes, static_cast<size_t>(bytes));
+        std::memcpy(&three, a3.data() + (i * 3 + c) * bytes, static_cast<size_t>(bytes));
+        ASSERT_EQ(one, three) << "sample " << i << " channel " << c << " w "
+                              << w[static_cast<size_t>(i)];
+        const float wi = w[static_cast<size_t>(i)];
+        if (wi == 0.0f || wi == 1.0f) {
+          ASSERT_EQ(0, std::memcmp(a1.data() + i * bytes, (wi == 0.0f ? b0 : a0).data() + i * bytes,
+                                   static_cast<size_t>(bytes)));
+        }
+      }
+  }
 }
 
 }  // namespace

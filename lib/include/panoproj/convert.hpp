@@ -59,7 +59,7 @@ struct ConversionGeometry {
 };
 
 // The most bytes a Converter of this geometry keeps per output pixel (kCachedMapBytesPerPixel; a
-// dual-fisheye source's two lenses, twice that).
+// dual-fisheye source's two lenses, twice that, and 4 for their blend's weight).
 int kept_bytes_per_pixel(const ConversionGeometry& geometry);
 
 struct EngineStats {
@@ -80,7 +80,8 @@ enum class Keep {
   Nothing,
   // The tile maps of the tiles that are not fused, built on first use: batches and video frames
   // pay for that geometry once. Fused tiles recompute theirs: in registers it costs less than
-  // reading a stored map. With auto antialiasing, also each tile's footprint measure.
+  // reading a stored map. With auto antialiasing, also each tile's footprint measure; from a dual
+  // fisheye, each tile's blend of its lenses.
   Maps,
   // Also the taps each fused tile plans on the run that first samples it (8 bytes a pixel for
   // uint8 bilinear without alpha, else 12; not tiles on sub-pixels or mip levels): later runs on

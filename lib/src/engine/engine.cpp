@@ -87,6 +87,8 @@ struct Converter::Impl {
   mutable std::optional<SimdSource> planned_layout_;  // the source layout planned_ holds taps for
   mutable std::unique_ptr<std::atomic<int64_t>[]> rows_kept_;  // rows_read per tile (-1: not yet), with cache_
   mutable std::unique_ptr<KeptFootprint[]> footprints_;  // one per tile (auto antialiasing), with cache_
+  mutable std::unique_ptr<KeptBlend[]>
+      blends_;  // one per tile (a dual-fisheye source), with cache_
 
   void build_cache() const;
   // planned_ where src's taps may be kept (keeps_taps) and src has the layout of the first
@@ -202,7 +204,9 @@ int Converter::Impl::parts() const {
 }
 
 int kept_bytes_per_pixel(const ConversionGeometry& g) {
-  return static_cast<int>(kCachedMapBytesPerPixel) * (sampling_facts(g.source).dual ? 2 : 1);
+  // (A dual fisheye's: a map or taps per lens, and lens 0's weight.)
+  return sampling_facts(g.source).dual ? 2 * static_cast<int>(kCachedMapBytesPerPixel) + 4
+                                       : static_cast<int>(kCachedMapBytesPerPixel);
 }
 
 void Converter::Impl::build_cache() const {
@@ -230,6 +234,7 @@ void Converter::Impl::build_cache() const {
   rows_kept_ = std::make_unique<std::atomic<int64_t>[]>(static_cast<size_t>(tile_count()));
   for (int64_t t = 0; t < tile_count(); ++t) rows_kept_[static_cast<size_t>(t)].store(-1, std::memory_order_relaxed);
   if (antialias_.mode == Antialias::Mode::Auto) footprints_ = std::make_unique<KeptFootprint[]>(static_cast<size_t>(tile_count()));
+  if (!lenses_.empty()) blends_ = std::make_unique<KeptBlend[]>(static_cast<size_t>(tile_count()));
 }
 
 PlannedTaps* Converter::Impl::planned_for(const Image& src, const SourceTaps& taps) const {
@@ -250,6 +255,7 @@ const TileMap* Converter::Impl::cached(int64_t t, int k) const {
 KeptTile Converter::Impl::kept(int64_t t, PlannedTaps* planned) const {
   KeptTile k;
   k.footprint = footprints_ ? &footprints_[t] : nullptr;
+  k.blend = blends_ ? &blends_[t] : nullptr;
   for (int p = 0; p < parts(); ++p) {
     k.maps[p] = cached(t, p);
     k.taps[p] = planned ? &planned[t * parts() + p] : nullptr;

@@ -140,7 +140,15 @@ void TileSampling::rect(const Projection& t, const PixelRect& rect, const KeptTi
                         unsigned char* out, int64_t stride, TileScratch& wk,
                         const FootprintField* fp) const {
   if (lenses_.empty()) return from(source_, rotation_, t, rect, kept, out, stride, wk, fp);
-  const int side = dual_weights(*taps_.facts().dual, t, rotation_, rect, wk.weights);
+  KeptBlend* const b = kept.blend;
+  const bool known = b && b->ready();
+  const int side =
+      known ? b->side : dual_weights(*taps_.facts().dual, t, rotation_, rect, wk.weights);
+  if (!known && b && b->claim()) {
+    b->side = side;
+    if (side < 0) b->weights = wk.weights;
+    b->publish();
+  }
   if (side >= 0) {
     const LensSource& l = lenses_[static_cast<size_t>(side)];
     return from(l.lens, l.rotation, t, rect, kept.part(side), out, stride, wk, fp);
@@ -150,8 +158,8 @@ void TileSampling::rect(const Projection& t, const PixelRect& rect, const KeptTi
   from(lenses_[0].lens, lenses_[0].rotation, t, rect, kept.part(0), out, stride, wk, fp);
   from(lenses_[1].lens, lenses_[1].rotation, t, rect, kept.part(1), wk.other.data(),
        rect.width() * pb, wk, fp);
-  blend_lenses(wk.weights.data(), rect, src_.type(), src_.channels(), src_.alpha_channel(), out,
-               stride, wk.other.data(), rect.width() * pb);
+  blend_lenses(known ? b->weights.data() : wk.weights.data(), rect, src_.type(), src_.channels(),
+               src_.alpha_channel(), out, stride, wk.other.data(), rect.width() * pb);
 }
 
 }  // namespace panoproj

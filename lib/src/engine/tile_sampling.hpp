@@ -29,16 +29,27 @@ struct KeptFootprint : KeptOnce {
   int n = 0;
 };
 
+// A dual fisheye's blend over a tile (dual_weights, dual_blend.hpp), which the geometry alone sets:
+// the lens that sees every pixel (0 or 1), or -1 and lens 0's weights.
+struct KeptBlend : KeptOnce {
+  int side = -1;
+  std::vector<float> weights;
+};
+
 // What a Converter keeps of one tile for its later runs (Keep, convert.hpp): its map (a tile not
 // fused), or the taps it plans (a fused one, where they fit the source: planned_taps.hpp), one
-// each per lens of a dual-fisheye source (else [0]); with auto antialiasing its footprint measure.
+// each per lens of a dual-fisheye source (else [0]), and then its blend; with auto antialiasing
+// its footprint measure.
 struct KeptTile {
   const TileMap* maps[2] = {nullptr, nullptr};
   PlannedTaps* taps[2] = {nullptr, nullptr};
   KeptFootprint* footprint = nullptr;
+  KeptBlend* blend = nullptr;
   const TileMap* map() const { return maps[0]; }
   // Part k alone (a lens's).
-  KeptTile part(int k) const { return {{maps[k], nullptr}, {taps[k], nullptr}, footprint}; }
+  KeptTile part(int k) const {
+    return {{maps[k], nullptr}, {taps[k], nullptr}, footprint, nullptr};
+  }
 };
 
 // One worker thread's buffers and counts.

@@ -927,6 +927,8 @@ HWY_NOINLINE void RecordBlocks(const TapBlock* blocks, int n, PlannedTaps& recor
 
 // The pixels of rect from kept fractions: chunks of blocks filled from the record (the
 // footprint kernel's widths from its field, as phase 1), their taps prefetched, then phase 2.
+inline constexpr int64_t kKeptAhead = 512;  // pixels
+
 template <PixelType PT, class T, int K>
 struct ReplayF {
   static void run(const PlannedTaps& p, const PixelRect& rect, const SimdSource& s,
@@ -939,6 +941,11 @@ struct ReplayF {
       for (int64_t i = 0; i < rect.width(); i += N) {
         const int64_t at = j * rect.width() + i, m = std::min(N, rect.width() - i);
         TapBlock& b = blocks[n++];
+        // The kept arrays come from memory (a frame's are past the caches): ahead of their use.
+        // (Past the arrays' ends: prefetches do not fault.)
+        hwy::Prefetch(p.off.data() + at + kKeptAhead);
+        hwy::Prefetch(p.tx.data() + at + kKeptAhead);
+        hwy::Prefetch(p.ty.data() + at + kKeptAhead);
         b.base = s.base, b.index = at, b.m = m;
         std::memcpy(b.off, p.off.data() + at, static_cast<size_t>(N) * 4);  // (lanes past m: unused)
         std::memcpy(b.tx, p.tx.data() + at, static_cast<size_t>(N) * 4);

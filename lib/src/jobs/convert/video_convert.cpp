@@ -250,10 +250,12 @@ class VideoJob {
     const Size out = luma_->target_frame();
     const uint64_t plane_bytes =
         static_cast<uint64_t>(out.width * out.height) * (px_.bits > 8 ? 2 : 1);
-    // Two frames in flight per stage, each about 3 planes' worth; the kept maps and taps.
+    // Two frames in flight per stage, each about 3 planes' worth; the kept maps and taps (the
+    // chroma planes' at most as many as the luma's).
     require_job_memory(
         *luma_, px_.planes, px_.bits > 8 ? PixelType::U16 : PixelType::U8, r_.files.options,
-        add_bytes(12 * plane_bytes, 30 * static_cast<uint64_t>(out.width * out.height)),
+        add_bytes(12 * plane_bytes, 2 * static_cast<uint64_t>(kept_bytes_per_pixel(*luma_)) *
+                                        static_cast<uint64_t>(out.width * out.height)),
         "the video's frames in flight and kept maps");
   }
 
