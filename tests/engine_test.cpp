@@ -121,7 +121,13 @@ TEST(Engine, FusedGeometryMatchesTheReferenceOnEveryTarget) {
     SCOPED_TRACE(hwy::TargetName(target));
     for (const Pair& c : pairs) {
       const Projection src = make(c.src, c.ss), dst = make(c.dst, c.ds);
-      for (auto [t, nc] : {std::pair{PixelType::U8, 3}, {PixelType::U8, 4}, {PixelType::U16, 2}, {PixelType::F32, 1}}) {
+      // (One channel of uint8 and uint16: a video's planes, the gray kernels.)
+      for (auto [t, nc] : {std::pair{PixelType::U8, 3},
+                           {PixelType::U8, 4},
+                           {PixelType::U16, 2},
+                           {PixelType::F32, 1},
+                           {PixelType::U8, 1},
+                           {PixelType::U16, 1}}) {
         const Image im = scene_image(src, t, nc);
         for (Interp k : {Interp::Nearest, Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3}) {
           EngineStats st;
