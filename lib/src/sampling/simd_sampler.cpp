@@ -964,7 +964,9 @@ template <PixelType PT, class T, int K>
 struct ReplayF {
   static void run(const PlannedTaps& p, const PixelRect& rect, const SimdSource& s,
                   unsigned char* out, int64_t out_stride) {
-    const auto N = static_cast<int64_t>(hn::Lanes(hn::ScalableTag<float>()));
+    const hn::ScalableTag<float> df;
+    const hn::ScalableTag<int32_t> di;
+    const auto N = static_cast<int64_t>(hn::Lanes(df));
     const int64_t pb = s.channels * static_cast<int64_t>(sizeof(T));
     TapBlock blocks[kChunkBlocks];
     int n = 0;
@@ -978,12 +980,13 @@ struct ReplayF {
         hwy::Prefetch(p.tx.data() + at + kKeptAhead);
         hwy::Prefetch(p.ty.data() + at + kKeptAhead);
         b.base = s.base, b.index = at, b.m = m;
-        std::memcpy(b.off, p.off.data() + at, static_cast<size_t>(N) * 4);  // (lanes past m: unused)
-        std::memcpy(b.tx, p.tx.data() + at, static_cast<size_t>(N) * 4);
-        std::memcpy(b.ty, p.ty.data() + at, static_cast<size_t>(N) * 4);
+        // (Vectors, not memcpy of a size known only at run time: a call each. Lanes past m:
+        // unused.)
+        hn::Store(hn::LoadU(di, p.off.data() + at), di, b.off);
+        hn::Store(hn::LoadU(df, p.tx.data() + at), df, b.tx);
+        hn::Store(hn::LoadU(df, p.ty.data() + at), df, b.ty);
         if (s.footprint) FieldLanes(*s.footprint, i, j, b);
         // The first and last sampled lanes' taps (most blocks: every lane sampled).
-        const hn::ScalableTag<int32_t> di;
         const size_t sampled =
             hn::CountTrue(di, hn::And(hn::FirstN(di, static_cast<size_t>(m)),
                                       hn::Gt(hn::Load(di, b.off), hn::Set(di, -1))));
