@@ -233,11 +233,12 @@ class Plan:
     """One conversion geometry for many images of one source size (batches, video frames).
 
     The first run keeps, per tile, the map of a tile whose geometry is not computed in registers
-    or the source taps and weights the others plan (at most 17 bytes an output pixel, counted
-    against ``memory_limit``; outputs over ~30 Mpx keep nothing); later runs on images of the same
-    dtype and channels reuse them and only gather, to the same bytes (uint8 bilinear: about a
-    third of the first run's time). ``plan(image)`` or ``plan.run(image, out=array)`` (writes
-    into a C-contiguous array of the output's shape and dtype). Takes what :func:`convert` takes
+    or the source taps and weights the others plan (at most 17 bytes an output pixel, 38 from a
+    dual fisheye with its blend, counted against ``memory_limit``; outputs over ~30 Mpx, ~14 from
+    a dual fisheye, keep nothing); later runs on images of the same dtype and channels reuse them and only gather, to
+    the same bytes (uint8 bilinear: about a third of the first run's time). ``plan(image)`` or
+    ``plan.run(image, out=array)`` (writes into a C-contiguous array of the output's shape and
+    dtype). Takes what :func:`convert` takes
     (dtypes, channels, batches, faces). Safe to call from several threads at once. Pickles as
     its parameters, so it can be sent to multiprocessing, Dask or Ray workers (each rebuilds its
     map on its first run). Takes convert's options.

@@ -272,7 +272,7 @@ class VideoJob {
       chroma_->source = rescaled(luma_->source, se);
       chroma_->target = rescaled(luma_->target, te);
       chroma_->siting = siting_of(px_);
-      chroma_converter_.emplace(*chroma_, r_.files.options, Keep::Maps);
+      chroma_converter_.emplace(*chroma_, r_.files.options, Keep::MapsAndTaps);
     }
     for (int p = 0; p < px_.planes; ++p) {
       PlaneMap& m = planes_[static_cast<size_t>(p)];
