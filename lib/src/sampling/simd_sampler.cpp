@@ -956,10 +956,11 @@ HWY_NOINLINE void RecordBlocks(const TapBlock* blocks, int n, PlannedTaps& recor
   }
 }
 
-// The pixels of rect from kept fractions: chunks of blocks filled from the record (the
-// footprint kernel's widths from its field, as phase 1), their taps prefetched, then phase 2.
+// How far ahead of its replay a kept array is prefetched (a frame's are past the caches).
 inline constexpr int64_t kKeptAhead = 512;  // pixels
 
+// The pixels of rect from kept fractions: chunks of blocks filled from the record (the
+// footprint kernel's widths from its field, as phase 1), their taps prefetched, then phase 2.
 template <PixelType PT, class T, int K>
 struct ReplayF {
   static void run(const PlannedTaps& p, const PixelRect& rect, const SimdSource& s,
@@ -967,18 +968,18 @@ struct ReplayF {
     const hn::ScalableTag<float> df;
     const hn::ScalableTag<int32_t> di;
     const auto N = static_cast<int64_t>(hn::Lanes(df));
-    const int64_t pb = s.channels * static_cast<int64_t>(sizeof(T));
+    const int64_t pb = s.channels * static_cast<int64_t>(sizeof(T)),
+                  total = rect.width() * rect.height();
     TapBlock blocks[kChunkBlocks];
     int n = 0;
     for (int64_t j = 0; j < rect.height(); ++j)
       for (int64_t i = 0; i < rect.width(); i += N) {
         const int64_t at = j * rect.width() + i, m = std::min(N, rect.width() - i);
         TapBlock& b = blocks[n++];
-        // The kept arrays come from memory (a frame's are past the caches): ahead of their use.
-        // (Past the arrays' ends: prefetches do not fault.)
-        hwy::Prefetch(p.off.data() + at + kKeptAhead);
-        hwy::Prefetch(p.tx.data() + at + kKeptAhead);
-        hwy::Prefetch(p.ty.data() + at + kKeptAhead);
+        const int64_t ahead = std::min(at + kKeptAhead, total - 1);  // (inside the arrays)
+        hwy::Prefetch(p.off.data() + ahead);
+        hwy::Prefetch(p.tx.data() + ahead);
+        hwy::Prefetch(p.ty.data() + ahead);
         b.base = s.base, b.index = at, b.m = m;
         // (Vectors, not memcpy of a size known only at run time: a call each. Lanes past m:
         // unused.)
