@@ -66,8 +66,8 @@ class Clips : public ::testing::Test {
     return out;
   }
 
-  // The frames' planes as ffmpeg decodes them, in pixel format fmt (planar), 16-bit samples
-  // where bits > 8.
+  // The frames' planes as ffmpeg decodes them, in pixel format fmt (planar, chroma planes
+  // halved across and, but for 4:2:2, down), 16-bit samples where bits > 8.
   std::vector<std::array<Image, 3>> planes(const std::string& file, const char* fmt, Size size,
                                            int bits) const {
     const std::string raw = p("raw.yuv");
@@ -76,7 +76,8 @@ class Clips : public ::testing::Test {
     EXPECT_EQ(std::system(cmd.c_str()), 0);
     std::ifstream in(raw, std::ios::binary);
     const PixelType type = bits > 8 ? PixelType::U16 : PixelType::U8;
-    const Size c{size.width / 2, size.height / 2};
+    const bool h422 = std::string(fmt).find("422") != std::string::npos;
+    const Size c{size.width / 2, h422 ? size.height : size.height / 2};
     std::vector<std::array<Image, 3>> frames;
     for (;;) {
       std::array<Image, 3> f{Image(size, 1, type), Image(c, 1, type), Image(c, 1, type)};
@@ -166,6 +167,78 @@ TEST_F(Clips, TenBitLumaIsThePerImageConversionAndChromaSitsWhereItSays) {
           }
       EXPECT_LE(most, 1.0) << siting << " frame " << f;
     }
+  }
+}
+
+// 4:2:2 (ProRes', a camera's MJPEG): a cube's cells in the chroma planes are half as wide as
+// high; each chroma sample at its sited place, derived from the luma geometry, as above.
+TEST_F(Clips, FourTwoTwoChromaOfACubeSitsWhereItSays) {
+  const std::string in = clip("in.mkv", "-c:v ffv1 -pix_fmt yuv422p10le");
+  const std::string out = p("out.mkv");
+  const Report r = convert({{"inputs", std::vector<std::string>{in}},
+                            {"output", out},
+                            {"dst", std::string("cubemap:layout=3x2")},
+                            {"size", std::string("192x128")},
+                            {"antialias", std::string("off")},
+                            {"codec", std::string("ffv1")}});
+  ASSERT_EQ(test::integer(r, "frames"), 12);
+  const auto src = planes(in, "yuv422p10le", {256, 128}, 10);
+  const auto dst = planes(out, "yuv422p10le", {192, 128}, 10);
+  ASSERT_EQ(dst.size(), 12u);
+  ConvertOptions o;
+  o.size = Size{192, 128}, o.antialias = Antialias{};
+  const ConversionGeometry g =
+      make_geometry({256, 128}, parse_spec("equirect"), parse_spec("cubemap:layout=3x2"), o);
+  const Projection chroma_source = rescaled(g.source, {128, 128});
+  for (size_t f = 0; f < src.size(); f += 11) {
+    const Image luma =
+        panoproj::convert(src[f][0], parse_spec("equirect"), parse_spec("cubemap:layout=3x2"), o);
+    int64_t differ = 0;
+    for (int64_t y = 0; y < 128; ++y)
+      for (int64_t x = 0; x < 192; ++x)
+        differ += test::get(dst[f][0], x, y, 0) != std::min(1023.0, test::get(luma, x, y, 0));
+    EXPECT_EQ(differ, 0) << "frame " << f;
+    // Chroma sample (i, j) sits at luma (2i + 0.5, j + 0.5) (left); the source's k at 2k + 0.5.
+    double most = 0;
+    for (int c = 1; c < 3; ++c)
+      for (int64_t j = 0; j < 128; ++j)
+        for (int64_t i = 0; i < 96; ++i) {
+          double sx, sy;
+          ASSERT_TRUE(source_pixel(g.source, g.target, g.rotation, 2.0 * i + 0.5, j + 0.5, sx, sy));
+          const double want = std::clamp(
+              sample_at(src[f][c], chroma_source, (sx - 0.5) / 2 + 0.5, sy), 0.0, 1023.0);
+          most = std::max(most, std::fabs(test::get(dst[f][c], i, j, 0) - want));
+        }
+    EXPECT_LE(most, 1.0) << "frame " << f;
+  }
+}
+
+// FFmpeg's EAC frame (border=ffmpeg) has 2-px borders in every plane's own pixels, as v360
+// converts each plane alone: centre-sited chroma is the per-image conversion of the chroma
+// plane to that frame at the plane's size.
+TEST_F(Clips, FfmpegEacChromaIsEachPlaneLaidOutAlone) {
+  const std::string in =
+      clip("in.mkv", "-c:v ffv1 -pix_fmt yuv420p10le -chroma_sample_location center");
+  const std::string out = p("out.mkv");
+  const char* eac = "cubemap:layout=eac,border=ffmpeg";
+  convert({{"inputs", std::vector<std::string>{in}},
+           {"output", out},
+           {"dst", std::string(eac)},
+           {"size", std::string("192x128")},
+           {"antialias", std::string("off")},
+           {"codec", std::string("ffv1")}});
+  const auto src = planes(in, "yuv420p10le", {256, 128}, 10);
+  const auto dst = planes(out, "yuv420p10le", {192, 128}, 10);
+  ASSERT_EQ(dst.size(), 12u);
+  for (int c = 0; c < 3; ++c) {
+    ConvertOptions o;
+    o.size = c ? Size{96, 64} : Size{192, 128}, o.antialias = Antialias{};
+    const Image want = panoproj::convert(src[6][c], parse_spec("equirect"), parse_spec(eac), o);
+    int64_t differ = 0;
+    for (int64_t y = 0; y < o.size->height; ++y)
+      for (int64_t x = 0; x < o.size->width; ++x)
+        differ += test::get(dst[6][c], x, y, 0) != std::min(1023.0, test::get(want, x, y, 0));
+    EXPECT_EQ(differ, 0) << "plane " << c;
   }
 }
 

@@ -1683,6 +1683,9 @@ def clips(tmp_path_factory):
     ffmpeg(*pattern, "-c:v", "libx264", "-pix_fmt", "yuv420p", "ok.mp4")
     ffmpeg(*pattern, "-c:v", "libx264", "-pix_fmt", "yuv420p", "ok.mkv")
     ffmpeg("-f", "lavfi", "-i", "sine=duration=0.5", "-c:a", "aac", "audio.mp4")
+    ffmpeg(*pattern, "-frames:v", "2", "-c:v", "ffv1", "-pix_fmt", "yuv422p", "ok422.mkv")
+    ffmpeg(*pattern, "-frames:v", "2", "-vf", "scale=978:163", "-c:v", "ffv1", "-pix_fmt", "yuv422p",
+           "cube422.mkv")  # (faces of 163 px: 81.5 chroma samples across)
     mkv = (d / "ok.mkv").read_bytes()
     mp4 = (d / "ok.mp4").read_bytes()
     at = mkv.find(b"V_MPEG4/ISO/AVC")
@@ -1741,6 +1744,10 @@ VIDEO_CASES = [
     ("fill", "ok.mp4", "o.mp4", ["--fill", "1,0,0"], "video black"),
     ("reference_engine", "ok.mp4", "o.mp4", ["--engine", "reference"], "simd or scalar engine"),
     ("odd_size", "ok.mp4", "o.mp4", ["--size", "255x128"], "does not hold whole chroma samples of yuv420p"),
+    ("odd_cube_faces_422_out", "ok422.mkv", "o.mkv", ["--to", "cubemap", "--size", "978x163"],
+     "978x163 does not hold whole chroma samples of yuv422p (2x1 pixels each): give --size 984x164"),
+    ("odd_cube_faces_422_in", "cube422.mkv", "o.mkv", ["--from", "cubemap"],
+     "its chroma planes of 489x163 (yuv422p) do not hold its cubemap whole"),
     ("nan_yaw", "ok.mp4", "o.mp4", ["--yaw", "nan"], "nan"),
     ("start_not_a_time", "ok.mp4", "o.mp4", ["--start", "1:xx"], "--start 1:xx is not a time"),
     ("start_negative", "ok.mp4", "o.mp4", ["--start", "-1"], "--start -1 is not a time"),
@@ -1759,7 +1766,8 @@ VIDEO_CASES = [
 def test_bad_video_inputs_and_parameters(cli, clips, tmp_path, case):
     _, source, out, args, needle = case
     before = snapshot(tmp_path)
-    r = run(cli, ["convert", clips[source], out, "--to", "equirect", *args], tmp_path)
+    to = [] if "--to" in args else ["--to", "equirect"]
+    r = run(cli, ["convert", clips[source], out, *to, *args], tmp_path)
     expect_refused(r, needle, rss=HOSTILE_RSS)
     assert snapshot(tmp_path) == before
 

@@ -104,6 +104,10 @@ std::array<int, 2> Cubemap::slot_cell(CubeLayout layout, int k) {
 
 Cubemap::Cubemap(CubeLayout layout, const CubeFormat& format, const CubeAxis& ax, const CubeAxis& ay)
     : layout_(layout), format_(format), ax_(ax), ay_(ay), size_{ax.edge[ax.n], ay.edge[ay.n]} {
+  const int64_t f = ax.edge[1];
+  uniform_ = !format.ffmpeg_border;
+  for (int k = 0; k < ax.n; ++k) uniform_ = uniform_ && ax.edge[k + 1] - ax.edge[k] == f;
+  for (int k = 0; k < ay.n; ++k) uniform_ = uniform_ && ay.edge[k + 1] - ay.edge[k] == f;
   cell_face_.fill(-1);
   for (int k = 0; k < 6; ++k) {
     const auto c = slot_cell(layout, k);
@@ -262,11 +266,12 @@ Size size_for(const ProjectionSpec& s, double density) {
 
 Projection rescale(const Projection& p, Size size, double sx, double sy) {
   const auto& q = std::get<Cubemap>(p);
+  // (Unequal factors: cells of whole pixels, not square; a 4:2:2 frame's chroma plane.)
+  if (!q.uniform() || sx != sy) return q.scaled(sx, sy);
   const auto g = Cubemap::grid(q.layout());
   if (size.width % g[0] != 0 || size.width / g[0] * g[1] != size.height || size.width < g[0])
     throw Error("a cubemap of " + std::to_string(size.width) + "x" + std::to_string(size.height) +
                 " px does not hold whole square faces in its layout");
-  if (!q.uniform()) return q.scaled(sx, sy);
   return Cubemap(size.width / g[0], q.layout(), q.format());
 }
 

@@ -131,10 +131,11 @@ class Cubemap {
     return {ax_.edge[s.col], ay_.edge[s.row], ax_.edge[s.col + 1], ay_.edge[s.row + 1]};
   }
   std::array<int64_t, 2> face_origin(int face) const { return {cell_box(face)[0], cell_box(face)[1]}; }
-  // A square cell's side (every layout but border=ffmpeg).
+  // A square cell's side (a uniform cube's).
   int64_t face_size() const { return size_.width / ax_.n; }
-  // Whether every cell is face_size() square.
-  bool uniform() const { return !format_.ffmpeg_border; }
+  // Whether every cell is face_size() square (not border=ffmpeg's frame, nor a cube scaled by
+  // unequal factors: a 4:2:2 frame's chroma plane).
+  bool uniform() const { return uniform_; }
   // Face at a layout pixel position, or -1 outside every face.
   int face_at(double x, double y) const {
     if (!(x >= 0 && y >= 0 && x <= static_cast<double>(size_.width) && y <= static_cast<double>(size_.height))) return -1;
@@ -242,6 +243,7 @@ class Cubemap {
   CubeFormat format_;
   CubeAxis ax_, ay_;
   Size size_;
+  bool uniform_ = true;
   std::array<Slot, 6> slots_{};  // by face
   std::array<int, 12> cell_face_{};
 };

@@ -192,10 +192,9 @@ class FfReader final : public VideoReader {
     const std::string& path = path_;
     int err = avformat_open_input(&fmt_, path.c_str(), nullptr, nullptr);
     if (err < 0) fail("it is not a video libavformat can read (" + av_error(err) + ")");
-    err = avformat_find_stream_info(fmt_, nullptr);
-    if (err < 0) fail("its streams cannot be read (" + av_error(err) + ")");
+    find_stream_info();
     pick(stream);
-    const AVStream* st = fmt_->streams[info_.stream];
+    AVStream* st = fmt_->streams[info_.stream];
     const AVCodec* codec = avcodec_find_decoder(st->codecpar->codec_id);
     if (!codec)
       fail("no decoder for its video codec " +
@@ -209,6 +208,24 @@ class FfReader final : public VideoReader {
     err = avcodec_open2(dec_, codec, nullptr);
     if (err < 0)
       fail("its " + std::string(codec->name) + " decoder cannot be opened (" + av_error(err) + ")");
+    packet_ = av_packet_alloc();
+    frame_ = av_frame_alloc();
+    if (!packet_ || !frame_) fail("out of memory");
+    if (range_.start > 0) {
+      // From the keyframe at or before the start (frames before it are decoded and dropped).
+      const int64_t at =
+          av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)),
+                       AV_TIME_BASE_Q, st->time_base);
+      err = av_seek_frame(fmt_, info_.stream, at, AVSEEK_FLAG_BACKWARD);
+      if (err < 0)
+        fail("it cannot be read from " + std::to_string(range_.start) + " s (" + av_error(err) +
+             ")");
+    }
+    // The size, pixel format and colour as the decoder finds them in the range's first frame
+    // (kept for read()): what find_stream_info() left to it.
+    prime();
+    if (dec_->pix_fmt != AV_PIX_FMT_NONE && avcodec_parameters_from_context(st->codecpar, dec_) < 0)
+      fail("out of memory");
     if (st->codecpar->width < 1 || st->codecpar->height < 1 || st->codecpar->format < 0)
       fail("its video stream has no frame size or pixel format");
     planar_ = planar_for(static_cast<AVPixelFormat>(st->codecpar->format));
@@ -235,18 +252,19 @@ class FfReader final : public VideoReader {
       info_.others.push_back({static_cast<int>(i), kind_name(p->codec_type),
                               avcodec_get_name(p->codec_id), tag_text(p->codec_tag)});
     }
-    packet_ = av_packet_alloc();
-    frame_ = av_frame_alloc();
-    if (range_.start > 0) {
-      // From the keyframe at or before the start (frames before it are decoded and dropped).
-      const int64_t at =
-          av_rescale_q(static_cast<int64_t>(std::llround(range_.start * AV_TIME_BASE)),
-                       AV_TIME_BASE_Q, st->time_base);
-      err = av_seek_frame(fmt_, info_.stream, at, AVSEEK_FLAG_BACKWARD);
-      if (err < 0)
-        fail("it cannot be read from " + std::to_string(range_.start) + " s (" + av_error(err) +
-             ")");
-    }
+  }
+
+  // The streams' parameters the header leaves out, found by reading packets; a video's without
+  // decoding a frame (which the single-threaded probe would, then the decoder again: 0.15 s for a
+  // 4K H.264 keyframe), prime() reads them from the first frame instead.
+  void find_stream_info() {
+    std::vector<AVDictionary*> options(fmt_->nb_streams, nullptr);
+    for (unsigned i = 0; i < fmt_->nb_streams; ++i)
+      if (fmt_->streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO)
+        av_dict_set(&options[i], "skip_frame", "all", 0);
+    const int err = avformat_find_stream_info(fmt_, options.data());
+    for (AVDictionary*& d : options) av_dict_free(&d);
+    if (err < 0) fail("its streams cannot be read (" + av_error(err) + ")");
   }
 
   void release() {
@@ -263,7 +281,7 @@ class FfReader final : public VideoReader {
   int64_t concealed() const override { return concealed_; }
 
   bool read(VideoFrame& out) override {
-    if (pending_) {  // (decoded ahead for its side data)
+    if (pending_) {  // (decoded ahead: prime)
       av_frame_move_ref(frame_, pending_);
       av_frame_free(&pending_);
     } else if (!next_frame()) {
@@ -274,17 +292,9 @@ class FfReader final : public VideoReader {
     return true;
   }
 
-  // The first frame's side data of `type` (HDR10's, which HEVC carries in its frames), the frame
-  // decoded ahead and kept for read(); "" if none.
+  // The range's first frame's side data of `type` (HDR10's, which HEVC carries in its frames);
+  // "" if none.
   std::string first_frame_side_data(AVFrameSideDataType type) {
-    if (!primed_) {
-      primed_ = true;
-      if (next_frame()) {
-        pending_ = av_frame_alloc();
-        if (!pending_) fail("out of memory");
-        av_frame_move_ref(pending_, frame_);
-      }
-    }
     const AVFrameSideData* sd = pending_ ? av_frame_get_side_data(pending_, type) : nullptr;
     return sd ? std::string(reinterpret_cast<const char*>(sd->data), sd->size) : std::string();
   }
@@ -295,6 +305,14 @@ class FfReader final : public VideoReader {
   bool copying() const { return copy_; }
 
  private:
+  // The range's first frame decoded ahead into pending_ (none if the range has none).
+  void prime() {
+    if (!next_frame()) return;
+    pending_ = av_frame_alloc();
+    if (!pending_) fail("out of memory");
+    av_frame_move_ref(pending_, frame_);
+  }
+
   // The next frame in the range into frame_; false at the end.
   bool next_frame() {
     for (;;) {
@@ -546,8 +564,7 @@ class FfReader final : public VideoReader {
   VideoInfo info_;
   PacketQueue queue_;
   bool at_end_ = false;
-  AVFrame* pending_ = nullptr;  // the first frame, decoded ahead (first_frame_side_data)
-  bool primed_ = false;
+  AVFrame* pending_ = nullptr;  // the range's first frame, decoded ahead (prime)
   int64_t concealed_ = 0;
   int64_t last_pts_ = AV_NOPTS_VALUE;
 };

@@ -45,6 +45,16 @@ Siting siting_of(const VideoPixels& px) {
 }
 
 // Video black of plane p.
+// A plane's projection at its size: the frame's scaled; FFmpeg's EAC frame (border=ffmpeg) laid
+// out anew at the plane's size, as v360 converts each plane (its 2-px borders in the plane's px).
+Projection plane_projection(const Projection& p, Size size) {
+  const auto* c = std::get_if<Cubemap>(&p);
+  if (!c || !c->format().ffmpeg_border) return rescaled(p, size);
+  if (size.width < 15 || size.height < 10)
+    throw Error("border=ffmpeg needs planes of at least 15x10 px (cells of 5 px)");
+  return Cubemap(size, c->format());
+}
+
 uint16_t black_of(const VideoPixels& px, int p) {
   if (px.alpha && p == px.planes - 1) return 0;
   if (px.chroma(p)) return static_cast<uint16_t>(1 << (px.bits - 1));
@@ -269,8 +279,15 @@ class VideoJob {
     if (subsampled) {
       chroma_ = *luma_;
       const Size se = px_.plane_size(size_of(luma_->source), 1), te = px_.plane_size(eye, 1);
-      chroma_->source = rescaled(luma_->source, se);
-      chroma_->target = rescaled(luma_->target, te);
+      try {
+        chroma_->source = plane_projection(luma_->source, se);
+      } catch (const Error& e) {
+        throw Error("cannot read " + r_.files.inputs[0] + ": its chroma planes of " +
+                        size_text(se) + " (" + px_.pixel_format + ") do not hold its " +
+                        from_text_ + " whole: " + e.what(),
+                    ErrorKind::File);
+      }
+      chroma_->target = plane_projection(luma_->target, te);
       chroma_->siting = siting_of(px_);
       chroma_converter_.emplace(*chroma_, r_.files.options, Keep::MapsAndTaps);
     }
@@ -298,11 +315,19 @@ class VideoJob {
     return px_.planes >= 3 ? std::pair{px_.log2_chroma_w, px_.log2_chroma_h} : std::pair{0, 0};
   }
 
-  // Whether the output's eyes hold whole chroma samples.
+  // Whether the output's eyes hold whole chroma samples (and, for planes converted as they are,
+  // a cube's faces: cells of whole chroma samples).
   bool holds_chroma(const ConversionGeometry& g) const {
     const Size eye = size_of(g.target);
     const auto [lw, lh] = out_subsampling();
-    return eye.width % (1 << lw) == 0 && eye.height % (1 << lh) == 0;
+    if (eye.width % (1 << lw) != 0 || eye.height % (1 << lh) != 0) return false;
+    if (px_.packed || (lw == 0 && lh == 0)) return true;
+    try {
+      (void)plane_projection(g.target, {eye.width >> lw, eye.height >> lh});
+    } catch (const Error&) {
+      return false;
+    }
+    return true;
   }
 
   // An output size that does not hold whole chroma samples: the default one is made the next
