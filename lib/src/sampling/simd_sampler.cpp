@@ -592,7 +592,10 @@ HWY_INLINE void SeparableU8(const SimdSource& s, const TapBlock& blk, unsigned c
 // Phase 2 for 4- and 6-tap kernels on one channel of uint8 or uint16 samples (a video's planes,
 // gray images): a row's taps are consecutive samples, so a 32-bit gather fetches four uint8 taps
 // or two uint16 ones (uint8 with 6 taps: a second gather at tap 2, whose last two bytes are taps 4
-// and 5; no byte past the last tap is read), blended in float. Writes the block's pixels.
+// and 5; no byte past the last tap is read). uint16 rows are blended in float; uint8 rows as two
+// pairs of 16-bit lanes (taps 0, 2 and 1, 3) multiplied by Q14 weights and summed in 32 bits
+// (pmaddwd), the rows then in float: each weight's rounding (at most 2^-15) moves a result by
+// under 0.04 LSB. Writes the block's pixels.
 template <class T, int K>
 HWY_INLINE void GrayTaps(const SimdSource& s, const TapBlock& blk, unsigned char* o) {
   static_assert(K == 4 || K == 6);
@@ -651,24 +654,60 @@ HWY_INLINE void GrayTaps(const SimdSource& s, const TapBlock& blk, unsigned char
   };
 #endif
   VF acc = hn::Zero(df);
-  for (int r = 0; r < K; ++r) {
-    VF h = hn::Zero(df);
-    for (int first = 0; first < K; first += kPerWord) {
-      const int from = std::min(first, K - kPerWord);  // the word's first tap
-      const auto word = words(r * s.stride + from * static_cast<int64_t>(sizeof(T)));
-      for (int k = first; k < std::min(first + kPerWord, K); ++k)
-        h = hn::MulAdd(tap(word, k - from), fx[k], h);
+#if HWY_TARGET != HWY_SCALAR
+  constexpr bool kPairs = sizeof(T) == 1;
+#else
+  constexpr bool kPairs = false;
+#endif
+  if constexpr (kPairs) {
+#if HWY_TARGET != HWY_SCALAR
+    const hn::Repartition<int16_t, DI> d16;
+    auto q14 = [&](VF w) { return hn::NearestInt(hn::Mul(w, hn::Set(df, 16384.0f))); };
+    auto pair = [&](hn::Vec<DI> low, hn::Vec<DI> high) {
+      return hn::BitCast(d16, hn::Or(hn::And(low, hn::Set(di, 0xFFFF)), hn::ShiftLeft<16>(high)));
+    };
+    // The second word (6 taps) is read at tap 2: its taps 2 and 3 weigh 0 there.
+    const auto none = hn::Zero(di);
+    const auto w02 = pair(q14(fx[0]), q14(fx[2])), w13 = pair(q14(fx[1]), q14(fx[3]));
+    const auto w24 = pair(none, q14(fx[K == 6 ? 4 : 0])), w35 = pair(none, q14(fx[K == 6 ? 5 : 0]));
+    const auto low_bytes = hn::Set(du, 0x00FF00FFu);
+    for (int r = 0; r < K; ++r) {
+      hn::Vec<DI> sum = none, more = none;
+      auto blend = [&](int64_t add, decltype(w02) we, decltype(w02) wo) {
+        const auto word = words(r * s.stride + add);
+        const auto even = hn::BitCast(d16, hn::And(word, low_bytes));
+        const auto odd = hn::BitCast(d16, hn::And(hn::ShiftRight<8>(word), low_bytes));
+        sum = hn::ReorderWidenMulAccumulate(di, even, we, sum, more);
+        sum = hn::ReorderWidenMulAccumulate(di, odd, wo, sum, more);
+      };
+      blend(0, w02, w13);
+      if constexpr (K == 6) blend(2, w24, w35);
+      const VF h = hn::ConvertTo(df, hn::RearrangeToOddPlusEven(sum, more));
+      acc = hn::MulAdd(h, hn::Mul(fy[r], hn::Set(df, 1.0f / 16384)), acc);
     }
-    acc = hn::MulAdd(h, fy[r], acc);
+#endif
+  } else {
+    for (int r = 0; r < K; ++r) {
+      VF h = hn::Zero(df);
+      for (int first = 0; first < K; first += kPerWord) {
+        const int from = std::min(first, K - kPerWord);  // the word's first tap
+        const auto word = words(r * s.stride + from * static_cast<int64_t>(sizeof(T)));
+        for (int k = first; k < std::min(first + kPerWord, K); ++k)
+          h = hn::MulAdd(tap(word, k - from), fx[k], h);
+      }
+      acc = hn::MulAdd(h, fy[r], acc);
+    }
   }
   const float unit = sizeof(T) == 1 ? 255.0f : 65535.0f;
   const auto v = hn::IfThenElseZero(
       sampled, hn::NearestInt(hn::Min(hn::Max(acc, hn::Zero(df)), hn::Set(df, unit))));
   const hn::Rebind<T, DI> dt;
+  T* to = reinterpret_cast<T*>(o) + blk.index;
+  // (A whole block stored as is: a copy of a size known only at run time is a call.)
+  if (blk.m == static_cast<int64_t>(hn::Lanes(dt))) return hn::StoreU(hn::DemoteTo(dt, v), dt, to);
   HWY_ALIGN T samples[hn::MaxLanes(dt)];
   hn::Store(hn::DemoteTo(dt, v), dt, samples);
-  std::memcpy(o + sizeof(T) * static_cast<size_t>(blk.index), samples,
-              sizeof(T) * static_cast<size_t>(blk.m));
+  std::memcpy(to, samples, sizeof(T) * static_cast<size_t>(blk.m));
 }
 
 // Phase 2: gathers and blends one block's taps, writes its m output pixels (0 where not sampled
