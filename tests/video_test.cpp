@@ -98,6 +98,17 @@ class Clips : public ::testing::Test {
     return test::run_job("convert", test::job_args("convert", std::move(args)));
   }
 
+  // `in` converted to `dst` at `size` into an FFV1 file (lossless), antialiasing off.
+  Report ffv1(const std::string& in, const std::string& out, const std::string& dst,
+              const std::string& size) const {
+    return convert({{"inputs", std::vector<std::string>{in}},
+                    {"output", out},
+                    {"dst", dst},
+                    {"size", size},
+                    {"antialias", std::string("off")},
+                    {"codec", std::string("ffv1")}});
+  }
+
   fs::path dir_;
 };
 
@@ -115,12 +126,7 @@ TEST_F(Clips, TenBitLumaIsThePerImageConversionAndChromaSitsWhereItSays) {
         clip(std::string("in_") + siting + ".mkv",
              std::string("-c:v ffv1 -pix_fmt yuv420p10le -chroma_sample_location ") + siting);
     const std::string out = p(std::string("out_") + siting + ".mkv");
-    const Report r = convert({{"inputs", std::vector<std::string>{in}},
-                              {"output", out},
-                              {"dst", std::string("fisheye:fov=200")},
-                              {"size", std::string("128x128")},
-                              {"antialias", std::string("off")},
-                              {"codec", std::string("ffv1")}});
+    const Report r = ffv1(in, out, "fisheye:fov=200", "128x128");
     ASSERT_EQ(test::integer(r, "frames"), 12);
     const auto src = planes(in, "yuv420p10le", {256, 128}, 10);
     const auto dst = planes(out, "yuv420p10le", {128, 128}, 10);
@@ -175,12 +181,7 @@ TEST_F(Clips, TenBitLumaIsThePerImageConversionAndChromaSitsWhereItSays) {
 TEST_F(Clips, FourTwoTwoChromaOfACubeSitsWhereItSays) {
   const std::string in = clip("in.mkv", "-c:v ffv1 -pix_fmt yuv422p10le");
   const std::string out = p("out.mkv");
-  const Report r = convert({{"inputs", std::vector<std::string>{in}},
-                            {"output", out},
-                            {"dst", std::string("cubemap:layout=3x2")},
-                            {"size", std::string("192x128")},
-                            {"antialias", std::string("off")},
-                            {"codec", std::string("ffv1")}});
+  const Report r = ffv1(in, out, "cubemap:layout=3x2", "192x128");
   ASSERT_EQ(test::integer(r, "frames"), 12);
   const auto src = planes(in, "yuv422p10le", {256, 128}, 10);
   const auto dst = planes(out, "yuv422p10le", {192, 128}, 10);
@@ -221,12 +222,7 @@ TEST_F(Clips, FfmpegEacChromaIsEachPlaneLaidOutAlone) {
       clip("in.mkv", "-c:v ffv1 -pix_fmt yuv420p10le -chroma_sample_location center");
   const std::string out = p("out.mkv");
   const char* eac = "cubemap:layout=eac,border=ffmpeg";
-  convert({{"inputs", std::vector<std::string>{in}},
-           {"output", out},
-           {"dst", std::string(eac)},
-           {"size", std::string("192x128")},
-           {"antialias", std::string("off")},
-           {"codec", std::string("ffv1")}});
+  ffv1(in, out, eac, "192x128");
   const auto src = planes(in, "yuv420p10le", {256, 128}, 10);
   const auto dst = planes(out, "yuv420p10le", {192, 128}, 10);
   ASSERT_EQ(dst.size(), 12u);
