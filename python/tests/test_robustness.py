@@ -1520,11 +1520,12 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
         frames.append(str(tmp_path / f"frame{k}.jpg"))
         os.link(big, frames[-1])
     out = tmp_path / "out"
-    body = {"tiles": f"pp.tiles({str(big)!r}, {str(out)!r}, cube_size=4096, threads=1)",
-            "views": f"pp.views(frames, {str(out)!r}, size=(3000, 3000), threads=1)",
-            # about 27 s uninterrupted (lanczos3, 4x4 samples a pixel)
-            "convert": "pp.convert(a, 'equirect', 'fisheye', size=(12000, 12000), threads=1, interp='lanczos3', "
-                       "antialias=4)"}[call]
+    # Each 20 to 40 s uninterrupted here (lanczos3, 4x4 samples a pixel): far from done at the
+    # signal on a machine several times faster.
+    slow = "threads=1, interp='lanczos3', antialias=4"
+    body = {"tiles": f"pp.tiles({str(big)!r}, {str(out)!r}, cube_size=4096, {slow})",
+            "views": f"pp.views(frames, {str(out)!r}, size=(3000, 3000), {slow})",
+            "convert": f"pp.convert(a, 'equirect', 'fisheye', size=(12000, 12000), {slow})"}[call]
     code = ("import os, sys, time, numpy as np, panoproj as pp\n"
             f"a = pp.read({str(big)!r})\n"
             f"frames = {frames!r}\n"
