@@ -1672,7 +1672,7 @@ FFMPEG = shutil.which("ffmpeg")
 
 
 @pytest.fixture(scope="module")
-def clips(tmp_path_factory):
+def clips(tmp_path_factory, cli):
     if not FFMPEG:
         pytest.skip("ffmpeg (a test oracle) is not installed")
     d = tmp_path_factory.mktemp("clips")
@@ -1710,6 +1710,24 @@ def clips(tmp_path_factory):
         k = long.find(box)
         long[k + at:k + at + 4] = b"\xff\xff\xff\xff"
     (d / "absurd_duration.mp4").write_bytes(bytes(long))
+    # Spherical metadata panoproj cannot use (video_spherical.hpp): an equi box's bounds past the
+    # frame, a cbmp padding past its cells, a right-left stereo frame (Matroska's StereoMode 11).
+    def panoproj(*args):
+        subprocess.run([os.path.abspath(cli), "convert", "-q", *args], check=True, cwd=d)
+
+    panoproj("ok.mp4", "equi.mp4", "--to", "equirect", "--size", "256x128")
+    panoproj("ok.mp4", "cube.mp4", "--to", "cubemap:layout=3x2,order=rludfb", "--size", "192x128")
+    panoproj("ok.mp4", "sbs.mkv", "--to", "equirect:stereo=sbs", "--size", "256x64")
+    equi = bytearray((d / "equi.mp4").read_bytes())
+    k = equi.find(b"equi") + 8
+    equi[k:k + 8] = b"\xff\xff\xff\x00\xff\xff\xff\x00"  # (top + bottom over the whole)
+    (d / "bounds_past.mp4").write_bytes(bytes(equi))
+    cube = bytearray((d / "cube.mp4").read_bytes())
+    k = cube.find(b"cbmp") + 12
+    cube[k:k + 4] = (1000).to_bytes(4, "big")
+    (d / "cube_padding.mp4").write_bytes(bytes(cube))
+    sbs = (d / "sbs.mkv").read_bytes()
+    (d / "right_left.mkv").write_bytes(sbs.replace(b"\x53\xb8\x81\x01", b"\x53\xb8\x81\x0b", 1))
     files = {p.name: str(p) for p in d.iterdir()}
     files["missing.mp4"] = str(d / "missing.mp4")
     return files
@@ -1760,6 +1778,11 @@ VIDEO_CASES = [
     ("fps_nan", "ok.mp4", "o.mp4", ["--fps", "nan"], "--fps nan is not a frame rate"),
     ("every_zero", "ok.mp4", "o.mp4", ["--every", "0"], "--every 0 is out of range"),
     ("fps_and_every", "ok.mp4", "o.mp4", ["--fps", "2", "--every", "3"], "give one"),
+    ("spherical_bounds_past_the_frame", "bounds_past.mp4", "o.mp4", [], "not a video libavformat can read"),
+    ("spherical_cube_padding_past_its_cells", "cube_padding.mp4", "o.mp4", [],
+     "its spherical metadata says cubemap, padding 1000, which its frames of 192x128 do not hold"),
+    ("spherical_stereo_right_left", "right_left.mkv", "o.mp4", [],
+     "its spherical metadata says stereo layout 'side by side (inverted)'"),
 ]
 
 

@@ -45,6 +45,26 @@ struct VideoPixels {
   }
 };
 
+// Where a frame sits in the sphere, as FFmpeg's libraries carry Google's Spherical Video V2
+// (AVSphericalMapping, AVStereo3D): read from MP4's sv3d and st3d boxes (and V1's uuid XML),
+// Matroska's Projection and StereoMode; written into the same.
+struct SphericalVideo {
+  enum class Kind { None, Equirect, Cubemap, Other };
+  Kind kind = Kind::None;
+  std::string name;  // FFmpeg's name of the projection ("equirectangular", "mesh")
+  // Equirect: the fractions of the whole panorama cropped off each edge (the equi box's 0.32
+  // fixed-point bounds).
+  double top = 0, bottom = 0, left = 0, right = 0;
+  int64_t padding = 0;  // Cubemap: pixels of padding at each face's edges (cbmp's)
+  // The pose (prhd's, in degrees): yaw counter-clockwise about the up vector, then pitch
+  // counter-clockwise about the right vector, then roll clockwise about the forward vector.
+  double yaw = 0, pitch = 0, roll = 0;
+  enum class Stereo { Mono, TopBottom, LeftRight, Other };
+  Stereo stereo = Stereo::Mono;  // left eye first (top, left)
+  std::string stereo_name;       // FFmpeg's name of a layout ("side by side (inverted)")
+  bool any() const { return kind != Kind::None || stereo != Stereo::Mono; }
+};
+
 // Another stream of the file: copied packet for packet, or dropped.
 struct OtherStream {
   int index = 0;
@@ -64,6 +84,7 @@ struct VideoInfo {
   double duration = 0;              // seconds, 0 unknown
   int64_t frames = 0;               // as the container says, 0 unknown
   std::vector<OtherStream> others;  // every other stream
+  SphericalVideo spherical;         // the video stream's
 };
 
 struct VideoFrame {
@@ -103,6 +124,7 @@ struct VideoSettings {
   std::string preset;          // "" : the encoder's default
   int gop = 0;                 // frames between keyframes, 0: the encoder's default
   int threads = 0;             // the encoder's threads, 0: its choice
+  SphericalVideo spherical;    // written where the muxer writes it (MP4, Matroska, WebM)
 };
 
 class VideoWriter {
@@ -145,7 +167,7 @@ VideoBackend& video_backend(const std::string& why);
 // Whether it has been loaded in this process (tests: image jobs never load it).
 bool video_loaded();
 
-constexpr int kVideoPluginAbi = 1;
+constexpr int kVideoPluginAbi = 2;
 
 }  // namespace panoproj
 

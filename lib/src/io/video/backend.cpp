@@ -10,12 +10,16 @@ extern "C" {
 #include <libavutil/mastering_display_metadata.h>
 #include <libavutil/opt.h>
 #include <libavutil/pixdesc.h>
+#include <libavutil/spherical.h>
+#include <libavutil/stereo3d.h>
 #include <libswscale/swscale.h>
 }
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <deque>
 #include <mutex>
@@ -174,6 +178,8 @@ std::string tag_text(uint32_t tag) {
   return s;
 }
 
+SphericalVideo spherical_of(const AVStream* st);
+
 class FfReader final : public VideoReader {
  public:
   FfReader(const std::string& path, int stream, bool copy, const VideoRange& range, bool rgb)
@@ -246,6 +252,7 @@ class FfReader final : public VideoReader {
     else if (fmt_->duration > 0)
       info_.duration = static_cast<double>(fmt_->duration) / AV_TIME_BASE;
     info_.frames = st->nb_frames;
+    info_.spherical = spherical_of(st);
     for (unsigned i = 0; i < fmt_->nb_streams; ++i) {
       if (static_cast<int>(i) == info_.stream) continue;
       const AVCodecParameters* p = fmt_->streams[i]->codecpar;
@@ -630,6 +637,82 @@ bool set_stream_side_data(AVStream* st, AVPacketSideDataType type, const std::st
   return true;
 }
 
+// The stream's spherical mapping and stereo layout (none where it has neither).
+SphericalVideo spherical_of(const AVStream* st) {
+  SphericalVideo v;
+  const std::string map = stream_side_data(st, AV_PKT_DATA_SPHERICAL);
+  if (map.size() >= sizeof(AVSphericalMapping)) {
+    AVSphericalMapping m;
+    std::memcpy(&m, map.data(), sizeof m);
+    const char* name = av_spherical_projection_name(m.projection);
+    v.name = name ? name : "unknown";
+    v.kind = m.projection == AV_SPHERICAL_EQUIRECTANGULAR ||
+                     m.projection == AV_SPHERICAL_EQUIRECTANGULAR_TILE
+                 ? SphericalVideo::Kind::Equirect
+             : m.projection == AV_SPHERICAL_CUBEMAP ? SphericalVideo::Kind::Cubemap
+                                                    : SphericalVideo::Kind::Other;
+    if (m.projection == AV_SPHERICAL_EQUIRECTANGULAR_TILE) {
+      constexpr double kUnit = 4294967295.0;  // (0.32 fixed point, UINT32_MAX as 1 as FFmpeg's)
+      v.top = m.bound_top / kUnit, v.bottom = m.bound_bottom / kUnit;
+      v.left = m.bound_left / kUnit, v.right = m.bound_right / kUnit;
+    }
+    v.padding = m.padding;
+    v.yaw = m.yaw / 65536.0, v.pitch = m.pitch / 65536.0, v.roll = m.roll / 65536.0;
+  }
+  const std::string stereo = stream_side_data(st, AV_PKT_DATA_STEREO3D);
+  if (stereo.size() >= sizeof(AVStereo3D)) {
+    AVStereo3D s;
+    std::memcpy(&s, stereo.data(), sizeof s);
+    const bool inverted = (s.flags & AV_STEREO3D_FLAG_INVERT) != 0;
+    const char* name = av_stereo3d_type_name(s.type);
+    v.stereo_name = std::string(name ? name : "unknown") + (inverted ? " (inverted)" : "");
+    v.stereo = s.type == AV_STEREO3D_2D                        ? SphericalVideo::Stereo::Mono
+               : s.type == AV_STEREO3D_TOPBOTTOM && !inverted  ? SphericalVideo::Stereo::TopBottom
+               : s.type == AV_STEREO3D_SIDEBYSIDE && !inverted ? SphericalVideo::Stereo::LeftRight
+                                                               : SphericalVideo::Stereo::Other;
+  }
+  return v;
+}
+
+// The side data of `v` on the output's stream; false out of memory.
+bool set_spherical(AVStream* st, const SphericalVideo& v) {
+  if (v.kind != SphericalVideo::Kind::None) {
+    size_t size = 0;
+    AVSphericalMapping* m = av_spherical_alloc(&size);
+    if (!m) return false;
+    const bool tile = v.top > 0 || v.bottom > 0 || v.left > 0 || v.right > 0;
+    m->projection = v.kind == SphericalVideo::Kind::Cubemap ? AV_SPHERICAL_CUBEMAP
+                    : tile                                  ? AV_SPHERICAL_EQUIRECTANGULAR_TILE
+                                                            : AV_SPHERICAL_EQUIRECTANGULAR;
+    // (Floored: ffprobe's pixel bounds, av_spherical_tile_bounds, round up.)
+    const auto bound = [](double f) {
+      return static_cast<uint32_t>(std::floor(std::clamp(f, 0.0, 1.0) * 4294967295.0));
+    };
+    m->bound_top = bound(v.top), m->bound_bottom = bound(v.bottom);
+    m->bound_left = bound(v.left), m->bound_right = bound(v.right);
+    m->padding = static_cast<uint32_t>(v.padding);
+    m->yaw = static_cast<int32_t>(std::llround(v.yaw * 65536));
+    m->pitch = static_cast<int32_t>(std::llround(v.pitch * 65536));
+    m->roll = static_cast<int32_t>(std::llround(v.roll * 65536));
+    const bool ok = set_stream_side_data(st, AV_PKT_DATA_SPHERICAL,
+                                         std::string(reinterpret_cast<const char*>(m), size));
+    av_free(m);
+    if (!ok) return false;
+  }
+  if (v.stereo == SphericalVideo::Stereo::TopBottom ||
+      v.stereo == SphericalVideo::Stereo::LeftRight) {
+    AVStereo3D* s = av_stereo3d_alloc();
+    if (!s) return false;
+    s->type = v.stereo == SphericalVideo::Stereo::TopBottom ? AV_STEREO3D_TOPBOTTOM
+                                                            : AV_STEREO3D_SIDEBYSIDE;
+    const bool ok = set_stream_side_data(st, AV_PKT_DATA_STEREO3D,
+                                         std::string(reinterpret_cast<const char*>(s), sizeof *s));
+    av_free(s);
+    if (!ok) return false;
+  }
+  return true;
+}
+
 // x265's master-display and max-cll parameters from HDR10's side data ("" where none).
 std::string x265_hdr_params(const std::string& mastering, const std::string& light) {
   std::string out;
@@ -686,8 +769,12 @@ class FfWriter final : public VideoWriter {
     if (from_) add_copied();
     if ((!mastering_.empty() &&
          !set_stream_side_data(video_, AV_PKT_DATA_MASTERING_DISPLAY_METADATA, mastering_)) ||
-        (!light_.empty() && !set_stream_side_data(video_, AV_PKT_DATA_CONTENT_LIGHT_LEVEL, light_)))
+        (!light_.empty() &&
+         !set_stream_side_data(video_, AV_PKT_DATA_CONTENT_LIGHT_LEVEL, light_)) ||
+        !set_spherical(video_, s.spherical))
       fail("out of memory");
+    // (libavformat 5.1's MP4 muxer writes sv3d and st3d only at this compliance level.)
+    if (s.spherical.any()) fmt_->strict_std_compliance = FF_COMPLIANCE_UNOFFICIAL;
     const size_t buffer_bytes = 1 << 16;
     auto* buffer = static_cast<unsigned char*>(av_malloc(buffer_bytes));
     io_ = avio_alloc_context(buffer, static_cast<int>(buffer_bytes), 1, &fd_, nullptr, write_fd,

@@ -15,6 +15,7 @@
 #include "jobs/convert/frame_pipeline.hpp"
 #include "jobs/convert/image_frames.hpp"
 #include "jobs/file_source.hpp"
+#include "jobs/video_spherical.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/interrupt.hpp"
 #include "panoproj/limits.hpp"
@@ -244,6 +245,41 @@ class VideoJob {
       throw Error("a video needs the simd or scalar engine (--engine)");
   }
 
+  // The source spec: --from (with a warning where the file's spherical metadata says another),
+  // else the metadata's (its pose then levels the frames), else a 2:1 frame's equirect.
+  ProjectionSpec source_spec(const VideoInfo& info) {
+    const std::string& input = r_.files.inputs[0];
+    const SphericalVideo& sv = info.spherical;
+    if (!r_.files.from && sv.any()) {
+      const ProjectionSpec from = parse_spec(spherical_source_spec(sv, info.size, input));
+      pose_ = spherical_pose(sv);
+      from_text_ = from.str() + " (its spherical metadata: " + spherical_text(sv) + ")";
+      return from;
+    }
+    const ProjectionSpec from = infer_source_spec(r_.files.from, input, info.size, std::nullopt);
+    from_text_ = from.str();
+    if (r_.files.from && sv.any()) {
+      std::optional<ProjectionSpec> says;
+      try {
+        says = parse_spec(spherical_source_spec(sv, info.size, input));
+      } catch (const Error&) {  // (metadata panoproj does not read, overridden)
+      }
+      if (!says || !same_spec(*says, from) || sv.yaw != 0 || sv.pitch != 0 || sv.roll != 0)
+        warn(input + ": " + option_text("from") + " " + from_text_ +
+             " is used; its spherical metadata says " + (says ? says->str() + " (" : "(") +
+             spherical_text(sv) + ")");
+    }
+    return from;
+  }
+
+  // make_geometry, levelled by the metadata's pose (R_pose^T R_view).
+  ConversionGeometry geometry(Size in, const ProjectionSpec& from, const ProjectionSpec& to,
+                              const ConvertOptions& o) const {
+    ConversionGeometry g = make_geometry(in, from, to, o);
+    if (pose_) g.rotation = pose_->transpose() * g.rotation;
+    return g;
+  }
+
   // The geometry of the luma (and alpha, and RGB) planes; refuses sizes the subsampling cannot
   // hold and jobs over the memory budget.
   void plan_geometry(const VideoInfo& info) {
@@ -251,11 +287,9 @@ class VideoJob {
       throw Error("cannot read " + r_.files.inputs[0] + ": its frames of " + size_text(info.size) +
                       " are over 65536 px a side",
                   ErrorKind::File);
-    const ProjectionSpec from =
-        infer_source_spec(r_.files.from, r_.files.inputs[0], info.size, std::nullopt);
-    from_text_ = from.str();
+    const ProjectionSpec from = source_spec(info);
     const ProjectionSpec to = parse_spec(r_.files.to);
-    luma_ = make_geometry(info.size, from, to, r_.files.options);
+    luma_ = geometry(info.size, from, to, r_.files.options);
     fit_chroma(info.size, from, to);
     const Size out = luma_->target_frame();
     const uint64_t plane_bytes =
@@ -349,7 +383,7 @@ class VideoJob {
       if (fitted) break;
       o.size = size;
       try {
-        ConversionGeometry g = make_geometry(in, from, to, o);
+        ConversionGeometry g = geometry(in, from, to, o);
         if (holds_chroma(g)) fitted = std::move(g);
       } catch (const Error&) {  // (a size the projection does not take: the next)
       }
@@ -396,7 +430,22 @@ class VideoJob {
     s.bitrate = bitrate_;
     s.preset = r_.preset;
     s.gop = static_cast<int>(r_.gop);
+    s.spherical = target_spherical();
     return s;
+  }
+
+  // The output's spherical metadata, where its container and projection have one; else none,
+  // with a warning saying why (none with --no-metadata).
+  SphericalVideo target_spherical() const {
+    if (!r_.files.keep_metadata) return {};  // (--no-metadata)
+    std::string why;
+    SphericalVideo v = spherical_of_target(*luma_, why);
+    const std::string container = video_container_of(r_.files.output)->name;
+    if (why.empty() && container != "mp4" && container != "mkv" && container != "webm")
+      why = "libavformat 5.1 writes it into MP4, Matroska and WebM only (not " + container + ")";
+    if (why.empty()) return v;
+    warn(r_.files.output + ": no spherical metadata written: " + why);
+    return {};
   }
 
   void convert_plane(int p, const Image& in, Image& out) const {
@@ -512,6 +561,7 @@ class VideoJob {
   std::unique_ptr<VideoReader> reader_;
   VideoPixels px_;
   std::string from_text_;
+  std::optional<Eigen::Matrix3d> pose_;  // the metadata's, frame -> level
   std::optional<ConversionGeometry> luma_, chroma_;
   std::optional<Converter> luma_converter_, chroma_converter_;
   std::array<PlaneMap, 4> planes_;

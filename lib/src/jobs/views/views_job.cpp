@@ -17,6 +17,7 @@
 #include "jobs/frame_selection.hpp"
 #include "jobs/list.hpp"
 #include "jobs/rendered_parts.hpp"
+#include "jobs/video_spherical.hpp"
 #include "jobs/views/camera_files.hpp"
 #include "jobs/views/views.hpp"
 #include "panoproj/convert.hpp"
@@ -133,7 +134,15 @@ class VideoPanoramas {
   static Frame source(const ViewsJob& job, const VideoInfo& v) {
     const ImageInfo info{v.size, v.pixels.alpha ? 4 : 3,
                          v.pixels.bits > 8 ? PixelType::U16 : PixelType::U8, "video", false};
-    return source_of(info, job.inputs[0], job.from, std::nullopt, job.options, "views");
+    // (Without --from, the stream's spherical metadata: its projection, levelled by its pose.)
+    if (job.from || !v.spherical.any())
+      return source_of(info, job.inputs[0], job.from, std::nullopt, job.options, "views");
+    Frame f =
+        source_of(info, job.inputs[0], spherical_source_spec(v.spherical, v.size, job.inputs[0]),
+                  std::nullopt, job.options, "views");
+    f.base.rotation = spherical_pose(v.spherical).transpose() * f.base.rotation;
+    f.from_text += " (its spherical metadata: " + spherical_text(v.spherical) + ")";
+    return f;
   }
 
   const ViewsJob& job_;
