@@ -11,6 +11,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -23,6 +24,17 @@
 #include "panoproj/projection.hpp"
 
 namespace panoproj::test {
+
+// What a shell command prints on stdout (the test oracles: ffmpeg, ffprobe, exiftool).
+inline std::string shell(const std::string& cmd) {
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return out;
+  char buf[4096];
+  while (size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  pclose(p);
+  return out;
+}
 
 // A Converter from its parts, as the engine tests name them (antialiasing off unless given).
 inline Converter converter(Projection source, Projection target, const Eigen::Matrix3d& rotation,

@@ -17,21 +17,14 @@
 #include "job_support.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/jobs.hpp"
+#include "test_support.hpp"
 
 namespace panoproj {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string shell(const std::string& cmd) {
-  std::string out;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return out;
-  char buf[4096];
-  while (size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  pclose(p);
-  return out;
-}
+using test::shell;
 
 class Spherical : public ::testing::Test {
  protected:
