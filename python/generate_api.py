@@ -41,6 +41,10 @@ OUT_JOBS = pathlib.Path(__file__).parent / "panoproj" / "_jobs.py"
 # converts these forms: (width, height) sizes, sub-pixel counts, colour tuples, byte counts).
 PYTHON_FORMS = {
     "src": "Union[str, Projection, None]",
+    "dst": "Union[str, Projection]",
+    "start": "Union[float, str, None]",
+    "duration": "Union[float, str, None]",
+    "fps": "Union[float, str, None]",
     "rig": "Union[str, Sequence[Mapping[str, Any]]]",
     "size": "SizeLike",
     "antialias": "Union[Antialias, int, None]",
@@ -115,7 +119,7 @@ def generate() -> str:
         out += typed_dict(name, f"The keyword options of the calls that take {use!r} rows (the command's flags).",
                           [o for o in options if use in o["use"]])
     for job in (j for j in python_jobs() if conversion_rows(j)):
-        out += typed_dict(options_name(job), f"The keyword options of {job['name']}() (the command's flags).",
+        out += typed_dict(options_name(job), f"The keyword options of {job['python_name']}() (the command's flags).",
                           conversion_rows(job))
     return "\n".join(out)
 
@@ -138,7 +142,7 @@ def conversion_rows(job: dict) -> list:
 
 
 def options_name(job: dict) -> str:
-    return class_name(job["name"]) + "Options"
+    return class_name(job["python_name"].replace("_", "-")) + "Options"
 
 
 def argument(row: dict) -> str:
@@ -152,7 +156,7 @@ def argument(row: dict) -> str:
         kind = literal(row["choices"]) if row["choices"] else {"integer": "int", "text": "str"}[row["type"]]
         if default == "None":
             kind = f"Optional[{kind}]"
-    return f"{row['name']}: {kind}" + ("" if row["positional"] else f" = {default}")
+    return f"{row['name']}: {kind}" + ("" if row["positional"] or row["required"] else f" = {default}")
 
 
 def job_function(job: dict) -> str:
@@ -164,7 +168,7 @@ def job_function(job: dict) -> str:
     params += [f"**options: Unpack[{options_name(job)}]"] if takes else []
     given = "".join(f"\n            {r['name']!r}: {r['name']}," for r in own)
     doc = textwrap.indent(job["python"], "    ").lstrip()
-    return ((f"@_takes_options({job['name']!r}, job=True)\n" if takes else "") + f"def {job['name']}("
+    return ((f"@_takes_options({job['name']!r}, job=True)\n" if takes else "") + f"def {job['python_name']}("
             + "".join(f"\n    {p}," for p in params) + ("\n" if params else "")
             + f") -> Dict[str, Any]:\n" + f'    """{doc}\n    """\n'
             + f"    return _job.run(\n        {job['name']!r},\n        {{{given}\n        }},\n"
@@ -193,7 +197,7 @@ def generate_jobs() -> str:
     names = []
     for job in python_jobs():
         out += ["", "", job_function(job).rstrip("\n")]
-        names += [job["name"]] + ([options_name(job)] if conversion_rows(job) else [])
+        names += [job["python_name"]] + ([options_name(job)] if conversion_rows(job) else [])
     out += ["", "", "__all__ = [" + ", ".join(repr(n) for n in names) + "]"]
     return "\n".join(out) + "\n"
 

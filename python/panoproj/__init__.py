@@ -45,6 +45,7 @@ from ._declared import *  # noqa: F401,F403 (the projection classes and Literal 
 from ._declared import CLASSES, ConvertOptions, MapOptions, ProjectionName
 from ._projection import _CLASSES, Projection, projection
 from ._types import Array, FillLike, ImageLike, Mask, PathLike, SizeLike
+from ._video import VideoPlan
 
 if TYPE_CHECKING:
     from typing import Literal
@@ -56,6 +57,7 @@ __version__: str = _core.__version__  # the project's version (`panoproj --versi
 _CLASSES.update(CLASSES)
 __all__ = [
     "Projection", "projection", "projections", "ProjectionInfo", "ParameterInfo", "convert", "build_map", "Plan",
+    "VideoPlan",
     "read", "write", "to_ray", "to_pixel", "split_faces", "simd_target", "ConvertOptions", "MapOptions",
     "SizeLike", "FillLike", "ImageLike", "PathLike",
 ]

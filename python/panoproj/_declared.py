@@ -893,6 +893,23 @@ class MapOptions(TypedDict, total=False):
     memory_limit: Union[int, str, None]
 
 
+class ConvertFileOptions(TypedDict, total=False):
+    """The keyword options of convert_file() (the command's flags)."""
+
+    size: SizeLike
+    yaw: float
+    pitch: float
+    roll: float
+    interp: Interp
+    threads: int
+    engine: Engine
+    antialias: Union[Antialias, int, None]
+    alpha: bool
+    fill: FillLike
+    decode_scale: DecodeScale
+    memory_limit: Union[int, str, None]
+
+
 class TilesOptions(TypedDict, total=False):
     """The keyword options of tiles() (the command's flags)."""
 

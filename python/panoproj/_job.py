@@ -101,10 +101,25 @@ def _text(name: str, v: Any) -> str:
     return v
 
 
-# Rows with Python forms of their own: a projection (or its spec), a rig as mappings.
+def _time(name: str, v: Any) -> str:
+    """A time or rate: a number (seconds, frames a second) or the command's text of one."""
+    if isinstance(v, bool) or not isinstance(v, (int, float, str)):
+        raise TypeError(f"{name}: {v!r} (expected a number or a str such as '1:30')")
+    if isinstance(v, str):
+        return v
+    if not math.isfinite(v):
+        raise ValueError(f"{name}: {v!r} (expected a finite number)")
+    return repr(float(v))
+
+
+# Rows with Python forms of their own: a projection (or its spec), a rig as mappings, times.
 _BY_NAME: Dict[str, Callable[[str, Any], Any]] = {
     "src": lambda name, v: str(projection(v)),
+    "dst": lambda name, v: str(projection(v)),
     "rig": lambda name, v: rig_text(v),
+    "start": _time,
+    "duration": _time,
+    "fps": _time,
 }
 _BY_TYPE: Dict[str, Callable[[str, Any], Any]] = {
     "path": _path, "paths": _paths, "integer": _integer, "text": _text, "flag": lambda name, v: bool(v),

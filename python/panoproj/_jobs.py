@@ -6,13 +6,80 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, Dict, Literal, Mapping, Optional, Sequence, Union
 
 from . import _job
-from ._declared import TilesOptions, ViewsOptions
+from ._declared import ConvertFileOptions, TilesOptions, ViewsOptions
 from ._options import _takes_options
 from ._projection import Projection
 from ._types import PathLike
 
 if TYPE_CHECKING:
     from typing_extensions import Unpack
+
+
+@_takes_options('convert', job=True)
+def convert_file(
+    inputs: Union[PathLike, Sequence[PathLike]],
+    output: PathLike,
+    *,
+    src: Union[str, Projection, None] = None,
+    dst: Union[str, Projection],
+    depth: Optional[Literal['keep', 'uint8', 'uint16', 'half', 'float']] = None,
+    overwrite: bool = False,
+    quality: int = 95,
+    subsampling: Literal['420', '422', '444'] = '420',
+    no_metadata: bool = False,
+    codec: Optional[Literal['h264', 'hevc', 'av1', 'vp9', 'ffv1', 'prores']] = None,
+    crf: Optional[int] = None,
+    bitrate: Optional[str] = None,
+    preset: Optional[str] = None,
+    gop: Optional[int] = None,
+    stream: Optional[int] = None,
+    start: Union[float, str, None] = None,
+    duration: Union[float, str, None] = None,
+    fps: Union[float, str, None] = None,
+    every: Optional[int] = None,
+    **options: Unpack[ConvertFileOptions],
+) -> Dict[str, Any]:
+    """Converts files to another projection (as ``panoproj convert``): an image, a cube-face
+    pattern, several images of one size into an output pattern with ``{stem}`` or ``{n}``, or a video.
+
+    A video (MP4, MOV, MKV, WebM, AVI, MPEG-TS) is converted on one plan, plane by plane in its own
+    pixel format, and encoded again (``codec``, ``crf``, ``bitrate``, ``preset``, ``gop``); its audio
+    and subtitles are copied, its spherical metadata gives the source and pose (unless ``src`` is
+    given) and is written where the container takes it. ``start`` and ``duration`` (seconds, or text
+    such as ``"1:30"``), ``fps``, ``every`` and ``stream`` pick its frames. An output pattern with
+    ``{n}`` takes the frames as images; images with a video output make one. Video goes through the
+    system's FFmpeg libraries, else through PyAV (``pip install 'panoproj[av]'``; then the input's
+    spherical metadata is not read and none is written, each said by a warning).
+
+    Every output lands whole or not at all (an existing one kept unless ``overwrite``). The command's
+    warnings are UserWarnings. Returns a report: for images ``frames`` (one report each), for a video
+    its sizes, frame count, seconds, codecs and source spec.
+    """
+    return _job.run(
+        'convert',
+        {
+            'inputs': inputs,
+            'output': output,
+            'src': src,
+            'dst': dst,
+            'depth': depth,
+            'overwrite': overwrite,
+            'quality': quality,
+            'subsampling': subsampling,
+            'no_metadata': no_metadata,
+            'codec': codec,
+            'crf': crf,
+            'bitrate': bitrate,
+            'preset': preset,
+            'gop': gop,
+            'stream': stream,
+            'start': start,
+            'duration': duration,
+            'fps': fps,
+            'every': every,
+        },
+        options,
+    )
 
 
 @_takes_options('tiles', job=True)
@@ -78,9 +145,9 @@ def views(
     layout: Literal['flat', 'folders'] = 'flat',
     quality: int = 95,
     stream: Optional[int] = None,
-    start: Optional[str] = None,
-    duration: Optional[str] = None,
-    fps: Optional[str] = None,
+    start: Union[float, str, None] = None,
+    duration: Union[float, str, None] = None,
+    fps: Union[float, str, None] = None,
     every: Optional[int] = None,
     overwrite: bool = False,
     client: Any = None,
@@ -130,4 +197,4 @@ def views(
     )
 
 
-__all__ = ['tiles', 'TilesOptions', 'views', 'ViewsOptions']
+__all__ = ['convert_file', 'ConvertFileOptions', 'tiles', 'TilesOptions', 'views', 'ViewsOptions']

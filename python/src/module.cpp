@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "attribute_values.hpp"
+#include "jobs/convert/video_planes.hpp"
 #include "oiio_package.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
@@ -29,6 +30,7 @@
 #include "panoproj/limits.hpp"
 #include "panoproj/maps.hpp"
 #include "panoproj/options.hpp"
+#include "pyav_package.hpp"
 
 namespace py = pybind11;
 using namespace panoproj;
@@ -268,6 +270,7 @@ py::dict row_dict(const OptionDef& d) {
                   py::arg("help") = d.help, py::arg("choices") = d.choices ? d.choices : "",
                   py::arg("conversion") = d.set != nullptr,
                   py::arg("positional") = (d.traits & kPositional) != 0,
+                  py::arg("required") = (d.traits & kRequired) != 0,
                   py::arg("python") = (d.traits & (kCommandOnly | kNeither)) == 0);
 }
 
@@ -352,6 +355,81 @@ class PyPlan {
   Converter converter_;
 };
 
+// A video's frames converted plane by plane in their own format (jobs/convert/video_planes.hpp):
+// panoproj.VideoPlan (panoproj/_video.py) hands over each frame's planes as C-contiguous 2-D
+// arrays (uint8, or uint16 for 9 to 16 bits) and arrays to write into. run() may be called from
+// several threads.
+class PyVideoPlan {
+ public:
+  PyVideoPlan(const py::dict& pixels, std::pair<int64_t, int64_t> source_size,
+              const std::string& src, const std::string& dst, const py::dict& options)
+      : px_(video_pixels(pixels)), options_(options_from(options, kUseConvert)) {
+    if (px_.packed)
+      throw Error("pixels of " + px_.pixel_format + ": packed RGB frames convert as images (Plan)");
+    if (options_.engine == Engine::Reference)
+      throw Error("a video needs the simd or scalar engine (engine=)");
+    if (options_.edges.active() || options_.add_alpha)
+      throw Error(
+          "a video's pixels outside the source's field are video black: edges, fill and alpha are "
+          "for images");
+    const Size in = size_pair(source_size);
+    const ProjectionSpec from = parse_spec(src), to = parse_spec(dst);
+    const ConversionGeometry g = fit_chroma(
+        px_, output_subsampling(px_, true), options_,
+        [&](const ConvertOptions& o) { return make_geometry(in, from, to, o); },
+        [&](const std::string& w) { warnings_.push_back(w); });
+    const Size out = g.target_frame();
+    require_job_memory(g, px_.planes, px_.bits > 8 ? PixelType::U16 : PixelType::U8, options_,
+                       static_cast<uint64_t>(kept_bytes_per_pixel(g)) *
+                           static_cast<uint64_t>(out.width * out.height),
+                       "the plan's kept maps");
+    planes_.emplace(px_, g, options_, "the frames", from.str());
+  }
+
+  // Plane p's (width, height) in the source or the output.
+  std::pair<int64_t, int64_t> plane_size(int p, bool output) const {
+    const Size s = px_.plane_size(output ? planes_->target_size() : planes_->source_size(), p);
+    return {s.width, s.height};
+  }
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+  void run(const py::list& in, const py::list& out) const {
+    if (static_cast<int>(in.size()) != px_.planes || static_cast<int>(out.size()) != px_.planes)
+      throw py::value_error("planes: " + std::to_string(in.size()) + " in, " +
+                            std::to_string(out.size()) + " out (expected " +
+                            std::to_string(px_.planes) + " of " + px_.pixel_format + ")");
+    std::array<Image, 4> src, dst;
+    for (int p = 0; p < px_.planes; ++p) {
+      src[static_cast<size_t>(p)] = plane(in[static_cast<size_t>(p)], p, false);
+      dst[static_cast<size_t>(p)] = plane(out[static_cast<size_t>(p)], p, true);
+    }
+    Unlocked unlocked;
+    for (int p = 0; p < px_.planes; ++p)
+      planes_->convert_plane(p, src[static_cast<size_t>(p)], dst[static_cast<size_t>(p)]);
+  }
+
+ private:
+  Image plane(const py::handle& h, int p, bool output) const {
+    const py::array a = py::reinterpret_borrow<py::array>(h);
+    const auto [w, hgt] = plane_size(p, output);
+    const PixelType type = px_.bits > 8 ? PixelType::U16 : PixelType::U8;
+    if (pixel_type(a.dtype()) != type || a.ndim() != 2 || a.shape(0) != hgt || a.shape(1) != w ||
+        !(a.flags() & py::array::c_style) || (output && !a.writeable()))
+      throw py::value_error(
+          std::string(output ? "output" : "input") + " plane " + std::to_string(p) + ": " +
+          py::repr(a.attr("shape")).cast<std::string>() + " " +
+          py::str(a.dtype()).cast<std::string>() + " (expected a C-contiguous" +
+          (output ? ", writable " : " ") + std::to_string(hgt) + "x" + std::to_string(w) + " " +
+          (type == PixelType::U8 ? "uint8" : "uint16") + " array)");
+    return Image::view(static_cast<unsigned char*>(const_cast<void*>(a.data())), {w, hgt}, 1, type);
+  }
+
+  VideoPixels px_;
+  ConvertOptions options_;
+  std::vector<std::string> warnings_;  // fit_chroma's
+  std::optional<VideoPlanes> planes_;
+};
+
 std::pair<py::array, py::array> split_map(Image&& map) {
   const int64_t w = map.width(), h = map.height();
   Image x({w, h}, 1, PixelType::F32, -1, Image::Unfilled{}), y({w, h}, 1, PixelType::F32, -1, Image::Unfilled{});
@@ -368,6 +446,12 @@ std::pair<py::array, py::array> split_map(Image&& map) {
 // Finite x, y arrays of one shape as flat double vectors.
 using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
+// The lines a job warns of as Python's UserWarnings, in order.
+void warn_all(const std::vector<std::string>& lines) {
+  for (const std::string& line : lines)
+    if (PyErr_WarnEx(PyExc_UserWarning, line.c_str(), 2) != 0) throw py::error_already_set();
+}
+
 // The tables the Python side is made from (options, jobs, the catalogue), and small helpers.
 void bind_tables(py::module_& m) {
   m.def("options", [] {
@@ -383,7 +467,8 @@ void bind_tables(py::module_& m) {
       out.append(
           py::dict(py::arg("name") = j->name, py::arg("summary") = j->summary,
                    py::arg("python") = j->python ? py::object(py::str(j->python)) : py::none(),
-                   py::arg("staged") = j->begin != nullptr, py::arg("rows") = rows));
+                   py::arg("staged") = j->begin != nullptr, py::arg("rows") = rows,
+                   py::arg("python_name") = j->python_name ? j->python_name : j->name));
     }
     return out;
   });
@@ -465,6 +550,14 @@ void bind_conversions(py::module_& m) {
         const Size s = size_of(p.geometry().target);
         return std::pair{s.width, s.height};
       });
+  py::class_<PyVideoPlan>(m, "VideoPlan")
+      .def(py::init<const py::dict&, std::pair<int64_t, int64_t>, const std::string&,
+                    const std::string&, const py::dict&>(),
+           py::arg("pixels"), py::arg("source_size"), py::arg("src"), py::arg("dst"),
+           py::arg("options"))
+      .def("run", &PyVideoPlan::run, py::arg("planes"), py::arg("out"))
+      .def("plane_size", &PyVideoPlan::plane_size, py::arg("plane"), py::arg("output"))
+      .def_property_readonly("warnings", &PyVideoPlan::warnings);
 }
 
 // Jobs (jobs.hpp): whole, or begun, rendered in parts (any process) and finished.
@@ -473,10 +566,14 @@ void bind_jobs(py::module_& m) {
     const JobDef& job = job_named(name);
     const Arguments args = job_arguments(job, given);
     Report r;
+    std::vector<std::string> warnings;  // (the job's events come from this thread)
+    JobEvents events;
+    events.warning = [&](const std::string& line) { warnings.push_back(line); };
     {
       Unlocked unlocked;
-      r = job.run(args, {});
+      r = job.run(args, events);
     }
+    warn_all(warnings);
     return python_report(r);
   });
   m.def("job_begin", [](const std::string& name, const py::dict& given) {
@@ -661,6 +758,7 @@ PYBIND11_MODULE(_core, m) {
   use_python_option_names();
   use_oiio_package();  // TIFF, EXR, HDR through `pip install openimageio` where the system has no
                        // OpenImageIO
+  use_pyav_package();  // video through `pip install av` where the system has no FFmpeg libraries
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

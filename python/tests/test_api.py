@@ -279,7 +279,9 @@ def test_write_and_the_folder_jobs_take_their_defaults_from_the_rows():
     for job in pp._core.jobs():
         if not job["python"]:
             continue
-        params = inspect.signature(getattr(pp, job["name"])).parameters
+        params = inspect.signature(getattr(pp, job["python_name"])).parameters
         for r in job["rows"]:
-            if r["python"] and not r["positional"]:
+            if r["python"] and r["required"] and not r["positional"]:
+                assert params[r["name"]].default is inspect.Parameter.empty, (job["name"], r["name"])
+            elif r["python"] and not r["positional"]:
                 assert params[r["name"]].default == ast.literal_eval(r["default"]), (job["name"], r["name"])

@@ -110,6 +110,7 @@ struct JobDef {
   PartCounts (*render)(const Arguments& args, const StagedFolder& folder,
                        const std::vector<int64_t>& parts) = nullptr;
   Report (*finish)(const Arguments& args, const StagedFolder& folder, PartCounts counts) = nullptr;
+  const char* python_name = nullptr;  // Python's function where not `name` (taken by another)
 };
 
 const std::vector<const JobDef*>& jobs();

@@ -85,6 +85,7 @@ struct VideoInfo {
   int64_t frames = 0;               // as the container says, 0 unknown
   std::vector<OtherStream> others;  // every other stream
   SphericalVideo spherical;         // the video stream's
+  bool spherical_read = true;       // false: the backend cannot read it (PyAV)
 };
 
 struct VideoFrame {
@@ -167,7 +168,13 @@ VideoBackend& video_backend(const std::string& why);
 // Whether it has been loaded in this process (tests: image jobs never load it).
 bool video_loaded();
 
-constexpr int kVideoPluginAbi = 2;
+// A second backend for where the plugin is missing, tried after it: the Python module's, through
+// PyAV (python/src/pyav_package.cpp). `get` gives it, or nullptr and why not; `hint` says how to
+// install it.
+using VideoFallback = VideoBackend* (*)(std::string& why_not);
+void set_video_fallback(VideoFallback get, const char* hint);
+
+constexpr int kVideoPluginAbi = 3;
 
 }  // namespace panoproj
 

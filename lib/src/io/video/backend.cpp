@@ -69,8 +69,9 @@ class PacketQueue {
   int64_t bytes_ = 0;
 };
 
-// A planar format of native-endian samples of 8 to 16 bits, one component a plane (what crosses
-// to the library as is); false for packed, semi-planar, bitstream, float, palette, hardware.
+// A planar format of native-endian samples of 8 to 16 bits, one component a plane (in FFmpeg's
+// order of planes: Y Cb Cr, or G B R, then alpha; what crosses to the library as is); false for
+// packed, semi-planar, bitstream, float, palette, hardware.
 bool crosses_as_is(const AVPixFmtDescriptor* d) {
   if (!d || !(d->flags & AV_PIX_FMT_FLAG_PLANAR) ||
       (d->flags & (AV_PIX_FMT_FLAG_BITSTREAM | AV_PIX_FMT_FLAG_FLOAT | AV_PIX_FMT_FLAG_PAL |
@@ -78,13 +79,15 @@ bool crosses_as_is(const AVPixFmtDescriptor* d) {
     return false;
   if (d->nb_components < 1 || d->nb_components > 4) return false;
   const int bytes = d->comp[0].depth > 8 ? 2 : 1;
+  unsigned planes = 0;
   for (int c = 0; c < d->nb_components; ++c) {
     const AVComponentDescriptor& k = d->comp[c];
-    if (k.plane != c || k.step != bytes || k.offset != 0 || k.shift != 0 ||
+    if (k.plane >= d->nb_components || k.step != bytes || k.offset != 0 || k.shift != 0 ||
         k.depth != d->comp[0].depth)
       return false;
+    planes |= 1u << k.plane;
   }
-  return true;
+  return planes == (1u << d->nb_components) - 1;
 }
 
 // The planar format a decoded format crosses as: itself, else the one with its components,

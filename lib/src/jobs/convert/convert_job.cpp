@@ -385,9 +385,25 @@ Report run(const Arguments& args, const JobEvents& events) {
 const JobDef convert_job{
     .name = "convert",
     .summary = "convert one image (or cube-face set) to another projection",
-    .python = nullptr,
+    .python =
+        R"(Converts files to another projection (as ``panoproj convert``): an image, a cube-face
+pattern, several images of one size into an output pattern with ``{stem}`` or ``{n}``, or a video.
+
+A video (MP4, MOV, MKV, WebM, AVI, MPEG-TS) is converted on one plan, plane by plane in its own
+pixel format, and encoded again (``codec``, ``crf``, ``bitrate``, ``preset``, ``gop``); its audio
+and subtitles are copied, its spherical metadata gives the source and pose (unless ``src`` is
+given) and is written where the container takes it. ``start`` and ``duration`` (seconds, or text
+such as ``"1:30"``), ``fps``, ``every`` and ``stream`` pick its frames. An output pattern with
+``{n}`` takes the frames as images; images with a video output make one. Video goes through the
+system's FFmpeg libraries, else through PyAV (``pip install 'panoproj[av]'``; then the input's
+spherical metadata is not read and none is written, each said by a warning).
+
+Every output lands whole or not at all (an existing one kept unless ``overwrite``). The command's
+warnings are UserWarnings. Returns a report: for images ``frames`` (one report each), for a video
+its sizes, frame count, seconds, codecs and source spec.)",
     .rows = rows,
     .run = run,
+    .python_name = "convert_file",
 };
 
 }  // namespace panoproj

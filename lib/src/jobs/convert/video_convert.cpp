@@ -14,6 +14,7 @@
 #include "io/video_plugin.hpp"
 #include "jobs/convert/frame_pipeline.hpp"
 #include "jobs/convert/image_frames.hpp"
+#include "jobs/convert/video_planes.hpp"
 #include "jobs/file_source.hpp"
 #include "jobs/video_spherical.hpp"
 #include "panoproj/error.hpp"
@@ -26,40 +27,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// Where a plane's samples sit, from its chroma siting (FFmpeg's AVChromaLocation): cosited with
-// the first luma sample of their s = 2^log2 (offset 0.5 / s - 0.5 chroma pixels: -1/4 for 4:2:0),
-// centred among them (0), or, vertically, with the second of two rows (+1/4).
-Siting siting_of(const VideoPixels& px) {
-  if (px.planes < 3 || px.rgb) return {};
-  const ChromaSiting s = px.siting;
-  const double cx = 0.5 / (1 << px.log2_chroma_w) - 0.5, cy = 0.5 / (1 << px.log2_chroma_h) - 0.5;
-  const bool left =
-      s == ChromaSiting::Left || s == ChromaSiting::TopLeft || s == ChromaSiting::BottomLeft;
-  double y = 0;
-  if (s == ChromaSiting::TopLeft || s == ChromaSiting::Top) y = cy;
-  if ((s == ChromaSiting::BottomLeft || s == ChromaSiting::Bottom) && px.log2_chroma_h == 1)
-    y = 0.25;
-  const double x = left ? cx : 0;
-  return {x, y, x, y};
-}
-
-// Video black of plane p.
-// A plane's projection at its size: the frame's scaled; FFmpeg's EAC frame (border=ffmpeg) laid
-// out anew at the plane's size, as v360 converts each plane (its 2-px borders in the plane's px).
-Projection plane_projection(const Projection& p, Size size) {
-  const auto* c = std::get_if<Cubemap>(&p);
-  if (!c || !c->format().ffmpeg_border) return rescaled(p, size);
-  if (size.width < 15 || size.height < 10)
-    throw Error("border=ffmpeg needs planes of at least 15x10 px (cells of 5 px)");
-  return Cubemap(size, c->format());
-}
-
-uint16_t black_of(const VideoPixels& px, int p) {
-  if (px.alpha && p == px.planes - 1) return 0;
-  if (px.chroma(p)) return static_cast<uint16_t>(1 << (px.bits - 1));
-  return px.full_range ? 0 : static_cast<uint16_t>(16 << (px.bits - 8));
 }
 
 const char* siting_name(ChromaSiting s) {
@@ -81,14 +48,6 @@ int64_t parse_bitrate(const std::string& text) {
     throw Error("--bitrate " + text + " is not a bit rate (e.g. 8M, 2500k, 800000; up to 100G)");
   return static_cast<int64_t>(v * scale);
 }
-
-// One plane's conversion: its Converter and the pixels it leaves without a source.
-struct PlaneMap {
-  const Converter* converter = nullptr;
-  std::vector<uint8_t> none;  // 1 where the output sample has no source
-  bool any_none = false;
-  uint16_t black = 0, most = 0;  // video black; the largest sample (clamped to where under 16 bits)
-};
 
 // The clip's plan: the reader, the geometry per plane kind, the converters.
 class VideoJob {
@@ -115,7 +74,7 @@ class VideoJob {
     if (sink_ || to_images_) {
       std::unique_ptr<VideoWriter> images =
           sink_ ? nullptr : image_sequence_writer(r_.files.output, r_.files.write);
-      plan_planes(info);
+      plan_planes();
       run_frames(sink_ ? *sink_ : *images);
       require_frames();
       seconds_ = since(t0);
@@ -127,7 +86,7 @@ class VideoJob {
       // (The encoder first: it may refuse the size before the maps are made.)
       auto writer = vb->create(fd, r_.files.output, settings(info), reader_.get());
       for (const std::string& n : writer->notes()) warn(n);
-      plan_planes(info);
+      plan_planes();
       run_frames(*writer);
       require_frames();
       const auto t1 = Clock::now();
@@ -258,6 +217,9 @@ class VideoJob {
     }
     const ProjectionSpec from = infer_source_spec(r_.files.from, input, info.size, std::nullopt);
     from_text_ = from.str();
+    if (!r_.files.from && !info.spherical_read)
+      warn(input + ": its spherical metadata, if any, is not read (PyAV does not give it): " +
+           from_text_ + " assumed; give " + option_text("from") + " to say otherwise");
     if (r_.files.from && sv.any()) {
       std::optional<ProjectionSpec> says;
       try {
@@ -289,8 +251,10 @@ class VideoJob {
                   ErrorKind::File);
     const ProjectionSpec from = source_spec(info);
     const ProjectionSpec to = parse_spec(r_.files.to);
-    luma_ = geometry(info.size, from, to, r_.files.options);
-    fit_chroma(info.size, from, to);
+    luma_ = fit_chroma(
+        px_, output_subsampling(px_, !(to_images_ || sink_)), r_.files.options,
+        [&](const ConvertOptions& o) { return geometry(info.size, from, to, o); },
+        [this](const std::string& line) { warn(line); });
     const Size out = luma_->target_frame();
     const uint64_t plane_bytes =
         static_cast<uint64_t>(out.width * out.height) * (px_.bits > 8 ? 2 : 1);
@@ -303,117 +267,9 @@ class VideoJob {
         "the video's frames in flight and kept maps");
   }
 
-  // The converters of the planes (the chroma planes' at their size and siting) and the samples
-  // each leaves without a source.
-  void plan_planes(const VideoInfo& info) {
-    const int sw = 1 << px_.log2_chroma_w, sh = 1 << px_.log2_chroma_h;
-    const Size eye = size_of(luma_->target);
-    luma_converter_.emplace(*luma_, r_.files.options, Keep::MapsAndTaps);
-    const bool subsampled = px_.planes >= 3 && !px_.rgb && (sw > 1 || sh > 1);
-    if (subsampled) {
-      chroma_ = *luma_;
-      const Size se = px_.plane_size(size_of(luma_->source), 1), te = px_.plane_size(eye, 1);
-      try {
-        chroma_->source = plane_projection(luma_->source, se);
-      } catch (const Error& e) {
-        throw Error("cannot read " + r_.files.inputs[0] + ": its chroma planes of " +
-                        size_text(se) + " (" + px_.pixel_format + ") do not hold its " +
-                        from_text_ + " whole: " + e.what(),
-                    ErrorKind::File);
-      }
-      chroma_->target = plane_projection(luma_->target, te);
-      chroma_->siting = siting_of(px_);
-      chroma_converter_.emplace(*chroma_, r_.files.options, Keep::MapsAndTaps);
-    }
-    for (int p = 0; p < px_.planes; ++p) {
-      PlaneMap& m = planes_[static_cast<size_t>(p)];
-      m.converter = subsampled && px_.chroma(p) ? &*chroma_converter_ : &*luma_converter_;
-      m.black = black_of(px_, p);
-      m.most = static_cast<uint16_t>((1 << px_.bits) - 1);
-      if (px_.packed) break;  // (RGB: black is 0, what pixels without a source get)
-      // (The first plane of each converter marks its pixels without a source: a full plane in,
-      // 0 out only where nothing was sampled.)
-      const bool first = p == 0 || (m.converter != planes_[0].converter && p == 1);
-      if (first)
-        m.none = no_source(*m.converter, px_.plane_size(info.size, p));
-      else
-        m.none = planes_[m.converter == planes_[0].converter ? 0 : 1].none;
-      m.any_none = std::find(m.none.begin(), m.none.end(), 1) != m.none.end();
-    }
-  }
-
-  // The output's chroma subsampling (log2 per axis): the frames' own, 4:2:0 for RGB encoded, none
-  // for RGB written as images or for gray.
-  std::pair<int, int> out_subsampling() const {
-    if (px_.packed) return to_images_ || sink_ ? std::pair{0, 0} : std::pair{1, 1};
-    return px_.planes >= 3 ? std::pair{px_.log2_chroma_w, px_.log2_chroma_h} : std::pair{0, 0};
-  }
-
-  // Whether the output's eyes hold whole chroma samples (and, for planes converted as they are,
-  // a cube's faces: cells of whole chroma samples).
-  bool holds_chroma(const ConversionGeometry& g) const {
-    const Size eye = size_of(g.target);
-    const auto [lw, lh] = out_subsampling();
-    if (eye.width % (1 << lw) != 0 || eye.height % (1 << lh) != 0) return false;
-    if (px_.packed || (lw == 0 && lh == 0)) return true;
-    try {
-      (void)plane_projection(g.target, {eye.width >> lw, eye.height >> lh});
-    } catch (const Error&) {
-      return false;
-    }
-    return true;
-  }
-
-  // An output size that does not hold whole chroma samples: the default one is made the next
-  // that does (and that the projection takes: a cube's whole faces) with a warning; a given one
-  // is refused, naming that size.
-  void fit_chroma(Size in, const ProjectionSpec& from, const ProjectionSpec& to) {
-    if (holds_chroma(*luma_)) return;
-    const Size out = luma_->target_frame();
-    std::optional<ConversionGeometry> fitted;
-    ConvertOptions o = r_.files.options;
-    const auto [lw, lh] = out_subsampling();
-    const auto up = [](int64_t v, int log2) { return (v + (1 << log2) - 1) >> log2 << log2; };
-    // Each side rounded up, else (a cube's whole faces) the next widths at the same aspect.
-    std::vector<Size> sizes = {{up(out.width, lw), up(out.height, lh)}};
-    for (int64_t w = out.width + 1; w <= out.width + 64; ++w)
-      sizes.push_back(
-          {w, std::llround(static_cast<double>(out.height * w) / static_cast<double>(out.width))});
-    for (const Size& size : sizes) {
-      if (fitted) break;
-      o.size = size;
-      try {
-        ConversionGeometry g = geometry(in, from, to, o);
-        if (holds_chroma(g)) fitted = std::move(g);
-      } catch (const Error&) {  // (a size the projection does not take: the next)
-      }
-    }
-    const std::string why =
-        "output size " + size_text(out) + " does not hold whole chroma samples of " +
-        (px_.packed ? std::string("yuv420p") : px_.pixel_format) + " (" + std::to_string(1 << lw) +
-        "x" + std::to_string(1 << lh) + " pixels each" +
-        (luma_->stereo.target != StereoLayout::Mono ? ", in each eye" : "") + ")";
-    if (r_.files.options.size || !fitted)
-      throw Error(
-          why + (fitted ? ": give --size " + size_text(fitted->target_frame()) : ": give --size"));
-    warn(why + ": made " + size_text(fitted->target_frame()));
-    luma_ = std::move(fitted);
-  }
-
-  std::vector<uint8_t> no_source(const Converter& c, Size in) const {
-    const PixelType type = px_.bits > 8 ? PixelType::U16 : PixelType::U8;
-    Image full(in, 1, type);
-    if (type == PixelType::U8)
-      std::fill(full.data(), full.data() + full.byte_size(), 255);
-    else
-      std::fill(reinterpret_cast<uint16_t*>(full.data()),
-                reinterpret_cast<uint16_t*>(full.data() + full.byte_size()), 65535);
-    const Image out = c.run(full);
-    std::vector<uint8_t> none(static_cast<size_t>(out.width() * out.height()));
-    for (size_t i = 0; i < none.size(); ++i)
-      none[i] = type == PixelType::U8 ? out.data()[i] == 0
-                                      : reinterpret_cast<const uint16_t*>(out.data())[i] == 0;
-    return none;
+  // The planes' converters (after the encoder: it may refuse the size before the maps are made).
+  void plan_planes() {
+    planes_.emplace(px_, *luma_, r_.files.options, r_.files.inputs[0], from_text_);
   }
 
   VideoSettings settings(const VideoInfo& info) const {
@@ -448,25 +304,6 @@ class VideoJob {
     return {};
   }
 
-  void convert_plane(int p, const Image& in, Image& out) const {
-    const PlaneMap& m = planes_[static_cast<size_t>(p)];
-    m.converter->run(in, out);
-    const size_t n = static_cast<size_t>(out.width() * out.height());
-    const uint8_t* none = m.none.data();
-    if (out.type() == PixelType::U8) {
-      if (!m.any_none) return;
-      unsigned char* o = out.data();
-      const auto black = static_cast<unsigned char>(m.black);
-      for (size_t i = 0; i < n; ++i) o[i] = none[i] ? black : o[i];
-      return;
-    }
-    auto* o = reinterpret_cast<uint16_t*>(out.data());
-    if (m.any_none)
-      for (size_t i = 0; i < n; ++i) o[i] = none[i] ? m.black : std::min(o[i], m.most);
-    else if (m.most < 65535)
-      for (size_t i = 0; i < n; ++i) o[i] = std::min(o[i], m.most);
-  }
-
   void run_frames(VideoWriter& writer) {
     std::array<VideoFrame, 2> in, out;
     const double expected = sel_.expected(reader_->info());
@@ -482,9 +319,8 @@ class VideoJob {
       const auto t0 = Clock::now();
       const VideoFrame& f = in[i % 2];
       VideoFrame& o = out[i % 2];
-      for (int p = 0; p < px_.planes; ++p)
-        convert_plane(p, f.planes[static_cast<size_t>(p)], o.planes[static_cast<size_t>(p)]);
-      o.pts = last_pts_ = f.pts;
+      planes_->convert(f, o);
+      last_pts_ = f.pts;
       convert_seconds_ += since(t0);
     };
     stages.write = [&](size_t i) {
@@ -532,9 +368,9 @@ class VideoJob {
         encode_seconds_, name_of(r_.files.options.interp),
         name_of(antialias_of(r_.files.options)).c_str(), name_of(r_.files.options.engine),
         simd_target(),
-        chroma_      ? siting_name(px_.siting)
-        : px_.packed ? "in RGB"
-                     : "not subsampled");
+        planes_->subsampled() ? siting_name(px_.siting)
+        : px_.packed          ? "in RGB"
+                              : "not subsampled");
     if (events_.line) events_.line(line);
     return {{"input", {r_.files.inputs[0]}},
             {"output", {r_.files.output}},
@@ -562,9 +398,8 @@ class VideoJob {
   VideoPixels px_;
   std::string from_text_;
   std::optional<Eigen::Matrix3d> pose_;  // the metadata's, frame -> level
-  std::optional<ConversionGeometry> luma_, chroma_;
-  std::optional<Converter> luma_converter_, chroma_converter_;
-  std::array<PlaneMap, 4> planes_;
+  std::optional<ConversionGeometry> luma_;
+  std::optional<VideoPlanes> planes_;
   int64_t frames_ = 0, last_pts_ = 0;
   FrameSelection sel_ = r_.frames;  // (fps cleared for images to a video: their rate)
   std::optional<FramePicker> picker_;

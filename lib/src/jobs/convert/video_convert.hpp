@@ -1,15 +1,12 @@
 #pragma once
 // The convert job on a video: one plan for the whole clip, its frames decoded, converted plane by
-// plane in their own format (YUV: each chroma plane with its own map at the chroma resolution and
-// the sited position of its samples) and encoded, on three threads at once with two frames in
-// flight per stage (memory flat in the clip's length). Rules:
+// plane in their own format (video_planes.hpp) and encoded, on three threads at once with two
+// frames in flight per stage (memory flat in the clip's length). Rules:
 //   - the video stream's frames (those whose time is in [start, start + duration), the times then
 //     counted from start; every n-th of them, or at most fps a second, the first taken), each
 //     output frame's pts the input's (same time base);
 //     its audio and subtitle streams copied packet for packet, GoPro's gpmd telemetry into MP4
 //     and MOV, a start timecode made again; other streams dropped with a warning naming each.
-//   - outside the source's field: video black (Y at 16 << (bits - 8) for limited range, 0 for
-//     full; chroma at mid-scale; alpha 0). Samples of 9 to 15 bits are clamped to their range.
 //   - the output's size must hold whole chroma samples (refused otherwise, naming the nearest
 //     sizes that do); the pixel format, range, matrix, primaries, transfer and chroma siting are
 //     the input's (an encoder that lacks the format gets its nearest, with a warning).
