@@ -3,7 +3,8 @@
 # into a fresh virtual environment, checked to resolve no system imaging library, its command run
 # from the environment's bin, the whole pytest suite run against it with no environment variable,
 # and, where a mount namespace can be made (root), the module used with the system's OpenImageIO
-# really gone. Prints the wheel's size and tag, and import time and memory.
+# really gone, then FFmpeg's libraries too (video through PyAV, the av extra). Prints the wheel's
+# size and tag, and import time and memory.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d)
@@ -14,7 +15,7 @@ wheel=$(ls "$work"/dist/panoproj-*.whl)
 echo "wheel: $(basename "$wheel"), $(( $(stat -c %s "$wheel") / 1024 )) kB"
 python3 -m venv "$work/venv"
 py="$work/venv/bin/python"
-"$py" -m pip install -q "$wheel[io,test]"
+"$py" -m pip install -q "$wheel[io,av,test]"
 site=$("$py" -c 'import sysconfig; print(sysconfig.get_path("platlib"))')
 # The extension and the command: every imaging library their own copy in panoproj.libs.
 for elf in "$site"/panoproj/_core*.so "$site/panoproj.scripts/panoproj"; do
@@ -28,7 +29,10 @@ cd "$work"  # away from the source tree
 "$work/venv/bin/panoproj" info >/dev/null
 "$work/venv/bin/panoproj" convert "$root/samples/images/jordan_pond_4096x2048.jpg" "$work/cube.jpg" --to cubemap --size 1536x256
 env -u PANOPROJ_CLI "$py" -m pytest -q -n 2 -p no:cacheprovider "$root/python/tests"
-# OpenImageIO gone: its libraries covered by empty files in a private mount namespace.
+# A clip for the run without FFmpeg's libraries (made while they are here).
+ffmpeg -v error -f lavfi -i testsrc2=s=512x256:d=1:r=10 -f lavfi -i sine=d=1 -c:v libx264 -pix_fmt yuv420p \
+  -c:a aac -shortest "$work/clip.mp4"
+# OpenImageIO gone, then FFmpeg's libraries: covered by empty files in a private mount namespace.
 if unshare -m true 2>/dev/null; then
   unshare -m bash -c '
     for f in $(ldconfig -p | grep -o "/[^ ]*libOpenImageIO[^ ]*"); do mount --bind /dev/null "$(readlink -f "$f")"; done
@@ -48,7 +52,19 @@ except OSError as e:
 import panoproj as pp
 assert pp.read(\"$1/samples/images/blender_city_1024x512.exr\").shape == (512, 1024, 3)
 print(\"without the system OpenImageIO, with the openimageio package: an EXR reads\")
-"' "$py" "$root"
+"
+    for f in $(ldconfig -p | grep -oE "/[^ ]*lib(avformat|avcodec|avutil|swscale)\.so[^ ]*"); do
+      mount --bind /dev/null "$(readlink -f "$f")"
+    done
+    "$0" -c "
+import warnings, panoproj as pp
+with warnings.catch_warnings(record=True) as said:
+    warnings.simplefilter(\"always\")
+    r = pp.convert_file(\"$2/clip.mp4\", \"$2/clip_360.mp4\", dst=\"equirect\", size=(512, 256))
+assert r[\"frames\"] == 10, r
+print(\"without the system FFmpeg libraries, through PyAV (\" + pp._pyav.version() + \"): 10 frames converted;\",
+      \"; \".join(str(w.message) for w in said))
+"' "$py" "$root" "$work"
 else
   echo "test-wheel: no mount namespace here (not root): the run without OpenImageIO is skipped"
 fi

@@ -32,6 +32,11 @@ def require() -> Any:
     return av
 
 
+def _why(e: Exception) -> str:
+    """FFmpeg's words for an error (its strerror), without PyAV's repetition of the path."""
+    return str(getattr(e, "strerror", None) or e)
+
+
 def version() -> str:
     av = require()
     return f"PyAV {av.__version__} (FFmpeg {getattr(av, 'ffmpeg_version_info', '?')})"
@@ -126,7 +131,7 @@ class Reader:
         try:
             self._c = av.open(path, metadata_errors="ignore")
         except av.FFmpegError as e:
-            self._fail(f"it is not a video PyAV can read ({e})")
+            self._fail(f"it is not a video PyAV can read ({_why(e)})")
         videos = [s for s in self._c.streams if s.type == "video" and not int(s.disposition) & _ATTACHED_PIC]
         if not videos:
             self._fail("it has no video stream")
@@ -135,6 +140,8 @@ class Reader:
                        f"{'' if len(videos) == 1 else 's'} (0 to {len(videos) - 1})")
         vs = self._vs = videos[max(stream, 0)]
         cc = vs.codec_context
+        if cc is None:
+            self._fail("no decoder for its video codec in PyAV's FFmpeg")
         if cc.width * cc.height > _MOST_PIXELS:
             self._fail(f"its frames of {cc.width}x{cc.height} are over {_MOST_PIXELS} px")
         vs.thread_type = "AUTO"
@@ -144,7 +151,7 @@ class Reader:
             try:
                 self._c.seek(self._shift, stream=vs, backward=True)
             except av.FFmpegError as e:
-                self._fail(f"it cannot be read from {start} s ({e})")
+                self._fail(f"it cannot be read from {start} s ({_why(e)})")
         self._frames = self._decoded()
         self._last: Optional[int] = None
         self._pending = next(self._frames, None)  # the range's first frame (its format and colour)
@@ -221,6 +228,8 @@ class Reader:
                 except av.InvalidDataError:  # a damaged packet: counted, the next one tried
                     self.concealed += 1
                     continue
+                except av.FFmpegError as e:
+                    self._fail(f"decoding a packet ({_why(e)})")
                 for f in frames:
                     t = self._time(f) * float(self._tb)  # (in doubles, as the plugin compares)
                     if t >= self._end:
@@ -228,7 +237,7 @@ class Reader:
                     if t >= self._start:
                         yield f
         except av.FFmpegError as e:
-            self._fail(f"reading a packet ({e})")
+            self._fail(f"reading a packet ({_why(e)})")
 
     def _time(self, f: Any) -> int:
         """A frame's time in the stream's time base (where it has none, the last one's plus its duration)."""
@@ -319,7 +328,7 @@ class Writer:
         try:
             self._c = av.open(self._file, "w")
         except (av.FFmpegError, ValueError) as e:
-            self._fail(f"no muxer of PyAV's FFmpeg takes its extension ({e})")
+            self._fail(f"no muxer of PyAV's FFmpeg takes its extension ({_why(e)})")
         codec = av.Codec(s["codec"], "w")
         formats = [f.name for f in (codec.video_formats or [])]
         self._w, self._h, self._px = s["width"], s["height"], px
@@ -367,13 +376,13 @@ class Writer:
             for o in reader.info["others"]:
                 self._add_copied(reader, o)
         if s["spherical"]:
-            self.notes.append("no spherical metadata written: PyAV cannot write it (the system's FFmpeg "
+            self.notes.append(f"{self.path}: no spherical metadata written: PyAV cannot write it (the system's FFmpeg "
                               "libraries can: apt install libavformat59 libavcodec59 libswscale6)")
         try:
             cc.open()
         except (av.FFmpegError, ValueError) as e:
             given = f"{self._w}x{self._h} {self._enc}" + "".join(f", {k} {v}" for k, v in options.items())
-            self._fail(f"encoder {s['codec']} refuses these settings ({e}; {given})")
+            self._fail(f"encoder {s['codec']} refuses these settings ({_why(e)}; {given})")
 
     def _rgb_graph(self, yuv: bool) -> Any:
         av = self._av
@@ -397,14 +406,14 @@ class Writer:
         try:
             self._copied[o["index"]] = self._c.add_stream_from_template(st)
         except (self._av.FFmpegError, ValueError, TypeError) as e:
-            self.notes.append(dropped + f"PyAV cannot copy it ({e})")
+            self.notes.append(dropped + f"PyAV cannot copy it ({_why(e)})")
 
     def _mux(self, packets: Any) -> None:
         try:
             for p in packets:
                 self._c.mux(p)
         except self._av.FFmpegError as e:
-            self._fail(f"muxing a packet ({e})")
+            self._fail(f"muxing a packet ({_why(e)})")
 
     def _copy_queued(self) -> None:
         if self._reader is None:
@@ -420,7 +429,7 @@ class Writer:
         try:
             packets = self._v.encode(frame)
         except self._av.FFmpegError as e:
-            self._fail(f"encoding a frame ({e})")
+            self._fail(f"encoding a frame ({_why(e)})")
         self._mux(packets)
 
     def write(self, planes: List[np.ndarray], pts: int) -> None:
@@ -449,7 +458,7 @@ class Writer:
             self._c.close()
             self._file.flush()
         except (self._av.FFmpegError, OSError) as e:
-            self._fail(f"writing its index ({e})")
+            self._fail(f"writing its index ({_why(e)})")
         finally:
             self._file.close()
 

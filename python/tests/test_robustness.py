@@ -1889,3 +1889,92 @@ def test_signals_during_a_video_leave_nothing_behind(cli, clips, tmp_path, sig):
             on_start=_signal_once_a_temporary_exists(tmp_path, sig, 0.3))
     assert r.code in (-sig, 128 + sig), (r.code, r.err)
     _assert_old_intact(tmp_path, ["o.mp4"])
+
+
+# The same cases from Python, through the plugin and through PyAV (the plugin made unloadable: the
+# wheel without the system's FFmpeg libraries), each in one child whose peak memory is bounded as
+# the command's: the same exception classes, one line each naming the value in Python's words,
+# nothing left behind. Through PyAV the spherical metadata is not read (docs/video.md).
+PYTHON_NEEDLES = {
+    "crf_out_of_range": "crf=99 is out of range", "bitrate_nan": "bitrate='nan' is not a bit rate",
+    "bitrate_text": "bitrate='fast' is not a bit rate", "gop_negative": "gop=-5 is out of range",
+    "stream_negative": "stream=-1 is out of range", "every_zero": "every=0 is out of range",
+    "odd_cube_faces_422_out": "978x163 does not hold whole chroma samples of yuv422p (2x1 pixels each): give size=984x164",
+    "start_not_a_time": "start='1:xx' is not a time", "start_negative": "start='-1' is not a time",
+    "start_nan": "start='nan' is not a time", "duration_zero": "duration='0' is empty",
+    "duration_inf": "duration='inf' is not a time", "fps_zero": "fps='0' is not a frame rate",
+    "fps_nan": "fps='nan' is not a frame rate", "fps_and_every": "fps= and every= both pick frames: give one",
+    "nan_yaw": "yaw: nan",
+}
+PYAV_NEEDLES = {
+    "unknown_codec": "no decoder for its video codec in PyAV's FFmpeg",
+    "spherical_cube_padding_past_its_cells": "cube_padding.mp4 (192x128 is not a 2:1 equirect): give src= SPEC",
+    "spherical_stereo_right_left": "right_left.mkv (256x64 is not a 2:1 equirect): give src= SPEC",
+}
+_PYTHON_VIDEO_CASES = """
+import json, os, pathlib, sys, warnings
+import panoproj as pp
+warnings.simplefilter("ignore")
+out = {}
+for name, source, output, kw in json.loads(sys.argv[1]):
+    d = pathlib.Path(name)
+    d.mkdir()
+    try:
+        pp.convert_file(source, d / output, **{"dst": "equirect", **kw})
+        out[name] = ["no error", "", os.listdir(d)]
+    except Exception as e:
+        out[name] = [type(e).__name__, str(e), os.listdir(d)]
+print(json.dumps(out))
+"""
+
+
+def _python_kwargs(args):
+    """The command's flags of a case as convert_file's keywords."""
+    out = {}
+    for flag, value in zip(args[::2], args[1::2]):
+        name = flag.lstrip("-").replace("-", "_")
+        name = {"from": "src", "to": "dst", "g": "gop"}.get(name, name)
+        if name in ("stream", "crf", "gop", "every", "quality"):
+            value = int(value)
+        elif name == "yaw":
+            value = float(value)
+        elif name == "fill":
+            value = tuple(float(v) for v in value.split(","))
+        out[name] = value
+    return out
+
+
+def _python_video_cases(clips, folder, pyav):
+    cases = [(c[0], clips[c[1]], c[2], _python_kwargs(c[3])) for c in VIDEO_CASES]
+    package = os.path.dirname(os.path.dirname(pp.__file__))
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([package, os.environ.get("PYTHONPATH", "")])}
+    if pyav:
+        env["PANOPROJ_VIDEO_PLUGIN"] = "/nonexistent/libpanoproj_video.so"
+    folder.mkdir()
+    p = subprocess.Popen([sys.executable, "-c", _PYTHON_VIDEO_CASES, json.dumps(cases)], cwd=folder, env=env,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    with p:
+        timer = threading.Timer(300, p.kill)
+        timer.start()
+        out, err = p.stdout.read(), p.stderr.read()
+        _, status, usage = os.wait4(p.pid, 0)
+        timer.cancel()
+        p.returncode = os.waitstatus_to_exitcode(status)
+    assert p.returncode == 0, err
+    assert usage.ru_maxrss << 10 < HOSTILE_RSS, f"peak memory {usage.ru_maxrss >> 10} MB"
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def test_bad_video_inputs_and_parameters_from_python_through_the_plugin_and_pyav(clips, tmp_path):
+    pytest.importorskip("av")
+    plugin = _python_video_cases(clips, tmp_path / "plugin", pyav=False)
+    pyav = _python_video_cases(clips, tmp_path / "pyav", pyav=True)
+    for name, _, _, _, needle in VIDEO_CASES:
+        needle = PYTHON_NEEDLES.get(name, needle)
+        for via, got in (("plugin", plugin[name]), ("pyav", pyav[name])):
+            kind, message, left = got
+            want = PYAV_NEEDLES.get(name, needle.replace("libavformat", "PyAV")) if via == "pyav" else needle
+            assert want in message and "\n" not in message, (name, via, message)
+            assert left == [], (name, via, left)
+        assert pyav[name][0] == plugin[name][0] and plugin[name][0] in (
+            "OSError", "ValueError", "MemoryError", "FileNotFoundError"), (name, plugin[name], pyav[name])

@@ -163,7 +163,7 @@ def test_a_video_plan_refuses_what_it_cannot_convert(tmp_path):
         pp.VideoPlan("equirect", "cubemap", np.zeros((128, 256), np.uint8))
     with pytest.raises(ValueError, match="chroma_siting"):
         pp.VideoPlan("equirect", "cubemap", frame, size=(384, 64), chroma_siting="middle")
-    with pytest.raises(ValueError, match="does not hold whole chroma samples.*give --size 246x164"):
+    with pytest.raises(ValueError, match="does not hold whole chroma samples.*give size=246x164"):
         pp.VideoPlan("equirect", "cubemap:layout=3x2", frame, size=(243, 162))
     with pytest.warns(UserWarning, match="made 246x164"):
         pp.VideoPlan("equirect", "cubemap:layout=3x2", frame)  # (the default, 243x162, made whole)

@@ -36,6 +36,8 @@ class InternalError : public std::logic_error {
 std::string option_text(std::string_view cli_option);
 // An option with a text value: "--interp nearest", or "interp='nearest'" in Python.
 std::string option_text(std::string_view cli_option, std::string_view value);
+// An option with a number: "--crf 99", or "crf=99" in Python.
+std::string option_number(std::string_view cli_option, std::string_view number);
 void use_python_option_names();
 
 // Something the user should know that is not an error (a stale temporary removed): "panoproj:

@@ -32,6 +32,10 @@ std::string option_text(std::string_view cli_option, std::string_view value) {
                       : option_text(cli_option) + " " + std::string(value);
 }
 
+std::string option_number(std::string_view cli_option, std::string_view number) {
+  return option_text(cli_option) + (python_names ? "" : " ") + std::string(number);
+}
+
 std::string one_line(std::string s) {
   constexpr size_t kMost = 240;
   for (char& c : s)

@@ -27,7 +27,7 @@ double parse_time(const std::string& text, const char* option) {
     at = colon + 1;
   }
   if (!ok || total > 1e9)
-    throw Error(std::string(option) + " " + text +
+    throw Error(option_text(option, text) +
                 " is not a time (seconds, e.g. 12.5, or [HH:]MM:SS[.s])");
   return total;
 }
@@ -69,27 +69,29 @@ FrameSelection frame_selection_of(const Arguments& a) {
   FrameSelection s;
   if (const auto n = a.optional_integer("stream")) {
     if (*n < 0 || *n > (1 << 20))
-      throw Error("--stream " + std::to_string(*n) +
+      throw Error(option_number("stream", std::to_string(*n)) +
                   " is out of range (0 for the first video stream)");
     s.stream = static_cast<int>(*n);
   }
-  if (const std::string t = a.text("start"); !t.empty()) s.range.start = parse_time(t, "--start");
+  if (const std::string t = a.text("start"); !t.empty()) s.range.start = parse_time(t, "start");
   if (const std::string t = a.text("duration"); !t.empty()) {
-    const double d = parse_time(t, "--duration");
-    if (d <= 0) throw Error("--duration " + t + " is empty (give a time over 0)");
+    const double d = parse_time(t, "duration");
+    if (d <= 0) throw Error(option_text("duration", t) + " is empty (give a time over 0)");
     s.range.end = s.range.start + d;
   }
   if (const auto e = a.optional_integer("every")) {
     if (*e < 1 || *e > 1000000)
-      throw Error("--every " + std::to_string(*e) + " is out of range (1 to 1000000)");
+      throw Error(option_number("every", std::to_string(*e)) + " is out of range (1 to 1000000)");
     s.every = *e;
   }
   if (const std::string t = a.text("fps"); !t.empty()) {
     char* end = nullptr;
     s.fps = std::strtod(t.c_str(), &end);
     if (!end || *end || !std::isfinite(s.fps) || s.fps <= 0 || s.fps > 1000)
-      throw Error("--fps " + t + " is not a frame rate (over 0, up to 1000)");
-    if (s.every > 0) throw Error("--fps and --every both pick frames: give one");
+      throw Error(option_text("fps", t) + " is not a frame rate (over 0, up to 1000)");
+    if (s.every > 0)
+      throw Error(option_text("fps") + " and " + option_text("every") +
+                  " both pick frames: give one");
   }
   return s;
 }

@@ -45,7 +45,8 @@ int64_t parse_bitrate(const std::string& text) {
   else if (end && (*end == 'M' || *end == 'm'))
     scale = 1e6, ++end;
   if (text.empty() || !end || *end != '\0' || !std::isfinite(v) || v <= 0 || v * scale > 1e11)
-    throw Error("--bitrate " + text + " is not a bit rate (e.g. 8M, 2500k, 800000; up to 100G)");
+    throw Error(option_text("bitrate", text) +
+                " is not a bit rate (e.g. 8M, 2500k, 800000; up to 100G)");
   return static_cast<int64_t>(v * scale);
 }
 
@@ -197,9 +198,9 @@ class VideoJob {
     if (!codec_) codec_ = &video_codec(r_.codec.empty() ? "h264" : r_.codec);
     if (!r_.bitrate.empty()) bitrate_ = parse_bitrate(r_.bitrate);
     if (r_.crf && (*r_.crf < 0 || *r_.crf > 63))
-      throw Error("--crf " + std::to_string(*r_.crf) + " is out of range (0 to 63)");
+      throw Error(option_number("crf", std::to_string(*r_.crf)) + " is out of range (0 to 63)");
     if (r_.gop < 0 || r_.gop > 100000)
-      throw Error("--gop " + std::to_string(r_.gop) + " is out of range (0 to 100000)");
+      throw Error(option_number("gop", std::to_string(r_.gop)) + " is out of range (0 to 100000)");
     if (r_.files.options.engine == Engine::Reference)
       throw Error("a video needs the simd or scalar engine (--engine)");
   }

@@ -96,8 +96,8 @@ ConversionGeometry fit_chroma(const VideoPixels& px, std::pair<int, int> sub,
                           std::to_string(1 << lw) + "x" + std::to_string(1 << lh) + " pixels each" +
                           (g.stereo.target != StereoLayout::Mono ? ", in each eye" : "") + ")";
   if (options.size || !fitted)
-    throw Error(why +
-                (fitted ? ": give --size " + size_text(fitted->target_frame()) : ": give --size"));
+    throw Error(why + (fitted ? ": give " + option_number("size", size_text(fitted->target_frame()))
+                              : ": give " + option_text("size")));
   warn(why + ": made " + size_text(fitted->target_frame()));
   return std::move(*fitted);
 }
