@@ -62,8 +62,10 @@ with warnings.catch_warnings(record=True) as said:
     warnings.simplefilter(\"always\")
     r = pp.convert_file(\"$2/clip.mp4\", \"$2/clip_360.mp4\", dst=\"equirect\", size=(512, 256))
 assert r[\"frames\"] == 10, r
-print(\"without the system FFmpeg libraries, through PyAV (\" + pp._pyav.version() + \"): 10 frames converted;\",
-      \"; \".join(str(w.message) for w in said))
+print(\"without the system FFmpeg libraries, through PyAV (\" + pp._pyav.version() + \"): 10 frames converted,\",
+      \"spherical metadata written:\", repr(r[\"spherical_metadata\"]), \"; warnings:\",
+      \"; \".join(str(w.message) for w in said) or \"none\")
+assert r[\"spherical_metadata\"] == \"equirectangular\", r
 "' "$py" "$root" "$work"
 else
   echo "test-wheel: no mount namespace here (not root): the run without OpenImageIO is skipped"

@@ -14,6 +14,14 @@
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <functional>
+
+#include "io/mp4_spherical.hpp"
+#include "io/video_plugin.hpp"
 #include "job_support.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/jobs.hpp"
@@ -262,6 +270,189 @@ TEST_F(Spherical, MetadataPanoprojDoesNotReadIsRefusedInOneLine) {
         << e.what();
   }
   EXPECT_FALSE(fs::exists(p("o.mkv")));
+}
+
+// panoproj's own reader and writer of the MP4 boxes (io/mp4_spherical.hpp, for video through
+// PyAV) against libavformat's, the second parser of the files the plugin writes.
+SphericalVideo libavformat_reads(const std::string& file) {
+  return video_backend("reading " + file).open(file, -1, false)->info().spherical;
+}
+
+void expect_same(const SphericalVideo& a, const SphericalVideo& b, const std::string& what) {
+  EXPECT_EQ(static_cast<int>(a.kind), static_cast<int>(b.kind)) << what;
+  EXPECT_EQ(a.name, b.name) << what;
+  for (auto [x, y] : {std::pair{a.top, b.top},
+                      {a.bottom, b.bottom},
+                      {a.left, b.left},
+                      {a.right, b.right},
+                      {a.yaw, b.yaw},
+                      {a.pitch, b.pitch},
+                      {a.roll, b.roll}})
+    EXPECT_EQ(x, y) << what;
+  EXPECT_EQ(a.padding, b.padding) << what;
+  EXPECT_EQ(static_cast<int>(a.stereo), static_cast<int>(b.stereo)) << what;
+  EXPECT_EQ(a.stereo_name, b.stereo_name) << what;
+}
+
+TEST_F(Spherical, PanoprojsBoxReaderReadsWhatLibavformatReads) {
+  const std::vector<std::pair<const char*, const char*>> files = {
+      {"equirect", "256x128"},
+      {"equirect:hfov=180,vfov=90,lon0=45", "128x64"},
+      {"cubemap:layout=3x2,order=rludfb", "192x128"},
+      {"equirect:stereo=tb", "256x256"},
+      {"equirect:stereo=sbs,hfov=180", "256x128"}};
+  for (size_t i = 0; i < files.size(); ++i) {
+    const std::string f = p("f" + std::to_string(i) + ".mp4");
+    convert(p("in.mp4"), f, files[i].first, files[i].second);
+    if (i == 0) patch_box(f, "prhd", be32({30 << 16, -(10 << 16) - 32768, 5 << 16}));
+    const SphericalVideo theirs = libavformat_reads(f);
+    ASSERT_TRUE(theirs.any()) << files[i].first;
+    expect_same(spherical_of_moov(read_moov(f), 0, f), theirs, files[i].first);
+  }
+  EXPECT_FALSE(spherical_of_moov(read_moov(p("in.mp4")), 0, "in.mp4").any());
+}
+
+TEST_F(Spherical, BoxesPanoprojWritesAreReadByLibavformatAndExiftool) {
+  convert(p("in.mp4"), p("plain.mp4"), "equirect", "256x128", {{"no_metadata", true}});
+  SphericalVideo crop;
+  crop.kind = SphericalVideo::Kind::Equirect, crop.name = "tiled equirectangular";
+  crop.top = 0.25, crop.bottom = 0.125, crop.left = 0.375, crop.right = 0.0625;
+  crop.yaw = 12.5, crop.pitch = -3.25, crop.roll = 181;
+  SphericalVideo cube;
+  cube.kind = SphericalVideo::Kind::Cubemap, cube.name = "cubemap", cube.padding = 2;
+  SphericalVideo tb;
+  tb.kind = SphericalVideo::Kind::Equirect, tb.name = "equirectangular";
+  tb.stereo = SphericalVideo::Stereo::TopBottom, tb.stereo_name = "top and bottom";
+  const std::string frames = frames_md5(p("plain.mp4"));
+  for (const SphericalVideo& v : {crop, cube, tb}) {
+    const std::string f = p(v.name + ".mp4");
+    fs::copy_file(p("plain.mp4"), f, fs::copy_options::overwrite_existing);
+    const int fd = ::open(f.c_str(), O_WRONLY);  // (as the job's temporary: for writing only)
+    ASSERT_GE(fd, 0);
+    write_mp4_spherical(fd, f, v);
+    ::close(fd);
+    SphericalVideo read = libavformat_reads(f);
+    for (double* x : {&read.top, &read.bottom, &read.left, &read.right})
+      *x = std::round(*x * 1e6) / 1e6;                        // (0.32 fixed point, floored)
+    read.roll = read.roll < 0 ? read.roll + 360 : read.roll;  // (16.16: -179 for 181)
+    expect_same(read, v, v.name);
+    expect_same(spherical_of_moov(read_moov(f), 0, f), libavformat_reads(f),
+                v.name + ", read back");
+    EXPECT_EQ(frames_md5(f), frames) << v.name;
+  }
+  const std::string x =
+      shell("exiftool -n -s -ProjectionBoundsLeft -PoseYawDegrees -PosePitchDegrees '" +
+            p("tiled equirectangular.mp4") + "'");
+  for (auto [key, want] : {std::pair{"ProjectionBoundsLeft", 0.375},
+                           {"PoseYawDegrees", 12.5},
+                           {"PosePitchDegrees", -3.25}}) {
+    const size_t at = x.find(std::string(key) + " ");
+    ASSERT_NE(at, std::string::npos) << key << "\n" << x;
+    EXPECT_NEAR(std::atof(x.c_str() + x.find(':', at) + 1), want, 1e-9) << key;
+  }
+}
+
+// An MP4 with Spherical Video V1's uuid box (its XML) put into its video trak after tkhd (its
+// moov ends the file: no chunk offset moves).
+void put_v1(const std::string& file, const std::string& xml) {
+  std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+  std::string all((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const auto size_at = [&](size_t at) {
+    return static_cast<size_t>(static_cast<unsigned char>(all[at])) << 24 |
+           static_cast<size_t>(static_cast<unsigned char>(all[at + 1])) << 16 |
+           static_cast<size_t>(static_cast<unsigned char>(all[at + 2])) << 8 |
+           static_cast<unsigned char>(all[at + 3]);
+  };
+  const auto set_size = [&](size_t at, size_t v) {
+    for (int i = 0; i < 4; ++i)
+      all[at + static_cast<size_t>(i)] = static_cast<char>(v >> (24 - 8 * i));
+  };
+  const size_t moov = all.rfind("moov") - 4, trak = all.find("trak", moov) - 4,
+               tkhd = all.find("tkhd", trak) - 4;
+  ASSERT_EQ(moov + size_at(moov), all.size()) << "moov is not last in " << file;
+  const std::string uuid("\xff\xcc\x82\x63\xf8\x55\x4a\x93\x88\x14\x58\x7a\x02\x52\x1f\xdd", 16);
+  const std::string box = std::string(4, '\0') + "uuid" + uuid + xml;
+  all.insert(tkhd + size_at(tkhd), box);
+  set_size(tkhd + size_at(tkhd), box.size());
+  set_size(trak, size_at(trak) + box.size());
+  set_size(moov, size_at(moov) + box.size());
+  f.seekp(0);
+  f.write(all.data(), static_cast<std::streamsize>(all.size()));
+}
+
+TEST_F(Spherical, SphericalVideoV1IsReadAsLibavformatReadsIt) {
+  const std::string xml_head =
+      "<?xml version=\"1.0\"?><rdf:SphericalVideo xmlns:rdf=\"http://www.w3.org/1999/02/"
+      "22-rdf-syntax-ns#\" xmlns:GSpherical=\"http://ns.google.com/videos/1.0/spherical/\">"
+      "<GSpherical:Spherical>true</GSpherical:Spherical><GSpherical:Stitched>true</"
+      "GSpherical:Stitched><GSpherical:StitchingSoftware>panoproj's test</"
+      "GSpherical:StitchingSoftware><GSpherical:ProjectionType>equirectangular</"
+      "GSpherical:ProjectionType>";
+  const std::vector<std::string> bodies = {
+      "<GSpherical:InitialViewHeadingDegrees>90</GSpherical:InitialViewHeadingDegrees>",
+      "<GSpherical:StereoMode>top-bottom</GSpherical:StereoMode>"
+      "<GSpherical:InitialViewPitchDegrees>-20</GSpherical:InitialViewPitchDegrees>",
+      "<GSpherical:StereoMode>left-right</GSpherical:StereoMode>"};
+  convert(p("in.mp4"), p("plain.mp4"), "equirect", "256x128", {{"no_metadata", true}});
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    const std::string f = p("v1_" + std::to_string(i) + ".mp4");
+    fs::copy_file(p("plain.mp4"), f, fs::copy_options::overwrite_existing);
+    put_v1(f, xml_head + bodies[i] + "</rdf:SphericalVideo>");
+    const SphericalVideo theirs = libavformat_reads(f);
+    ASSERT_EQ(static_cast<int>(theirs.kind), static_cast<int>(SphericalVideo::Kind::Equirect))
+        << bodies[i];
+    expect_same(spherical_of_moov(read_moov(f), 0, f), theirs, bodies[i]);
+  }
+  // (The initial view's heading is where a viewer starts looking, not a pose: 0 in both.)
+  EXPECT_EQ(libavformat_reads(p("v1_0.mp4")).yaw, 0);
+  EXPECT_EQ(static_cast<int>(libavformat_reads(p("v1_1.mp4")).stereo),
+            static_cast<int>(SphericalVideo::Stereo::TopBottom));
+  // Without StitchingSoftware neither reads it.
+  const std::string f = p("v1_no.mp4");
+  fs::copy_file(p("plain.mp4"), f, fs::copy_options::overwrite_existing);
+  put_v1(
+      f,
+      "<GSpherical:Spherical>true</GSpherical:Spherical><GSpherical:Stitched>true</"
+      "GSpherical:Stitched><GSpherical:ProjectionType>equirectangular</GSpherical:ProjectionType>");
+  EXPECT_FALSE(libavformat_reads(f).any());
+  EXPECT_FALSE(spherical_of_moov(read_moov(f), 0, f).any());
+}
+
+TEST_F(Spherical, MalformedOrMisplacedBoxesAreRefusedInOneLine) {
+  convert(p("in.mp4"), p("e.mp4"), "equirect", "256x128");
+  const std::string moov = read_moov(p("e.mp4"));
+  ASSERT_FALSE(moov.empty());
+  const auto refused = [&](const std::function<void()>& f, const std::string& needle) {
+    try {
+      f();
+      ADD_FAILURE() << "not refused: " << needle;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+  };
+  std::string past = moov;
+  const size_t trak = past.find("trak") - 4;
+  past[trak] = '\x7f';  // (a trak of 2 GB in a moov of kB)
+  refused([&] { spherical_of_moov(past, 0, "e.mp4"); }, "e.mp4: its box trak runs past its parent");
+  std::string crossed = moov;
+  const size_t equi = crossed.find("equi") + 8;
+  crossed.replace(equi, 8, "\xff\xff\xff\x00\x00\x00\x01\x00", 8);
+  refused([&] { spherical_of_moov(crossed, 0, "e.mp4"); }, "equi bounds cross");
+  SphericalVideo v;
+  v.kind = SphericalVideo::Kind::Equirect;
+  refused([&] { moov_with_spherical(moov, v); }, "its video track has a sv3d box already");
+  // A moov before the frames (faststart) cannot grow in place: refused, the file as it was.
+  convert(p("in.mp4"), p("plain.mp4"), "equirect", "256x128", {{"no_metadata", true}});
+  shell("ffmpeg -v error -i '" + p("plain.mp4") + "' -c copy -movflags +faststart '" +
+        p("fast.mp4") + "'");
+  const std::string before = shell("md5sum < '" + p("fast.mp4") + "'");
+  const int fd = ::open(p("fast.mp4").c_str(), O_WRONLY);
+  refused([&] { write_mp4_spherical(fd, "fast.mp4", v); },
+          "cannot write fast.mp4: its spherical metadata cannot be written: its moov box does not "
+          "end the file");
+  ::close(fd);
+  EXPECT_EQ(shell("md5sum < '" + p("fast.mp4") + "'"), before);
 }
 
 }  // namespace

@@ -5,8 +5,9 @@ formats that :class:`panoproj.VideoPlan` converts. The convert job, its checks, 
 stay the library's: this moves frames and packets only.
 
 Through PyAV, unlike the plugin: a stream's chroma siting is its codec's usual (PyAV does not give
-the stream's), the spherical metadata is neither read nor written, and HDR10's static metadata and
-the start timecode are not carried. Each is said where it applies (a warning)."""
+the stream's); the spherical metadata is read and written in MP4 and MOV only (by panoproj itself:
+io/mp4_spherical.hpp), not in Matroska or WebM; HDR10's static metadata and the start timecode are
+not carried. Each is said where it applies (a warning)."""
 from __future__ import annotations
 
 import io
@@ -375,9 +376,10 @@ class Writer:
         if reader is not None:
             for o in reader.info["others"]:
                 self._add_copied(reader, o)
-        if s["spherical"]:
-            self.notes.append(f"{self.path}: no spherical metadata written: PyAV cannot write it (the system's FFmpeg "
-                              "libraries can: apt install libavformat59 libavcodec59 libswscale6)")
+        if s["spherical"]:  # (MP4's boxes panoproj writes itself: python/src/pyav_package.cpp)
+            self.notes.append(f"{self.path}: no spherical metadata written: through PyAV panoproj writes it into "
+                              "MP4 only (the system's FFmpeg libraries write Matroska's and WebM's: apt install "
+                              "libavformat59 libavcodec59 libswscale6)")
         try:
             cc.open()
         except (av.FFmpegError, ValueError) as e:

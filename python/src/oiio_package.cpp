@@ -17,9 +17,10 @@
 #include <iterator>
 #include <mutex>
 
-#include "panoproj/error.hpp"
 #include "attribute_values.hpp"
 #include "io/oiio_plugin.hpp"
+#include "package_backend.hpp"
+#include "panoproj/error.hpp"
 
 namespace py = pybind11;
 
@@ -226,29 +227,15 @@ class PackageBackend final : public OiioBackend {
   }
 };
 
-OiioBackend* package_backend(std::string& why_not) {
-  static std::once_flag once;
-  static bool found = false;
-  static std::string missing;
-  std::call_once(once, [] {
-    py::gil_scoped_acquire gil;
-    try {
-      py::module_::import("OpenImageIO");
-      found = true;
-    } catch (const py::error_already_set& e) {
-      missing = "openimageio package: " + one_line(e.what());
-    }
-  });
-  if (!found) {
-    why_not = missing;
-    return nullptr;
-  }
-  static PackageBackend backend;
-  return &backend;
+OiioBackend* oiio_package_backend(std::string& why_not) {
+  return package_backend<PackageBackend>(
+      "openimageio package", [] { py::module_::import("OpenImageIO"); }, why_not);
 }
 
 }  // namespace
 
-void use_oiio_package() { set_oiio_fallback(&package_backend, "pip install openimageio"); }
+void use_oiio_package() {
+  set_oiio_fallback(&oiio_package_backend, "pip install openimageio");
+}
 
 }  // namespace panoproj

@@ -12,6 +12,9 @@
 #include <cstring>
 #include <mutex>
 
+#include "io/mp4_spherical.hpp"
+#include "io/video_formats.hpp"
+#include "package_backend.hpp"
 #include "panoproj/error.hpp"
 
 namespace py = pybind11;
@@ -56,6 +59,12 @@ py::dict pixels_dict(const VideoPixels& v) {
                   py::arg("transfer") = v.transfer);
 }
 
+// Whether panoproj reads and writes the spherical boxes itself (io/mp4_spherical.hpp) in files of
+// this container (libavformat's demuxer name, or panoproj's container name).
+bool own_boxes(const std::string& container) {
+  return container.find("mp4") != std::string::npos || container.find("mov") != std::string::npos;
+}
+
 VideoInfo info_of(const py::dict& d) {
   VideoInfo v;
   v.container = d["container"].cast<std::string>();
@@ -74,7 +83,7 @@ VideoInfo info_of(const py::dict& d) {
     v.others.push_back({s["index"].cast<int>(), s["kind"].cast<std::string>(),
                         s["codec"].cast<std::string>(), s["tag"].cast<std::string>()});
   }
-  v.spherical_read = false;
+  v.spherical_read = false;  // (MP4's and MOV's: PyAvReader)
   return v;
 }
 
@@ -85,8 +94,14 @@ void release_held(void* held) {
 
 class PyAvReader final : public VideoReader {
  public:
-  explicit PyAvReader(py::object reader) : reader_(std::move(reader)) {
+  PyAvReader(py::object reader, const std::string& path) : reader_(std::move(reader)) {
     info_ = info_of(reader_.attr("info").cast<py::dict>());
+    if (own_boxes(info_.container)) {
+      const std::string moov = read_moov(path);
+      if (!moov.empty())
+        info_.spherical = spherical_of_moov(moov, info_.stream, "cannot read " + path);
+      info_.spherical_read = true;
+    }
   }
   ~PyAvReader() override {
     py::gil_scoped_acquire gil;
@@ -149,7 +164,9 @@ class PyAvReader final : public VideoReader {
 
 class PyAvWriter final : public VideoWriter {
  public:
-  explicit PyAvWriter(py::object writer) : writer_(std::move(writer)) {
+  // spherical: the boxes written into the finished MP4 at fd (none: nothing).
+  PyAvWriter(py::object writer, int fd, std::string path, const SphericalVideo& spherical)
+      : writer_(std::move(writer)), fd_(fd), path_(std::move(path)), spherical_(spherical) {
     notes_ = writer_.attr("notes").cast<std::vector<std::string>>();
   }
   ~PyAvWriter() override {
@@ -177,11 +194,16 @@ class PyAvWriter final : public VideoWriter {
   }
   void finish() override {
     call([&] { writer_.attr("finish")(); });
+    if (spherical_.any()) write_mp4_spherical(fd_, path_, spherical_);
   }
   const std::vector<std::string>& notes() const override { return notes_; }
+  SphericalVideo spherical() const override { return spherical_; }
 
  private:
   py::object writer_;
+  int fd_;
+  std::string path_;
+  SphericalVideo spherical_;
   std::vector<std::string> notes_;
 };
 
@@ -191,7 +213,7 @@ class PyAvBackend final : public VideoBackend {
                                     const VideoRange& range, bool rgb) override {
     return call([&] {
       return std::make_unique<PyAvReader>(
-          pyav().attr("open")(path, stream, copy, range.start, range.end, rgb));
+          pyav().attr("open")(path, stream, copy, range.start, range.end, rgb), path);
     });
   }
   std::string check_output(const std::string& path, const std::string& codec) override {
@@ -200,6 +222,8 @@ class PyAvBackend final : public VideoBackend {
   std::unique_ptr<VideoWriter> create(int fd, const std::string& path, const VideoSettings& s,
                                       VideoReader* copy_from) override {
     const auto* from = dynamic_cast<const PyAvReader*>(copy_from);
+    const VideoContainer* container = video_container_of(path);
+    const bool own = s.spherical.any() && container && own_boxes(container->name);
     return call([&] {
       const py::dict settings(
           py::arg("codec") = s.codec, py::arg("width") = s.size.width,
@@ -208,9 +232,10 @@ class PyAvBackend final : public VideoBackend {
           py::arg("frame_rate") = std::pair{s.frame_rate[0], s.frame_rate[1]},
           py::arg("crf") = s.crf, py::arg("bitrate") = s.bitrate, py::arg("preset") = s.preset,
           py::arg("gop") = s.gop, py::arg("threads") = s.threads,
-          py::arg("spherical") = s.spherical.any());
+          py::arg("spherical") = s.spherical.any() && !own);
       return std::make_unique<PyAvWriter>(
-          pyav().attr("create")(fd, path, settings, from ? from->object() : py::none()));
+          pyav().attr("create")(fd, path, settings, from ? from->object() : py::none()), fd, path,
+          own ? s.spherical : SphericalVideo{});
     });
   }
   std::string version() override {
@@ -218,25 +243,8 @@ class PyAvBackend final : public VideoBackend {
   }
 };
 
-VideoBackend* package_backend(std::string& why_not) {
-  static std::once_flag once;
-  static bool found = false;
-  static std::string missing;
-  std::call_once(once, [] {
-    py::gil_scoped_acquire gil;
-    try {
-      pyav().attr("require")();
-      found = true;
-    } catch (const py::error_already_set& e) {
-      missing = "PyAV: " + one_line(py::str(e.value()).cast<std::string>());
-    }
-  });
-  if (!found) {
-    why_not = missing;
-    return nullptr;
-  }
-  static PyAvBackend backend;
-  return &backend;
+VideoBackend* pyav_backend(std::string& why_not) {
+  return package_backend<PyAvBackend>("PyAV", [] { pyav().attr("require")(); }, why_not);
 }
 
 }  // namespace
@@ -264,7 +272,7 @@ VideoPixels video_pixels(const py::dict& d) {
 }
 
 void use_pyav_package() {
-  set_video_fallback(&package_backend, "PyAV (pip install 'panoproj[av]')");
+  set_video_fallback(&pyav_backend, "PyAV (pip install 'panoproj[av]')");
 }
 
 }  // namespace panoproj

@@ -223,11 +223,66 @@ print(json.dumps(out))
     for n in range(6):
         assert np.array_equal(pp.read(tmp_path / "pyav" / "f" / f"{n}.png"),
                               pp.read(tmp_path / "plugin" / "f" / f"{n}.png"))
-    # What PyAV does not carry is said, once a file: the metadata not read, none written.
+    # What PyAV does not carry is said: no spherical metadata written into Matroska.
     said = " ".join(got["warnings"])
-    assert "its spherical metadata, if any, is not read (PyAV does not give it)" in said
-    assert "no spherical metadata written: PyAV cannot write it" in said
+    assert "part.mkv: no spherical metadata written: through PyAV panoproj writes it into MP4 only" in said
+    assert "is not read" not in said  # (the input is an MP4: its boxes are read)
     assert got["version"].startswith("PyAV ")
+
+
+def _side_data(path):
+    r = subprocess.run(["ffprobe", "-v", "error", "-select_streams", "v", "-show_entries", "stream_side_data",
+                        "-of", "default=nw=1", path], capture_output=True, text=True, check=True)
+    return r.stdout
+
+
+def test_through_pyav_an_mp4s_spherical_metadata_is_read_and_written_as_the_plugin_does(clip, tmp_path):
+    made = {"crop.mp4": dict(dst="equirect:hfov=180,vfov=90,lon0=45", size=(128, 64)),
+            "cube.mp4": dict(dst="cubemap:layout=3x2,order=rludfb", size=(192, 128)),
+            "tb.mp4": dict(dst="equirect:stereo=tb", size=(256, 256)),
+            "e.mkv": dict(dst="equirect", size=(256, 128), codec="ffv1")}
+    (tmp_path / "plugin").mkdir()
+    for name, kw in made.items():
+        pp.convert_file(clip, tmp_path / "plugin" / name, **kw)
+    # A pose in the cube's prhd box (yaw 90): read, it turns the frames.
+    cube = bytearray((tmp_path / "plugin" / "cube.mp4").read_bytes())
+    k = cube.find(b"prhd") + 8
+    cube[k:k + 4] = (90 << 16).to_bytes(4, "big")
+    (tmp_path / "plugin" / "posed.mp4").write_bytes(bytes(cube))
+    back = dict(dst="equirect", size=(256, 128), codec="ffv1")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for src, out in (("posed.mp4", "from_posed.mkv"), ("e.mkv", "from_e.mkv")):
+            pp.convert_file(tmp_path / "plugin" / src, tmp_path / "plugin" / out, **back)
+    plugin = str(tmp_path / "plugin")
+    script = f"""
+import json, warnings, panoproj as pp
+out = {{}}
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    for name, kw in {made!r}.items():
+        out[name] = pp.convert_file({clip!r}, name, **kw)["spherical_metadata"]
+    for src, name in (("posed.mp4", "from_posed.mkv"), ("e.mkv", "from_e.mkv")):
+        out[name] = pp.convert_file({plugin!r} + "/" + src, name, **{back!r})["src"]
+out["warnings"] = [str(w.message) for w in caught]
+print(json.dumps(out))
+"""
+    got = _run(script, tmp_path)
+    for name in ("crop.mp4", "cube.mp4", "tb.mp4"):
+        assert "Spherical Mapping" in _side_data(str(tmp_path / name))
+        assert _side_data(str(tmp_path / name)) == _side_data(str(tmp_path / "plugin" / name)), name
+    assert "(its spherical metadata: cubemap, pose yaw 90 pitch 0 roll 0)" in got["from_posed.mkv"], got
+    # The report says what was written.
+    assert got["cube.mp4"] == "cubemap" and got["tb.mp4"] == "equirectangular, stereo top-bottom", got
+    assert got["crop.mp4"].startswith("equirectangular, bounds left 0.375") and got["e.mkv"] == "", got
+    for name in ("from_posed.mkv", "from_e.mkv"):
+        ours, theirs = _frames(str(tmp_path / name)), _frames(str(tmp_path / "plugin" / name))
+        assert len(ours) == len(theirs) == 6
+        for (a, _), (b, _) in zip(ours, theirs):
+            assert all(np.array_equal(x, y) for x, y in zip(a, b)), name
+    said = " ".join(got["warnings"])
+    assert "e.mkv: its spherical metadata, if any, is not read (PyAV does not give it): equirect assumed" in said
+    assert "e.mkv: no spherical metadata written: through PyAV panoproj writes it into MP4 only" in said
 
 
 def test_through_pyav_bad_inputs_fail_in_one_line_and_leave_nothing(clip, tmp_path):
@@ -271,3 +326,30 @@ except OSError as e:
     said = _run(script, tmp_path)
     assert "FFmpeg's libraries (apt install libavformat59" in said and "PyAV (pip install 'panoproj[av]')" in said
     assert "\n" not in said and not (tmp_path / "x.mkv").exists()
+
+
+# VLC's renderer of Spherical Video V2's cbmp layout 0 ("cubemap standard", its OpenGL output's
+# cube): each face's corners in VLC's space (x right, y up, front at z = -1) and the grid point
+# (column of 3, row of 2, from the top left) its texture takes there. Facts of VLC's
+# modules/video_output/opengl/vout_helper.c (BuildCube), which plays YouTube's cubemap videos.
+VLC_LAYOUT_0 = {
+    "front": [((-1, 1, -1), (1, 1)), ((-1, -1, -1), (1, 2)), ((1, 1, -1), (2, 1)), ((1, -1, -1), (2, 2))],
+    "back": [((-1, 1, 1), (3, 1)), ((-1, -1, 1), (3, 2)), ((1, 1, 1), (2, 1)), ((1, -1, 1), (2, 2))],
+    "left": [((-1, 1, -1), (2, 0)), ((-1, -1, -1), (2, 1)), ((-1, 1, 1), (1, 0)), ((-1, -1, 1), (1, 1))],
+    "right": [((1, 1, -1), (0, 0)), ((1, -1, -1), (0, 1)), ((1, 1, 1), (1, 0)), ((1, -1, 1), (1, 1))],
+    "bottom": [((-1, -1, 1), (0, 2)), ((-1, -1, -1), (0, 1)), ((1, -1, 1), (1, 2)), ((1, -1, -1), (1, 1))],
+    "top": [((-1, 1, 1), (2, 0)), ((-1, 1, -1), (2, 1)), ((1, 1, 1), (3, 0)), ((1, 1, -1), (3, 1))],
+}
+
+
+def test_the_cube_cbmp_layout_0_names_is_the_one_vlc_plays():
+    # The spec panoproj reads layout 0 as, and writes layout 0 for (jobs/video_spherical.hpp).
+    spec, cell = "cubemap:layout=3x2,order=rludfb", 100
+    for face, corners in VLC_LAYOUT_0.items():
+        centre = np.mean([g for _, g in corners], axis=0) * cell
+        for (x, y, z), grid in corners:
+            px = np.array(grid, float) * cell
+            px += np.sign(centre - px) * 0.5  # (the corner pixel's centre, inside the face)
+            ray, ok = pp.to_ray(spec, (3 * cell, 2 * cell), px[:1], px[1:])
+            want = np.array([x, -y, -z], float) / np.sqrt(3)  # (in panoproj's axes: y down, z forward)
+            assert ok[0] and np.allclose(ray[0], want, atol=0.01), (face, grid, ray[0], want)

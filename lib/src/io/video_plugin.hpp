@@ -138,6 +138,8 @@ class VideoWriter {
   virtual void finish() = 0;
   // What was dropped (a line each) and copied (their indices in the source).
   virtual const std::vector<std::string>& notes() const = 0;
+  // The spherical metadata written (none where the file gets none).
+  virtual SphericalVideo spherical() const { return {}; }
 };
 
 class VideoBackend {

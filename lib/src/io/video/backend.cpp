@@ -778,6 +778,7 @@ class FfWriter final : public VideoWriter {
       fail("out of memory");
     // (libavformat 5.1's MP4 muxer writes sv3d and st3d only at this compliance level.)
     if (s.spherical.any()) fmt_->strict_std_compliance = FF_COMPLIANCE_UNOFFICIAL;
+    spherical_ = s.spherical;
     const size_t buffer_bytes = 1 << 16;
     auto* buffer = static_cast<unsigned char*>(av_malloc(buffer_bytes));
     io_ = avio_alloc_context(buffer, static_cast<int>(buffer_bytes), 1, &fd_, nullptr, write_fd,
@@ -844,6 +845,7 @@ class FfWriter final : public VideoWriter {
   }
 
   const std::vector<std::string>& notes() const override { return notes_; }
+  SphericalVideo spherical() const override { return spherical_; }
 
  private:
   [[noreturn]] void fail(const std::string& why) const {
@@ -1046,6 +1048,7 @@ class FfWriter final : public VideoWriter {
   AVPixelFormat given_ = AV_PIX_FMT_NONE;
   Size size_;
   VideoPixels pixels_;
+  SphericalVideo spherical_;
   std::vector<std::string> notes_;
 };
 

@@ -87,6 +87,7 @@ class VideoJob {
       // (The encoder first: it may refuse the size before the maps are made.)
       auto writer = vb->create(fd, r_.files.output, settings(info), reader_.get());
       for (const std::string& n : writer->notes()) warn(n);
+      spherical_ = writer->spherical();
       plan_planes();
       run_frames(*writer);
       require_frames();
@@ -360,7 +361,7 @@ class VideoJob {
         line, sizeof line,
         "%s (%s %s %s, %s) -> %s (%s %s, %s): %lld frames in %.2f s (%.1f fps; decode %.2f s, "
         "convert "
-        "%.2f s, encode %.2f s), %s, antialias %s, %s engine (%s), chroma %s",
+        "%.2f s, encode %.2f s), %s, antialias %s, %s engine (%s), chroma %s%s",
         input_text().c_str(), size_text(info.size).c_str(), info.codec.c_str(),
         px_.pixel_format.c_str(), from_text_.c_str(), r_.files.output.c_str(),
         size_text(out).c_str(),
@@ -371,22 +372,25 @@ class VideoJob {
         simd_target(),
         planes_->subsampled() ? siting_name(px_.siting)
         : px_.packed          ? "in RGB"
-                              : "not subsampled");
+                              : "not subsampled",
+        spherical_.any() ? (", spherical metadata " + spherical_text(spherical_)).c_str() : "");
     if (events_.line) events_.line(line);
-    return {{"input", {r_.files.inputs[0]}},
-            {"output", {r_.files.output}},
-            {"input_size", report_size(info.size)},
-            {"output_size", report_size(out)},
-            {"frames", {frames_}},
-            {"seconds", {seconds_}},
-            {"decode_seconds", {decode_seconds_}},
-            {"convert_seconds", {convert_seconds_}},
-            {"encode_seconds", {encode_seconds_}},
-            {"pixel_format", {px_.pixel_format}},
-            {"codec", {std::string(codec_->encoder)}},
-            {"concealed", {reader_->concealed()}},
-            {"src", {from_text_}},
-            {"dst", {r_.files.to}}};
+    return {
+        {"input", {r_.files.inputs[0]}},
+        {"output", {r_.files.output}},
+        {"input_size", report_size(info.size)},
+        {"output_size", report_size(out)},
+        {"frames", {frames_}},
+        {"seconds", {seconds_}},
+        {"decode_seconds", {decode_seconds_}},
+        {"convert_seconds", {convert_seconds_}},
+        {"encode_seconds", {encode_seconds_}},
+        {"pixel_format", {px_.pixel_format}},
+        {"codec", {std::string(codec_->encoder)}},
+        {"concealed", {reader_->concealed()}},
+        {"src", {from_text_}},
+        {"dst", {r_.files.to}},
+        {"spherical_metadata", {spherical_.any() ? spherical_text(spherical_) : std::string()}}};
   }
 
   const VideoRequest& r_;
@@ -399,6 +403,7 @@ class VideoJob {
   VideoPixels px_;
   std::string from_text_;
   std::optional<Eigen::Matrix3d> pose_;  // the metadata's, frame -> level
+  SphericalVideo spherical_;             // the output's, as its writer wrote it
   std::optional<ConversionGeometry> luma_;
   std::optional<VideoPlanes> planes_;
   int64_t frames_ = 0, last_pts_ = 0;
