@@ -312,7 +312,7 @@ class Writer:
     copying the other streams of ``reader`` where the container takes them."""
 
     def __init__(self, fd: int, path: str, s: Dict[str, Any], reader: Optional[Reader]) -> None:
-        av = self._av = require()
+        self._av = require()
         self.path, self.notes = path, []
         self._file = _named(io.FileIO(os.dup(fd), "r+b"), path)
         try:
