@@ -1,8 +1,9 @@
 // Fuzzes the video demuxing and decoding path: any bytes as a file, opened through the video
 // plugin (libavformat's probing and demuxers, libavcodec's decoders, panoproj's planes), its
 // first frames read, the copied streams' packets queued; its spherical metadata made a source
-// spec (jobs/video_spherical.hpp); and panoproj's own reader and writer of MP4's spherical
-// boxes (io/mp4_spherical.hpp): what it writes it reads back. Only panoproj::Error may leave it.
+// spec (jobs/video_spherical.hpp); and panoproj's own reader of MP4's spherical boxes and
+// Matroska's elements, and writer of the boxes (io/container_spherical.hpp): what it writes it
+// reads back. Only panoproj::Error may leave it.
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -12,7 +13,7 @@
 #include <cstdio>
 #include <string>
 
-#include "io/mp4_spherical.hpp"
+#include "io/container_spherical.hpp"
 #include "io/video_plugin.hpp"
 #include "jobs/video_spherical.hpp"
 #include "panoproj/error.hpp"
@@ -21,6 +22,10 @@
 // panoproj's box reader on the file, then its writer into it and the reader again.
 void own_boxes(const std::string& path) {
   using panoproj::SphericalVideo;
+  try {
+    (void)panoproj::read_matroska_spherical(path, 0, path);
+  } catch (const panoproj::Error&) {
+  }
   try {
     const std::string moov = panoproj::read_moov(path);
     if (moov.empty()) return;

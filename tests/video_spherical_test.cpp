@@ -20,7 +20,7 @@
 #include <cmath>
 #include <functional>
 
-#include "io/mp4_spherical.hpp"
+#include "io/container_spherical.hpp"
 #include "io/video_plugin.hpp"
 #include "job_support.hpp"
 #include "panoproj/error.hpp"
@@ -272,7 +272,7 @@ TEST_F(Spherical, MetadataPanoprojDoesNotReadIsRefusedInOneLine) {
   EXPECT_FALSE(fs::exists(p("o.mkv")));
 }
 
-// panoproj's own reader and writer of the MP4 boxes (io/mp4_spherical.hpp, for video through
+// panoproj's own reader and writer of the MP4 boxes (io/container_spherical.hpp, for video through
 // PyAV) against libavformat's, the second parser of the files the plugin writes.
 SphericalVideo libavformat_reads(const std::string& file) {
   return video_backend("reading " + file).open(file, -1, false)->info().spherical;
@@ -294,21 +294,54 @@ void expect_same(const SphericalVideo& a, const SphericalVideo& b, const std::st
   EXPECT_EQ(a.stereo_name, b.stereo_name) << what;
 }
 
-TEST_F(Spherical, PanoprojsBoxReaderReadsWhatLibavformatReads) {
+TEST_F(Spherical, PanoprojsOwnReaderReadsWhatLibavformatReads) {
   const std::vector<std::pair<const char*, const char*>> files = {
       {"equirect", "256x128"},
       {"equirect:hfov=180,vfov=90,lon0=45", "128x64"},
       {"cubemap:layout=3x2,order=rludfb", "192x128"},
       {"equirect:stereo=tb", "256x256"},
       {"equirect:stereo=sbs,hfov=180", "256x128"}};
-  for (size_t i = 0; i < files.size(); ++i) {
-    const std::string f = p("f" + std::to_string(i) + ".mp4");
-    convert(p("in.mp4"), f, files[i].first, files[i].second);
-    if (i == 0) patch_box(f, "prhd", be32({30 << 16, -(10 << 16) - 32768, 5 << 16}));
-    const SphericalVideo theirs = libavformat_reads(f);
-    ASSERT_TRUE(theirs.any()) << files[i].first;
-    expect_same(spherical_of_moov(read_moov(f), 0, f), theirs, files[i].first);
-  }
+  for (const char* ext : {".mp4", ".mkv"})
+    for (size_t i = 0; i < files.size(); ++i) {
+      const std::string f = p("f" + std::to_string(i) + ext);
+      convert(p("in.mp4"), f, files[i].first, files[i].second);
+      if (i == 0 && std::string(ext) == ".mp4")
+        patch_box(f, "prhd", be32({30 << 16, -(10 << 16) - 32768, 5 << 16}));
+      const SphericalVideo theirs = libavformat_reads(f);
+      ASSERT_TRUE(theirs.any()) << files[i].first << ext;
+      expect_same(std::string(ext) == ".mp4" ? spherical_of_moov(read_moov(f), 0, f)
+                                             : read_matroska_spherical(f, 0, f),
+                  theirs, files[i].first + std::string(ext));
+    }
+  // Matroska's right-left StereoMode (11), and a pose in its Projection (as floats).
+  std::ifstream in(p("f4.mkv"), std::ios::binary);
+  std::string mkv((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t stereo = mkv.find("\x53\xb8\x81\x01");
+  ASSERT_NE(stereo, std::string::npos);
+  mkv[stereo + 3] = '\x0b';
+  // (the Projection's 20-byte ProjectionPrivate, 23 bytes with its header, made a PoseYaw of 8
+  // bytes, a PosePitch of 4 and a Void element: the same length, so nothing else moves)
+  const size_t priv = mkv.find("\x76\x72\x94", mkv.find("\x76\x70"));
+  ASSERT_NE(priv, std::string::npos);
+  std::string pose = "\x76\x73\x88" + std::string(8, '\0') + "\x76\x74\x84" + std::string(4, '\0') +
+                     "\xec\x83" + std::string(3, '\0');
+  const double yaw = 12.3;
+  const float pitch = -4.5f;
+  uint64_t y;
+  uint32_t q;
+  std::memcpy(&y, &yaw, 8), std::memcpy(&q, &pitch, 4);
+  for (int k = 0; k < 8; ++k)
+    pose[3 + static_cast<size_t>(k)] = static_cast<char>(y >> (56 - 8 * k));
+  for (int k = 0; k < 4; ++k)
+    pose[14 + static_cast<size_t>(k)] = static_cast<char>(q >> (24 - 8 * k));
+  ASSERT_EQ(pose.size(), 23u);
+  mkv.replace(priv, 23, pose);
+  const std::string rl = p("right_left.mkv");
+  std::ofstream(rl, std::ios::binary).write(mkv.data(), static_cast<std::streamsize>(mkv.size()));
+  expect_same(read_matroska_spherical(rl, 0, rl), libavformat_reads(rl), "right-left");
+  EXPECT_EQ(read_matroska_spherical(rl, 0, rl).stereo_name, "side by side (inverted)");
+  EXPECT_NEAR(read_matroska_spherical(rl, 0, rl).yaw, 12.3, 1 / 65536.0);
+  EXPECT_EQ(read_matroska_spherical(rl, 0, rl).pitch, -4.5);
   EXPECT_FALSE(spherical_of_moov(read_moov(p("in.mp4")), 0, "in.mp4").any());
 }
 

@@ -5,9 +5,9 @@ formats that :class:`panoproj.VideoPlan` converts. The convert job, its checks, 
 stay the library's: this moves frames and packets only.
 
 Through PyAV, unlike the plugin: a stream's chroma siting is its codec's usual (PyAV does not give
-the stream's); the spherical metadata is read and written in MP4 and MOV only (by panoproj itself:
-io/mp4_spherical.hpp), not in Matroska or WebM; HDR10's static metadata and the start timecode are
-not carried. Each is said where it applies (a warning)."""
+the stream's); the spherical metadata is read by panoproj itself (io/container_spherical.hpp) and
+written into MP4 only, not into Matroska or WebM; HDR10's static metadata and the start timecode
+are not carried. Each is said where it applies (a warning)."""
 from __future__ import annotations
 
 import io

@@ -12,7 +12,7 @@
 #include <cstring>
 #include <mutex>
 
-#include "io/mp4_spherical.hpp"
+#include "io/container_spherical.hpp"
 #include "io/video_formats.hpp"
 #include "package_backend.hpp"
 #include "panoproj/error.hpp"
@@ -59,8 +59,9 @@ py::dict pixels_dict(const VideoPixels& v) {
                   py::arg("transfer") = v.transfer);
 }
 
-// Whether panoproj reads and writes the spherical boxes itself (io/mp4_spherical.hpp) in files of
-// this container (libavformat's demuxer name, or panoproj's container name).
+// Whether a container's spherical boxes are MP4's (libavformat's demuxer name, or panoproj's
+// container name): panoproj reads and writes them itself (io/container_spherical.hpp); Matroska's
+// it reads.
 bool own_boxes(const std::string& container) {
   return container.find("mp4") != std::string::npos || container.find("mov") != std::string::npos;
 }
@@ -83,7 +84,6 @@ VideoInfo info_of(const py::dict& d) {
     v.others.push_back({s["index"].cast<int>(), s["kind"].cast<std::string>(),
                         s["codec"].cast<std::string>(), s["tag"].cast<std::string>()});
   }
-  v.spherical_read = false;  // (MP4's and MOV's: PyAvReader)
   return v;
 }
 
@@ -96,11 +96,12 @@ class PyAvReader final : public VideoReader {
  public:
   PyAvReader(py::object reader, const std::string& path) : reader_(std::move(reader)) {
     info_ = info_of(reader_.attr("info").cast<py::dict>());
+    const std::string what = "cannot read " + path;
     if (own_boxes(info_.container)) {
       const std::string moov = read_moov(path);
-      if (!moov.empty())
-        info_.spherical = spherical_of_moov(moov, info_.stream, "cannot read " + path);
-      info_.spherical_read = true;
+      if (!moov.empty()) info_.spherical = spherical_of_moov(moov, info_.stream, what);
+    } else if (info_.container.find("matroska") != std::string::npos) {
+      info_.spherical = read_matroska_spherical(path, info_.stream, what);
     }
   }
   ~PyAvReader() override {

@@ -1894,7 +1894,7 @@ def test_signals_during_a_video_leave_nothing_behind(cli, clips, tmp_path, sig):
 # The same cases from Python, through the plugin and through PyAV (the plugin made unloadable: the
 # wheel without the system's FFmpeg libraries), each in one child whose peak memory is bounded as
 # the command's: the same exception classes, one line each naming the value in Python's words,
-# nothing left behind. Through PyAV Matroska's spherical metadata is not read (docs/video.md).
+# nothing left behind.
 PYTHON_NEEDLES = {
     "crf_out_of_range": "crf=99 is out of range", "bitrate_nan": "bitrate='nan' is not a bit rate",
     "bitrate_text": "bitrate='fast' is not a bit rate", "gop_negative": "gop=-5 is out of range",
@@ -1908,7 +1908,6 @@ PYTHON_NEEDLES = {
 }
 PYAV_NEEDLES = {
     "unknown_codec": "no decoder for its video codec in PyAV's FFmpeg",
-    "spherical_stereo_right_left": "right_left.mkv (256x64 is not a 2:1 equirect): give src= SPEC",
 }
 _PYTHON_VIDEO_CASES = """
 import json, os, pathlib, sys, warnings

@@ -85,7 +85,6 @@ struct VideoInfo {
   int64_t frames = 0;               // as the container says, 0 unknown
   std::vector<OtherStream> others;  // every other stream
   SphericalVideo spherical;         // the video stream's
-  bool spherical_read = true;       // false: the backend cannot read it (PyAV)
 };
 
 struct VideoFrame {

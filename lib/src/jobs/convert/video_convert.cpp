@@ -219,9 +219,6 @@ class VideoJob {
     }
     const ProjectionSpec from = infer_source_spec(r_.files.from, input, info.size, std::nullopt);
     from_text_ = from.str();
-    if (!r_.files.from && !info.spherical_read)
-      warn(input + ": its spherical metadata, if any, is not read (PyAV does not give it): " +
-           from_text_ + " assumed; give " + option_text("from") + " to say otherwise");
     if (r_.files.from && sv.any()) {
       std::optional<ProjectionSpec> says;
       try {

@@ -1,4 +1,4 @@
-#include "io/mp4_spherical.hpp"
+#include "io/container_spherical.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -110,6 +110,25 @@ std::optional<size_t> full_box(const Box& b, size_t bytes) {
   return b.body + 4;
 }
 
+// An equi box's bounds (top, bottom, left, right from `at`), as MP4's and Matroska's carry them.
+void read_equi(std::string_view d, size_t at, SphericalVideo& v, const std::string& what) {
+  const uint32_t t = be32(d, at), bo = be32(d, at + 4), l = be32(d, at + 8), r = be32(d, at + 12);
+  if (l >= UINT32_MAX - r || t >= UINT32_MAX - bo)
+    throw Error(what + ": its spherical metadata's equi bounds cross (the frame would be empty)",
+                ErrorKind::File);
+  v.kind = SphericalVideo::Kind::Equirect;
+  v.name = t || bo || l || r ? "tiled equirectangular" : "equirectangular";
+  v.top = t / kUnit, v.bottom = bo / kUnit, v.left = l / kUnit, v.right = r / kUnit;
+}
+
+// A cbmp box's layout and padding (from `at`).
+void read_cbmp(std::string_view d, size_t at, SphericalVideo& v) {
+  const uint32_t layout = be32(d, at);
+  v.kind = layout == 0 ? SphericalVideo::Kind::Cubemap : SphericalVideo::Kind::Other;
+  v.name = layout == 0 ? "cubemap" : "cubemap layout " + std::to_string(layout);
+  v.padding = be32(d, at + 4);
+}
+
 void read_sv3d(std::string_view d, const Box& sv3d, SphericalVideo& v, const std::string& what) {
   const auto proj = child(d, sv3d, "proj", what);
   if (!proj) return;
@@ -121,22 +140,9 @@ void read_sv3d(std::string_view d, const Box& sv3d, SphericalVideo& v, const std
         v.roll = static_cast<int32_t>(be32(d, *at + 8)) / 65536.0;
       }
     } else if (b.type == "equi") {
-      const auto at = full_box(b, 16);
-      if (!at) continue;
-      const uint32_t t = be32(d, *at), bo = be32(d, *at + 4), l = be32(d, *at + 8),
-                     r = be32(d, *at + 12);
-      if (l >= UINT32_MAX - r || t >= UINT32_MAX - bo)
-        throw Error(what + ": its sv3d box's equi bounds cross (the frame would be empty)",
-                    ErrorKind::File);
-      v.kind = SphericalVideo::Kind::Equirect;
-      v.name = t || bo || l || r ? "tiled equirectangular" : "equirectangular";
-      v.top = t / kUnit, v.bottom = bo / kUnit, v.left = l / kUnit, v.right = r / kUnit;
+      if (const auto at = full_box(b, 16)) read_equi(d, *at, v, what);
     } else if (b.type == "cbmp") {
-      const auto at = full_box(b, 8);
-      if (!at) continue;
-      v.kind = be32(d, *at) == 0 ? SphericalVideo::Kind::Cubemap : SphericalVideo::Kind::Other;
-      v.name = be32(d, *at) == 0 ? "cubemap" : "cubemap layout " + std::to_string(be32(d, *at));
-      v.padding = be32(d, *at + 4);
+      if (const auto at = full_box(b, 8)) read_cbmp(d, *at, v);
     } else if (b.type == "mshp") {
       v.kind = SphericalVideo::Kind::Other, v.name = "mesh";
     }
@@ -266,7 +272,199 @@ std::optional<std::pair<uint64_t, uint64_t>> find_moov(int fd, uint64_t bytes) {
   return std::nullopt;
 }
 
+// Matroska's EBML: an element's ID (its marker bit kept) and its payload's place.
+struct Element {
+  uint32_t id = 0;
+  size_t body = 0, end = 0;
+};
+
+constexpr uint32_t kSegment = 0x18538067, kTracks = 0x1654AE6B, kTrackEntry = 0xAE,
+                   kTrackType = 0x83, kVideo = 0xE0, kStereoMode = 0x53B8, kProjection = 0x7670,
+                   kProjectionType = 0x7671, kProjectionPrivate = 0x7672, kPoseYaw = 0x7673,
+                   kPosePitch = 0x7674, kPoseRoll = 0x7675;
+
+// A variable-length integer at `at` (advanced past it): an ID (marker kept, at most 4 bytes) or
+// a size (at most 8; all ones: unknown, given as npos). None where the bytes do not hold one.
+std::optional<uint64_t> vint(std::string_view d, size_t& at, bool id) {
+  if (at >= d.size()) return std::nullopt;
+  const auto first = static_cast<unsigned char>(d[at]);
+  int length = 1;
+  while (length <= 8 && !(first & (0x80 >> (length - 1)))) ++length;
+  if (length > (id ? 4 : 8) || at + static_cast<size_t>(length) > d.size()) return std::nullopt;
+  uint64_t v = id ? first : first & (0xFFu >> length);
+  bool ones = v == (0xFFu >> length);
+  for (int i = 1; i < length; ++i) {
+    const auto byte = static_cast<unsigned char>(d[at + static_cast<size_t>(i)]);
+    v = v << 8 | byte;
+    ones = ones && byte == 0xFF;
+  }
+  at += static_cast<size_t>(length);
+  return !id && ones ? std::optional<uint64_t>(std::string_view::npos) : v;
+}
+
+// The elements in [begin, end) of `d`: an unknown size runs to `end`; an element past `end`
+// throws Error unless `cut` (the bytes read end before the file: the walk stops there).
+std::vector<Element> elements(std::string_view d, size_t begin, size_t end, const std::string& what,
+                              bool cut = false) {
+  std::vector<Element> out;
+  size_t at = begin;
+  while (at < end) {
+    const auto id = vint(d, at, true);
+    const auto size = id ? vint(d, at, false) : std::nullopt;
+    if (!size || at > end) {
+      if (cut) break;
+      throw Error(what + ": its Matroska element headers run past their parent", ErrorKind::File);
+    }
+    Element e{static_cast<uint32_t>(*id), at, *size == std::string_view::npos ? end : 0};
+    if (*size != std::string_view::npos) {
+      if (*size > end - at) {
+        if (cut) break;
+        throw Error(
+            what + ": its Matroska element " + std::to_string(*id) + " runs past its parent",
+            ErrorKind::File);
+      }
+      e.end = at + static_cast<size_t>(*size);
+    }
+    out.push_back(e);
+    at = e.end;
+  }
+  return out;
+}
+
+std::optional<Element> element(std::string_view d, const Element& parent, uint32_t id,
+                               const std::string& what) {
+  for (const Element& e : elements(d, parent.body, parent.end, what))
+    if (e.id == id) return e;
+  return std::nullopt;
+}
+
+uint64_t uinteger(std::string_view d, const Element& e) {
+  uint64_t v = 0;
+  for (size_t i = e.body; i < e.end && i < e.body + 8; ++i)
+    v = v << 8 | static_cast<unsigned char>(d[i]);
+  return v;
+}
+
+double real(std::string_view d, const Element& e) {
+  const uint64_t bits = uinteger(d, e);
+  if (e.end - e.body == 4) {
+    float f;
+    const auto b32 = static_cast<uint32_t>(bits);
+    std::memcpy(&f, &b32, 4);
+    return f;
+  }
+  if (e.end - e.body != 8) return 0;
+  double x;
+  std::memcpy(&x, &bits, 8);
+  return x;
+}
+
+// Matroska's StereoMode as libavformat gives it (matroska.c's conversion: left eye first unless
+// "inverted").
+void read_stereo_mode(uint64_t mode, SphericalVideo& v) {
+  using S = SphericalVideo::Stereo;
+  static const std::pair<S, const char*> kModes[] = {
+      {S::Mono, ""},  // (mono: libavformat gives no layout)
+      {S::LeftRight, "side by side"},
+      {S::Other, "top and bottom (inverted)"},
+      {S::TopBottom, "top and bottom"},
+      {S::Other, "checkerboard (inverted)"},
+      {S::Other, "checkerboard"},
+      {S::Other, "interleaved lines (inverted)"},
+      {S::Other, "interleaved lines"},
+      {S::Other, "interleaved columns (inverted)"},
+      {S::Other, "interleaved columns"},
+      {S::Mono, ""},  // (anaglyphs: libavformat gives no layout)
+      {S::Other, "side by side (inverted)"},
+      {S::Mono, ""},
+      {S::Other, "frame alternate"},
+      {S::Other, "frame alternate (inverted)"}};
+  if (mode >= std::size(kModes) || !*kModes[mode].second) return;
+  v.stereo = kModes[mode].first, v.stereo_name = kModes[mode].second;
+}
+
+// A Projection element as libavformat reads it (matroskadec.c): equirect with no private data
+// or an equi payload, cubemap with a cbmp payload (layout 0 only), the pose truncated to 16.16.
+void read_projection(std::string_view d, const Element& projection, SphericalVideo& v,
+                     const std::string& what) {
+  std::optional<Element> type, priv;
+  double pose[3] = {0, 0, 0};
+  for (const Element& e : elements(d, projection.body, projection.end, what)) {
+    if (e.id == kProjectionType) type = e;
+    if (e.id == kProjectionPrivate) priv = e;
+    if (e.id == kPoseYaw) pose[0] = real(d, e);
+    if (e.id == kPosePitch) pose[1] = real(d, e);
+    if (e.id == kPoseRoll) pose[2] = real(d, e);
+  }
+  const uint64_t kind = type ? uinteger(d, *type) : 0;
+  const size_t bytes = priv ? priv->end - priv->body : 0;
+  if (kind == 1) {
+    if (bytes == 20) {
+      read_equi(d, priv->body + 4, v, what);
+    } else if (bytes == 0) {
+      v.kind = SphericalVideo::Kind::Equirect, v.name = "equirectangular";
+    } else {
+      throw Error(what + ": its Projection's private data (" + std::to_string(bytes) +
+                      " bytes) is not an equi box's",
+                  ErrorKind::File);
+    }
+  } else if (kind == 2) {
+    if (bytes != 12)
+      throw Error(what + ": its Projection's private data (" + std::to_string(bytes) +
+                      " bytes) is not a cbmp box's",
+                  ErrorKind::File);
+    if (be32(d, priv->body + 4) != 0) return;  // (libavformat: an unknown layout, unread)
+    read_cbmp(d, priv->body + 4, v);
+  } else {
+    return;  // (rectangular, and types libavformat 5.1 does not read: a mesh)
+  }
+  const auto fixed = [](double a) {
+    return std::isfinite(a)
+               ? static_cast<int32_t>(std::clamp(a, -32768.0, 32767.0) * 65536) / 65536.0
+               : 0;
+  };
+  v.yaw = fixed(pose[0]), v.pitch = fixed(pose[1]), v.roll = fixed(pose[2]);
+}
+
 }  // namespace
+
+SphericalVideo spherical_of_matroska(std::string_view head, int stream, const std::string& what) {
+  SphericalVideo v;
+  std::optional<Element> tracks;
+  for (const Element& top : elements(head, 0, head.size(), what, true)) {
+    if (top.id != kSegment) continue;
+    for (const Element& e : elements(head, top.body, std::min(top.end, head.size()), what, true))
+      if (e.id == kTracks && !tracks) tracks = e;
+    break;
+  }
+  if (!tracks) return v;
+  std::vector<Element> entries;
+  for (const Element& e : elements(head, tracks->body, tracks->end, what))
+    if (e.id == kTrackEntry) entries.push_back(e);
+  const auto video = [&](const Element& entry) -> std::optional<Element> {
+    const auto type = element(head, entry, kTrackType, what);
+    return type && uinteger(head, *type) == 1 ? element(head, entry, kVideo, what) : std::nullopt;
+  };
+  std::optional<Element> track;
+  if (stream >= 0 && static_cast<size_t>(stream) < entries.size())
+    track = video(entries[static_cast<size_t>(stream)]);
+  for (size_t i = 0; i < entries.size() && !track; ++i) track = video(entries[i]);
+  if (!track) return v;
+  for (const Element& e : elements(head, track->body, track->end, what)) {
+    if (e.id == kStereoMode) read_stereo_mode(uinteger(head, e), v);
+    if (e.id == kProjection) read_projection(head, e, v, what);
+  }
+  return v;
+}
+
+SphericalVideo read_matroska_spherical(const std::string& path, int stream,
+                                       const std::string& what) {
+  std::ifstream f(path, std::ios::binary);
+  std::string head(size_t{16} << 20, '\0');
+  f.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(std::max<std::streamsize>(f.gcount(), 0)));
+  return spherical_of_matroska(head, stream, what);
+}
 
 SphericalVideo spherical_of_moov(std::string_view moov, int stream, const std::string& what) {
   SphericalVideo v;
