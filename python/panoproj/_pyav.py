@@ -78,17 +78,16 @@ def pixels(name: str, color_range: int, colorspace: int, primaries: int, trc: in
     f = av.VideoFormat(name, 64, 64)
     comps = f.components
     yuv = not f.is_rgb and len(comps) >= 3
-    jpeg = name.startswith("yuvj")
-    return {
+    from . import _core
+    return _core.video_pixels({
         "pixel_format": name, "planes": len(comps), "rgb": bool(f.is_rgb), "alpha": any(c.is_alpha for c in comps),
         "packed": False, "bits": comps[0].bits,
         "log2_chroma_w": int(math.log2(64 // comps[1].width)) if yuv else 0,
         "log2_chroma_h": int(math.log2(64 // comps[1].height)) if yuv else 0,
-        # (unsaid: centred for JPEG's codings, else left: MPEG-2, H.264, HEVC; AVChromaLocation's numbers)
-        "siting": 2 if codec == "mjpeg" or jpeg else 1, "siting_said": False,
-        "full_range": int(color_range) == 2 or jpeg or bool(f.is_rgb),
+        # (PyAV gives no siting: the coding's usual, io/video_plugin.hpp's apply_coding_defaults)
+        "siting": 0, "siting_said": False, "full_range": int(color_range) == 2,
         "matrix": int(colorspace), "primaries": int(primaries), "transfer": int(trc),
-    }
+    }, codec == "mjpeg")
 
 
 def plane_views(frame: Any, dtype: Any, channels: int = 1) -> List[np.ndarray]:

@@ -366,12 +366,7 @@ class PyVideoPlan {
       : px_(video_pixels(pixels)), options_(options_from(options, kUseConvert)) {
     if (px_.packed)
       throw Error("pixels of " + px_.pixel_format + ": packed RGB frames convert as images (Plan)");
-    if (options_.engine == Engine::Reference)
-      throw Error("a video needs the simd or scalar engine (engine=)");
-    if (options_.edges.active() || options_.add_alpha)
-      throw Error(
-          "a video's pixels outside the source's field are video black: edges, fill and alpha are "
-          "for images");
+    check_video_options(options_, true);
     const Size in = size_pair(source_size);
     const ProjectionSpec from = parse_spec(src), to = parse_spec(dst);
     const ConversionGeometry g = fit_chroma(
@@ -550,6 +545,15 @@ void bind_conversions(py::module_& m) {
         const Size s = size_of(p.geometry().target);
         return std::pair{s.width, s.height};
       });
+  m.def(
+      "video_pixels",
+      [](const py::dict& d, bool mjpeg) {
+        VideoPixels v = video_pixels(d);
+        apply_coding_defaults(v, mjpeg);
+        return video_pixels_dict(v);
+      },
+      py::arg("pixels"), py::arg("mjpeg"),
+      "A stream's pixels (panoproj/_pyav.py) completed by what its coding says.");
   py::class_<PyVideoPlan>(m, "VideoPlan")
       .def(py::init<const py::dict&, std::pair<int64_t, int64_t>, const std::string&,
                     const std::string&, const py::dict&>(),

@@ -48,17 +48,6 @@ auto call(F&& f) {
   }
 }
 
-py::dict pixels_dict(const VideoPixels& v) {
-  return py::dict(py::arg("pixel_format") = v.pixel_format, py::arg("planes") = v.planes,
-                  py::arg("rgb") = v.rgb, py::arg("alpha") = v.alpha, py::arg("packed") = v.packed,
-                  py::arg("bits") = v.bits, py::arg("log2_chroma_w") = v.log2_chroma_w,
-                  py::arg("log2_chroma_h") = v.log2_chroma_h,
-                  py::arg("siting") = static_cast<int>(v.siting),
-                  py::arg("siting_said") = v.siting_said, py::arg("full_range") = v.full_range,
-                  py::arg("matrix") = v.matrix, py::arg("primaries") = v.primaries,
-                  py::arg("transfer") = v.transfer);
-}
-
 // Whether a container's spherical boxes are MP4's (libavformat's demuxer name, or panoproj's
 // container name): panoproj reads and writes them itself (io/container_spherical.hpp); Matroska's
 // it reads.
@@ -228,7 +217,7 @@ class PyAvBackend final : public VideoBackend {
     return call([&] {
       const py::dict settings(
           py::arg("codec") = s.codec, py::arg("width") = s.size.width,
-          py::arg("height") = s.size.height, py::arg("pixels") = pixels_dict(s.pixels),
+          py::arg("height") = s.size.height, py::arg("pixels") = video_pixels_dict(s.pixels),
           py::arg("time_base") = std::pair{s.time_base[0], s.time_base[1]},
           py::arg("frame_rate") = std::pair{s.frame_rate[0], s.frame_rate[1]},
           py::arg("crf") = s.crf, py::arg("bitrate") = s.bitrate, py::arg("preset") = s.preset,
@@ -249,6 +238,17 @@ VideoBackend* pyav_backend(std::string& why_not) {
 }
 
 }  // namespace
+
+py::dict video_pixels_dict(const VideoPixels& v) {
+  return py::dict(py::arg("pixel_format") = v.pixel_format, py::arg("planes") = v.planes,
+                  py::arg("rgb") = v.rgb, py::arg("alpha") = v.alpha, py::arg("packed") = v.packed,
+                  py::arg("bits") = v.bits, py::arg("log2_chroma_w") = v.log2_chroma_w,
+                  py::arg("log2_chroma_h") = v.log2_chroma_h,
+                  py::arg("siting") = static_cast<int>(v.siting),
+                  py::arg("siting_said") = v.siting_said, py::arg("full_range") = v.full_range,
+                  py::arg("matrix") = v.matrix, py::arg("primaries") = v.primaries,
+                  py::arg("transfer") = v.transfer);
+}
 
 VideoPixels video_pixels(const py::dict& d) {
   VideoPixels v;

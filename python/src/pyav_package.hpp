@@ -12,5 +12,6 @@ void use_pyav_package();
 
 // A frame's pixels as panoproj/_pyav.py describes them (pixels()): VideoPixels' fields by name.
 VideoPixels video_pixels(const pybind11::dict& d);
+pybind11::dict video_pixels_dict(const VideoPixels& v);
 
 }  // namespace panoproj

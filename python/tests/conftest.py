@@ -38,6 +38,18 @@ def pond_faces():
     return str(SAMPLES / "cubemap_jordan_pond" / "face{index}_{face}.jpg")
 
 
+def child_env(pyav_only=False):
+    """The environment of a Python child process: this panoproj first on its path; with
+    pyav_only, its video plugin unloadable (video through PyAV, as the wheel without the system's
+    FFmpeg libraries)."""
+    import panoproj
+    package = os.path.dirname(os.path.dirname(panoproj.__file__))
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([package, os.environ.get("PYTHONPATH", "")])}
+    if pyav_only:
+        env["PANOPROJ_VIDEO_PLUGIN"] = "/nonexistent/libpanoproj_video.so"
+    return env
+
+
 def smooth_equirect(w, h, dtype=np.uint8, channels=3):
     """A smooth scene on the sphere, sampled at equirect pixel centres: slopes up to ~9 per
     radian (at 1024 px: ~0.05 per pixel, so half a pixel moves it by ~2.5 LSB) and curvature so

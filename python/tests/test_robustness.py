@@ -14,6 +14,7 @@ on rename) and, where a mount is permitted, a 1 MiB tmpfs. Each case checks that
 Cases marked ``why`` reproduce failures the code once had (data lost or written half), each
 fixed at its mechanism.
 """
+import importlib.util
 import json
 import os
 import pathlib
@@ -32,7 +33,7 @@ import numpy as np
 import pytest
 
 import panoproj as pp
-from conftest import HUGE_HDR, huge_exr, huge_tiff, smooth_equirect
+from conftest import HUGE_HDR, child_env, huge_exr, huge_tiff, smooth_equirect
 from folder_race import folder_race
 
 HOSTILE_RSS = 300 << 20
@@ -1511,8 +1512,15 @@ def test_a_broadcast_array_is_counted_before_it_is_copied():
                           pp.convert(np.ascontiguousarray(small), "equirect", "fisheye", size=(16, 16)))
 
 
-@pytest.mark.parametrize("call", ["tiles", "views", "convert"])
+@pytest.mark.parametrize("call", ["tiles", "views", "convert", "convert_file_video", "convert_file_video_pyav"])
 def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
+    env = child_env(call.endswith("pyav"))
+    clip = tmp_path / "clip.mkv"
+    if call.startswith("convert_file_video"):
+        if not FFMPEG or (call.endswith("pyav") and importlib.util.find_spec("av") is None):
+            pytest.skip("ffmpeg and PyAV (test oracles) make and read the clip")
+        subprocess.run([FFMPEG, "-v", "error", "-f", "lavfi", "-i", "testsrc2=size=512x256:rate=10:duration=4",
+                        "-c:v", "ffv1", str(clip)], check=True)
     big = tmp_path / "big.jpg"
     pp.write(str(big), smooth_equirect(4096, 2048))
     frames = [str(big)]
@@ -1525,7 +1533,11 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
     slow = "threads=1, interp='lanczos3', antialias=4"
     body = {"tiles": f"pp.tiles({str(big)!r}, {str(out)!r}, cube_size=4096, {slow})",
             "views": f"pp.views(frames, {str(out)!r}, size=(3000, 3000), {slow})",
-            "convert": f"pp.convert(a, 'equirect', 'fisheye', size=(12000, 12000), {slow})"}[call]
+            "convert": f"pp.convert(a, 'equirect', 'fisheye', size=(12000, 12000), {slow})",
+            "convert_file_video": f"pp.convert_file({str(clip)!r}, {str(out) + '.mkv'!r}, dst='equirect', "
+                                  f"size=(4096, 2048), codec='ffv1', {slow})"}
+    body["convert_file_video_pyav"] = body["convert_file_video"]
+    body = body[call]
     code = ("import os, sys, time, numpy as np, panoproj as pp\n"
             f"a = pp.read({str(big)!r})\n"
             f"frames = {frames!r}\n"
@@ -1533,7 +1545,8 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
             "t0 = time.perf_counter()\n"
             f"try:\n    {body}\n    print('finished')\n"
             "except KeyboardInterrupt:\n    print('interrupted after', time.perf_counter() - t0)\n")
-    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         env=env)
     assert p.stdout.readline().strip() == "start"
     time.sleep(1.0)
     sent = time.perf_counter()
@@ -1541,7 +1554,8 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
     out_text, err = p.communicate(timeout=60)
     assert "interrupted" in out_text, out_text + err
     assert time.perf_counter() - sent < 3, "Ctrl-C took effect late"
-    assert sorted(os.listdir(tmp_path)) == sorted(pathlib.Path(f).name for f in frames)  # nothing written, no temporary
+    made = [pathlib.Path(f).name for f in frames] + (["clip.mkv"] if clip.exists() else [])
+    assert sorted(os.listdir(tmp_path)) == sorted(made)  # nothing written, no temporary
 
 
 def test_a_job_over_the_address_space_limit_is_refused_at_once(cli, files, tmp_path):
@@ -1946,18 +1960,48 @@ def _python_kwargs(args):
 
 def _python_video_cases(clips, folder, pyav):
     cases = [(c[0], clips[c[1]], c[2], _python_kwargs(c[3])) for c in VIDEO_CASES]
-    package = os.path.dirname(os.path.dirname(pp.__file__))
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([package, os.environ.get("PYTHONPATH", "")])}
-    if pyav:
-        env["PANOPROJ_VIDEO_PLUGIN"] = "/nonexistent/libpanoproj_video.so"
     folder.mkdir()
-    p = subprocess.run([sys.executable, "-c", _PYTHON_VIDEO_CASES, json.dumps(cases)], cwd=folder, env=env,
+    p = subprocess.run([sys.executable, "-c", _PYTHON_VIDEO_CASES, json.dumps(cases)], cwd=folder, env=child_env(pyav),
                        capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
     lines = p.stdout.strip().splitlines()
     peak_kb = json.loads(lines[-1])
     assert peak_kb << 10 < HOSTILE_RSS, f"peak memory {peak_kb >> 10} MB"
     return json.loads(lines[-2])
+
+
+_PYTHON_VIDEO_LINKS = """
+import json, os, sys, warnings
+import panoproj as pp
+warnings.simplefilter("ignore")
+clip, out = sys.argv[1], {}
+open("target", "w").write("old")
+for name, overwrite in (("link", False), ("dangling", False), ("link_overwritten", True)):
+    os.symlink("target" if name != "dangling" else "nowhere", name + ".mkv")
+    try:
+        pp.convert_file(clip, name + ".mkv", dst="equirect", codec="ffv1", overwrite=overwrite)
+        out[name] = ["no error", os.path.islink(name + ".mkv")]
+    except Exception as e:
+        out[name] = [type(e).__name__, str(e)]
+out["target"] = open("target").read()
+out["left"] = sorted(os.listdir("."))
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.parametrize("pyav", [False, True], ids=["plugin", "pyav"])
+def test_a_python_video_output_that_is_a_link(clips, tmp_path, pyav):
+    if pyav:
+        pytest.importorskip("av")
+    p = subprocess.run([sys.executable, "-c", _PYTHON_VIDEO_LINKS, clips["ok.mp4"]], cwd=tmp_path, env=child_env(pyav),
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    got = json.loads(p.stdout.strip().splitlines()[-1])
+    for name in ("link", "dangling"):
+        assert got[name][0] == "FileExistsError" and f"{name}.mkv" in got[name][1], got
+    assert got["link_overwritten"] == ["no error", False], got  # (the link replaced, not its target)
+    assert got["target"] == "old"
+    assert got["left"] == ["dangling.mkv", "link.mkv", "link_overwritten.mkv", "target"], got
 
 
 def test_bad_video_inputs_and_parameters_from_python_through_the_plugin_and_pyav(clips, tmp_path):

@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 
 import panoproj as pp
+from conftest import child_env
 
 av = pytest.importorskip("av")
 ffmpeg = pytest.importorskip("shutil").which("ffmpeg")
 pytestmark = pytest.mark.skipif(not ffmpeg, reason="FFmpeg's command makes the clips")
 
-_PYAV_ONLY = {"PANOPROJ_VIDEO_PLUGIN": "/nonexistent/libpanoproj_video.so"}  # (the plugin made unloadable)
 
 
 def _clip(path, size="256x128", pix_fmt="yuv420p", codec="libx264", seconds=0.6, audio=True):
@@ -56,10 +56,8 @@ def _packets(path, kind):
 def _run(script, cwd, pyav_only=True):
     """``script`` in a fresh process (in ``cwd``, this panoproj first on its path), by default one
     whose video plugin cannot load; its stdout's JSON."""
-    package = os.path.dirname(os.path.dirname(pp.__file__))
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([package, os.environ.get("PYTHONPATH", "")])}
     r = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=cwd,
-                       env={**env, **_PYAV_ONLY} if pyav_only else env)
+                       env=child_env(pyav_only))
     assert r.returncode == 0, r.stderr
     return json.loads(r.stdout.strip().splitlines()[-1])
 

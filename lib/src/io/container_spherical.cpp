@@ -426,10 +426,8 @@ void read_projection(std::string_view d, const Element& projection, SphericalVid
   v.yaw = fixed(pose[0]), v.pitch = fixed(pose[1]), v.roll = fixed(pose[2]);
 }
 
-}  // namespace
-
-SphericalVideo spherical_of_matroska(std::string_view head, int stream, const std::string& what) {
-  SphericalVideo v;
+// The Tracks element of a Matroska file's first bytes, none where they do not hold it whole.
+std::optional<Element> tracks_of(std::string_view head, const std::string& what) {
   std::optional<Element> tracks;
   for (const Element& top : elements(head, 0, head.size(), what, true)) {
     if (top.id != kSegment) continue;
@@ -437,6 +435,14 @@ SphericalVideo spherical_of_matroska(std::string_view head, int stream, const st
       if (e.id == kTracks && !tracks) tracks = e;
     break;
   }
+  return tracks;
+}
+
+}  // namespace
+
+SphericalVideo spherical_of_matroska(std::string_view head, int stream, const std::string& what) {
+  SphericalVideo v;
+  const std::optional<Element> tracks = tracks_of(head, what);
   if (!tracks) return v;
   std::vector<Element> entries;
   for (const Element& e : elements(head, tracks->body, tracks->end, what))
@@ -459,10 +465,16 @@ SphericalVideo spherical_of_matroska(std::string_view head, int stream, const st
 
 SphericalVideo read_matroska_spherical(const std::string& path, int stream,
                                        const std::string& what) {
+  // (64 kB, then more up to 16 MB, until the bytes hold the Tracks element: it is near the start)
   std::ifstream f(path, std::ios::binary);
-  std::string head(size_t{16} << 20, '\0');
-  f.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<size_t>(std::max<std::streamsize>(f.gcount(), 0)));
+  std::string head;
+  for (size_t want = size_t{64} << 10; want <= size_t{16} << 20; want *= 16) {
+    const size_t had = head.size();
+    head.resize(want);
+    f.read(head.data() + had, static_cast<std::streamsize>(want - had));
+    head.resize(had + static_cast<size_t>(std::max<std::streamsize>(f.gcount(), 0)));
+    if (head.size() < want || tracks_of(head, what)) break;
+  }
   return spherical_of_matroska(head, stream, what);
 }
 

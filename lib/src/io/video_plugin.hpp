@@ -45,6 +45,16 @@ struct VideoPixels {
   }
 };
 
+// What a stream's coding says of its pixels where the stream does not: chroma centred for JPEG's
+// codings (MJPEG, the yuvj formats), else left (MPEG-2, H.264, HEVC); the yuvj formats and RGB
+// full range. Sets siting_said from the siting the stream gave (Unspecified: none).
+inline void apply_coding_defaults(VideoPixels& v, bool mjpeg) {
+  const bool yuvj = v.pixel_format.rfind("yuvj", 0) == 0;
+  v.siting_said = v.siting != ChromaSiting::Unspecified;
+  if (!v.siting_said) v.siting = mjpeg || yuvj ? ChromaSiting::Center : ChromaSiting::Left;
+  v.full_range = v.full_range || yuvj || v.rgb;
+}
+
 // Where a frame sits in the sphere, as FFmpeg's libraries carry Google's Spherical Video V2
 // (AVSphericalMapping, AVStereo3D): read from MP4's sv3d and st3d boxes (and V1's uuid XML),
 // Matroska's Projection and StereoMode; written into the same.

@@ -124,15 +124,8 @@ VideoPixels pixels_of(AVPixelFormat planar, const AVCodecParameters& p) {
   v.bits = d->comp[0].depth;
   v.log2_chroma_w = d->log2_chroma_w, v.log2_chroma_h = d->log2_chroma_h;
   v.siting = static_cast<ChromaSiting>(std::clamp<int>(p.chroma_location, 0, 6));
-  // Unsaid: centred for JPEG's codings (MJPEG, yuvj formats), else left (MPEG-2, H.264, HEVC).
-  v.siting_said = v.siting != ChromaSiting::Unspecified;
-  if (!v.siting_said)
-    v.siting = p.codec_id == AV_CODEC_ID_MJPEG || std::strncmp(d->name, "yuvj", 4) == 0
-                   ? ChromaSiting::Center
-                   : ChromaSiting::Left;
-  // (yuvj formats are full range whatever the stream says.)
-  v.full_range =
-      p.color_range == AVCOL_RANGE_JPEG || std::strncmp(d->name, "yuvj", 4) == 0 || v.rgb;
+  v.full_range = p.color_range == AVCOL_RANGE_JPEG;
+  apply_coding_defaults(v, p.codec_id == AV_CODEC_ID_MJPEG);
   v.matrix = p.color_space, v.primaries = p.color_primaries, v.transfer = p.color_trc;
   return v;
 }

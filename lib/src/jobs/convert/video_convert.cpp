@@ -181,11 +181,6 @@ class VideoJob {
       throw Error(
           "--quality, --subsampling and --depth are for images: a video keeps its pixel format "
           "(--crf, --bitrate and --preset set its quality)");
-    const ConvertOptions& o = r_.files.options;
-    if (o.edges.active() || o.add_alpha)
-      throw Error(
-          "a video's pixels outside the source's field are video black: --edges, --fill and "
-          "--alpha are for images");
   }
 
   static std::string container_extensions() {
@@ -202,8 +197,7 @@ class VideoJob {
       throw Error(option_number("crf", std::to_string(*r_.crf)) + " is out of range (0 to 63)");
     if (r_.gop < 0 || r_.gop > 100000)
       throw Error(option_number("gop", std::to_string(r_.gop)) + " is out of range (0 to 100000)");
-    if (r_.files.options.engine == Engine::Reference)
-      throw Error("a video needs the simd or scalar engine (--engine)");
+    check_video_options(r_.files.options, !to_images_);
   }
 
   // The source spec: --from (with a warning where the file's spherical metadata says another),

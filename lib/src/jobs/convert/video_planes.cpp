@@ -60,6 +60,15 @@ bool holds_chroma(const VideoPixels& px, std::pair<int, int> sub, const Conversi
 
 }  // namespace
 
+void check_video_options(const ConvertOptions& o, bool planes) {
+  if (o.engine == Engine::Reference)
+    throw Error("a video needs the simd or scalar engine (" + option_text("engine") + ")");
+  if (planes && (o.edges.active() || o.add_alpha))
+    throw Error(
+        "a video's pixels outside the source's field are video black: " + option_text("edges") +
+        ", " + option_text("fill") + " and " + option_text("alpha") + " are for images");
+}
+
 std::pair<int, int> output_subsampling(const VideoPixels& px, bool encoded) {
   if (px.packed) return encoded ? std::pair{1, 1} : std::pair{0, 0};
   return px.planes >= 3 ? std::pair{px.log2_chroma_w, px.log2_chroma_h} : std::pair{0, 0};

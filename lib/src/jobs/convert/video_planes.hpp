@@ -29,6 +29,11 @@ ConversionGeometry fit_chroma(const VideoPixels& px, std::pair<int, int> subsamp
                               const std::function<ConversionGeometry(const ConvertOptions&)>& make,
                               const std::function<void(const std::string&)>& warn);
 
+// Refuses in one line the options a video's frames cannot take: the reference engine; and where
+// they are converted in their own planes (`planes`: not RGB frames written as images), an edge
+// fill or an added alpha (pixels without a source are video black).
+void check_video_options(const ConvertOptions& options, bool planes);
+
 class VideoPlanes {
  public:
   // `frame`: the luma planes' geometry (fit_chroma's); `input` and `from_text` name the source
