@@ -7,9 +7,10 @@ frame, --frames frames (default 120) of H.264 4:2:0 at 30 fps (x264 crf 20 veryf
 fisheye (200 degrees a lens, 4096x2048) made from it by panoproj.
 - filter: decode + convert with no encoder: bench/video_throughput (the convert job's pipeline,
   its frames handed to a sink) against `ffmpeg -i clip -vf v360=...:interp=cubic -f null -`, for
-  equirect -> cube 3x2 (3072x2048), EAC (3072x2048), a 90-degree 1920x1080 pinhole, cube 3x2
-  from the clip with its chroma marked left-sited (the clip itself says centre), and the dual
-  fisheye -> equirect (4096x2048). Frames a second and the ratio (target: 2x).
+  equirect -> cube 3x2 (3072x2048), EAC (3072x2048), a 90-degree 1920x1080 pinhole and the dual
+  fisheye -> equirect (4096x2048); the cube, the pinhole and the dual fisheye again from the
+  clips with their chroma marked left-sited (the clips themselves say centre). Frames a second
+  and the ratio (target: 2x).
 - transcode: the whole process with libx264 crf 20 at --preset medium and veryfast (cube 3x2):
   panoproj, v360 with cubic, and two floors: decode + the same encoder on frames of the output's
   size (`-vf crop=3072:2048`: the turning picture cropped, which x264 encodes faster than the
@@ -58,12 +59,12 @@ def clip(frames):
     return out
 
 
-def left_clip(frames):
-    """The clip re-encoded with its chroma marked left-sited (H.264's usual siting; the clip above
-    says centre)."""
-    out = DATA / f"left_{frames}.mp4"
+def left_clip(src):
+    """Clip src re-encoded with its chroma marked left-sited (H.264's usual siting, and what an
+    unmarked H.264 clip is taken for; the clips above say centre)."""
+    out = src.with_name(f"left_{src.name}")
     if not out.exists():
-        subprocess.run(["ffmpeg", "-v", "error", "-y", "-i", str(clip(frames)), "-c:v", "libx264", "-crf", "20",
+        subprocess.run(["ffmpeg", "-v", "error", "-y", "-i", str(src), "-c:v", "libx264", "-crf", "20",
                         "-preset", "veryfast", "-chroma_sample_location", "left", str(out)], check=True)
     return out
 
@@ -91,16 +92,19 @@ def median_spread(v):
 
 
 def filter_throughput(frames, runs, only):
-    c, d, left = clip(frames), dual_clip(frames), left_clip(frames)
+    c, d = clip(frames), dual_clip(frames)
+    pinhole = ("equirect", "pinhole:hfov=90", "1920x1080", "v360=e:flat:interp=cubic:w=1920:h=1080:h_fov=90:v_fov=58.7155")
+    dual = ("dual-fisheye:fov=200", "equirect", "4096x2048",
+            "v360=dfisheye:e:ih_fov=200:iv_fov=200:interp=cubic:w=4096:h=2048")
+    cube = ("equirect", "cubemap:layout=3x2", "3072x2048", "v360=e:c3x2:interp=cubic:w=3072:h=2048")
     cases = [
-        ("cube 3x2", c, "equirect", "cubemap:layout=3x2", "3072x2048", "v360=e:c3x2:interp=cubic:w=3072:h=2048"),
+        ("cube 3x2", c, *cube),
         ("EAC", c, "equirect", "cubemap:layout=eac", "3072x2048", "v360=e:eac:interp=cubic:w=3072:h=2048"),
-        ("pinhole 90", c, "equirect", "pinhole:hfov=90", "1920x1080",
-         "v360=e:flat:interp=cubic:w=1920:h=1080:h_fov=90:v_fov=58.7155"),
-        ("cube 3x2, left-sited chroma", left, "equirect", "cubemap:layout=3x2", "3072x2048",
-         "v360=e:c3x2:interp=cubic:w=3072:h=2048"),
-        ("dual fisheye -> equirect", d, "dual-fisheye:fov=200", "equirect", "4096x2048",
-         "v360=dfisheye:e:ih_fov=200:iv_fov=200:interp=cubic:w=4096:h=2048"),
+        ("pinhole 90", c, *pinhole),
+        ("dual fisheye -> equirect", d, *dual),
+        ("cube 3x2, left-sited chroma", left_clip(c), *cube),
+        ("pinhole 90, left-sited chroma", left_clip(c), *pinhole),
+        ("dual fisheye, left-sited chroma", left_clip(d), *dual),
     ]
     print(f"\n== filter throughput: decode + convert, no encoder ({frames} frames, {runs} runs, fps median [min-max])")
     for name, src, frm, to, size, v360 in cases:
@@ -113,7 +117,7 @@ def filter_throughput(frames, runs, only):
         t = rounds(subjects, runs)
         p, v = median_spread(t["panoproj"]), median_spread(t["v360"])
         fps = lambda s: frames / s
-        print(f"{name:26s} panoproj {fps(p[0]):5.1f} fps [{fps(p[2]):.1f}-{fps(p[1]):.1f}]   "
+        print(f"{name:32s} panoproj {fps(p[0]):5.1f} fps [{fps(p[2]):.1f}-{fps(p[1]):.1f}]   "
               f"v360 {fps(v[0]):5.1f} fps [{fps(v[2]):.1f}-{fps(v[1]):.1f}]   ratio {v[0] / p[0]:.2f}x")
 
 

@@ -1,13 +1,16 @@
 // Sited planes (a video's chroma, projection.hpp's Siting): each target sample comes from the
 // source position of its sited place, read at that position less the source's offset, as the
-// reference sampler reads the exact map there; a plane taken as centred instead is off.
+// reference sampler reads the exact map there; a plane taken as centred instead is off. Sited
+// tiles take the fused geometry where centred ones do, on every SIMD target.
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 #include "geometry/source_taps.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/rotation.hpp"
 #include "sampling/reference_sampler.hpp"
+#include "sampling/simd_sampler.hpp"
 #include "test_support.hpp"
 
 namespace panoproj {
@@ -34,13 +37,14 @@ Image reference(const Image& src, const ConversionGeometry& g, Interp interp) {
   return out;
 }
 
-// The scene's first channel as a one-channel 16-bit plane.
-Image plane(const Projection& p, double cycles_per_px) {
+// The scene's first channel as a one-channel plane (16-bit, or 8-bit as a video's).
+Image plane(const Projection& p, double cycles_per_px, PixelType type = PixelType::U16) {
   const Image rgb =
-      test::render(p, test::band_limited_scene(cycles_per_px, size_of(p).width), PixelType::U16);
-  Image out(rgb.size(), 1, PixelType::U16);
+      test::render(p, test::band_limited_scene(cycles_per_px, size_of(p).width), type);
+  Image out(rgb.size(), 1, type);
   for (int64_t y = 0; y < rgb.height(); ++y)
-    for (int64_t x = 0; x < rgb.width(); ++x) std::memcpy(out.pixel(x, y), rgb.pixel(x, y), 2);
+    for (int64_t x = 0; x < rgb.width(); ++x)
+      std::memcpy(out.pixel(x, y), rgb.pixel(x, y), rgb.pixel_bytes() / 3);
   return out;
 }
 
@@ -135,6 +139,52 @@ TEST_P(SitedSubPixels, SitAsTheirPixel) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Offsets, SitedSubPixels, ::testing::Values(0.0, -0.25));
+
+// Video's chroma: 8-bit planes, their taps kept (planned on the first frame, replayed after),
+// fetched by loads and by gathers.
+TEST(SitedPlanes, TakeTheFusedGeometryAndMatchTheReferenceOnEveryTarget) {
+  struct Case {
+    const char *from, *to;
+    Size source, target;
+    Siting siting;
+  };
+  const Case cases[] = {
+      {"equirect", "cubemap:layout=3x2", {256, 128}, {192, 128}, {-0.25, 0, -0.25, 0}},
+      {"equirect", "cubemap:layout=eac", {256, 128}, {192, 128}, {-0.25, 0, -0.25, 0}},
+      {"equirect", "pinhole:hfov=90", {256, 128}, {96, 54}, {-0.25, -0.25, 0, 0.25}},
+      {"dual-fisheye:fov=200", "equirect", {256, 128}, {256, 128}, {-0.25, 0, -0.25, 0}},
+      {"equirect", "fisheye:fov=200", {256, 128}, {96, 96}, {-0.25, 0, -0.25, 0}},
+  };
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    SCOPED_TRACE(hwy::TargetName(target));
+    for (const Case& c : cases) {
+      SCOPED_TRACE(std::string(c.from) + " -> " + c.to);
+      const Projection sp = make(c.from, c.source);
+      const Image src = plane(sp, 0.15, PixelType::U8);
+      const ConversionGeometry g{
+          sp, make(c.to, c.target), rotation_from_ypr(20, -10, 5), {}, c.siting};
+      ConvertOptions o;
+      o.interp = Interp::Bicubic, o.engine = Engine::Simd, o.antialias = Antialias{};
+      const Converter kept(g, o, Keep::MapsAndTaps);
+      EngineStats planned, replayed;
+      set_simd_gray_fetch(0);  // taps by loads, then (the replay) by gathers: the same bytes
+      const Image first = kept.run(src, &planned);
+      set_simd_gray_fetch(1);
+      const Image again = kept.run(src, &replayed);
+      set_simd_gray_fetch(-1);
+      EXPECT_GT(planned.fused_tiles, planned.tiles / 2) << "sited tiles fused";
+      EXPECT_EQ(replayed.replayed_tiles, replayed.fused_tiles);
+      EXPECT_TRUE(first == again) << "the replay gives the planned bytes";
+      // The fused float positions within kFloatTolerance of the exact map's: 1 LSB from the
+      // scalar engine's (the exact maps; a dual fisheye's lenses blended alike).
+      ConvertOptions scalar = o;
+      scalar.engine = Engine::Scalar;
+      EXPECT_LE(most_difference(first, Converter(g, scalar).run(src)), 1.0);
+    }
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
 
 TEST(SitedPlanes, NeedTheSimdOrScalarEngineWithoutEdgeFill) {
   const Projection p = make("equirect", {64, 32});

@@ -195,7 +195,7 @@ bool Converter::Impl::fused(const PixelRect& rect, SimdGeometry& g) const {
 
 bool Converter::Impl::fused(const Projection& sp, const Eigen::Matrix3d& r, const PixelRect& rect,
                             SimdGeometry& g) const {
-  return engine_ == Engine::Simd && !siting_.any() && simd_geometry_for(sp, target_, r, rect, g) &&
+  return engine_ == Engine::Simd && simd_geometry_for(sp, target_, r, rect, g, siting_) &&
          exact_for(interp_, g);
 }
 
@@ -284,9 +284,8 @@ PixelRect Converter::Impl::source_footprint() const {
   parallel_tasks(n_tiles, threads_, [&](int64_t t, int w) {
     std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};  // this tile's
     const PixelRect rect = tile(t);
-    widen_to_positions(source_, rotation_, target_, rect, cached(t),
-                       engine_ == Engine::Simd && !siting_.any(), local[static_cast<size_t>(w)], b,
-                       siting_);
+    widen_to_positions(source_, rotation_, target_, rect, cached(t), engine_ == Engine::Simd,
+                       local[static_cast<size_t>(w)], b, siting_);
     if (b[0] > b[2]) return;
     auto& all = box[static_cast<size_t>(w)];
     all = {std::min(all[0], b[0]), std::min(all[1], b[1]), std::max(all[2], b[2]), std::max(all[3], b[3])};

@@ -48,7 +48,8 @@ void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Pr
                         const PixelRect& rect, const TileMap* tm, bool simd, TileMap& scratch,
                         std::array<double, 4>& b, const Siting& siting) {
   SimdGeometry g;
-  if (!tm && simd && simd_geometry_for(sp, t, r, rect, g)) return simd_tile_bounds(g, rect, b);
+  if (!tm && simd && simd_geometry_for(sp, t, r, rect, g, siting))
+    return simd_tile_bounds(g, rect, b);
   if (!tm) map_tile(sp, t, r, rect, scratch, false, siting), tm = &scratch;
   for (size_t i = 0; i < tm->ok.size(); ++i)
     if (tm->ok[i])
@@ -57,7 +58,7 @@ void widen_to_positions(const Projection& sp, const Eigen::Matrix3d& r, const Pr
 
 bool TileSampling::fused(const Projection& sp, const Eigen::Matrix3d& r, const Projection& t,
                          const PixelRect& rect, SimdGeometry& g) const {
-  return simd_ && !siting_.any() && simd_geometry_for(sp, t, r, rect, g) && exact_for(interp_, g);
+  return simd_ && simd_geometry_for(sp, t, r, rect, g, siting_for(t)) && exact_for(interp_, g);
 }
 
 void TileSampling::resolve_misses(const Image& im, const SourceTaps& taps, const PixelRect& r,

@@ -100,7 +100,7 @@ class TileSampling {
  public:
   // lenses: a dual-fisheye source's lenses alone (blended per rect), else empty. simd: the simd
   // engine (fused geometry, SIMD kernels), else the scalar one. siting: the planes' (a target's
-  // sub-pixel frames, n times `target`'s size, get it scaled); sited rects take tile maps.
+  // sub-pixel frames, n times `target`'s size, get it scaled).
   TileSampling(const Image& src, const Projection& source, const std::vector<LensSource>& lenses,
                const Eigen::Matrix3d& rotation, Interp interp, bool simd, const Siting& siting = {},
                Size target = {});
@@ -116,8 +116,8 @@ class TileSampling {
   // its whole-frame map).
   void widen_to_positions(const Projection& t, const PixelRect& rect, TileScratch& wk,
                           std::array<double, 4>& b) const {
-    panoproj::widen_to_positions(source_, rotation_, t, rect, nullptr, simd_ && !siting_.any(),
-                                 wk.map, b, siting_for(t));
+    panoproj::widen_to_positions(source_, rotation_, t, rect, nullptr, simd_, wk.map, b,
+                                 siting_for(t));
   }
   // Whether rect of target t from the source runs fused (g filled).
   bool fused(const Projection& t, const PixelRect& rect, SimdGeometry& g) const {

@@ -13,6 +13,8 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -589,6 +591,79 @@ HWY_INLINE void SeparableU8(const SimdSource& s, const TapBlock& blk, unsigned c
 }
 #endif
 
+// A gray kernel's taps: the 4 bytes at p + offset for each lane, by one gather, or (x86) by
+// 32-bit loads inserted into 128-bit quarters. Which is faster depends on the CPU (GathersWin).
+template <class DU, class VI>
+HWY_INLINE hn::Vec<DU> WordsByGather(DU du, const unsigned char* p, VI off) {
+  const hn::RebindToSigned<DU> di;
+  return hn::BitCast(du, hn::GatherOffset(di, reinterpret_cast<const int32_t*>(p), off));
+}
+#if HWY_TARGET <= HWY_AVX2
+// at: the offsets in memory (read per lane: the compiler moved a vector's lanes through vector
+// registers again, ~6 instructions a read).
+template <class DU>
+HWY_INLINE hn::Vec<DU> WordsByLoads(DU, const unsigned char* p, const int32_t* at) {
+  auto word = [&](int l) {
+    int32_t v;
+    std::memcpy(&v, p + static_cast<const volatile int32_t*>(at)[l], sizeof v);
+    return v;
+  };
+  auto quad = [&](int l) {
+    __m128i v = _mm_cvtsi32_si128(word(l));
+    v = _mm_insert_epi32(v, word(l + 1), 1);
+    v = _mm_insert_epi32(v, word(l + 2), 2);
+    return _mm_insert_epi32(v, word(l + 3), 3);
+  };
+#if HWY_TARGET <= HWY_AVX3
+  __m512i z = _mm512_castsi128_si512(quad(0));
+  z = _mm512_inserti32x4(z, quad(4), 1);
+  z = _mm512_inserti32x4(z, quad(8), 2);
+  return hn::Vec<DU>{_mm512_inserti32x4(z, quad(12), 3)};
+#else
+  return hn::Vec<DU>{_mm256_set_m128i(quad(4), quad(0))};
+#endif
+}
+#endif
+
+// Whether gathers fetch the gray kernels' taps faster than loads on this CPU, timed once per
+// process (~0.1 ms, the faster of three tries each over 2048 vectors in L1): Zen 4's 16-lane
+// gather took 3x the loads' time; on a Sapphire Rapids-class Xeon the loads' inserts are the
+// slower (docs/decisions.md). Both fetch the same words. simd_gray_fetch() forces one (tests).
+bool GathersWin() {
+#if HWY_TARGET <= HWY_AVX2
+  if (const int forced = simd_gray_fetch(); forced >= 0) return forced == 1;
+  static const bool win = [] {
+    const hn::ScalableTag<uint32_t> du;
+    const hn::RebindToSigned<decltype(du)> di;
+    constexpr int kVectors = 256, kBytes = 16384;
+    static unsigned char buf[kBytes + 4];
+    HWY_ALIGN static int32_t offs[kVectors][kMaxLanes];
+    uint32_t r = 12345;
+    for (auto& b : buf) b = static_cast<unsigned char>(r = r * 1103515245u + 12345u);
+    for (auto& v : offs)
+      for (auto& o : v) o = static_cast<int32_t>((r = r * 1103515245u + 12345u) >> 8) % kBytes;
+    auto time = [&](bool gather) {
+      auto acc = hn::Zero(du);
+      const auto t0 = std::chrono::steady_clock::now();
+      for (int rep = 0; rep < 8; ++rep)
+        for (const auto& v : offs)
+          acc = hn::Xor(
+              acc, gather ? WordsByGather(du, buf, hn::Load(di, v)) : WordsByLoads(du, buf, v));
+      const auto t = std::chrono::steady_clock::now() - t0;
+      static volatile uint32_t sink;  // (the loop kept)
+      sink = hn::GetLane(acc);
+      return t;
+    };
+    auto g = time(true), l = time(false);
+    for (int k = 0; k < 2; ++k) g = std::min(g, time(true)), l = std::min(l, time(false));
+    return g < l;
+  }();
+  return win;
+#else
+  return true;
+#endif
+}
+
 // Phase 2 for 4- and 6-tap kernels on one channel of uint8 or uint16 samples (a video's planes,
 // gray images): a row's taps are consecutive samples, so a 32-bit gather fetches four uint8 taps
 // or two uint16 ones (uint8 with 6 taps: a second gather at tap 2, whose last two bytes are taps 4
@@ -597,7 +672,7 @@ HWY_INLINE void SeparableU8(const SimdSource& s, const TapBlock& blk, unsigned c
 // (pmaddwd), the rows then in float: each weight's rounding (at most 2^-15) moves a result by
 // under 0.04 LSB. Writes the block's pixels.
 template <class T, int K>
-HWY_INLINE void GrayTaps(const SimdSource& s, const TapBlock& blk, unsigned char* o) {
+HWY_INLINE void GrayTaps(const SimdSource& s, const TapBlock& blk, unsigned char* o, bool gather) {
   static_assert(K == 4 || K == 6);
   using DF = hn::ScalableTag<float>;
   using DI = hn::RebindToSigned<DF>;
@@ -618,41 +693,14 @@ HWY_INLINE void GrayTaps(const SimdSource& s, const TapBlock& blk, unsigned char
         df, hn::BitCast(
                 di, hn::And(hn::ShiftRightSame(word, 8 * static_cast<int>(sizeof(T)) * k), mask)));
   };
-#if HWY_TARGET <= HWY_AVX2
-  // The 4 bytes at each lane's offset + add, by 32-bit loads inserted into 128-bit quarters: on
-  // Zen 4 a third of the time of a 16-lane gather (video_throughput's luma). (Offsets read from
-  // memory per lane, as TapPairs does.)
   HWY_ALIGN int32_t at_lanes[kMaxLanes];
   hn::Store(off0, di, at_lanes);
   auto words = [&](int64_t add) {
-    const unsigned char* p = blk.base + add;
-    auto word = [&](int l) {
-      int32_t v;
-      std::memcpy(&v, p + static_cast<const volatile int32_t*>(at_lanes)[l], sizeof v);
-      return v;
-    };
-    auto quad = [&](int l) {
-      __m128i v = _mm_cvtsi32_si128(word(l));
-      v = _mm_insert_epi32(v, word(l + 1), 1);
-      v = _mm_insert_epi32(v, word(l + 2), 2);
-      return _mm_insert_epi32(v, word(l + 3), 3);
-    };
-#if HWY_TARGET <= HWY_AVX3
-    __m512i z = _mm512_castsi128_si512(quad(0));
-    z = _mm512_inserti32x4(z, quad(4), 1);
-    z = _mm512_inserti32x4(z, quad(8), 2);
-    return hn::Vec<DU>{_mm512_inserti32x4(z, quad(12), 3)};
-#else
-    return hn::Vec<DU>{_mm256_set_m128i(quad(4), quad(0))};
+#if HWY_TARGET <= HWY_AVX2
+    if (!gather) return WordsByLoads(du, blk.base + add, at_lanes);
 #endif
+    return WordsByGather(du, blk.base + add, off0);
   };
-#else
-  const auto* base = reinterpret_cast<const int32_t*>(blk.base);
-  auto words = [&](int64_t add) {
-    return hn::BitCast(
-        du, hn::GatherOffset(di, base, hn::Add(off0, hn::Set(di, static_cast<int32_t>(add)))));
-  };
-#endif
   VF acc = hn::Zero(df);
 #if HWY_TARGET != HWY_SCALAR
   constexpr bool kPairs = sizeof(T) == 1;
@@ -711,9 +759,11 @@ HWY_INLINE void GrayTaps(const SimdSource& s, const TapBlock& blk, unsigned char
 }
 
 // Phase 2: gathers and blends one block's taps, writes its m output pixels (0 where not sampled
-// here: misses and invalid lanes).
+// here: misses and invalid lanes). gather: GathersWin().
 template <PixelType PT, class T, int K>
-HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned char* out) {
+HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned char* out,
+                            bool gather) {
+  (void)gather;  // (the gray kernels' alone)
   using DF = hn::ScalableTag<float>;
   using DI = hn::RebindToSigned<DF>;
   using VF = hn::Vec<DF>;
@@ -733,11 +783,11 @@ HWY_INLINE void GatherBlock(const SimdSource& s, const TapBlock& blk, unsigned c
     if (alpha < 0) return BilinearU8(s, TapPairs(s, blk.base, blk.off, blk.m), PackedWeightsU8(blk), out + blk.index * pb);
   } else if constexpr (PT == PixelType::U8 && (K == 4 || K == 6)) {
     if (alpha < 0 && !s.dering)
-      return nc == 1 ? GrayTaps<uint8_t, K>(s, blk, out) : SeparableU8<K>(s, blk, out);
+      return nc == 1 ? GrayTaps<uint8_t, K>(s, blk, out, gather) : SeparableU8<K>(s, blk, out);
   } else if constexpr (PT == PixelType::U8 && K > 2) {
     if (alpha < 0 && !s.dering) return SeparableU8<K>(s, blk, out);
   } else if constexpr (PT == PixelType::U16 && (K == 4 || K == 6)) {
-    if (alpha < 0 && !s.dering && nc == 1) return GrayTaps<uint16_t, K>(s, blk, out);
+    if (alpha < 0 && !s.dering && nc == 1) return GrayTaps<uint16_t, K>(s, blk, out, gather);
   }
 #endif
   unsigned char* o = out + blk.index * pb;
@@ -831,9 +881,10 @@ HWY_NOINLINE void GatherBlocks(const SimdSource& s, const TapBlock* blocks, int 
                                int64_t out_stride) {
   const int64_t pb = s.channels * static_cast<int64_t>(sizeof(T));
   int64_t j = n > 0 ? blocks[0].index / w : 0;  // the blocks' row: they come in row-major order
+  const bool gather = GathersWin();
   for (int q = 0; q < n; ++q) {
     while (blocks[q].index >= (j + 1) * w) ++j;
-    GatherBlock<PT, T, K>(s, blocks[q], out + j * out_stride - j * w * pb);
+    GatherBlock<PT, T, K>(s, blocks[q], out + j * out_stride - j * w * pb, gather);
   }
 }
 
@@ -1119,6 +1170,17 @@ HWY_AFTER_NAMESPACE();
 
 #if HWY_ONCE
 namespace panoproj {
+namespace {
+std::atomic<int> gray_fetch{-1};
+}  // namespace
+
+int simd_gray_fetch() {
+  return gray_fetch.load(std::memory_order_relaxed);
+}
+void set_simd_gray_fetch(int fetch) {
+  gray_fetch.store(fetch, std::memory_order_relaxed);
+}
+
 HWY_EXPORT(SampleMap);
 HWY_EXPORT(Convert);
 HWY_EXPORT(TargetName);

@@ -80,4 +80,9 @@ void simd_replay(const PlannedTaps& taps, const PixelRect& rect, const SimdSourc
 // Name of the SIMD target the dispatcher picks now (e.g. "AVX2").
 const char* simd_target_name();
 
+// How the gray kernels fetch their taps on x86: -1 as timed once on this CPU, 0 by loads, 1 by
+// gathers (the same bytes; tests run both).
+int simd_gray_fetch();
+void set_simd_gray_fetch(int fetch);
+
 }  // namespace panoproj

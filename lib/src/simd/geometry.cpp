@@ -196,15 +196,20 @@ bool separable(const SimdGeometry& g) {
 }  // namespace
 
 bool simd_geometry_for(const Projection& src, const Projection& dst,
-                       const Eigen::Matrix3d& rotation, const PixelRect& rect, SimdGeometry& g) {
+                       const Eigen::Matrix3d& rotation, const PixelRect& rect, SimdGeometry& g,
+                       const Siting& siting) {
+  g.centre_x = 0.5 + siting.target_x, g.centre_y = 0.5 + siting.target_y;
+  g.shift_x = siting.source_x, g.shift_y = siting.source_y;
   // A tile inside one half of a dual-fisheye target: that half's lens (camera ray = R_k lens
   // ray). (A dual-fisheye source is sampled one lens at a time, each a fisheye: LensSource.)
   if (const auto* d = std::get_if<DualFisheye>(&dst)) {
-    const int k = d->lens_at(static_cast<double>(rect.x0) + 0.5, static_cast<double>(rect.y0) + 0.5);
-    if (d->lens_at(static_cast<double>(rect.x0 + rect.width()) - 0.5,
-                   static_cast<double>(rect.y0 + rect.height()) - 0.5) != k)
+    const int k = d->lens_at(static_cast<double>(rect.x0) + g.centre_x,
+                             static_cast<double>(rect.y0) + g.centre_y);
+    if (d->lens_at(static_cast<double>(rect.x0 + rect.width() - 1) + g.centre_x,
+                   static_cast<double>(rect.y0 + rect.height() - 1) + g.centre_y) != k)
       return false;
-    return simd_geometry_for(src, Projection(d->lens(k)), rotation * d->rotation(k), rect, g);
+    return simd_geometry_for(src, Projection(d->lens(k)), rotation * d->rotation(k), rect, g,
+                             siting);
   }
   g.ld = {};  // unused lanes are 0
   g.lf = {};
@@ -215,9 +220,11 @@ bool simd_geometry_for(const Projection& src, const Projection& dst,
   g.rotated_rays = rotation == Eigen::Matrix3d::Identity();  // nothing to turn
   if (!describe_source(src, g) || !describe_target(dst, rotation, rect, g)) return false;
   g.separable = separable(g);
-  // Target pixel coordinates are exact in float up to 2^23.
+  // Target pixel coordinates are exact in float up to 2^23 (centres at halves), 2^20 when sited
+  // (a 4:1:0 plane's eighths).
   const Size ts = size_of(dst);
-  g.use_float = g.use_float && std::max(ts.width, ts.height) < (int64_t{1} << 23);
+  g.use_float =
+      g.use_float && std::max(ts.width, ts.height) < (int64_t{1} << (siting.any() ? 20 : 23));
   // The grid's float positions: the interpolation's error, one rounding of the position, and
   // float sums of offsets below ~1e3 px (under 1e-5 px) within kFloatTolerance.
   const Size ss = size_of(src);

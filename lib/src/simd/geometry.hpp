@@ -55,6 +55,9 @@ struct SimdGeometry {
   // are computed in double, so the pixel picked is the exact position's.
   bool edge_exact = false;
   static constexpr double kEdgeGuard = 2 * kFloatTolerance;
+  // Where the target's samples sit and the source's are read (a plane's Siting): pixel (i, j)'s
+  // ray at (i + centre_x, j + centre_y), its position less (shift_x, shift_y).
+  double centre_x = 0.5, centre_y = 0.5, shift_x = 0, shift_y = 0;
   // The lanes of the pair in one lane type: the target's of kind dst and the source's of kind
   // src (the others stay zero), and the rotation.
   template <class T>
@@ -88,10 +91,11 @@ struct SimdGeometry {
   }
 };
 
-// Describes the pair for one tile; false when the pair (or this tile: a cube tile spanning two
-// face cells) is not supported.
+// Describes the pair for one tile, its samples sited as siting says; false when the pair (or
+// this tile: a cube tile spanning two face cells) is not supported.
 bool simd_geometry_for(const Projection& src, const Projection& dst,
-                       const Eigen::Matrix3d& rotation, const PixelRect& rect, SimdGeometry& g);
+                       const Eigen::Matrix3d& rotation, const PixelRect& rect, SimdGeometry& g,
+                       const Siting& siting = {});
 
 // Fills out (a TileMap of rect's size) with the source positions of the tile's pixel centres;
 // grid: interpolated between exact nodes where g.grid allows, as the fused uint8 converter.

@@ -155,18 +155,21 @@ class TileRows {
       hn::StoreU(hn::DemoteTo(df, v), df, to_f + i);
     };
     for (int64_t i = 0; table_ && i < kMaxTableWidth + kPad; i += ND) {
-      const VD lon = hn::MulAdd(hn::Iota(dd, static_cast<double>(x0_ + i) + 0.5), hn::Set(dd, ax.lon_per_px), hn::Set(dd, ax.lon_first));
+      const VD lon = hn::MulAdd(hn::Iota(dd, static_cast<double>(x0_ + i) + g.centre_x),
+                                hn::Set(dd, ax.lon_per_px), hn::Set(dd, ax.lon_first));
       store(hn::Sin(dd, lon), col_a_d_, col_a_f_, i);
       store(hn::Cos(dd, lon), col_b_d_, col_b_f_, i);
       // Rows: equirect (sin, cos) of the latitude; cylindrical (t, 1), t = tan(lat) linear in y.
-      const VD v = hn::NegMulAdd(hn::Iota(dd, static_cast<double>(y0_ + i) + 0.5), hn::Set(dd, ax.fall), hn::Set(dd, ax.top));
+      const VD v = hn::NegMulAdd(hn::Iota(dd, static_cast<double>(y0_ + i) + g.centre_y),
+                                 hn::Set(dd, ax.fall), hn::Set(dd, ax.top));
       hn::Store(cylinder_ ? v : hn::Sin(dd, v), dd, row_a_ + i);
       hn::Store(cylinder_ ? hn::Set(dd, 1.0) : hn::Cos(dd, v), dd, row_b_ + i);
     }
     for (int64_t i = 0; separable_ && i < kMaxTableWidth + kPad; i += ND) {
       // Columns: (x, z) of the rotated ray (cube face: fwd + a right; pinhole: u c0 + c2) ->
       // source x (a) and x^2 + z^2 (b), with the longitude's validity (ok_x). Rows: the ray's y.
-      const VD px = hn::Iota(dd, static_cast<double>(x0_ + i) + 0.5), py = hn::Iota(dd, static_cast<double>(y0_ + i) + 0.5);
+      const VD px = hn::Iota(dd, static_cast<double>(x0_ + i) + g.centre_x),
+               py = hn::Iota(dd, static_cast<double>(y0_ + i) + g.centre_y);
       VD x, z, y;
       if (g.dst == SimdGeometry::Dst::CubeFace) {
         const auto& c = g.ld.target.cube_face;
@@ -205,12 +208,13 @@ class TileRows {
     const bool rows = table_ || separable_;
     const double ra = rows ? row_a_[y - y0_] : 0.0, rb = table_ ? row_b_[y - y0_] : 0.0;
     auto doubles = [&](int64_t i, int64_t end) {
-      const VD py = hn::Set(dd, static_cast<double>(y) + 0.5);
+      const VD py = hn::Set(dd, static_cast<double>(y) + g_.centre_y);
       for (; i < end; i += ND) {
         const int64_t m = std::min(ND, end - i);
         VD sx, sy;
         MD ok, coarse;
-        Positions(dd, hn::Iota(dd, static_cast<double>(x0_ + i) + 0.5), py, i, ra, rb, sx, sy, ok, coarse);
+        Positions(dd, hn::Iota(dd, static_cast<double>(x0_ + i) + g_.centre_x), py, i, ra, rb, sx,
+                  sy, ok, coarse);
         sink(sx, sy, hn::And(ok, hn::FirstN(dd, static_cast<size_t>(m))), i, m);
       }
     };
@@ -218,7 +222,7 @@ class TileRows {
     using DF32 = hn::ScalableTag<float>;
     const DF32 df;
     const auto NF = static_cast<int64_t>(hn::Lanes(df));
-    const auto py = hn::Set(df, static_cast<float>(y) + 0.5f);
+    const auto py = hn::Set(df, static_cast<float>(static_cast<double>(y) + g_.centre_y));
     // The grid's row and cell row. (A vector lies in one cell.)
     static_assert(kGridCell % (HWY_MAX_BYTES / sizeof(float)) == 0);
     const int64_t j = y - y0_, b = j / kGridCell;
@@ -231,8 +235,8 @@ class TileRows {
         sx = hn::Add(sx, hn::Set(df, base_x_[b][i / kGridCell])), sy = hn::Add(sy, hn::Set(df, base_y_[b][i / kGridCell]));
         ok = hn::FirstN(df, static_cast<size_t>(m));
       } else {
-        Positions(df, hn::Iota(df, static_cast<float>(x0_ + i) + 0.5f), py, i, static_cast<float>(ra),
-                  static_cast<float>(rb), sx, sy, ok, coarse);
+        Positions(df, hn::Iota(df, static_cast<float>(static_cast<double>(x0_ + i) + g_.centre_x)),
+                  py, i, static_cast<float>(ra), static_cast<float>(rb), sx, sy, ok, coarse);
         ok = hn::And(ok, hn::FirstN(df, static_cast<size_t>(m)));
         if (g_.edge_exact) {
           const auto guard = hn::Set(df, static_cast<float>(SimdGeometry::kEdgeGuard));
@@ -267,9 +271,20 @@ class TileRows {
     else return d;
   }
 
-  // Positions of the pixels from column i on, with the row's values ra, rb (see the tables).
+  // Positions of the pixels from column i on, with the row's values ra, rb (see the tables), less
+  // the source's shift (exact: a shift of eighths in a plane under 2^20 px).
   template <class D, class T, class V = hn::Vec<D>, class M = hn::Mask<D>>
   HWY_INLINE void Positions(D d, V px, V py, int64_t i, T ra, T rb, V& sx, V& sy, M& ok, M& coarse) const {
+    RayPositions(d, px, py, i, ra, rb, sx, sy, ok, coarse);
+    if (g_.shift_x != 0 || g_.shift_y != 0)
+      sx = hn::Sub(sx, hn::Set(d, static_cast<T>(g_.shift_x))),
+      sy = hn::Sub(sy, hn::Set(d, static_cast<T>(g_.shift_y)));
+  }
+
+  // The same before the shift.
+  template <class D, class T, class V = hn::Vec<D>, class M = hn::Mask<D>>
+  HWY_INLINE void RayPositions(D d, V px, V py, int64_t i, T ra, T rb, V& sx, V& sy, M& ok,
+                               M& coarse) const {
     const T* a = col<T>(col_a_d_, col_a_f_) + i;
     const T* b = col<T>(col_b_d_, col_b_f_) + i;
     if (separable_) {
@@ -314,8 +329,8 @@ class TileRows {
     }
   }
 
-  // Grid mode (SimdGeometry::grid): node (r, c) at pixel centre (x0 + (c - 1) kGridCell + 1/2,
-  // y0 + (r - 1) kGridCell + 1/2); cell (b, a) spans pixels [a, a + 1) kGridCell x [b, b + 1)
+  // Grid mode (SimdGeometry::grid): node (r, c) at pixel centre (x0 + (c - 1) kGridCell + centre_x,
+  // y0 + (r - 1) kGridCell + centre_y); cell (b, a) spans pixels [a, a + 1) kGridCell x [b, b + 1)
   // kGridCell and interpolates nodes b..b+3 x a..a+3.
   void BuildGrid(const PixelRect& rect) {
     const DD dd;
@@ -343,7 +358,8 @@ class TileRows {
     for (int64_t r = 0; r < nny; ++r) {
       double px[kGridNodes], py[kGridNodes];
       for (int64_t c = 0; c < nnx; ++c)
-        px[c] = static_cast<double>(x0_ + (c - 1) * kGridCell) + 0.5, py[c] = static_cast<double>(y0_ + (r - 1) * kGridCell) + 0.5;
+        px[c] = static_cast<double>(x0_ + (c - 1) * kGridCell) + g_.centre_x,
+        py[c] = static_cast<double>(y0_ + (r - 1) * kGridCell) + g_.centre_y;
       exact(px, py, nnx, nx[r], ny[r], nok[r]);
     }
     // Cells whose 16 nodes are valid, then the centre check, then (where the centre errs by over
@@ -393,8 +409,8 @@ class TileRows {
       for (int64_t t = 0; t < n_todo; ++t)
         for (int k = first; k < first + count; ++k) {
           const int64_t a = todo[t] % kGridCells, b = todo[t] / kGridCells;
-          px[n] = static_cast<double>(x0_ + a * kGridCell + kChecks[k][0]) + 0.5;
-          py[n++] = static_cast<double>(y0_ + b * kGridCell + kChecks[k][1]) + 0.5;
+          px[n] = static_cast<double>(x0_ + a * kGridCell + kChecks[k][0]) + g_.centre_x;
+          py[n++] = static_cast<double>(y0_ + b * kGridCell + kChecks[k][1]) + g_.centre_y;
         }
       exact(px, py, n, ex, ey, eok);
       int64_t next = 0;
