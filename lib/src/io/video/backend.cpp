@@ -114,6 +114,16 @@ AVPixelFormat planar_for(AVPixelFormat f) {
   return best;
 }
 
+// An enum field of FFmpeg's as the int it holds: a file may put any value there (a chroma
+// location of 33, found by fuzzing), and loading one outside the enum's range is undefined.
+template <class E>
+int held(const E& e) {
+  static_assert(sizeof(E) == sizeof(int));
+  int v;
+  std::memcpy(&v, &e, sizeof v);
+  return v;
+}
+
 VideoPixels pixels_of(AVPixelFormat planar, const AVCodecParameters& p) {
   const AVPixFmtDescriptor* d = av_pix_fmt_desc_get(planar);
   VideoPixels v;
@@ -123,10 +133,16 @@ VideoPixels pixels_of(AVPixelFormat planar, const AVCodecParameters& p) {
   v.alpha = d->flags & AV_PIX_FMT_FLAG_ALPHA;
   v.bits = d->comp[0].depth;
   v.log2_chroma_w = d->log2_chroma_w, v.log2_chroma_h = d->log2_chroma_h;
-  v.siting = static_cast<ChromaSiting>(std::clamp<int>(p.chroma_location, 0, 6));
-  v.full_range = p.color_range == AVCOL_RANGE_JPEG;
+  const int siting = held(p.chroma_location);  // (one FFmpeg does not know: unspecified)
+  v.siting =
+      siting > 0 && siting <= 6 ? static_cast<ChromaSiting>(siting) : ChromaSiting::Unspecified;
+  v.full_range = held(p.color_range) == AVCOL_RANGE_JPEG;
   apply_coding_defaults(v, p.codec_id == AV_CODEC_ID_MJPEG);
-  v.matrix = p.color_space, v.primaries = p.color_primaries, v.transfer = p.color_trc;
+  // (Colours FFmpeg does not know: unspecified, so the encoder is given a value of its enums.)
+  const auto known = [](int c, int nb) { return c >= 0 && c < nb ? c : 2; };
+  v.matrix = known(held(p.color_space), AVCOL_SPC_NB);
+  v.primaries = known(held(p.color_primaries), AVCOL_PRI_NB);
+  v.transfer = known(held(p.color_trc), AVCOL_TRC_NB);
   return v;
 }
 
@@ -240,7 +256,7 @@ class FfReader final : public VideoReader {
     info_.size = {st->codecpar->width, st->codecpar->height};
     info_.pixels = pixels_of(planar_, *st->codecpar);
     from_full_range_ = info_.pixels.full_range;
-    if (rgb) to_rgb(*st->codecpar);
+    if (rgb) to_rgb();
     info_.time_base[0] = st->time_base.num, info_.time_base[1] = st->time_base.den;
     info_.frame_rate[0] = st->avg_frame_rate.num, info_.frame_rate[1] = st->avg_frame_rate.den;
     if (st->duration > 0)
@@ -401,13 +417,13 @@ class FfReader final : public VideoReader {
   }
 
   // Frames as packed RGB(A) from here on.
-  void to_rgb(const AVCodecParameters& p) {
+  void to_rgb() {
     VideoPixels& v = info_.pixels;
     const bool deep = v.bits > 8;
     planar_ = v.alpha ? (deep ? AV_PIX_FMT_RGBA64LE : AV_PIX_FMT_RGBA)
                       : (deep ? AV_PIX_FMT_RGB48LE : AV_PIX_FMT_RGB24);
     yuv_ = !v.rgb && v.planes >= 3;
-    matrix_ = p.color_space;
+    matrix_ = info_.pixels.matrix;
     if (matrix_ == AVCOL_SPC_UNSPECIFIED || matrix_ == AVCOL_SPC_RGB)  // (HD's usual, else SD's)
       matrix_ = info_.size.height >= 720 ? AVCOL_SPC_BT709 : AVCOL_SPC_SMPTE170M;
     v.pixel_format = av_get_pix_fmt_name(planar_);
