@@ -10,13 +10,15 @@
 # phase (bench/profile_phases.py, perf); with "video" first, videos against FFmpeg's v360: decode
 # and convert alone, transcodes against the encoder's floor, peak RSS (bench/bench_video.py); with
 # "video-quality" first, a video's luma PSNR and chroma error against an analytic truth, panoproj
-# against v360 (bench/video_quality.py).
+# against v360 (bench/video_quality.py); with "gopro-max" first, GoPro MAX 5.6K pairs and a .360
+# to a 5376x2688 equirect, against max2sphere given its binary (bench/bench_gopro_max.py).
 # Installs what is missing, builds in build-bench/, runs.
 # Usage: scripts/bench.sh [--threads N] [--runs N]  |  scripts/bench.sh big [--threads N]
 #        scripts/bench.sh python [--runs N] [--only keep]  |  scripts/bench.sh plot [--runs N]
 #        scripts/bench.sh io [--rounds N] [--runs N] [--batch-runs N] [--only startup,jpeg,ppm,batch,big]
 #        scripts/bench.sh cv [--runs N] [--rounds N]  |  scripts/bench.sh profile [--runs N]
 #        scripts/bench.sh video [--runs N] [--frames N] [--only filter,transcode,rss]  |  scripts/bench.sh video-quality
+#        scripts/bench.sh gopro-max [--runs N] [--frames N] [--max2sphere PATH] [--only pairs,convert,video]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [[ ${1:-} == io ]]; then
@@ -31,6 +33,13 @@ if [[ ${1:-} == video-quality ]]; then
   bash "$root/scripts/python-env.sh"
   bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF
   exec "$root/.venv/bin/python" "$root/bench/video_quality.py"
+fi
+if [[ ${1:-} == gopro-max ]]; then
+  shift
+  bash "$root/scripts/install-deps.sh" ffmpeg
+  read -ra py_args < <(bash "$root/scripts/python-env.sh" --cmake-args)
+  bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF "${py_args[@]}"
+  exec "$root/.venv/bin/python" "$root/bench/bench_gopro_max.py" "$@"
 fi
 if [[ ${1:-} == video ]]; then
   shift

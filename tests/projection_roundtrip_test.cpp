@@ -59,6 +59,16 @@ bool on_identity_set(const Projection& p, double lon0, double x, double y, const
   if (const auto* f = std::get_if<Fisheye>(&p)) {
     return f->psi_max() >= kPi * (1 - 1e-12) && std::atan2(std::hypot(d.x(), d.y()), d.z()) > kPi - 1e-6;
   }
+  if (const auto* m = std::get_if<GoProMax>(&p)) {
+    // The band: a ray both lenses see comes back through the one it lies deeper inside; a cell's
+    // edge (the faces').
+    const auto& ax = m->lens(0).x_axis();
+    for (int k = 0; k <= ax.n; ++k)
+      if (x == static_cast<double>(ax.edge[k])) return true;
+    if (y == 0 || y == 0.5 * H || y == H) return true;
+    return m->margin(1 - m->lens_at(x, y), d) >= 0 ||
+           cube_face_of(d) != m->lens(m->lens_at(x, y)).face_at(x, y);
+  }
   if (const auto* dual = std::get_if<DualFisheye>(&p)) {
     // The overlap: a ray seen by both lenses comes back through the one it lies deeper inside.
     return dual->margin(1 - dual->lens_at(x, y), d) >= 0;
@@ -101,7 +111,8 @@ TEST_P(RoundTrip, PixelsAndRays) {
   int64_t tested = 0, identities = 0;
   // A dual fisheye's overlap, a padded cube's borders: no small set.
   const auto* cube = std::get_if<Cubemap>(&p);
-  const bool dual = std::holds_alternative<DualFisheye>(p) || (cube && (cube->format().pad > 0 || cube->format().ffmpeg_border));
+  const bool dual = std::holds_alternative<DualFisheye>(p) || std::holds_alternative<GoProMax>(p) ||
+                    (cube && (cube->format().pad > 0 || cube->format().ffmpeg_border));
   for (double y : ys)
     for (double x : xs) {
       if (x > W || y > H) continue;

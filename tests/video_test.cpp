@@ -18,6 +18,7 @@ extern "C" {
 #include <memory>
 #include <string>
 
+#include "av_support.hpp"
 #include "geometry/source_taps.hpp"
 #include "io/video_plugin.hpp"
 #include "job_support.hpp"
@@ -306,23 +307,6 @@ void add_gpmd(const std::string& video, const std::string& out,
   avformat_close_input(&in);
 }
 
-// The packets of a file's data stream.
-std::vector<std::string> data_packets(const std::string& file) {
-  std::vector<std::string> out;
-  AVFormatContext* in = nullptr;
-  if (avformat_open_input(&in, file.c_str(), nullptr, nullptr) < 0) return out;
-  avformat_find_stream_info(in, nullptr);
-  AVPacket* p = av_packet_alloc();
-  while (av_read_frame(in, p) >= 0) {
-    if (in->streams[p->stream_index]->codecpar->codec_type == AVMEDIA_TYPE_DATA)
-      out.emplace_back(reinterpret_cast<const char*>(p->data), static_cast<size_t>(p->size));
-    av_packet_unref(p);
-  }
-  av_packet_free(&p);
-  avformat_close_input(&in);
-  return out;
-}
-
 TEST_F(Clips, GoProTelemetryIsCopiedByteForByteAndATimecodeMadeAgain) {
   const std::string plain =
       clip("plain.mp4", "-c:v libx264 -pix_fmt yuv420p -timecode 01:02:03:04");
@@ -330,12 +314,12 @@ TEST_F(Clips, GoProTelemetryIsCopiedByteForByteAndATimecodeMadeAgain) {
   add_gpmd(plain, in, [](int i) {
     return "DEVC" + std::string(static_cast<size_t>(5 + i), static_cast<char>('a' + i));
   });
-  const std::vector<std::string> telemetry = data_packets(in);
+  const std::vector<std::string> telemetry = test::stream_packets(in, AVMEDIA_TYPE_DATA);
   ASSERT_EQ(telemetry.size(), 12u);
   convert({{"inputs", std::vector<std::string>{in}},
            {"output", out},
            {"dst", std::string("equirect")}});
-  EXPECT_EQ(data_packets(out), telemetry);
+  EXPECT_EQ(test::stream_packets(out, AVMEDIA_TYPE_DATA), telemetry);
   EXPECT_NE(
       shell("ffprobe -v error -show_entries stream=codec_tag_string -of csv=p=0 '" + out + "'")
           .find("gpmd"),
@@ -363,7 +347,7 @@ TEST_F(Clips, GoProTelemetryIsCopiedByteForByteAndATimecodeMadeAgain) {
                            events);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("gpmd"), std::string::npos) << warnings[0];
-  EXPECT_TRUE(data_packets(p("gopro.mkv")).empty());
+  EXPECT_TRUE(test::stream_packets(p("gopro.mkv"), AVMEDIA_TYPE_DATA).empty());
 }
 
 TEST_F(Clips, PartsOfAClipJoinIntoTheWhole) {

@@ -151,7 +151,8 @@ def convert(image: ImageLike, src: Union[str, Projection, None], dst: Union[str,
     """Converts ``image`` from projection ``src`` to ``dst`` and returns the new image.
 
     ``image``: HxW, HxWxC, a batch NxHxWxC (frames converted in parallel on one plan, equal to
-    converting each), or a cubemap's six faces (a list, or a dict by ``F R B L U D``); numpy or
+    converting each), a cubemap's six faces (a list, or a dict by ``F R B L U D``), or a GoPro
+    MAX's two strips (``src="gopro-max"``: a list of stream 0:0's and 0:5's frames); numpy or
     anything numpy reads (``__array__``, ``__dlpack__``, buffers). The result has the input's
     dtype and channels (float64 computed in float32); pixels without a source are 0 (alpha 0).
     ``src=None`` takes a 2:1 image as a full equirect, as the command does. In Python, ``size``
@@ -159,6 +160,8 @@ def convert(image: ImageLike, src: Union[str, Projection, None], dst: Union[str,
     tuple ``(r, g, b[, a])`` in unit range, and ``memory_limit`` a byte count or text such as
     ``"4G"``; a job over it raises MemoryError before any work.
     """
+    if src is not None:
+        image = _arrays.strip_pair(image, str(projection(src)))
     job, size = _image_job(image)
     src_spec, dst_spec = _source_spec(src, size), str(projection(dst))
     _check_target_size(dst_spec, options)

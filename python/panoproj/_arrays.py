@@ -63,6 +63,21 @@ def faces_of(image: Any) -> Optional[List[np.ndarray]]:
     return None
 
 
+def strip_pair(image: Any, src: str) -> Any:
+    """A GoPro MAX source given as its two strips (a list or tuple: stream 0:0's frame, then 0:5's;
+    frames or batches) as the one frame the form holds, the first above the second; else image."""
+    if not (src.split(":")[0] == "gopro-max" and isinstance(image, (list, tuple))):
+        return image
+    if len(image) != 2:
+        raise ValueError(f"gopro-max: {len(image)} arrays (expected the two strips of one frame, stream 0:0's first, "
+                         "or one array of both stacked)")
+    a, b = as_array(image[0], "strip 0"), as_array(image[1], "strip 1")
+    if a.shape != b.shape or a.dtype != b.dtype:
+        raise ValueError(f"gopro-max: strips of shapes {a.shape} {a.dtype} and {b.shape} {b.dtype} (expected one frame of "
+                         "each stream: equal shapes and dtypes)")
+    return np.concatenate([a, b], axis=-3 if a.ndim >= 3 else 0)
+
+
 def check_layout(a: np.ndarray, what: str = "array") -> None:
     """HxW, HxWxC or NxHxWxC; a channels-first array gets the transpose it needs."""
     if a.ndim not in (2, 3, 4):

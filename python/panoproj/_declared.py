@@ -8,7 +8,7 @@ from typing import Dict, Literal, Optional, Type, TypedDict, Union
 from ._projection import Projection
 from ._types import FillLike, SizeLike
 
-ProjectionName = Literal['pinhole', 'brown-conrady', 'fisheye', 'dual-fisheye', 'kannala-brandt', 'double-sphere', 'unified', 'extended-unified', 'ptlens', 'equirect', 'cylindrical', 'cubemap', 'panini', 'compressed-rectilinear', 'aitoff', 'hammer', 'eckert-greifendorff', 'bonne', 'sinusoidal', 'mollweide', 'mercator', 'miller', 'cylindrical-equal-area', 'transverse-mercator']
+ProjectionName = Literal['pinhole', 'brown-conrady', 'fisheye', 'dual-fisheye', 'kannala-brandt', 'double-sphere', 'unified', 'extended-unified', 'ptlens', 'equirect', 'cylindrical', 'cubemap', 'gopro-max', 'panini', 'compressed-rectilinear', 'aitoff', 'hammer', 'eckert-greifendorff', 'bonne', 'sinusoidal', 'mollweide', 'mercator', 'miller', 'cylindrical-equal-area', 'transverse-mercator']
 Interp = Literal['nearest', 'bilinear', 'bicubic', 'lanczos3', 'bicubic-dering', 'lanczos3-dering']
 Engine = Literal['simd', 'scalar', 'reference']
 Antialias = Literal['auto', 'off', 'mip']
@@ -492,6 +492,40 @@ class Cubemap(Projection):
         self._set(layout=layout, face=face, order=order, rot=rot, pad=pad, pad_px=pad_px, border=border, preset=preset, stereo=stereo, eye=eye)
 
 
+class GoproMax(Projection):
+    """A GoPro MAX's two EAC strips (streams 0:0 and 0:5), the first above the second, blended
+    across the lens seam.
+
+    Parameters (degrees, pixels; None: the default):
+    preset: the camera mode's strip layout; auto: the MAX preset of the strips' size (max2-*:
+        unverified) (default auto)
+    face: parametric: the centre face's width in pixels; default: the strip's height
+    outer: parametric: an outer face's width in pixels; default: (strip width - face) / 2
+    band: parametric: the band both lenses see around the seam, in an outer face's pixels
+    feather: width of the blend across the band (deg of the outer faces' EAC angle); default:
+        the whole band; 0: a hard cut
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
+    """
+
+    name = 'gopro-max'
+    summary = "a GoPro MAX's two EAC strips (streams 0:0 and 0:5), the first above the second, blended across the lens seam"
+
+    def __init__(
+        self,
+        *,
+        preset: Optional[Literal['auto', 'max-5.6k', 'max-3k', 'max-pre1.5-5.6k', 'max-pre1.5-3k', 'max2-8bit', 'max2-10bit']] = None,
+        face: Optional[int] = None,
+        outer: Optional[int] = None,
+        band: Optional[int] = None,
+        feather: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
+    ) -> None:
+        self._set(preset=preset, face=face, outer=outer, band=band, feather=feather, stereo=stereo, eye=eye)
+
+
 class Panini(Projection):
     """Panini view: General Panini (Sharpless, Hugin, v360) or OpenCV's Panini warper.
 
@@ -836,7 +870,7 @@ class TransverseMercator(Projection):
         self._set(x_max=x_max, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
 
 
-__all__ = ['ProjectionName', 'Interp', 'Engine', 'Antialias', 'DecodeScale', 'Pinhole', 'BrownConrady', 'Fisheye', 'DualFisheye', 'KannalaBrandt', 'DoubleSphere', 'Unified', 'ExtendedUnified', 'Ptlens', 'Equirect', 'Cylindrical', 'Cubemap', 'Panini', 'CompressedRectilinear', 'Aitoff', 'Hammer', 'EckertGreifendorff', 'Bonne', 'Sinusoidal', 'Mollweide', 'Mercator', 'Miller', 'CylindricalEqualArea', 'TransverseMercator']
+__all__ = ['ProjectionName', 'Interp', 'Engine', 'Antialias', 'DecodeScale', 'Pinhole', 'BrownConrady', 'Fisheye', 'DualFisheye', 'KannalaBrandt', 'DoubleSphere', 'Unified', 'ExtendedUnified', 'Ptlens', 'Equirect', 'Cylindrical', 'Cubemap', 'GoproMax', 'Panini', 'CompressedRectilinear', 'Aitoff', 'Hammer', 'EckertGreifendorff', 'Bonne', 'Sinusoidal', 'Mollweide', 'Mercator', 'Miller', 'CylindricalEqualArea', 'TransverseMercator']
 
 CLASSES: Dict[str, Type[Projection]] = {
     'pinhole': Pinhole,
@@ -851,6 +885,7 @@ CLASSES: Dict[str, Type[Projection]] = {
     'equirect': Equirect,
     'cylindrical': Cylindrical,
     'cubemap': Cubemap,
+    'gopro-max': GoproMax,
     'panini': Panini,
     'compressed-rectilinear': CompressedRectilinear,
     'aitoff': Aitoff,

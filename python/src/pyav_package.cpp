@@ -206,6 +206,12 @@ class PyAvBackend final : public VideoBackend {
           pyav().attr("open")(path, stream, copy, range.start, range.end, rgb), path);
     });
   }
+  std::unique_ptr<VideoReader> open_pair(const std::string& path, bool, const VideoRange&,
+                                         bool) override {
+    throw Error("cannot read " + path +
+                " as a GoPro MAX's two strips through PyAV (not yet: the command, or "
+                "this module with FFmpeg's libraries installed, reads them)");
+  }
   std::string check_output(const std::string& path, const std::string& codec) override {
     return call([&] { return pyav().attr("check_output")(path, codec).cast<std::string>(); });
   }

@@ -327,6 +327,15 @@ PARAMS = [
     ("maps_extension", ["maps", "m.png", "--from", "equirect", "--source-size", "64x32", "--to", "fisheye"],
      "cannot hold float maps", False),
     ("no_subcommand", ["--version-of-nothing"], "panoproj: error:", True),
+    # GoPro MAX strips (two images of one frame, or both stacked): sizes no preset holds, bands and
+    # feathers out of range.
+    ("gopro_max_no_preset", ["--from", "gopro-max", "--to", "equirect"], "strips of 256x64 match no preset (max-5.6k", False),
+    ("gopro_max_band", ["--from", "gopro-max:face=64,outer=96,band=97", "--to", "equirect"], "an even band narrower", False),
+    ("gopro_max_feather", ["--from", "gopro-max:face=64,outer=96,band=8,feather=60", "--to", "equirect"],
+     "is wider than the band", False),
+    ("gopro_max_feather_nan", ["--from", "gopro-max:face=64,outer=96,band=8,feather=nan", "--to", "equirect"], "feather",
+     False),
+    ("gopro_max_three_inputs", ["OUT=o.png", "--from", "gopro-max", "--to", "equirect", "EXTRA"], "for --from", False),
 ]
 
 
@@ -343,7 +352,8 @@ def test_bad_parameters(cli, files, tmp_path, case):
     else:
         out = "o.jpg" if name == "jpeg_over_65500" else ("{face}.png" if name == "faces_without_files_layout" else "o.png")
         out = next((a[4:] for a in args if a.startswith("OUT=")), out)
-        full = ["convert", files["png"], out] + [a for a in args if not a.startswith("OUT=")]
+        extra = [files["png"]] * 2 if "EXTRA" in args else []  # (three inputs)
+        full = ["convert", files["png"], *extra, out] + [a for a in args if not a.startswith("OUT=") and a != "EXTRA"]
     before = snapshot(tmp_path)
     r = run(cli, full, tmp_path)
     expect_refused(r, needle)

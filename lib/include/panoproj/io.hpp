@@ -128,6 +128,10 @@ Image convert_pixels(const Image& image, PixelType type);
 bool is_face_pattern(std::string_view path);
 std::string face_path(std::string_view pattern, int slot, const FaceOrder& order = kDefaultFaceOrder);
 Image read_cube_faces(const std::string& pattern, int64_t memory_limit = 0, const FaceOrder& order = kDefaultFaceOrder);
+// A GoPro MAX's two strips (one frame of each of its video streams, the first stream's first:
+// gopro_max.hpp) as one frame, the first above the second; Error unless they match.
+Image read_strip_pair(const std::string& first, const std::string& second,
+                      int64_t memory_limit = 0);
 // `strip` must be 6N x N. All six are written to temporary files first and renamed only when
 // every one succeeded (old files restored if a rename fails).
 void write_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options,

@@ -79,7 +79,8 @@ struct Converter::Impl {
   Engine engine_;
   int threads_;
   Keep keep_;
-  std::vector<LensSource> lenses_;      // a dual-fisheye source's lenses alone (blended per tile), else empty
+  std::vector<LensSource>
+      lenses_;  // a two-lens source's lenses alone (blended per tile), else empty
   mutable std::vector<TileMap> cache_;  // one per tile (empty for fused tiles), built on first use
   mutable std::unique_ptr<PlannedTaps[]> planned_;  // one per tile (Keep::MapsAndTaps), with cache_
   mutable std::once_flag cache_once_;   // so that threads sharing a Converter build it once
@@ -87,8 +88,7 @@ struct Converter::Impl {
   mutable std::optional<SimdSource> planned_layout_;  // the source layout planned_ holds taps for
   mutable std::unique_ptr<std::atomic<int64_t>[]> rows_kept_;  // rows_read per tile (-1: not yet), with cache_
   mutable std::unique_ptr<KeptFootprint[]> footprints_;  // one per tile (auto antialiasing), with cache_
-  mutable std::unique_ptr<KeptBlend[]>
-      blends_;  // one per tile (a dual-fisheye source), with cache_
+  mutable std::unique_ptr<KeptBlend[]> blends_;  // one per tile (a two-lens source), with cache_
 
   void build_cache() const;
   // planned_ where src's taps may be kept (keeps_taps) and src has the layout of the first
@@ -101,7 +101,7 @@ struct Converter::Impl {
   // The same from source projection sp (the source, or a lens) through rotation r.
   bool fused(const Projection& sp, const Eigen::Matrix3d& r, const PixelRect& rect,
              SimdGeometry& g) const;
-  int parts() const;  // what a tile keeps per: the source, or a dual fisheye's two lenses
+  int parts() const;  // what a tile keeps per: the source, or a two-lens source's lenses
   // The kept map of a tile's part k that has one, else null.
   const TileMap* cached(int64_t t, int k = 0) const;
   // What tile t keeps, its taps in planned (null: none).
@@ -160,14 +160,17 @@ Converter::Impl::Impl(Projection source, Projection target, const Siting& siting
     throw Error("antialias " + name_of(antialias_) + " needs the simd or scalar engine (or --antialias off)");
   if (siting_.any() && (engine_ == Engine::Reference || edges_.active()))
     throw Error("sited planes (video chroma) need the simd or scalar engine and no edge fill");
-  if (const DualFisheye* d = sampling_facts(source_).dual) {
+  if (const SamplingFacts f = sampling_facts(source_); f.lensed()) {
     // Each lens alone, blended (or cut) per tile; Keep keeps each lens's maps or taps (not
     // source_'s, which the lenses do not use).
-    if (d->feather() > 0 && engine_ == Engine::Reference)
-      throw Error("dual-fisheye: the feathered blend needs the simd or scalar engine (or feather=0)");
-    if (d->feather() > 0 && antialias_.mode == Antialias::Mode::Mip)
-      throw Error("dual-fisheye: antialias mip does not blend the lenses (use --antialias auto or supersample, or feather=0)");
-    lenses_ = lens_sources(*d, rotation_);
+    const std::string name = f.max ? "gopro-max" : "dual-fisheye";
+    if (f.lens_feather() > 0 && engine_ == Engine::Reference)
+      throw Error(name + ": the feathered blend needs the simd or scalar engine (or feather=0)");
+    if (f.lens_feather() > 0 && antialias_.mode == Antialias::Mode::Mip)
+      throw Error(name +
+                  ": antialias mip does not blend the lenses (use --antialias auto or supersample, "
+                  "or feather=0)");
+    lenses_ = lens_sources(f, rotation_);
   }
   const int most = antialias_.mode == Antialias::Mode::Supersample ? antialias_.n
                   : antialias_.mode == Antialias::Mode::Auto      ? Antialias::kMaxAuto
@@ -204,9 +207,9 @@ int Converter::Impl::parts() const {
 }
 
 int kept_bytes_per_pixel(const ConversionGeometry& g) {
-  // (A dual fisheye's: a map or taps per lens, and lens 0's weight.)
-  return sampling_facts(g.source).dual ? 2 * static_cast<int>(kCachedMapBytesPerPixel) + 4
-                                       : static_cast<int>(kCachedMapBytesPerPixel);
+  // (A two-lens source's: a map or taps per lens, and lens 0's weight.)
+  return sampling_facts(g.source).lensed() ? 2 * static_cast<int>(kCachedMapBytesPerPixel) + 4
+                                           : static_cast<int>(kCachedMapBytesPerPixel);
 }
 
 void Converter::Impl::build_cache() const {

@@ -23,10 +23,15 @@ SimdSource simd_source(const Image& src, const SourceTaps& taps) {
                               (x0 - src.origin_x()) * static_cast<int64_t>(src.pixel_bytes());
   SimdSource s{base, row, src.channels(), src.alpha_channel(), src.type(), x0, y0, x1, y1, cw, ch};
   if (c && !c->uniform()) s.cells_x = &c->x_axis(), s.cells_y = &c->y_axis();
+  if (f.max)
+    s.cells_x = &f.max->lens(0).x_axis(),
+    s.cells_y = &f.max->lens(0).y_axis();  // (the lenses' one grid)
   return s;
 }
 
-std::vector<LensSource> lens_sources(const DualFisheye& d, const Eigen::Matrix3d& rotation) {
+std::vector<LensSource> lens_sources(const SamplingFacts& f, const Eigen::Matrix3d& rotation) {
+  if (f.max) return {{f.max->lens(0), rotation}, {f.max->lens(1), rotation}};
+  const DualFisheye& d = *f.dual;
   return {{d.lens(0), d.rotation(0).transpose() * rotation}, {d.lens(1), d.rotation(1).transpose() * rotation}};
 }
 
@@ -143,8 +148,10 @@ void TileSampling::rect(const Projection& t, const PixelRect& rect, const KeptTi
   if (lenses_.empty()) return from(source_, rotation_, t, rect, kept, out, stride, wk, fp);
   KeptBlend* const b = kept.blend;
   const bool known = b && b->ready();
-  const int side =
-      known ? b->side : dual_weights(*taps_.facts().dual, t, rotation_, rect, wk.weights);
+  const SamplingFacts& f = taps_.facts();
+  const int side = known   ? b->side
+                   : f.max ? dual_weights(*f.max, t, rotation_, rect, wk.weights)
+                           : dual_weights(*f.dual, t, rotation_, rect, wk.weights);
   if (!known && b && b->claim()) {
     b->side = side;
     if (side < 0) b->weights = wk.weights;

@@ -80,14 +80,15 @@ inline bool exact_for(Interp interp, SimdGeometry& g) {
 // taps beyond are misses, for the tap rules), and its cells.
 SimdSource simd_source(const Image& src, const SourceTaps& taps);
 
-// One lens of a dual-fisheye source alone: its fisheye on the whole frame (its circle inside its
-// half), and the rotation to it, R_k^T times the conversion's (lens ray = R_k^T camera ray). Its
-// taps stay in its half by the source's cells.
+// One lens of a two-lens source alone (SamplingFacts::lensed): a dual fisheye's fisheye on the
+// whole frame (its circle inside its half) and the rotation to it, R_k^T times the conversion's
+// (lens ray = R_k^T camera ray); a GoPro MAX's partial cube and the conversion's. Its taps stay in
+// its cells by the source's tap rules.
 struct LensSource {
   Projection lens;
   Eigen::Matrix3d rotation;
 };
-std::vector<LensSource> lens_sources(const DualFisheye& d, const Eigen::Matrix3d& rotation);
+std::vector<LensSource> lens_sources(const SamplingFacts& f, const Eigen::Matrix3d& rotation);
 
 // Widens box {x0, y0, x1, y1} to the valid source positions of rect of target t, from source sp
 // through rotation r: those of its kept map tm if given, else the fused geometry's (simd, nothing

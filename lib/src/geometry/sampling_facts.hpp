@@ -18,15 +18,20 @@ struct SamplingFacts {
   // continues on the far side, its row mirrored about that line, half a turn away in x.
   bool north_pole = false, south_pole = false;
   // Cells whose taps do not stop at their edges: a cube's faces (a tap past a face reads the
-  // neighbouring face) or a dual fisheye's lenses (a tap stays in the sample's lens, and the
-  // blend reads both). Either makes the source read whole.
+  // neighbouring face), a dual fisheye's lenses (a tap stays in the sample's lens, and the blend
+  // reads both) or a GoPro MAX's (a tap past a cell reads the neighbouring face in the sample's
+  // lens, and the blend reads both). Each makes the source read whole.
   const Cubemap* cube = nullptr;
   const DualFisheye* dual = nullptr;
+  const GoProMax* max = nullptr;
   // Every row holds a whole turn at every latitude (an equirect): footprints count x steps at
   // cos(latitude) (footprint_kernel.cpp).
   bool rows_hold_turn = false;
 
-  bool has_cells() const { return cube != nullptr || dual != nullptr; }
+  bool has_cells() const { return cube != nullptr || lensed(); }
+  // Two lenses, each sampled alone and blended where both see a ray (with a feather), else cut.
+  bool lensed() const { return dual != nullptr || max != nullptr; }
+  double lens_feather() const { return dual ? dual->feather() : max ? max->feather() : 0.0; }
 };
 
 // The frame as the box, no other rule: what a module without facts of its own has.

@@ -19,7 +19,9 @@ SourceTaps::SourceTaps(const Projection& source) : facts_(sampling_facts(source)
 
 int SourceTaps::resolve(int64_t ix, int64_t iy, int face, Part* parts) const {
   if (facts_.cube) {
-    if (face >= 0) return cube_neighbour(ix, iy, face, parts);
+    if (face >= 0) return cube_neighbour(*facts_.cube, ix, iy, face, parts);
+  } else if (facts_.max) {
+    if (face >= 0) return cube_neighbour(facts_.max->lens(face / 8), ix, iy, face % 8, parts);
   } else if (facts_.dual) {
     // Within the lens's half.
     const DualFisheye& d = *facts_.dual;
@@ -101,18 +103,23 @@ int SourceTaps::wrapped(int64_t ix, int64_t iy, Part* parts) const {
   return n;
 }
 
-int SourceTaps::cube_neighbour(int64_t ix, int64_t iy, int face, Part* parts) const {
-  const Cubemap& cube = *facts_.cube;
+int SourceTaps::cube_neighbour(const Cubemap& cube, int64_t ix, int64_t iy, int face,
+                               Part* parts) const {
   const auto b = cube.cell_box(face);
   if (ix >= b[0] && iy >= b[1] && ix < b[2] && iy < b[3]) {
     parts[0] = {ix, iy, 1.0};
     return 1;
   }
   // The tap's centre on the face's cell continued past its edges, re-projected onto the cube:
-  // a continuous position on the cell holding that ray, pixel centres at integers.
-  double x = 0, y = 0;  // (every ray has a cube pixel)
-  cube.to_pixel(cube.cell_ray(face, static_cast<double>(ix) + 0.5, static_cast<double>(iy) + 0.5),
-                x, y);
+  // a continuous position on the cell holding that ray, pixel centres at integers. (Every ray
+  // has a pixel of a whole cube; one a partial cube does not see stays in the cell.)
+  double x = 0, y = 0;
+  if (!cube.to_pixel(
+          cube.cell_ray(face, static_cast<double>(ix) + 0.5, static_cast<double>(iy) + 0.5), x,
+          y)) {
+    parts[0] = {std::clamp(ix, b[0], b[2] - 1), std::clamp(iy, b[1], b[3] - 1), 1.0};
+    return 1;
+  }
   const auto nb = cube.cell_box(cube.face_at(x, y));
   const double u = x - 0.5, v = y - 0.5, u0 = std::floor(u), v0 = std::floor(v);
   const double fu = u - u0, fv = v - v0;

@@ -9,6 +9,8 @@
 //             the tap's centre on the extended face plane meets it, read bilinearly there, so
 //             the kernel sees a continuous function across edges and corners (no seam);
 //   dual fisheye clamps to the sample's lens half (never reading the other lens);
+//   GoPro MAX  a tap past its cell reads on as a cube's, within the sample's lens (clamped into
+//             the cell where that lens does not see the tap's ray);
 //   others    clamp into the box. Whether a sample is valid at all is decided by to_pixel, so a
 //             clamped tap only ever supports a sample whose centre is inside the field.
 #include <cstdint>
@@ -31,8 +33,13 @@ class SourceTaps {
   int64_t col1() const { return col1_; }
   int64_t row0() const { return row0_; }
   int64_t row1() const { return row1_; }
-  // Face under a sample position (cubemap sources), lens (dual fisheye), else 0.
+  // Face under a sample position (cubemap sources), lens (dual fisheye), lens and face (GoPro
+  // MAX: 8 lens + face), else 0.
   int face_at(double sx, double sy) const {
+    if (facts_.max) {
+      const int k = facts_.max->lens_at(sx, sy);
+      return 8 * k + facts_.max->lens(k).face_at(sx, sy);
+    }
     return facts_.cube   ? facts_.cube->face_at(sx, sy)
            : facts_.dual ? facts_.dual->lens_at(sx, sy)
                          : 0;
@@ -49,7 +56,7 @@ class SourceTaps {
 
  private:
   int wrapped(int64_t ix, int64_t iy, Part* parts) const;
-  int cube_neighbour(int64_t ix, int64_t iy, int face, Part* parts) const;
+  int cube_neighbour(const Cubemap& cube, int64_t ix, int64_t iy, int face, Part* parts) const;
 
   SamplingFacts facts_;
   int64_t col0_ = 0, col1_ = 0, row0_ = 0, row1_ = 0;

@@ -343,6 +343,25 @@ Image read_cube_faces(const std::string& pattern, int64_t memory_limit, const Fa
   return strip;
 }
 
+Image read_strip_pair(const std::string& first, const std::string& second, int64_t memory_limit) {
+  const Image a = read_image(first, memory_limit);
+  const Image b = read_image(second, memory_limit);
+  auto text = [](const Image& im) {
+    return size_text(im.size()) + " " + std::to_string(im.channels()) + "ch " + name_of(im.type());
+  };
+  if (b.size() != a.size() || b.channels() != a.channels() || b.type() != a.type())
+    throw Error("GoPro MAX strips: " + second + " is " + text(b) + " but " + first + " is " +
+                text(a) +
+                " (expected one frame of each of the two streams: equal sizes and samples)");
+  Image pair({a.width(), 2 * a.height()}, a.channels(), a.type(), a.alpha_channel(),
+             Image::Unfilled{});
+  for (int64_t y = 0; y < a.height(); ++y) {
+    std::memcpy(pair.row(y), a.row(y), a.row_bytes());
+    std::memcpy(pair.row(a.height() + y), b.row(y), b.row_bytes());
+  }
+  return pair;
+}
+
 EncodedOutput encode_cube_faces(const Image& strip, const std::string& pattern, const WriteOptions& options,
                                 const FaceOrder& order) {
   if (strip.width() != 6 * strip.height())

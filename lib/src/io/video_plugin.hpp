@@ -160,6 +160,13 @@ class VideoBackend {
   // bits (the stream's matrix, range and chroma siting; bicubic chroma), for images.
   virtual std::unique_ptr<VideoReader> open(const std::string& path, int stream, bool copy,
                                             const VideoRange& range = {}, bool rgb = false) = 0;
+  // A GoPro MAX .360 (gopro_max.hpp): its two video streams of one size (the largest two share,
+  // the lower index first, whatever their indices), decoded in step, each frame the two stacked
+  // (the first on top); the other streams as open's (the second strip's neither copied nor
+  // listed). Throws Error where the file has no two such streams.
+  virtual std::unique_ptr<VideoReader> open_pair(const std::string& path, bool copy,
+                                                 const VideoRange& range = {},
+                                                 bool rgb = false) = 0;
   // Whether `codec` names an encoder the libraries have, and the muxer of `path`'s extension
   // takes it; "" when so, else why not.
   virtual std::string check_output(const std::string& path, const std::string& codec) = 0;
@@ -185,7 +192,7 @@ bool video_loaded();
 using VideoFallback = VideoBackend* (*)(std::string& why_not);
 void set_video_fallback(VideoFallback get, const char* hint);
 
-constexpr int kVideoPluginAbi = 3;
+constexpr int kVideoPluginAbi = 4;
 
 }  // namespace panoproj
 

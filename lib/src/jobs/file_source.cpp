@@ -1,10 +1,18 @@
 #include "jobs/file_source.hpp"
 
+#include <filesystem>
 #include <sstream>
 
 #include "panoproj/error.hpp"
 
 namespace panoproj {
+
+bool gopro_max_video(const std::string& input, const std::optional<std::string>& from) {
+  if (from) return parse_spec(*from).kind() == Kind::GoProMax;
+  std::string ext = std::filesystem::path(input).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".360";
+}
 
 ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const std::string& input,
                                  Size size, const std::optional<PhotoSphere>& photo_sphere) {

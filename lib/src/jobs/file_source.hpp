@@ -18,6 +18,10 @@ namespace panoproj {
 ProjectionSpec infer_source_spec(const std::optional<std::string>& from, const std::string& input,
                                  Size size, const std::optional<PhotoSphere>& photo_sphere);
 
+// Whether a video input is read as a GoPro MAX's strips (VideoBackend::open_pair): --from
+// gopro-max, or no --from and the extension .360.
+bool gopro_max_video(const std::string& input, const std::optional<std::string>& from);
+
 // A Photo Sphere taken tilted is levelled by its pose (none when --from overrides the metadata):
 // geometry's rotation turned; returns from_text with the pose named.
 std::string level_by_pose(ConversionGeometry& geometry, const std::optional<PhotoSphere>& ps,

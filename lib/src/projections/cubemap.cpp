@@ -83,6 +83,8 @@ std::array<int, 2> Cubemap::grid(CubeLayout layout) {
     case CubeLayout::Grid3x2:
     case CubeLayout::Eac: return {3, 2};
     case CubeLayout::Cross4x3: return {4, 3};
+    case CubeLayout::Cells:
+      break;  // (its own grid)
   }
   return {6, 1};
 }
@@ -98,33 +100,63 @@ std::array<int, 2> Cubemap::slot_cell(CubeLayout layout, int k) {
       static constexpr std::array<std::array<int, 2>, 6> cells = {{{1, 1}, {2, 1}, {3, 1}, {0, 1}, {1, 0}, {1, 2}}};
       return cells[k];
     }
+    case CubeLayout::Cells:
+      break;
   }
   return {k, 0};
 }
 
-Cubemap::Cubemap(CubeLayout layout, const CubeFormat& format, const CubeAxis& ax, const CubeAxis& ay)
-    : layout_(layout), format_(format), ax_(ax), ay_(ay), size_{ax.edge[ax.n], ay.edge[ay.n]} {
-  const int64_t f = ax.edge[1];
-  uniform_ = !format.ffmpeg_border;
-  for (int k = 0; k < ax.n; ++k) uniform_ = uniform_ && ax.edge[k + 1] - ax.edge[k] == f;
-  for (int k = 0; k < ay.n; ++k) uniform_ = uniform_ && ay.edge[k + 1] - ay.edge[k] == f;
-  cell_face_.fill(-1);
+std::array<FaceCell, 6> Cubemap::layout_cells(CubeLayout layout, const CubeFormat& format) {
+  std::array<FaceCell, 6> cells{};
   for (int k = 0; k < 6; ++k) {
     const auto c = slot_cell(layout, k);
-    const int face = format.order[k];
-    slots_[face] = {c[0], c[1], turned(cube_faces()[face], format.rot[k])};
-    cell_face_[c[1] * ax_.n + c[0]] = face;
+    cells[format.order[k]] = {c[0], c[1], format.rot[k]};
+  }
+  return cells;
+}
+
+Cubemap::Cubemap(CubeLayout layout, const CubeFormat& format, const CubeAxis& ax,
+                 const CubeAxis& ay, const std::array<FaceCell, 6>& cells)
+    : layout_(layout), format_(format), ax_(ax), ay_(ay), size_{ax.edge[ax.n], ay.edge[ay.n]} {
+  const int64_t f = ax.edge[1];
+  uniform_ = !format.ffmpeg_border && layout != CubeLayout::Cells;
+  partial_ = layout == CubeLayout::Cells;
+  for (int k = 0; k < ax.n; ++k) uniform_ = uniform_ && ax.edge[k + 1] - ax.edge[k] == f;
+  for (int k = 0; k < ay.n; ++k) uniform_ = uniform_ && ay.edge[k + 1] - ay.edge[k] == f;
+  cells_ = cells;
+  cell_face_.fill(-1);
+  for (int face = 0; face < 6; ++face) {
+    const FaceCell& c = cells[face];
+    if (c.col < 0) continue;
+    slots_[face] = {c.col, c.row, turned(cube_faces()[face], c.rot)};
+    cell_face_[c.row * ax_.n + c.col] = face;
   }
 }
 
 Cubemap::Cubemap(int64_t face_size, CubeLayout layout, const CubeFormat& format)
     : Cubemap(layout, format, uniform_axis(grid(layout)[0], face_size, format.pad),
-              uniform_axis(grid(layout)[1], face_size, format.pad)) {}
+              uniform_axis(grid(layout)[1], face_size, format.pad), layout_cells(layout, format)) {}
 
 Cubemap::Cubemap(Size size, const CubeFormat& format)
-    : Cubemap(CubeLayout::Eac, format, ffmpeg_axis(size.width, 3), ffmpeg_axis(size.height, 2)) {}
+    : Cubemap(CubeLayout::Eac, format, ffmpeg_axis(size.width, 3), ffmpeg_axis(size.height, 2),
+              layout_cells(CubeLayout::Eac, format)) {}
 
-Cubemap Cubemap::scaled(double sx, double sy) const { return Cubemap(layout_, format_, ax_.scaled(sx), ay_.scaled(sy)); }
+Cubemap::Cubemap(const CubeAxis& ax, const CubeAxis& ay, const std::array<FaceCell, 6>& cells,
+                 bool angular)
+    : Cubemap(
+          CubeLayout::Cells,
+          [&] {
+            CubeFormat f;
+            f.angular = angular;
+            for (int face = 0; face < 6; ++face)
+              f.order[face] = face, f.rot[face] = cells[face].rot;
+            return f;
+          }(),
+          ax, ay, cells) {}
+
+Cubemap Cubemap::scaled(double sx, double sy) const {
+  return Cubemap(layout_, format_, ax_.scaled(sx), ay_.scaled(sy), cells_);
+}
 
 std::array<int, 2> Cubemap::other_faces_of(const Ray& d) {
   std::array<int, 3> axis = {0, 1, 2};

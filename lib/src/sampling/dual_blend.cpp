@@ -69,7 +69,8 @@ void blend_typed(const float* w, const PixelRect& rect, float unit, int nc, int 
 
 }  // namespace
 
-int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Matrix3d& rotation,
+template <class Pair>
+int dual_weights(const Pair& d, const Projection& target, const Eigen::Matrix3d& rotation,
                  const PixelRect& rect, std::vector<float>& w) {
   const std::vector<int64_t> nx = node_offsets(rect.width()), ny = node_offsets(rect.height());
   const size_t cols = nx.size();
@@ -144,6 +145,11 @@ int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Ma
   }
   return -1;
 }
+
+template int dual_weights(const DualFisheye&, const Projection&, const Eigen::Matrix3d&,
+                          const PixelRect&, std::vector<float>&);
+template int dual_weights(const GoProMax&, const Projection&, const Eigen::Matrix3d&,
+                          const PixelRect&, std::vector<float>&);
 
 void blend_lenses(const float* w, const PixelRect& rect, PixelType type, int channels, int alpha,
                   unsigned char* a, int64_t a_stride, const unsigned char* b, int64_t b_stride) {

@@ -1,7 +1,7 @@
 #pragma once
-// The feathered blend of a dual-fisheye source (dual_fisheye.hpp) over one output tile, for the
-// converter (engine.cpp), which samples each lens alone (LensSource) and blends them here.
-// Internal.
+// The feathered blend of a two-lens source (a dual fisheye, dual_fisheye.hpp; a GoPro MAX,
+// gopro_max.hpp) over one output tile, for the converter (engine.cpp), which samples each lens
+// alone (LensSource) and blends them here. Internal.
 #include <Eigen/Core>
 #include <vector>
 
@@ -19,7 +19,9 @@ namespace panoproj {
 // the nodes clear the ramp by more than the nodes' spacing can hide), -1 when w (rect.w x rect.h,
 // row-major) holds the weights. A tile with a node without a ray gets exact weights per pixel.
 inline constexpr int kDualNodeStep = 8;
-int dual_weights(const DualFisheye& d, const Projection& target, const Eigen::Matrix3d& rotation,
+// (Pair: DualFisheye or GoProMax, their margin, weight0 and feather.)
+template <class Pair>
+int dual_weights(const Pair& d, const Projection& target, const Eigen::Matrix3d& rotation,
                  const PixelRect& rect, std::vector<float>& w);
 
 // a = w a + (1 - w) b over the rect's pixels (rows of a_stride and b_stride bytes); with an alpha

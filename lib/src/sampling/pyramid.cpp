@@ -84,8 +84,9 @@ void shrink_rows(const Image& from, Image& to, int64_t y0, int64_t y1) {
 int deepest_level(const Projection& p) {
   Size s = size_of(p);
   int64_t face = 0;
-  if (const Cubemap* c = sampling_facts(p).cube)
-    face = c->uniform() ? c->face_size() : 1;  // uneven cells: level 0
+  const SamplingFacts f = sampling_facts(p);
+  if (const Cubemap* c = f.cube) face = c->uniform() ? c->face_size() : 1;  // uneven cells: level 0
+  if (f.max) face = 1;
   int k = 0;
   while (s.width % 2 == 0 && s.height % 2 == 0 && s.width >= 2 && s.height >= 2 && (face == 0 || face % 2 == 0)) {
     s = {s.width / 2, s.height / 2};

@@ -41,7 +41,14 @@
 
 namespace panoproj {
 
-enum class CubeLayout { Files, Row6x1, Column1x6, Grid3x2, Cross4x3, Eac };
+enum class CubeLayout { Files, Row6x1, Column1x6, Grid3x2, Cross4x3, Eac, Cells };
+
+// Where a face sits in a grid: its cell (column, row; -1: no cell) and its quarter turns
+// clockwise there.
+struct FaceCell {
+  int col = -1, row = -1, rot = 0;
+  bool operator==(const FaceCell&) const = default;
+};
 
 struct CubeFace {
   Ray fwd, right, down;
@@ -115,6 +122,9 @@ class Cubemap {
   Cubemap(int64_t face_size, CubeLayout layout, const CubeFormat& format = {});
   // FFmpeg's EAC frame of `size` (border=ffmpeg).
   Cubemap(Size size, const CubeFormat& format);
+  // A partial cube (layout Cells): faces in the cells of grid ax x ay (angular: the EAC law).
+  Cubemap(const CubeAxis& ax, const CubeAxis& ay, const std::array<FaceCell, 6>& cells,
+          bool angular);
   // The same field on a frame scaled by (sx, sy) (Error unless its cells stay whole pixels).
   Cubemap scaled(double sx, double sy) const;
 
@@ -122,6 +132,8 @@ class Cubemap {
   static std::array<int, 2> grid(CubeLayout layout);
   static std::array<int, 2> slot_cell(CubeLayout layout, int slot);
   CubeLayout layout() const { return layout_; }
+  // Whether a face has a cell (every face but in a partial cube).
+  bool has_face(int face) const { return cells_[face].col >= 0; }
   const CubeFormat& format() const { return format_; }
   const CubeAxis& x_axis() const { return ax_; }
   const CubeAxis& y_axis() const { return ay_; }
@@ -186,8 +198,17 @@ class Cubemap {
   bool to_pixel(const Ray& d, double& x, double& y) const {
     if (!d.allFinite() || d.isZero()) return false;
     int face = cube_face_of(d);
-    cell_position(face, d, x, y);
-    if (!in_cell(face, x, y)) {
+    if (partial_) {
+      if (!has_face(face) || !cell_position(face, d, x, y)) return false;
+      const auto b = cell_box(face);
+      const double slack = kEdgeSlack * static_cast<double>(std::max(size_.width, size_.height));
+      if (!(x >= static_cast<double>(b[0]) - slack && x <= static_cast<double>(b[2]) + slack &&
+            y >= static_cast<double>(b[1]) - slack && y <= static_cast<double>(b[3]) + slack))
+        return false;
+    } else {
+      cell_position(face, d, x, y);
+    }
+    if (!partial_ && !in_cell(face, x, y)) {
       // border=ffmpeg: a face's 90 degrees reach past its cell by under a pixel; that strip of
       // rays is held by a neighbouring cell's border (the faces of the next largest components).
       const auto alt = other_faces_of(d);
@@ -228,7 +249,10 @@ class Cubemap {
     int col = 0, row = 0;
     CubeFace basis;
   };
-  Cubemap(CubeLayout layout, const CubeFormat& format, const CubeAxis& ax, const CubeAxis& ay);
+  Cubemap(CubeLayout layout, const CubeFormat& format, const CubeAxis& ax, const CubeAxis& ay,
+          const std::array<FaceCell, 6>& cells);
+  // The cells of a layout's slots, by face.
+  static std::array<FaceCell, 6> layout_cells(CubeLayout layout, const CubeFormat& format);
   // (The frame's far edges, x = W or y = H, belong to the last cells, as in face_at.)
   bool in_cell(int face, double x, double y) const {
     const auto b = cell_box(face);
@@ -244,7 +268,9 @@ class Cubemap {
   CubeAxis ax_, ay_;
   Size size_;
   bool uniform_ = true;
-  std::array<Slot, 6> slots_{};  // by face
+  bool partial_ = false;             // layout Cells
+  std::array<FaceCell, 6> cells_{};  // by face
+  std::array<Slot, 6> slots_{};      // by face
   std::array<int, 12> cell_face_{};
 };
 

@@ -8,13 +8,9 @@
 //
 // A ray's margin in lens k is how far inside its image circle it lies: m_k = psi_max_k -
 // angle(ray, axis_k). As a source, a ray is seen by the lens with the larger margin (the hard
-// cut); with a feather f > 0, the converter (engine.cpp) blends both lenses with lens 0's weight
-//   w0 = clamp(1/2 + (m0 - m1) / (2 min(f, m0 + m1)), 0, 1)   where both lenses see the ray,
-// 1 or 0 where only one does: a linear ramp f wide (in angle) centred on the midline m0 = m1.
-// m0 + m1 is the overlap's local width (for back-to-back lenses the same everywhere; lenses a
-// little off that are wider on one side than the other): where it is narrower than f, the ramp
-// narrows to it, so w0 still reaches 0 on lens 0's rim and 1 on lens 1's (no seam). f = the
-// overlap (the default) gives w0 = m0 / (m0 + m1).
+// cut); with a feather f > 0, the converter (engine.cpp) blends both lenses by lens 0's weight
+// (lens_pair.hpp) over a ramp f wide (in angle). For back-to-back lenses the overlap's width
+// m0 + m1 is the same everywhere; f = the overlap (the default) gives w0 = m0 / (m0 + m1).
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross
 #include <algorithm>
@@ -23,6 +19,7 @@
 
 #include "panoproj/conventions.hpp"
 #include "panoproj/projections/fisheye.hpp"
+#include "panoproj/projections/lens_pair.hpp"
 
 namespace panoproj {
 
@@ -48,13 +45,7 @@ class DualFisheye {
     return lenses_[k].psi_max() - std::atan2(axis_[k].cross(d).norm(), axis_[k].dot(d));
   }
   // Lens 0's share of ray d, from the margins (see the header comment).
-  double weight0(double m0, double m1) const {
-    if (m1 < 0) return 1.0;
-    if (m0 < 0) return 0.0;
-    const double f = std::min(feather_, m0 + m1);
-    if (f <= 0) return m0 >= m1 ? 1.0 : 0.0;
-    return std::clamp(0.5 + (m0 - m1) / (2.0 * f), 0.0, 1.0);
-  }
+  double weight0(double m0, double m1) const { return lens_weight0(m0, m1, feather_); }
 
   bool to_ray(double x, double y, Ray& d) const {
     if (!in_frame(x, y, size_)) return false;

@@ -13,6 +13,7 @@
 #include "panoproj/projections/dual_fisheye.hpp"
 #include "panoproj/projections/equirect.hpp"
 #include "panoproj/projections/fisheye.hpp"
+#include "panoproj/projections/gopro_max.hpp"
 #include "panoproj/projections/hammer.hpp"
 #include "panoproj/projections/mollweide.hpp"
 #include "panoproj/projections/panini.hpp"
@@ -28,6 +29,7 @@
   X(Equirect)                   \
   X(Cylindrical)                \
   X(Cubemap)                    \
+  X(GoProMax)                   \
   X(Panini)                     \
   X(Aitoff)                     \
   X(Hammer)                     \

@@ -194,8 +194,10 @@ SphericalVideo spherical_of(const AVStream* st);
 
 class FfReader final : public VideoReader {
  public:
-  FfReader(const std::string& path, int stream, bool copy, const VideoRange& range, bool rgb)
-      : path_(path), copy_(copy), range_(range) {
+  // skip: a stream neither copied nor listed among the others (a pair's second strip), -1: none.
+  FfReader(const std::string& path, int stream, bool copy, const VideoRange& range, bool rgb,
+           int skip = -1)
+      : path_(path), copy_(copy), range_(range), skip_(skip) {
     try {  // (a constructor that throws runs no destructor)
       open(stream, rgb);
     } catch (...) {
@@ -266,7 +268,7 @@ class FfReader final : public VideoReader {
     info_.frames = st->nb_frames;
     info_.spherical = spherical_of(st);
     for (unsigned i = 0; i < fmt_->nb_streams; ++i) {
-      if (static_cast<int>(i) == info_.stream) continue;
+      if (static_cast<int>(i) == info_.stream || static_cast<int>(i) == skip_) continue;
       const AVCodecParameters* p = fmt_->streams[i]->codecpar;
       info_.others.push_back({static_cast<int>(i), kind_name(p->codec_type),
                               avcodec_get_name(p->codec_id), tag_text(p->codec_tag)});
@@ -406,7 +408,7 @@ class FfReader final : public VideoReader {
         if (sent < 0 && sent != AVERROR(EAGAIN)) fail("decoding a packet (" + av_error(sent) + ")");
         return;
       }
-      if (copy_ && in_range(*packet_)) {
+      if (copy_ && packet_->stream_index != skip_ && in_range(*packet_)) {
         AVPacket* kept = av_packet_clone(packet_);
         if (!kept) fail("out of memory");
         shift(*kept, fmt_->streams[kept->stream_index]->time_base);
@@ -570,6 +572,7 @@ class FfReader final : public VideoReader {
   std::string path_;
   bool copy_;
   VideoRange range_;
+  int skip_;
   AVFormatContext* fmt_ = nullptr;
   AVCodecContext* dec_ = nullptr;
   AVPacket* packet_ = nullptr;
@@ -750,6 +753,102 @@ std::string x265_hdr_params(const std::string& mastering, const std::string& lig
   }
   return out;
 }
+
+// A GoPro MAX .360's two strips (gopro_max.hpp): its two video streams of one size (the largest
+// size two share; the lower index first), each decoded by its own reader, their frames stacked
+// in step into one frame of twice the height. The first reader copies the other streams.
+class FfPairReader final : public VideoReader {
+ public:
+  FfPairReader(const std::string& path, bool copy, const VideoRange& range, bool rgb) {
+    const auto [a, b] = strips(path);
+    first_ = std::make_unique<FfReader>(path, a.ordinal, copy, range, rgb, b.index);
+    second_ = std::make_unique<FfReader>(path, b.ordinal, false, range, rgb, -1);
+    info_ = first_->info();
+    const VideoInfo& i2 = second_->info();
+    if (i2.size != info_.size || i2.pixels.pixel_format != info_.pixels.pixel_format)
+      throw Error("cannot read " + path + ": its strips' streams " + std::to_string(a.index) +
+                      " and " + std::to_string(b.index) + " decode to " +
+                      info_.pixels.pixel_format + " and " + i2.pixels.pixel_format +
+                      " frames (expected one format)",
+                  ErrorKind::File);
+    info_.size.height *= 2;
+    info_.spherical = {};
+  }
+
+  const VideoInfo& info() const override { return info_; }
+  int64_t concealed() const override { return first_->concealed() + second_->concealed(); }
+  FfReader& first() { return *first_; }
+
+  bool read(VideoFrame& out) override {
+    if (!first_->read(a_) || !second_->read(b_)) return false;
+    const VideoPixels& px = info_.pixels;
+    for (int c = 0; c < px.planes; ++c) {
+      const Image& top = a_.planes[static_cast<size_t>(c)];
+      const Image& bottom = b_.planes[static_cast<size_t>(c)];
+      Image& im = out.planes[static_cast<size_t>(c)];
+      const Size s{top.width(), 2 * top.height()};
+      if (im.is_view() || im.size() != s || im.type() != top.type() ||
+          im.channels() != top.channels())
+        im = Image(s, top.channels(), top.type(), top.alpha_channel(), Image::Unfilled{});
+      for (int64_t y = 0; y < top.height(); ++y) {
+        std::memcpy(im.row(y), top.row(y), top.row_bytes());
+        std::memcpy(im.row(top.height() + y), bottom.row(y), bottom.row_bytes());
+      }
+    }
+    out.owner.reset();
+    out.pts = a_.pts;
+    return true;
+  }
+
+ private:
+  struct Strip {
+    int index = -1, ordinal = -1;  // the stream's index, its place among the video streams
+  };
+  // The two video streams of the largest size two share (from the header, no frame decoded).
+  static std::array<Strip, 2> strips(const std::string& path) {
+    AVFormatContext* f = nullptr;
+    const int err = avformat_open_input(&f, path.c_str(), nullptr, nullptr);
+    if (err < 0)
+      throw Error("cannot read " + path + ": it is not a video libavformat can read (" +
+                      av_error(err) + ")",
+                  ErrorKind::File);
+    struct Video {
+      Strip strip;
+      int64_t w, h;
+    };
+    std::vector<Video> videos;
+    for (unsigned i = 0; i < f->nb_streams; ++i) {
+      const AVStream* st = f->streams[i];
+      if (st->codecpar->codec_type != AVMEDIA_TYPE_VIDEO ||
+          (st->disposition & AV_DISPOSITION_ATTACHED_PIC))
+        continue;
+      videos.push_back({{static_cast<int>(i), static_cast<int>(videos.size())},
+                        st->codecpar->width,
+                        st->codecpar->height});
+    }
+    avformat_close_input(&f);
+    std::array<Strip, 2> best{};
+    int64_t area = 0;
+    for (size_t i = 0; i < videos.size(); ++i)
+      for (size_t j = i + 1; j < videos.size(); ++j)
+        if (videos[i].w == videos[j].w && videos[i].h == videos[j].h &&
+            videos[i].w * videos[i].h > area)
+          best = {videos[i].strip, videos[j].strip}, area = videos[i].w * videos[i].h;
+    if (area > 0) return best;
+    std::string sizes;
+    for (const Video& v : videos)
+      sizes += (sizes.empty() ? "" : ", ") + std::to_string(v.w) + "x" + std::to_string(v.h);
+    throw Error("cannot read " + path + ": it has " + std::to_string(videos.size()) +
+                    " video stream" + (videos.size() == 1 ? "" : "s") +
+                    (sizes.empty() ? "" : " (" + sizes + ")") +
+                    ", not a GoPro MAX's two strips (two video streams of one size)",
+                ErrorKind::File);
+  }
+
+  std::unique_ptr<FfReader> first_, second_;
+  VideoFrame a_, b_;
+  VideoInfo info_;
+};
 
 class FfWriter final : public VideoWriter {
  public:
@@ -1070,6 +1169,11 @@ class FfBackend final : public VideoBackend {
     return std::make_unique<FfReader>(path, stream, copy, range, rgb);
   }
 
+  std::unique_ptr<VideoReader> open_pair(const std::string& path, bool copy,
+                                         const VideoRange& range, bool rgb) override {
+    return std::make_unique<FfPairReader>(path, copy, range, rgb);
+  }
+
   std::string check_output(const std::string& path, const std::string& codec) override {
     const AVOutputFormat* f = av_guess_format(nullptr, path.c_str(), nullptr);
     if (!f || (f->flags & AVFMT_NOFILE))
@@ -1084,7 +1188,8 @@ class FfBackend final : public VideoBackend {
   std::unique_ptr<VideoWriter> create(int fd, const std::string& path,
                                       const VideoSettings& settings,
                                       VideoReader* copy_from) override {
-    auto* from = dynamic_cast<FfReader*>(copy_from);
+    auto* pair = dynamic_cast<FfPairReader*>(copy_from);
+    auto* from = pair ? &pair->first() : dynamic_cast<FfReader*>(copy_from);
     return std::make_unique<FfWriter>(fd, path, settings, from && from->copying() ? from : nullptr);
   }
 

@@ -54,17 +54,16 @@ const std::vector<OptionDef>& rows() {
     std::vector<OptionDef> r = job_rows(
         {
             {"inputs", OptionType::Paths, 0, "None",
-             "IN... OUT: an input image (or a cube-face pattern with {face}/{index}/{axis}) and "
-             "the "
-             "output; several "
-             "inputs (same size) need an output pattern with {stem} or {n}",
+             "IN... OUT: an input image (or a cube-face pattern with {face}/{index}/{axis}; with "
+             "--from gopro-max, a GoPro MAX's two strips, stream 0:0's first) and the output; "
+             "several inputs (same size) need an output pattern with {stem} or {n}",
              nullptr, nullptr, "files", kPositional | kRequired},
             {"output", OptionType::Path, 0, "None",
              "the output: a path, a face pattern or a batch pattern", nullptr, nullptr, nullptr,
              kPositional | kRequired},
             {"src", OptionType::Text, 0, "None",
              "source projection spec (default: 2:1 image = equirect; face pattern = "
-             "cubemap:layout=files)",
+             "cubemap:layout=files; .360 video = gopro-max)",
              nullptr, nullptr, "from"},
             {"dst", OptionType::Text, 0, "None", "target projection spec, e.g. fisheye:fov=180",
              nullptr, nullptr, "to", kRequired},
@@ -225,7 +224,7 @@ class FrameRunner {
 
   // (spare: a source buffer the frame before is done with)
   void open(size_t n, Frame& f, uint64_t other_bytes, Image spare) {
-    if (p_.in_faces)
+    if (p_.held())
       f.face_set = std::move(*p_.faces);  // (one frame)
     else
       f.file.emplace(p_.request.inputs[n], p_.need.x0, p_.need.y0, p_.need.x1, p_.need.y1,
@@ -236,7 +235,7 @@ class FrameRunner {
     WriteOptions write = p_.request.write;
     write.threads = p_.options.threads;
     if (!p_.request.keep_metadata) return write;
-    if (!p_.in_faces) carry_metadata(p_.request.inputs[n], p_.infos[n].format, write);
+    if (!p_.held()) carry_metadata(p_.request.inputs[n], p_.infos[n].format, write);
     // Equirect outputs say where they sit in the sphere (Photo Sphere XMP, read by viewers).
     // (A stereo frame: one eye's fields and GSpherical:StereoMode.)
     if (const auto* e = std::get_if<Equirect>(&p_.geometry->target)) {
@@ -258,7 +257,7 @@ class FrameRunner {
     Image with_alpha;
     const Image& source = source_for(f.file ? f.file->image() : f.face_set, p_.options, with_alpha);
     const auto t0 = std::chrono::steady_clock::now();
-    const double frames = static_cast<double>(p_.request.inputs.size());
+    const double frames = static_cast<double>(p_.outputs.size());
     const auto progress = [&](double x) {
       if (events_.progress) events_.progress((static_cast<double>(n) + x) / frames);
     };
@@ -286,13 +285,14 @@ class FrameRunner {
     auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };
     const double read = static_cast<double>(source.width() * source.height()) /
                         static_cast<double>(source.frame_size().width * source.frame_size().height);
-    f.report = {p_.request.inputs[n],
-                p_.outputs[n],
-                p_.in_faces ? face_size(source.size()) : p_.frame,
-                p_.out_faces ? face_size(out.size()) : out.size(),
-                seconds,
-                read,
-                p_.in_faces ? "" : p_.infos[n].format};
+    f.report = {
+        p_.in_pair ? p_.request.inputs[0] + " + " + p_.request.inputs[1] : p_.request.inputs[n],
+        p_.outputs[n],
+        p_.in_faces ? face_size(source.size()) : p_.frame,
+        p_.out_faces ? face_size(out.size()) : out.size(),
+        seconds,
+        read,
+        p_.held() ? "" : p_.infos[n].format};
   }
 
   void done(const Frame& f) {
@@ -302,7 +302,7 @@ class FrameRunner {
 
   void run_serial() {
     Image out, source;  // one buffer each for every frame
-    for (size_t n = 0; n < p_.request.inputs.size(); ++n) {
+    for (size_t n = 0; n < p_.outputs.size(); ++n) {
       Frame f;
       open(n, f, p_.memory.job(), std::move(source));
       convert(n, f, out, f.file.has_value());
@@ -316,7 +316,7 @@ class FrameRunner {
   // next ones.
   void run_pipelined(int readers, uint64_t spare_bytes) {
     const ReuseFreedBuffers reuse(static_cast<size_t>(spare_bytes));  // (at most kMostBytes)
-    const size_t n_frames = p_.request.inputs.size();
+    const size_t n_frames = p_.outputs.size();
     std::vector<Frame> frames(n_frames);
     std::vector<Image> outs(2);  // frame n's in outs[n % 2]
     std::mutex spare_mutex;

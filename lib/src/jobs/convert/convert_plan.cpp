@@ -42,8 +42,15 @@ void plan_paths(ConvertPlan& p) {
   if (job.inputs.empty()) throw Error("no input given (expected one or more images)");
   p.to = parse_spec(job.to);
   if (job.from) p.from = parse_spec(*job.from);  // early: a bad spec fails before any reading
-  p.batch = job.inputs.size() > 1;
+  // (A GoPro MAX's two strips are one frame.)
+  p.in_pair = p.from && p.from->kind() == Kind::GoProMax && job.inputs.size() == 2;
+  p.batch = job.inputs.size() > 1 && !p.in_pair;
   p.in_faces = !p.batch && is_face_pattern(job.inputs[0]), p.out_faces = is_cube_files(*p.to);
+  if (p.from && p.from->kind() == Kind::GoProMax && job.inputs.size() > 2)
+    throw Error(std::to_string(job.inputs.size()) + " inputs for " + option_text("from") + " " +
+                p.from->str() +
+                " (expected the two strips of one frame, the first stream's first; or one image of "
+                "both stacked)");
   if (p.out_faces != is_face_pattern(job.output))
     throw Error(p.out_faces ? "output " + job.output +
                                   " needs {face}, {index} or {axis} for cubemap:layout=files"
@@ -59,7 +66,7 @@ void plan_paths(ConvertPlan& p) {
       if (is_face_pattern(in))
         throw Error("input " + in + " is a face pattern: cube faces convert one set at a time");
   }
-  for (size_t n = 0; n < job.inputs.size(); ++n)
+  for (size_t n = 0; n < (p.in_pair ? 1 : job.inputs.size()); ++n)
     p.outputs.push_back(p.batch ? batch_output(job.output, job.inputs[n], n) : job.output);
   if (p.out_faces) p.out_order = cube_face_order(*p.to);
   if (p.from && is_cube_files(*p.from)) p.in_order = cube_face_order(*p.from);
@@ -91,8 +98,9 @@ void plan_paths(ConvertPlan& p) {
 // its pixels.
 void plan_headers(ConvertPlan& p) {
   const ConvertRequest& job = p.request;
-  if (p.in_faces) {
-    p.faces = read_cube_faces(job.inputs[0], p.options.memory_limit, p.in_order);
+  if (p.held()) {
+    p.faces = p.in_pair ? read_strip_pair(job.inputs[0], job.inputs[1], p.options.memory_limit)
+                        : read_cube_faces(job.inputs[0], p.options.memory_limit, p.in_order);
     p.frame = p.faces->size(), p.channels = p.faces->channels(), p.type = p.faces->type();
     return;
   }
@@ -118,11 +126,11 @@ void plan_geometry(ConvertPlan& p) {
     p.options.size = Size{6 * p.options.size->width, p.options.size->height};
   }
   // (The Photo Sphere packet, read once, gives the projection and the pose unless --from does.)
-  const auto ps = job.from || p.in_faces ? std::nullopt : read_photo_sphere(job.inputs[0]);
+  const auto ps = job.from || p.held() ? std::nullopt : read_photo_sphere(job.inputs[0]);
   if (!p.from) p.from = infer_source_spec(std::nullopt, job.inputs[0], p.frame, ps);
   p.geometry = make_geometry(p.frame, *p.from, *p.to, p.options);
   p.from_text = level_by_pose(*p.geometry, ps, p.from->str());
-  bool scalable = !p.in_faces;  // every input decodes at 1/2, 1/4, 1/8 (JPEG)
+  bool scalable = !p.held();  // every input decodes at 1/2, 1/4, 1/8 (JPEG)
   for (const ImageInfo& i : p.infos) scalable = scalable && i.scalable;
   const int scale = p.options.decode_scale;
   const std::string refused = option_text("decode-scale") + " " + std::to_string(scale);

@@ -48,12 +48,15 @@ struct ConvertMemory {
 struct ConvertPlan {
   ConvertRequest request;
   ConvertOptions options;              // the request's, with a face set's size made the strip's
-  std::vector<std::string> outputs;    // one per input
+  std::vector<std::string> outputs;    // one per input (a strip pair's one)
   std::vector<std::string> files_out;  // every file written (face patterns expanded)
   bool batch = false, in_faces = false, out_faces = false;
+  bool in_pair = false;  // a GoPro MAX's two strips (--from gopro-max and two inputs)
+  bool held() const { return in_faces || in_pair; }  // pixels read with the headers (faces)
   FaceOrder in_order = kDefaultFaceOrder, out_order = kDefaultFaceOrder;
   std::vector<ImageInfo> infos;  // each input's header (none for a face set)
-  std::optional<Image> faces;    // a face set's pixels, read with its headers
+  std::optional<Image>
+      faces;  // a face set's pixels (a strip pair's, stacked), read with its headers
   std::optional<ProjectionSpec> from;
   std::optional<ProjectionSpec> to;
   std::string from_text;  // the source spec used (a Photo Sphere's pose named)

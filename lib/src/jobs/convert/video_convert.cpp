@@ -64,7 +64,13 @@ class VideoJob {
     if (!from_images_) (void)read_head(input, 16, "input", "a video file");
     VideoBackend* vb = from_images_ && to_images_ ? nullptr : &video_backend("reading " + input);
     check_paths(vb);
+    strips_ = !from_images_ && gopro_max_video(input, r_.files.from);
+    if (strips_ && sel_.stream >= 0)
+      throw Error(option_number("stream", std::to_string(sel_.stream)) + " with " + input +
+                  " as a GoPro MAX's strips: its two strip streams are found by their size (drop "
+                  "--stream)");
     reader_ = from_images_ ? image_list_reader(r_.files.inputs, sel_.fps > 0 ? sel_.fps : 25)
+              : strips_    ? vb->open_pair(input, !to_images_, sel_.range, to_images_)
                            : vb->open(input, sel_.stream, !to_images_, sel_.range, to_images_);
     if (from_images_) sel_.fps = 0;  // (the images' rate, every one taken)
     const VideoInfo& info = reader_->info();
@@ -211,7 +217,10 @@ class VideoJob {
       from_text_ = from.str() + " (its spherical metadata: " + spherical_text(sv) + ")";
       return from;
     }
-    const ProjectionSpec from = infer_source_spec(r_.files.from, input, info.size, std::nullopt);
+    const ProjectionSpec from =
+        strips_ && !r_.files.from
+            ? parse_spec("gopro-max")
+            : infer_source_spec(r_.files.from, input, info.size, std::nullopt);
     from_text_ = from.str();
     if (r_.files.from && sv.any()) {
       std::optional<ProjectionSpec> says;
@@ -388,6 +397,7 @@ class VideoJob {
   const JobEvents& events_;
   VideoWriter* sink_;
   bool from_images_ = false, to_images_ = false;
+  bool strips_ = false;  // a GoPro MAX's two strip streams read as one frame
   const VideoCodec* codec_ = nullptr;
   int64_t bitrate_ = 0;
   std::unique_ptr<VideoReader> reader_;

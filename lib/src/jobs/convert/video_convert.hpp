@@ -10,6 +10,9 @@
 //   - the output's size must hold whole chroma samples (refused otherwise, naming the nearest
 //     sizes that do); the pixel format, range, matrix, primaries, transfer and chroma siting are
 //     the input's (an encoder that lacks the format gets its nearest, with a warning).
+//   - a GoPro MAX .360 (the extension, or --from gopro-max): its two strip streams, found by
+//     their size, decoded in step and converted as one frame (gopro_max.hpp); the other streams
+//     as above, the second strip neither copied nor named.
 //   - written through a temporary, renamed at the end: a failure, Ctrl-C or SIGTERM leaves none.
 //   - frames to images (an output pattern with {n}): decoded as RGB (the stream's matrix, range
 //     and siting), converted and written one by one as a batch's images are; images to a video:

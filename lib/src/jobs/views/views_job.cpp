@@ -128,15 +128,23 @@ class VideoPanoramas {
   static std::unique_ptr<VideoReader> open_reader(const ViewsJob& job) {
     const std::string& input = job.inputs[0];
     (void)read_head(input, 16, "input", "a video file");  // (a regular file, before libavformat)
-    return video_backend("reading " + input)
-        .open(input, job.frames.stream, false, job.frames.range, true);
+    VideoBackend& vb = video_backend("reading " + input);
+    if (!gopro_max_video(input, job.from))
+      return vb.open(input, job.frames.stream, false, job.frames.range, true);
+    if (job.frames.stream >= 0)
+      throw Error(option_number("stream", std::to_string(job.frames.stream)) + " with " + input +
+                  " as a GoPro MAX's strips: its two strip streams are found by their size (drop "
+                  "--stream)");
+    return vb.open_pair(input, false, job.frames.range, true);
   }
   static Frame source(const ViewsJob& job, const VideoInfo& v) {
     const ImageInfo info{v.size, v.pixels.alpha ? 4 : 3,
                          v.pixels.bits > 8 ? PixelType::U16 : PixelType::U8, "video", false};
     // (Without --from, the stream's spherical metadata: its projection, levelled by its pose.)
-    if (job.from || !v.spherical.any())
-      return source_of(info, job.inputs[0], job.from, std::nullopt, job.options, "views");
+    const bool strips = gopro_max_video(job.inputs[0], job.from);
+    if (job.from || strips || !v.spherical.any())
+      return source_of(info, job.inputs[0], strips && !job.from ? "gopro-max" : job.from,
+                       std::nullopt, job.options, "views");
     Frame f =
         source_of(info, job.inputs[0], spherical_source_spec(v.spherical, v.size, job.inputs[0]),
                   std::nullopt, job.options, "views");
