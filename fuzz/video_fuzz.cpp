@@ -1,9 +1,10 @@
 // Fuzzes the video demuxing and decoding path: any bytes as a file, opened through the video
 // plugin (libavformat's probing and demuxers, libavcodec's decoders, panoproj's planes), its
-// first frames read, the copied streams' packets queued; its spherical metadata made a source
-// spec (jobs/video_spherical.hpp); and panoproj's own reader of MP4's spherical boxes and
-// Matroska's elements, and writer of the boxes (io/container_spherical.hpp): what it writes it
-// reads back. Only panoproj::Error may leave it.
+// first frames read, the copied streams' packets queued; the same bytes as a GoPro MAX .360 (its
+// two strip streams, open_pair); its spherical metadata made a source spec
+// (jobs/video_spherical.hpp); and panoproj's own reader of MP4's spherical boxes and Matroska's
+// elements, and writer of the boxes (io/container_spherical.hpp): what it writes it reads back.
+// Only panoproj::Error may leave it.
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -68,6 +69,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       }
     } catch (const panoproj::Error&) {
     }
+  }
+  // As a GoPro MAX .360: its two strip streams found by size, decoded in step.
+  try {
+    auto pair = panoproj::video_backend("fuzzing").open_pair(path, true);
+    panoproj::VideoFrame frame;
+    for (int n = 0; n < 8 && pair->read(frame); ++n) {
+    }
+  } catch (const panoproj::Error&) {
   }
   own_boxes(path);
   std::remove(path.c_str());
