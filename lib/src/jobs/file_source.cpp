@@ -1,5 +1,6 @@
 #include "jobs/file_source.hpp"
 
+#include <cctype>
 #include <filesystem>
 #include <sstream>
 
