@@ -82,7 +82,8 @@ TEST(Spec, ErrorsNameTheValueAndWhatWasExpected) {
   EXPECT_EQ(error_of("fisheye:fov=100,fov=120"), "fisheye: fov given twice");
   EXPECT_EQ(error_of("cubemap:face=10.5"),
             "cubemap: face=10.5 is not a whole number (expected 1 <= face <= 1.07374e+09)");
-  EXPECT_EQ(error_of("aitoff:w=1"), "aitoff: unknown key 'w' (expected one of: lon0, aspect, stereo, eye)");
+  EXPECT_EQ(error_of("aitoff:w=1"),
+            "aitoff: unknown key 'w' (expected one of: lon0, aspect, hfov, stereo, eye)");
   EXPECT_EQ(error_of("bonne:phi1=91"), "bonne: phi1=91 is out of range (expected -90 <= phi1 <= 90)");
   EXPECT_EQ(make_error_of("cubemap:order=frblu", {6, 1}),
             "cubemap: order=frblu is not six distinct letters of f r b l u d (front right back left up down), e.g. rludfb");

@@ -8,7 +8,7 @@ from typing import Dict, Literal, Optional, Type, TypedDict, Union
 from ._projection import Projection
 from ._types import FillLike, SizeLike
 
-ProjectionName = Literal['pinhole', 'brown-conrady', 'fisheye', 'dual-fisheye', 'kannala-brandt', 'double-sphere', 'unified', 'extended-unified', 'ptlens', 'equirect', 'cylindrical', 'cubemap', 'gopro-max', 'panini', 'compressed-rectilinear', 'aitoff', 'hammer', 'eckert-greifendorff', 'bonne', 'sinusoidal', 'mollweide', 'mercator', 'miller', 'cylindrical-equal-area', 'transverse-mercator']
+ProjectionName = Literal['pinhole', 'brown-conrady', 'fisheye', 'dual-fisheye', 'kannala-brandt', 'double-sphere', 'unified', 'extended-unified', 'ptlens', 'panotools', 'equirect', 'cylindrical', 'cubemap', 'gopro-max', 'panini', 'compressed-rectilinear', 'aitoff', 'hammer', 'eckert-greifendorff', 'bonne', 'sinusoidal', 'mollweide', 'mercator', 'miller', 'cylindrical-equal-area', 'transverse-mercator']
 Interp = Literal['nearest', 'bilinear', 'bicubic', 'lanczos3', 'bicubic-dering', 'lanczos3-dering']
 Engine = Literal['simd', 'scalar', 'reference']
 Antialias = Literal['auto', 'off', 'mip']
@@ -389,6 +389,49 @@ class Ptlens(Projection):
         self._set(hfov=hfov, fov=fov, a=a, b=b, c=c, cx=cx, cy=cy, stereo=stereo, eye=eye)
 
 
+class Panotools(Projection):
+    """An image as Hugin and Panorama Tools describe it: lens type, hfov, radial a b c, shift d e,
+    shear g t.
+
+    Parameters (degrees, pixels; None: the default):
+    lens: the lens type (Hugin's f: 0 rectilinear, 1 cylindrical, 2 and 3 equidistant, 4
+        equirect, 8 orthographic, 10 stereographic, 20 thoby, 21 equisolid) (default
+        rectilinear)
+    hfov: horizontal field of view (deg, Hugin's v); default 90
+    a: a of the radial scale a r^3 + b r^2 + c r + 1 - a - b - c, r in half the shorter side
+        (default 0)
+    b: b (default 0)
+    c: c (default 0)
+    d: horizontal shift of the centre (pixels) (default 0)
+    e: vertical shift of the centre (pixels) (default 0)
+    g: shear: x += g y / height (default 0)
+    t: shear: y += t x / width (default 0)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
+    """
+
+    name = 'panotools'
+    summary = 'an image as Hugin and Panorama Tools describe it: lens type, hfov, radial a b c, shift d e, shear g t'
+
+    def __init__(
+        self,
+        *,
+        lens: Optional[Literal['rectilinear', 'cylindrical', 'equirect', 'equidistant', 'orthographic', 'stereographic', 'equisolid', 'thoby']] = None,
+        hfov: Optional[float] = None,
+        a: Optional[float] = None,
+        b: Optional[float] = None,
+        c: Optional[float] = None,
+        d: Optional[float] = None,
+        e: Optional[float] = None,
+        g: Optional[float] = None,
+        t: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
+    ) -> None:
+        self._set(lens=lens, hfov=hfov, a=a, b=b, c=c, d=d, e=e, g=g, t=t, stereo=stereo, eye=eye)
+
+
 class Equirect(Projection):
     """Equirectangular (spherical) panorama, full or partial.
 
@@ -600,6 +643,8 @@ class Aitoff(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    hfov: longitudes the width spans at the equator (deg; square pixels, centred); default: the
+        whole outline
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -613,10 +658,11 @@ class Aitoff(Projection):
         *,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
+        self._set(lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
 
 
 class Hammer(Projection):
@@ -627,6 +673,8 @@ class Hammer(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    hfov: longitudes the width spans at the equator (deg; square pixels, centred); default: the
+        whole outline
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -641,10 +689,11 @@ class Hammer(Projection):
         w: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(w=w, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
+        self._set(w=w, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
 
 
 class EckertGreifendorff(Projection):
@@ -655,6 +704,8 @@ class EckertGreifendorff(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    hfov: longitudes the width spans at the equator (deg; square pixels, centred); default: the
+        whole outline
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -669,10 +720,11 @@ class EckertGreifendorff(Projection):
         w: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(w=w, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
+        self._set(w=w, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
 
 
 class Bonne(Projection):
@@ -683,6 +735,8 @@ class Bonne(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    hfov: longitudes the width spans at the equator (deg; square pixels, centred); default: the
+        whole outline
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -697,10 +751,11 @@ class Bonne(Projection):
         phi1: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(phi1=phi1, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
+        self._set(phi1=phi1, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
 
 
 class Sinusoidal(Projection):
@@ -710,6 +765,8 @@ class Sinusoidal(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    hfov: longitudes the width spans at the equator (deg; square pixels, centred); default: the
+        whole outline
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -723,10 +780,11 @@ class Sinusoidal(Projection):
         *,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
+        self._set(lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
 
 
 class Mollweide(Projection):
@@ -736,6 +794,8 @@ class Mollweide(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    hfov: longitudes the width spans at the equator (deg; square pixels, centred); default: the
+        whole outline
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -749,10 +809,11 @@ class Mollweide(Projection):
         *,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
+        self._set(lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
 
 
 class Mercator(Projection):
@@ -763,6 +824,8 @@ class Mercator(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    hfov: longitudes the width spans at the equator (deg; square pixels, centred); default: the
+        whole outline
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -777,10 +840,11 @@ class Mercator(Projection):
         lat_max: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
+        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
 
 
 class Miller(Projection):
@@ -791,6 +855,8 @@ class Miller(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    hfov: longitudes the width spans at the equator (deg; square pixels, centred); default: the
+        whole outline
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -805,10 +871,11 @@ class Miller(Projection):
         lat_max: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
+        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
 
 
 class CylindricalEqualArea(Projection):
@@ -820,6 +887,8 @@ class CylindricalEqualArea(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    hfov: longitudes the width spans at the equator (deg; square pixels, centred); default: the
+        whole outline
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -835,10 +904,11 @@ class CylindricalEqualArea(Projection):
         lat_max: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(lat_ts=lat_ts, lat_max=lat_max, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
+        self._set(lat_ts=lat_ts, lat_max=lat_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
 
 
 class TransverseMercator(Projection):
@@ -850,6 +920,8 @@ class TransverseMercator(Projection):
     lon0: central longitude (deg) (default 0)
     aspect: keep: square pixels, the outline inscribed and centred; stretch: the outline fills
         the frame (default keep)
+    hfov: longitudes the width spans at the equator (deg; square pixels, centred); default: the
+        whole outline
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -864,13 +936,14 @@ class TransverseMercator(Projection):
         x_max: Optional[float] = None,
         lon0: Optional[float] = None,
         aspect: Optional[Literal['keep', 'stretch']] = None,
+        hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
     ) -> None:
-        self._set(x_max=x_max, lon0=lon0, aspect=aspect, stereo=stereo, eye=eye)
+        self._set(x_max=x_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
 
 
-__all__ = ['ProjectionName', 'Interp', 'Engine', 'Antialias', 'DecodeScale', 'Pinhole', 'BrownConrady', 'Fisheye', 'DualFisheye', 'KannalaBrandt', 'DoubleSphere', 'Unified', 'ExtendedUnified', 'Ptlens', 'Equirect', 'Cylindrical', 'Cubemap', 'GoproMax', 'Panini', 'CompressedRectilinear', 'Aitoff', 'Hammer', 'EckertGreifendorff', 'Bonne', 'Sinusoidal', 'Mollweide', 'Mercator', 'Miller', 'CylindricalEqualArea', 'TransverseMercator']
+__all__ = ['ProjectionName', 'Interp', 'Engine', 'Antialias', 'DecodeScale', 'Pinhole', 'BrownConrady', 'Fisheye', 'DualFisheye', 'KannalaBrandt', 'DoubleSphere', 'Unified', 'ExtendedUnified', 'Ptlens', 'Panotools', 'Equirect', 'Cylindrical', 'Cubemap', 'GoproMax', 'Panini', 'CompressedRectilinear', 'Aitoff', 'Hammer', 'EckertGreifendorff', 'Bonne', 'Sinusoidal', 'Mollweide', 'Mercator', 'Miller', 'CylindricalEqualArea', 'TransverseMercator']
 
 CLASSES: Dict[str, Type[Projection]] = {
     'pinhole': Pinhole,
@@ -882,6 +955,7 @@ CLASSES: Dict[str, Type[Projection]] = {
     'unified': Unified,
     'extended-unified': ExtendedUnified,
     'ptlens': Ptlens,
+    'panotools': Panotools,
     'equirect': Equirect,
     'cylindrical': Cylindrical,
     'cubemap': Cubemap,
@@ -968,4 +1042,14 @@ class ViewsOptions(TypedDict, total=False):
     engine: Engine
     antialias: Union[Antialias, int, None]
     decode_scale: DecodeScale
+    memory_limit: Union[int, str, None]
+
+
+class StitchOptions(TypedDict, total=False):
+    """The keyword options of stitch() (the command's flags)."""
+
+    interp: Interp
+    threads: int
+    engine: Engine
+    antialias: Union[Antialias, int, None]
     memory_limit: Union[int, str, None]

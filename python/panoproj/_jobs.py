@@ -6,7 +6,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, Dict, Literal, Mapping, Optional, Sequence, Union
 
 from . import _job
-from ._declared import ConvertFileOptions, TilesOptions, ViewsOptions
+from ._declared import ConvertFileOptions, TilesOptions, ViewsOptions, StitchOptions
 from ._options import _takes_options
 from ._projection import Projection
 from ._types import PathLike
@@ -197,4 +197,35 @@ def views(
     )
 
 
-__all__ = ['convert_file', 'ConvertFileOptions', 'tiles', 'TilesOptions', 'views', 'ViewsOptions']
+@_takes_options('stitch', job=True)
+def stitch(
+    project: PathLike,
+    output: PathLike,
+    *,
+    images: Union[PathLike, Sequence[PathLike]] = None,
+    image: Optional[int] = None,
+    compression: Optional[Literal['none', 'deflate']] = None,
+    extent: Optional[Literal['crop', 'canvas']] = None,
+    depth: Optional[Literal['keep', 'uint8', 'uint16', 'half', 'float']] = None,
+    overwrite: bool = False,
+    **options: Unpack[StitchOptions],
+) -> Dict[str, Any]:
+    """Remaps a Hugin project's (.pto) images onto its panorama as layer TIFFs for enblend (PREFIX0000.tif, ...: RGBA, unassociated alpha, placed on the canvas as nona -m TIFF_m writes them).
+    """
+    return _job.run(
+        'stitch',
+        {
+            'project': project,
+            'output': output,
+            'images': images,
+            'image': image,
+            'compression': compression,
+            'extent': extent,
+            'depth': depth,
+            'overwrite': overwrite,
+        },
+        options,
+    )
+
+
+__all__ = ['convert_file', 'ConvertFileOptions', 'tiles', 'TilesOptions', 'views', 'ViewsOptions', 'stitch', 'StitchOptions']

@@ -21,6 +21,7 @@
 
 #include "attribute_values.hpp"
 #include "jobs/convert/video_planes.hpp"
+#include "jobs/stitch/stitch.hpp"
 #include "oiio_package.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
@@ -612,6 +613,28 @@ void bind_jobs(py::module_& m) {
     return python_report(r);
   });
   m.def("job_abandon", [](const py::tuple& folder) { abandon_staged(staged_of(folder)); });
+  // A project's layers as arrays (the stitch job's rows; its output row unused): a list of
+  // (image, array, (x, y)) and the canvas's (width, height).
+  m.def("stitch_layers", [](const py::dict& given) {
+    const Arguments args = job_arguments(job_named("stitch"), given);
+    std::vector<std::pair<int, RenderedLayer>> layers;
+    Size canvas;
+    {
+      Unlocked unlocked;
+      const StitchPlan plan = plan_stitch(args, false);
+      canvas = plan.canvas;
+      for (const StitchLayer& l : plan.layers) {
+        check_interrupt();
+        RenderedLayer r = render_layer(plan, l);
+        if (r.image.size().width > 0) layers.emplace_back(l.index, std::move(r));
+      }
+    }
+    py::list out;
+    for (auto& [index, r] : layers)
+      out.append(
+          py::make_tuple(index, array_of(std::move(r.image), false), py::make_tuple(r.x, r.y)));
+    return py::make_tuple(out, py::make_tuple(canvas.width, canvas.height));
+  });
 }
 
 // Image files: read, read_faces, read_metadata, write.

@@ -124,7 +124,16 @@ using OptionValue = std::variant<double, int64_t, bool, std::string, std::vector
 // kUseFiles: only conversions between files (the command's convert), e.g. how a file is decoded.
 // kUseTiles: tile pyramids, which render from a file too.
 // kUseViews: perspective views with cameras; size is each view's.
-enum OptionUse : unsigned { kUseConvert = 1, kUseMaps = 2, kUseAccuracy = 4, kUseFiles = 8, kUseTiles = 16, kUseViews = 32 };
+// kUseStitch: a project's layers (its own interp row: the project's by default).
+enum OptionUse : unsigned {
+  kUseConvert = 1,
+  kUseMaps = 2,
+  kUseAccuracy = 4,
+  kUseFiles = 8,
+  kUseTiles = 16,
+  kUseViews = 32,
+  kUseStitch = 64
+};
 
 // How a front end shows a row (bits): positional (the command's positional, Python's positional
 // argument), required, and rows only one front end has.

@@ -71,6 +71,10 @@ bool shows_whole_sphere(const Projection& p);
 // size / size_of(p) per axis (mip levels, supersampled targets). A cubemap's size must hold
 // whole faces in its layout. Throws panoproj::Error otherwise.
 Projection rescaled(const Projection& p, Size size);
+// The part r of p's frame as a frame of its own: pixel (i, j) of it is p's pixel (r.x0 + i,
+// r.y0 + j), the same rays (to rounding). For the forms has_window says; else InternalError.
+bool has_window(const Projection& p);
+Projection windowed(const Projection& p, const PixelRect& r);
 // Pixels of rays[i] where ok[i] (in/out: cleared where the ray has no pixel).
 void to_pixel_row(const Projection& p, const Ray* rays, int64_t n, double* xs, double* ys,
                   uint8_t* ok);

@@ -23,59 +23,80 @@ std::vector<OptionDef> make_options() {
   constexpr unsigned kAll = kUseConvert | kUseMaps | kUseAccuracy;
   return {
       {"size", OptionType::Text, kAll | kUseViews, "None",
-       "output size WxH (cube faces: one face); default: the source's resolution at the target's centre, square pixels",
-       [](ConvertOptions& o, const OptionValue& v) { o.size = parse_size(value_as<std::string>(v, "size")); }},
+       "output size WxH (cube faces: one face); default: the source's resolution at the target's "
+       "centre, square pixels",
+       [](ConvertOptions& o, const OptionValue& v) {
+         o.size = parse_size(value_as<std::string>(v, "size"));
+       }},
       {"yaw", OptionType::Angle, kAll | kUseTiles, "0.0", "degrees, positive looks right",
        [](ConvertOptions& o, const OptionValue& v) { o.yaw = value_as<double>(v, "yaw"); }},
       {"pitch", OptionType::Angle, kAll | kUseTiles, "0.0", "degrees, positive looks up",
        [](ConvertOptions& o, const OptionValue& v) { o.pitch = value_as<double>(v, "pitch"); }},
-      {"roll", OptionType::Angle, kAll | kUseTiles, "0.0", "degrees, positive turns the view clockwise",
+      {"roll", OptionType::Angle, kAll | kUseTiles, "0.0",
+       "degrees, positive turns the view clockwise",
        [](ConvertOptions& o, const OptionValue& v) { o.roll = value_as<double>(v, "roll"); }},
       {"interp", OptionType::Text, kUseConvert | kUseTiles | kUseViews, "'bicubic'",
-       "nearest|bilinear|bicubic|lanczos3|bicubic-dering|lanczos3-dering (default bicubic; -dering: no ringing)",
-       [](ConvertOptions& o, const OptionValue& v) { o.interp = parse_interp(value_as<std::string>(v, "interp")); },
+       "nearest|bilinear|bicubic|lanczos3|bicubic-dering|lanczos3-dering (default bicubic; "
+       "-dering: no ringing)",
+       [](ConvertOptions& o, const OptionValue& v) {
+         o.interp = parse_interp(value_as<std::string>(v, "interp"));
+       },
        "nearest|bilinear|bicubic|lanczos3|bicubic-dering|lanczos3-dering"},
-      {"threads", OptionType::Integer, kAll | kUseTiles | kUseViews, "0", "worker threads (default 0: all cores)",
+      {"threads", OptionType::Integer, kAll | kUseTiles | kUseViews | kUseStitch, "0",
+       "worker threads (default 0: all cores)",
        [](ConvertOptions& o, const OptionValue& v) {
          const int64_t n = value_as<int64_t>(v, "threads");
          check_threads(n);
          o.threads = static_cast<int>(n);
        }},
-      {"engine", OptionType::Text, kUseConvert | kUseTiles | kUseViews, "'simd'",
+      {"engine", OptionType::Text, kUseConvert | kUseTiles | kUseViews | kUseStitch, "'simd'",
        "simd (default) | scalar (same tiles, no SIMD) | reference (exact, slow)",
-       [](ConvertOptions& o, const OptionValue& v) { o.engine = parse_engine(value_as<std::string>(v, "engine")); },
+       [](ConvertOptions& o, const OptionValue& v) {
+         o.engine = parse_engine(value_as<std::string>(v, "engine"));
+       },
        "simd|scalar|reference"},
-      {"antialias", OptionType::Text, kUseConvert | kUseTiles | kUseViews, "None",
-       "auto (default: where the output shrinks the source, each pixel the area-weighted mean of the source pixels "
-       "under its footprint) | off | mip (mip levels) | N (N x N sub-pixels, 2..16); the reference engine has none",
-       [](ConvertOptions& o, const OptionValue& v) { o.antialias = parse_antialias(value_as<std::string>(v, "antialias")); },
+      {"antialias", OptionType::Text, kUseConvert | kUseTiles | kUseViews | kUseStitch, "None",
+       "auto (default: where the output shrinks the source, each pixel the area-weighted mean of "
+       "the source pixels "
+       "under its footprint) | off | mip (mip levels) | N (N x N sub-pixels, 2..16); the reference "
+       "engine has none",
+       [](ConvertOptions& o, const OptionValue& v) {
+         o.antialias = parse_antialias(value_as<std::string>(v, "antialias"));
+       },
        "auto|off|mip"},
       {"alpha", OptionType::Flag, kUseConvert, "False",
-       "output alpha: 0 where there is no source, the covered share of each pixel on the field's edge (antialiased "
+       "output alpha: 0 where there is no source, the covered share of each pixel on the field's "
+       "edge (antialiased "
        "edges; a source without alpha gets an opaque one)",
        [](ConvertOptions& o, const OptionValue& v) {
          o.add_alpha = value_as<bool>(v, "alpha");
          o.edges.soft = o.edges.soft || o.add_alpha;
        }},
       {"fill", OptionType::Text, kUseConvert, "None",
-       "colour where there is no source, blended into the field's antialiased edge: R,G,B[,A] in unit range (1,1,1 "
+       "colour where there is no source, blended into the field's antialiased edge: R,G,B[,A] in "
+       "unit range (1,1,1 "
        "is white) or #rrggbb[aa] (default: 0, or alpha 0)",
        [](ConvertOptions& o, const OptionValue& v) {
          o.edges.colour = parse_fill_colour(value_as<std::string>(v, "fill"));
          o.edges.soft = true;
        }},
       {"decode_scale", OptionType::Text, kUseFiles | kUseTiles | kUseViews, "'auto'",
-       "auto (default: a JPEG source that the view samples at under half its resolution everywhere decodes at 1/2, "
+       "auto (default: a JPEG source that the view samples at under half its resolution everywhere "
+       "decodes at 1/2, "
        "1/4 or 1/8 by DCT scaling, still twice the detail the output holds) | 1 | 2 | 4 | 8",
        [](ConvertOptions& o, const OptionValue& v) {
          const std::string t = value_as<std::string>(v, "decode_scale");
-         if (t == "auto") o.decode_scale = 0;
-         else if (t == "1" || t == "2" || t == "4" || t == "8") o.decode_scale = t[0] - '0';
-         else throw Error(option_text("decode-scale") + " " + t + " (expected auto, 1, 2, 4 or 8)");
+         if (t == "auto")
+           o.decode_scale = 0;
+         else if (t == "1" || t == "2" || t == "4" || t == "8")
+           o.decode_scale = t[0] - '0';
+         else
+           throw Error(option_text("decode-scale") + " " + t + " (expected auto, 1, 2, 4 or 8)");
        },
        "auto|1|2|4|8"},
-      {"memory_limit", OptionType::Text, kAll | kUseTiles | kUseViews, "None",
-       "bytes a job may allocate, e.g. 4G or 512M (default: the memory available now); larger jobs are refused "
+      {"memory_limit", OptionType::Text, kAll | kUseTiles | kUseViews | kUseStitch, "None",
+       "bytes a job may allocate, e.g. 4G or 512M (default: the memory available now); larger jobs "
+       "are refused "
        "before any work",
        [](ConvertOptions& o, const OptionValue& v) {
          o.memory_limit = parse_memory_limit(value_as<std::string>(v, "memory_limit"));

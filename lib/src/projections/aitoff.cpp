@@ -6,7 +6,9 @@ namespace panoproj {
 namespace {
 using namespace spec_support;
 
-std::vector<ProjectionDef> catalog() { return {{"aitoff", "Aitoff world map (2:1 ellipse)", {lon0(), map_aspect()}}}; }
+std::vector<ProjectionDef> catalog() {
+  return {{"aitoff", "Aitoff world map (2:1 ellipse)", {lon0(), map_aspect(), map_hfov()}}};
+}
 
 Projection make(const ProjectionSpec& s, Size size) { return map_framed(s, Aitoff(size, rad(s, "lon0"))); }
 
@@ -24,6 +26,7 @@ std::vector<ProjectionCase> cases() {
 
 }  // namespace
 
-const ProjectionModule kAitoffModule{catalog, nullptr, make, size_for, rescale, cases, always};
+const ProjectionModule kAitoffModule{catalog, nullptr, make,    size_for,          rescale,
+                                     cases,   always,  nullptr, map_window<Aitoff>};
 
 }  // namespace panoproj

@@ -48,9 +48,13 @@ namespace {
 using namespace spec_support;
 
 std::vector<ProjectionDef> catalog() {
-  return {{"bonne", "Bonne equal-area map (phi1 = 0: sinusoidal; 90: Werner)",
-           {number("phi1", "45", -90, 90, false, false, "standard parallel (deg)"), lon0(), map_aspect()}},
-          {"sinusoidal", "sinusoidal equal-area map (Bonne with phi1 = 0)", {lon0(), map_aspect()}}};
+  return {{"bonne",
+           "Bonne equal-area map (phi1 = 0: sinusoidal; 90: Werner)",
+           {number("phi1", "45", -90, 90, false, false, "standard parallel (deg)"), lon0(),
+            map_aspect(), map_hfov()}},
+          {"sinusoidal",
+           "sinusoidal equal-area map (Bonne with phi1 = 0)",
+           {lon0(), map_aspect(), map_hfov()}}};
 }
 
 double phi1(const ProjectionSpec& s) { return s.name() == "sinusoidal" ? 0.0 : rad(s, "phi1"); }
@@ -79,6 +83,7 @@ std::vector<ProjectionCase> cases() {
 
 }  // namespace
 
-const ProjectionModule kBonneModule{catalog, nullptr, make, size_for, rescale, cases, always};
+const ProjectionModule kBonneModule{catalog, nullptr, make,    size_for,         rescale,
+                                    cases,   always,  nullptr, map_window<Bonne>};
 
 }  // namespace panoproj

@@ -45,12 +45,28 @@ std::vector<ProjectionCase> cases() {
           {"cylindrical:vfov=60,lat0=20,lon0=-90", {{4096, 1024}}}};
 }
 
+// Longitude and tan(latitude) are linear in x and y: the window's span and centre.
+Projection window(const Projection& p, const PixelRect& r) {
+  const auto& q = std::get<Cylindrical>(p);
+  const Size s = q.size();
+  const auto t_at = [&](int64_t y) {
+    return q.t_top() +
+           (q.t_bottom() - q.t_top()) * static_cast<double>(y) / static_cast<double>(s.height);
+  };
+  const double top = std::atan(t_at(r.y0)), bottom = std::atan(t_at(r.y1));
+  return Cylindrical(r.size(),
+                     q.axis().hfov * static_cast<double>(r.width()) / static_cast<double>(s.width),
+                     top - bottom, q.axis().longitude_at(0.5 * static_cast<double>(r.x0 + r.x1)),
+                     0.5 * (top + bottom));
+}
+
 }  // namespace
 
 const ProjectionModule kCylindricalModule{
     catalog, [](const ProjectionSpec& s) { check_latitude_span(s, true); },
     make,    size_for,
     rescale, cases,
-    nullptr, sampling};
+    nullptr, sampling,
+    window};
 
 }  // namespace panoproj

@@ -12,12 +12,16 @@ ParamDef lat_max(const char* def, bool open) {
 }
 
 std::vector<ProjectionDef> catalog() {
-  return {{"mercator", "Mercator conformal world map (to lat_max; 85.0511: a square, as web maps)",
-           {lat_max("85.0511287798066", true), lon0(), map_aspect()}},
-          {"miller", "Miller cylindrical world map", {lat_max("90", false), lon0(), map_aspect()}},
-          {"cylindrical-equal-area", "cylindrical equal-area world map (Lambert's at lat_ts=0, Gall-Peters at 45)",
-           {number("lat_ts", "0", -90, 90, true, true, "standard parallel (deg): true scale there"), lat_max("90", false),
-            lon0(), map_aspect()}}};
+  return {{"mercator",
+           "Mercator conformal world map (to lat_max; 85.0511: a square, as web maps)",
+           {lat_max("85.0511287798066", true), lon0(), map_aspect(), map_hfov()}},
+          {"miller",
+           "Miller cylindrical world map",
+           {lat_max("90", false), lon0(), map_aspect(), map_hfov()}},
+          {"cylindrical-equal-area",
+           "cylindrical equal-area world map (Lambert's at lat_ts=0, Gall-Peters at 45)",
+           {number("lat_ts", "0", -90, 90, true, true, "standard parallel (deg): true scale there"),
+            lat_max("90", false), lon0(), map_aspect(), map_hfov()}}};
 }
 
 CylindricalMap map_of(const ProjectionSpec& s, Size size) {
@@ -65,7 +69,7 @@ std::vector<ProjectionCase> cases() {
 
 }  // namespace
 
-const ProjectionModule kCylindricalMapModule{catalog, nullptr, make,   size_for,
-                                             rescale, cases,   always, sampling};
+const ProjectionModule kCylindricalMapModule{
+    catalog, nullptr, make, size_for, rescale, cases, always, sampling, map_window<CylindricalMap>};
 
 }  // namespace panoproj

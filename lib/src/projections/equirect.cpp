@@ -52,12 +52,26 @@ std::vector<ProjectionCase> cases() {
           {"equirect:vfov=101.25,lat0=-39.375", {{2048, 512}}}};
 }
 
+// Longitudes and latitudes are linear in x and y: the window's span and centre.
+Projection window(const Projection& p, const PixelRect& r) {
+  const auto& q = std::get<Equirect>(p);
+  const Size s = q.size();
+  const double fx = static_cast<double>(r.width()) / static_cast<double>(s.width);
+  const double fy = static_cast<double>(r.height()) / static_cast<double>(s.height);
+  const double top =
+      q.lat_top() - static_cast<double>(r.y0) / static_cast<double>(s.height) * q.vfov();
+  return Equirect(r.size(), q.axis().hfov * fx, q.vfov() * fy,
+                  q.axis().longitude_at(0.5 * static_cast<double>(r.x0 + r.x1)),
+                  top - 0.5 * q.vfov() * fy);
+}
+
 }  // namespace
 
 const ProjectionModule kEquirectModule{
     catalog,      [](const ProjectionSpec& s) { check_latitude_span(s, false); },
     make,         size_for,
     rescale,      cases,
-    whole_sphere, sampling};
+    whole_sphere, sampling,
+    window};
 
 }  // namespace panoproj

@@ -120,8 +120,15 @@ std::vector<ProjectionCase> cases() {
   return c;
 }
 
+Projection window(const Projection& p, const PixelRect& r) {
+  const auto& q = std::get<Fisheye>(p);
+  return Fisheye(r.size(), q.psi_max(), q.model(), q.clip(), q.cx() - static_cast<double>(r.x0),
+                 q.cy() - static_cast<double>(r.y0), q.rx(), q.ry(), q.k2());
+}
+
 }  // namespace
 
-const ProjectionModule kFisheyeModule{catalog, check, make, size_for, rescale, cases};
+const ProjectionModule kFisheyeModule{catalog, check,   make,    size_for, rescale,
+                                      cases,   nullptr, nullptr, window};
 
 }  // namespace panoproj

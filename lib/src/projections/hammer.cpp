@@ -8,10 +8,14 @@ namespace {
 using namespace spec_support;
 
 std::vector<ProjectionDef> catalog() {
-  return {{"hammer", "Hammer(-Wagner) equal-area world map",
-           {number("w", "0.5", 0, 1, true, true, "Wagner's W (0.5: Hammer, 0.25: Eckert-Greifendorff)"), lon0(), map_aspect()}},
-          {"eckert-greifendorff", "Eckert-Greifendorff equal-area map (Hammer W = 0.25)",
-           {number("w", "0.25", 0, 1, true, true, "Wagner's W"), lon0(), map_aspect()}}};
+  return {
+      {"hammer",
+       "Hammer(-Wagner) equal-area world map",
+       {number("w", "0.5", 0, 1, true, true, "Wagner's W (0.5: Hammer, 0.25: Eckert-Greifendorff)"),
+        lon0(), map_aspect(), map_hfov()}},
+      {"eckert-greifendorff",
+       "Eckert-Greifendorff equal-area map (Hammer W = 0.25)",
+       {number("w", "0.25", 0, 1, true, true, "Wagner's W"), lon0(), map_aspect(), map_hfov()}}};
 }
 
 Projection make(const ProjectionSpec& s, Size size) { return map_framed(s, Hammer(size, *s.number("w"), rad(s, "lon0"))); }
@@ -32,6 +36,7 @@ std::vector<ProjectionCase> cases() {
 
 }  // namespace
 
-const ProjectionModule kHammerModule{catalog, nullptr, make, size_for, rescale, cases, always};
+const ProjectionModule kHammerModule{catalog, nullptr, make,    size_for,          rescale,
+                                     cases,   always,  nullptr, map_window<Hammer>};
 
 }  // namespace panoproj

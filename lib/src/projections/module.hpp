@@ -45,6 +45,9 @@ struct ProjectionModule {
   // What sampling needs to know of it as a source (geometry/sampling_facts.hpp); null: the frame,
   // clamped.
   SamplingFacts (*sampling)(const Projection& p) = nullptr;
+  // The part r of p's frame as a frame of its own (pixel (i, j) of it is p's (r.x0 + i, r.y0 + j)):
+  // only a layer's part of a canvas is made. Null: none (projection.hpp: has_window).
+  Projection (*window)(const Projection& p, const PixelRect& r) = nullptr;
 };
 
 // whole_sphere of the forms that always show it.

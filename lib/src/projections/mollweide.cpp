@@ -7,7 +7,9 @@ namespace {
 using namespace spec_support;
 
 std::vector<ProjectionDef> catalog() {
-  return {{"mollweide", "Mollweide equal-area world map (2:1 ellipse)", {lon0(), map_aspect()}}};
+  return {{"mollweide",
+           "Mollweide equal-area world map (2:1 ellipse)",
+           {lon0(), map_aspect(), map_hfov()}}};
 }
 
 Projection make(const ProjectionSpec& s, Size size) { return map_framed(s, Mollweide(size, rad(s, "lon0"))); }
@@ -28,6 +30,7 @@ std::vector<ProjectionCase> cases() {
 
 }  // namespace
 
-const ProjectionModule kMollweideModule{catalog, nullptr, make, size_for, rescale, cases, always};
+const ProjectionModule kMollweideModule{
+    catalog, nullptr, make, size_for, rescale, cases, always, nullptr, map_window<Mollweide>};
 
 }  // namespace panoproj

@@ -84,8 +84,15 @@ std::vector<ProjectionCase> cases() {
   return c;
 }
 
+Projection window(const Projection& p, const PixelRect& r) {
+  const auto& q = std::get<Panini>(p);
+  return Panini(r.size(), q.law(), q.p1(), q.p2(), q.fx(), q.fy(),
+                q.cx() - static_cast<double>(r.x0), q.cy() - static_cast<double>(r.y0));
+}
+
 }  // namespace
 
-const ProjectionModule kPaniniModule{catalog, check, make, size_for, rescale, cases};
+const ProjectionModule kPaniniModule{catalog, check,   make,    size_for, rescale,
+                                     cases,   nullptr, nullptr, window};
 
 }  // namespace panoproj

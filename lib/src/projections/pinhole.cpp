@@ -60,8 +60,15 @@ std::vector<ProjectionCase> cases() {
   return c;
 }
 
+Projection window(const Projection& p, const PixelRect& r) {
+  const auto& q = std::get<Pinhole>(p);
+  return Pinhole(r.size(), q.fx(), q.fy(), q.cx() - static_cast<double>(r.x0),
+                 q.cy() - static_cast<double>(r.y0));
+}
+
 }  // namespace
 
-const ProjectionModule kPinholeModule{catalog, check, make, size_for, rescale, cases};
+const ProjectionModule kPinholeModule{catalog, check,   make,    size_for, rescale,
+                                      cases,   nullptr, nullptr, window};
 
 }  // namespace panoproj

@@ -55,6 +55,16 @@ Projection rescaled(const Projection& p, Size size) {
   return module_of(p).rescaled(p, size, sx, sy);
 }
 
+bool has_window(const Projection& p) {
+  return module_of(p).window != nullptr;
+}
+
+Projection windowed(const Projection& p, const PixelRect& r) {
+  if (!has_window(p) || r.width() <= 0 || r.height() <= 0)
+    throw InternalError("no such window of the projection");
+  return module_of(p).window(p, r);
+}
+
 SamplingFacts framed_facts(const Projection& p) {
   const Size s = size_of(p);
   SamplingFacts f;

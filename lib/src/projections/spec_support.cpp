@@ -31,6 +31,12 @@ ParamDef map_aspect() {
                 "keep: square pixels, the outline inscribed and centred; stretch: the outline fills the frame");
 }
 
+ParamDef map_hfov() {
+  return number("hfov", "", 0, 360, true, false,
+                "longitudes the width spans at the equator (deg; square pixels, centred); default: "
+                "the whole outline");
+}
+
 void fail(const ProjectionSpec& s, const std::string& what) { throw Error(s.name() + ": " + what); }
 
 double rad(const ProjectionSpec& s, const char* key) { return deg2rad(*s.number(key)); }

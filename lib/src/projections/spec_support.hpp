@@ -22,6 +22,7 @@ ParamDef lat0();
 ParamDef center(const char* key);  // cx or cy, OpenCV's convention
 ParamDef angle(const char* key, const char* def, const char* help);
 ParamDef map_aspect();  // a world map's aspect=keep|stretch
+ParamDef map_hfov();    // a world map's hfov: the longitudes its width spans at the equator
 
 // Throws Error("<name>: <what>").
 [[noreturn]] void fail(const ProjectionSpec& s, const std::string& what);
@@ -40,11 +41,25 @@ void check_latitude_span(const ProjectionSpec& s, bool open);
 Size framed_size(const ProjectionSpec& s, double w, double h);
 // A world map's default size: its plane frame (unit scale at the centre) at `density`.
 Size map_size(const ProjectionSpec& s, const MapFrame& frame, double density);
-// A world map as its aspect key says: square pixels (keep) or its outline filling the frame.
+// A world map as its keys say: with hfov, the width spanning hfov at the equator about the
+// centre, square pixels; else square pixels (aspect=keep) or its outline filling the frame.
 template <class Map>
 Map map_framed(const ProjectionSpec& s, Map m) {
+  if (const auto hfov = s.number("hfov")) {
+    double X, Y;
+    m.forward(0.5 * deg2rad(*hfov), 0.0, X, Y);
+    if (!(std::isfinite(X) && X > 0))
+      fail(s, "hfov=" + std::to_string(*hfov) + " is past the map's width");
+    return m.spanned(X);
+  }
   if (s.choice("aspect") == "keep") m.keep_square();
   return m;
+}
+
+// A world map's window (module.hpp).
+template <class Map>
+Projection map_window(const Projection& p, const PixelRect& r) {
+  return std::get<Map>(p).windowed(r);
 }
 
 // Shared by the fisheye and dual-fisheye modules (defined in fisheye.cpp).

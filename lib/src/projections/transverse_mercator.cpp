@@ -7,10 +7,11 @@ namespace {
 using namespace spec_support;
 
 std::vector<ProjectionDef> catalog() {
-  return {{"transverse-mercator", "transverse Mercator map (the central meridian straight; to x_max either side)",
+  return {{"transverse-mercator",
+           "transverse Mercator map (the central meridian straight; to x_max either side)",
            {number("x_max", "85.0511287798066", 0, 90, true, true,
                    "the angle from the central meridian the map ends at (deg; 85.0511: a square)"),
-            lon0(), map_aspect()}}};
+            lon0(), map_aspect(), map_hfov()}}};
 }
 
 TransverseMercator map_of(const ProjectionSpec& s, Size size) {
@@ -37,6 +38,8 @@ std::vector<ProjectionCase> cases() {
 }  // namespace
 
 // Every ray but the two singular points: shown whole, as a target.
-const ProjectionModule kTransverseMercatorModule{catalog, nullptr, make, size_for, rescale, cases, always};
+const ProjectionModule kTransverseMercatorModule{catalog,  nullptr, make,
+                                                 size_for, rescale, cases,
+                                                 always,   nullptr, map_window<TransverseMercator>};
 
 }  // namespace panoproj

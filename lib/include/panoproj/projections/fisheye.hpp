@@ -49,6 +49,30 @@ class Fisheye {
     return m == FisheyeModel::Orthographic ? kHalfPi : kPi;
   }
   double law(double psi) const { return law(model_, psi, k2_); }
+  // psi from g = law(m, psi); false where the law has no inverse.
+  static bool inverse_law(FisheyeModel m, double g, double& psi, double k2 = kThobyK2) {
+    switch (m) {
+      case FisheyeModel::Equidistant:
+        psi = g;
+        return g <= kPi * (1.0 + kEdgeSlack);
+      case FisheyeModel::Equisolid:
+        if (g > 2.0 * (1.0 + kEdgeSlack)) return false;
+        psi = 2.0 * std::asin(std::fmin(0.5 * g, 1.0));
+        return true;
+      case FisheyeModel::Orthographic:
+        if (g > 1.0 + kEdgeSlack) return false;
+        psi = std::asin(std::fmin(g, 1.0));
+        return true;
+      case FisheyeModel::Stereographic:
+        psi = 2.0 * std::atan(0.5 * g);
+        return true;
+      case FisheyeModel::Thoby:
+        if (g * k2 > 1.0 + kEdgeSlack) return false;
+        psi = std::asin(std::fmin(g * k2, 1.0)) / k2;
+        return true;
+    }
+    return false;
+  }
 
   bool to_ray(double x, double y, Ray& d) const {
     const double u = (x - cx_) / rx_, v = (y - cy_) / ry_;
@@ -106,26 +130,7 @@ class Fisheye {
   double psi_limit() const { return psi_limit_; }  // where the law stops being invertible
 
  private:
-  // psi from g; false where the law has no inverse.
-  bool inverse_law(double g, double& psi) const {
-    switch (model_) {
-      case FisheyeModel::Equidistant: psi = g; return g <= kPi * (1.0 + kEdgeSlack);
-      case FisheyeModel::Equisolid:
-        if (g > 2.0 * (1.0 + kEdgeSlack)) return false;
-        psi = 2.0 * std::asin(std::fmin(0.5 * g, 1.0));
-        return true;
-      case FisheyeModel::Orthographic:
-        if (g > 1.0 + kEdgeSlack) return false;
-        psi = std::asin(std::fmin(g, 1.0));
-        return true;
-      case FisheyeModel::Stereographic: psi = 2.0 * std::atan(0.5 * g); return true;
-      case FisheyeModel::Thoby:
-        if (g * k2_ > 1.0 + kEdgeSlack) return false;
-        psi = std::asin(std::fmin(g * k2_, 1.0)) / k2_;
-        return true;
-    }
-    return false;
-  }
+  bool inverse_law(double g, double& psi) const { return inverse_law(model_, g, psi, k2_); }
 
   Size size_;
   double psi_max_;

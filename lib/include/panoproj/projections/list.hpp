@@ -17,6 +17,7 @@
 #include "panoproj/projections/hammer.hpp"
 #include "panoproj/projections/mollweide.hpp"
 #include "panoproj/projections/panini.hpp"
+#include "panoproj/projections/panotools.hpp"
 #include "panoproj/projections/pinhole.hpp"
 #include "panoproj/projections/transverse_mercator.hpp"
 
@@ -26,6 +27,7 @@
   X(Fisheye)                    \
   X(DualFisheye)                \
   X(CalibratedLens)             \
+  X(PanoTools)                  \
   X(Equirect)                   \
   X(Cylindrical)                \
   X(Cubemap)                    \

@@ -80,6 +80,22 @@ class MapProjection {
     frame_.keep_square();
     return static_cast<Derived&>(*this);
   }
+  // The box [-half, half] across, square pixels, centred on the plane's origin.
+  Derived& spanned(double half) {
+    const double h =
+        half * static_cast<double>(frame_.size.height) / static_cast<double>(frame_.size.width);
+    frame_.xmin = -half, frame_.xmax = half, frame_.ymin = -h, frame_.ymax = h;
+    return static_cast<Derived&>(*this);
+  }
+  // The part r of the frame as a frame of its own.
+  Derived windowed(const PixelRect& r) const {
+    Derived q = self();
+    q.frame_ = {r.size(), frame_.plane_x(static_cast<double>(r.x0)),
+                frame_.plane_x(static_cast<double>(r.x1)),
+                frame_.plane_y(static_cast<double>(r.y1)),
+                frame_.plane_y(static_cast<double>(r.y0))};
+    return q;
+  }
   // The same box on a frame of `size`: positions scale with the frame.
   Derived resized(Size size) const {
     Derived q = self();

@@ -1,0 +1,104 @@
+// Crops and masks (layer_masks.hpp).
+#include "jobs/stitch/layer_masks.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "base/parallel.hpp"
+
+namespace panoproj {
+
+bool inside_crop(const PtoImage& im, double x, double y) {
+  if (!im.crop) return true;
+  const PtoRect& r = *im.crop;
+  if (im.lens_type == 2) {  // circular fisheye: the circle inscribed in the rectangle
+    const double cx = 0.5 * static_cast<double>(r.left + r.right),
+                 cy = 0.5 * static_cast<double>(r.top + r.bottom);
+    const double radius = 0.5 * static_cast<double>(std::min(r.right - r.left, r.bottom - r.top));
+    return (x - cx) * (x - cx) + (y - cy) * (y - cy) < radius * radius;
+  }
+  return x >= static_cast<double>(r.left) && x < static_cast<double>(r.right) &&
+         y >= static_cast<double>(r.top) && y < static_cast<double>(r.bottom);
+}
+
+bool inside_include_clip(const PtoImage& im, double x, double y) {
+  PtoRect r{0, im.width, 0, im.height};
+  if (im.crop && im.lens_type == 2) {
+    const PtoRect& c = *im.crop;
+    const double cx = 0.5 * static_cast<double>(c.left + c.right),
+                 cy = 0.5 * static_cast<double>(c.top + c.bottom);
+    double radius = 0.5 * static_cast<double>(std::min(c.right - c.left, c.bottom - c.top));
+    if (radius > 10) radius -= 2;
+    return (x - cx) * (x - cx) + (y - cy) * (y - cy) <= radius * radius;
+  }
+  if (im.crop)
+    r = {std::max(r.left, im.crop->left), std::min(r.right, im.crop->right),
+         std::max(r.top, im.crop->top), std::min(r.bottom, im.crop->bottom)};
+  if (r.right - r.left > 10 && r.bottom - r.top > 10)
+    r = {r.left + 2, r.right - 2, r.top + 2, r.bottom - 2};
+  return x >= static_cast<double>(r.left) && x <= static_cast<double>(r.right) &&
+         y >= static_cast<double>(r.top) && y <= static_cast<double>(r.bottom);
+}
+
+bool inside_polygon(const std::vector<double>& xy, double x, double y) {
+  bool in = false;
+  const size_t n = xy.size() / 2;
+  for (size_t i = 0, j = n - 1; i < n; j = i++) {
+    const double xi = xy[2 * i], yi = xy[2 * i + 1], xj = xy[2 * j], yj = xy[2 * j + 1];
+    if ((yi > y) != (yj > y) && x < (xj - xi) * (y - yi) / (yj - yi) + xi) in = !in;
+  }
+  return in;
+}
+
+std::vector<const PtoMask*> image_masks(const PtoProject& p, int index) {
+  std::vector<const PtoMask*> out;
+  const int lens = p.images[static_cast<size_t>(index)].lens;
+  for (const PtoMask& m : p.masks) {
+    if ((m.type == 0 || m.type == 2) && m.image == index) out.push_back(&m);
+    if (m.type == 4 && p.images[static_cast<size_t>(m.image)].lens == lens) out.push_back(&m);
+  }
+  return out;
+}
+
+namespace {
+
+void clear_alpha(Image& im, int64_t x, int64_t y) {
+  unsigned char* px = im.pixel(x, y) + static_cast<size_t>(im.channels() - 1) * bytes_of(im.type());
+  std::memset(px, 0, bytes_of(im.type()));
+}
+
+}  // namespace
+
+void mask_source(const PtoProject& p, int index, double sx, double sy, Image& source) {
+  const PtoImage& im = p.images[static_cast<size_t>(index)];
+  const std::vector<const PtoMask*> masks = image_masks(p, index);
+  if (!im.crop && masks.empty()) return;
+  parallel_rows(source.size().height, 0, [&](int64_t y0, int64_t y1) {
+    for (int64_t y = y0; y < y1; ++y)
+      for (int64_t x = 0; x < source.size().width; ++x) {
+        // The project's position of the file's pixel centre, in Hugin's coordinates.
+        const double hx = (static_cast<double>(x) + 0.5) / sx - 0.5,
+                     hy = (static_cast<double>(y) + 0.5) / sy - 0.5;
+        bool keep = inside_crop(im, hx, hy);
+        for (size_t k = 0; keep && k < masks.size(); ++k)
+          keep = !inside_polygon(masks[k]->xy, hx, hy);
+        if (!keep) clear_alpha(source, x, y);
+      }
+  });
+}
+
+std::vector<PanoExclusion> pano_exclusions(const PtoProject& p, int index) {
+  std::vector<PanoExclusion> out;
+  const int stack = p.images[static_cast<size_t>(index)].stack;
+  for (const PtoMask& m : p.masks) {
+    if (m.image == index) continue;
+    const PtoImage& owner = p.images[static_cast<size_t>(m.image)];
+    if (owner.disabled) continue;
+    const bool same_stack = owner.stack == stack;
+    if (m.type == 1 || (m.type == 3 && !same_stack)) out.push_back({m.image, &m, true});
+    if (m.type == 2 && same_stack) out.push_back({m.image, &m, false});
+  }
+  return out;
+}
+
+}  // namespace panoproj

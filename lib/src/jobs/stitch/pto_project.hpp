@@ -1,0 +1,67 @@
+#pragma once
+// A Hugin / Panorama Tools project (.pto): the p (panorama), m (options), i (image) and k (mask)
+// lines and Hugin's `#-hugin` image comments; v (optimizer variables) and c (control points)
+// lines are read past. Links (`v=0`: image 0's value) are resolved; every number is checked
+// finite and in range. Errors name the file, line and token ("a.pto:7: i line: token ...").
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace panoproj {
+
+struct PtoRect {
+  int64_t left = 0, right = 0, top = 0, bottom = 0;  // right and bottom exclusive
+};
+
+struct PtoImage {
+  int line = 0;
+  std::string name;  // as written (relative to the .pto's folder)
+  int64_t width = 0, height = 0;
+  int lens_type = 0;  // f
+  double hfov = 0, yaw = 0, pitch = 0, roll = 0;
+  double a = 0, b = 0, c = 0, d = 0, e = 0, g = 0, t = 0;
+  int stack = 0;  // the image its stack number (j) links to, itself if none
+  int lens = 0;   // the image its field of view (v: the lens) links to, itself if none
+  std::optional<PtoRect> crop;  // S
+  bool disabled = false;        // #-hugin disabled
+  bool photometry = false;      // an exposure, response or vignetting value other than the identity
+};
+
+struct PtoMask {
+  int line = 0;
+  int image = 0;
+  int type = 0;            // 0 exclude, 1 include, 2 exclude stack, 3 include stack, 4 exclude lens
+  std::vector<double> xy;  // x0 y0 x1 y1 ... (image pixels)
+};
+
+struct PtoPanorama {
+  int line = 0;
+  int projection = 0;  // f
+  int64_t width = 0, height = 0;
+  double hfov = 0;
+  std::optional<PtoRect> crop;  // S
+  std::vector<double> params;   // P"..."
+  std::string depth;            // T"UINT8" | "UINT16" | "FLOAT" ("": UINT8)
+  std::string output;           // n"TIFF_m c:LZW ..."
+};
+
+struct PtoProject {
+  std::string path;
+  PtoPanorama pano;
+  int interpolator = 0;  // m i
+  std::vector<PtoImage> images;
+  std::vector<PtoMask> masks;
+};
+
+// Projects are at most this many bytes and images (a line each).
+inline constexpr int64_t kMaxPtoBytes = int64_t{64} << 20;
+inline constexpr int kMaxPtoImages = 65536;
+
+// Parses `text` (the file at `path`, named in errors); throws Error.
+PtoProject parse_pto(std::string_view text, const std::string& path);
+// Reads and parses the file (a regular file of at most kMaxPtoBytes).
+PtoProject read_pto(const std::string& path);
+
+}  // namespace panoproj

@@ -1,0 +1,53 @@
+#pragma once
+// The stitch job's plan (every input, spec and output checked before any pixel is made) and the
+// rendering of one layer; shared by the job (stitch_job.cpp) and Python's arrays.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/tiff_layer.hpp"
+#include "jobs/stitch/pto_project.hpp"
+#include "panoproj/image.hpp"
+#include "panoproj/jobs.hpp"
+#include "panoproj/options.hpp"
+#include "panoproj/spec.hpp"
+
+namespace panoproj {
+
+struct StitchLayer {
+  int index = 0;                       // the project's image
+  std::string file;                    // its file
+  Size size;                           // the file's size
+  double sx = 1, sy = 1;               // the file's size over the project's
+  std::optional<ProjectionSpec> spec;  // its lens at the file's size
+  std::string output;                  // its layer's path
+};
+
+struct StitchPlan {
+  PtoProject project;
+  std::optional<ProjectionSpec> pano;
+  Size canvas;
+  std::vector<StitchLayer> layers;  // the images rendered, in the project's order
+  ConvertOptions options;           // interp, antialias (off unless given), engine, threads, memory
+  PixelType depth = PixelType::U8;
+  TiffCompression compression = TiffCompression::Deflate;
+  bool cropped = true;  // layers cut to their extent (n"... r:CROP"), else the whole canvas
+  bool overwrite = false;
+};
+
+// files: the layers are written (their paths checked); else only made (Python's arrays).
+StitchPlan plan_stitch(const Arguments& args, bool files = true);
+
+// The part of the canvas nona gives image `index` (layer_extent.cpp); empty if none.
+PixelRect layer_extent(const StitchPlan& plan, int index);
+
+// A layer: RGBA (gray + alpha for a gray image) of plan.depth, alpha 0 or full (nona's rule: a
+// pixel is kept where its kernel's taps with alpha hold over 0.2 of its weight) within its
+// extent, cut to the extent where plan.cropped, at (x, y) on the canvas; empty if no extent.
+struct RenderedLayer {
+  Image image;
+  int64_t x = 0, y = 0;
+};
+RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& layer);
+
+}  // namespace panoproj

@@ -1,0 +1,249 @@
+// The stitch job: a Hugin project's images remapped onto its panorama as nona -m TIFF_m does,
+// one layer TIFF each (io/tiff_layer.hpp) for enblend: crops and masks as alpha (layer_masks),
+// the panorama and lenses as specs (pano_spec), every layer landed together or none.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+
+#include "io/atomic_output.hpp"
+#include "io/formats.hpp"
+#include "io/tiff_layer.hpp"
+#include "jobs/list.hpp"
+#include "jobs/stitch/layer_masks.hpp"
+#include "jobs/stitch/pano_spec.hpp"
+#include "jobs/stitch/pto_project.hpp"
+#include "jobs/stitch/stitch.hpp"
+#include "panoproj/convert.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/interrupt.hpp"
+#include "panoproj/limits.hpp"
+
+namespace panoproj {
+namespace {
+
+OptionDef interp_row() {
+  OptionDef r = conversion_option("interp", kUseConvert);
+  r.use = kUseStitch;
+  r.default_text = "None";
+  r.help =
+      "nearest|bilinear|bicubic|lanczos3|bicubic-dering|lanczos3-dering; default: the project's m "
+      "line (i5 "
+      "bilinear, i6 nearest, i3 and i7 lanczos3, others bicubic)";
+  return r;
+}
+
+OptionDef depth_row() {
+  OptionDef r = with_help(write_option("depth"),
+                          "layer samples: uint8|uint16|float; default: the project's T (UINT8 "
+                          "unless it says UINT16 or FLOAT)");
+  r.choices = "uint8|uint16|float";
+  return r;
+}
+
+const std::vector<OptionDef>& rows() {
+  static const std::vector<OptionDef> rows = job_rows(
+      {
+          {"project", OptionType::Path, 0, "None", "the Hugin project (.pto)", nullptr, nullptr,
+           nullptr, kPositional | kRequired},
+          {"output", OptionType::Path, 0, "None",
+           "the layers' prefix: PREFIX0000.tif, PREFIX0001.tif, ... (a number per image, as nona's "
+           "-o)",
+           nullptr, nullptr, nullptr, kPositional | kRequired},
+          {"images", OptionType::Paths, 0, "None",
+           "image files in place of the project's, in its order (a template project)"},
+          {"image", OptionType::Integer, 0, "None", "render only this image (nona's -i)"},
+          {"compression", OptionType::Text, 0, "None",
+           "none | deflate; default: the project's n\"TIFF_m c:...\" (c:NONE: none; LZW, PACKBITS, "
+           "DEFLATE: deflate)",
+           nullptr, "none|deflate"},
+          {"extent", OptionType::Text, 0, "None",
+           "crop (each layer its part of the canvas) | canvas (each the whole canvas); default: "
+           "the project's "
+           "n\"TIFF_m r:CROP\" (crop), else canvas, as nona",
+           nullptr, "crop|canvas"},
+          depth_row(),
+          interp_row(),
+      },
+      kUseStitch,
+      {with_help(write_option("overwrite"), "replace existing layers"), command_option("quiet")});
+  return rows;
+}
+
+// The conversion rows as stitch reads them: antialiasing off unless asked for (as nona).
+const std::vector<OptionDef>& stitch_rows() {
+  static const std::vector<OptionDef> out = [] {
+    std::vector<OptionDef> r = rows();
+    for (OptionDef& d : r)
+      if (std::string_view(d.name) == "antialias")
+        d.help =
+            "off (default, as nona) | auto (where the panorama shrinks an image, each pixel the "
+            "area-weighted "
+            "mean of the pixels under its footprint) | mip | N (N x N sub-pixels, 2..16)";
+    return r;
+  }();
+  return out;
+}
+
+Interp project_interp(int i) {
+  switch (i) {
+    case 5:
+      return Interp::Bilinear;
+    case 6:
+      return Interp::Nearest;
+    case 3:
+    case 7:
+      return Interp::Lanczos3;
+    default:
+      return Interp::Bicubic;
+  }
+}
+
+PixelType depth_of(const Arguments& args, const PtoProject& p) {
+  const std::string given = args.optional_text("depth").value_or("");
+  const std::string d = given.empty() ? p.pano.depth : given;
+  if (d.empty() || d == "UINT8" || d == "uint8") return PixelType::U8;
+  if (d == "UINT16" || d == "uint16") return PixelType::U16;
+  if (d == "FLOAT" || d == "float") return PixelType::F32;
+  throw Error("depth: " + d + " (a layer holds uint8, uint16 or float)");
+}
+
+TiffCompression compression_of(const Arguments& args, const PtoProject& p) {
+  if (const auto c = args.optional_text("compression")) {
+    if (*c == "none") return TiffCompression::None;
+    if (*c == "deflate") return TiffCompression::Deflate;
+    throw Error("compression: " + *c + " (expected none or deflate)");
+  }
+  const size_t at = p.pano.output.find("c:");
+  if (at == std::string::npos) return TiffCompression::Deflate;
+  const std::string c = p.pano.output.substr(at + 2, p.pano.output.find(' ', at) - at - 2);
+  return c == "NONE" ? TiffCompression::None : TiffCompression::Deflate;
+}
+
+std::string layer_path(const std::string& prefix, size_t index) {
+  char number[24];
+  std::snprintf(number, sizeof number, "%04zu", index);
+  return prefix + number + std::string(kTiffFormat.extensions[0]);
+}
+
+}  // namespace
+
+StitchPlan plan_stitch(const Arguments& args, bool files) {
+  StitchPlan s;
+  s.project = read_pto(args.text("project"));
+  const PtoProject& p = s.project;
+  s.options = args.options();
+  if (!args.optional_text("antialias")) s.options.antialias = Antialias{};  // off, as nona
+  s.options.interp = args.optional_text("interp") ? parse_interp(*args.optional_text("interp"))
+                                                  : project_interp(p.interpolator);
+  s.depth = depth_of(args, p);
+  s.compression = compression_of(args, p);
+  s.overwrite = args.flag("overwrite");
+  const std::string extent = args.optional_text("extent").value_or(
+      p.pano.output.find("r:CROP") != std::string::npos ? "crop" : "canvas");
+  if (extent != "crop" && extent != "canvas")
+    throw Error("extent: " + extent + " (expected crop or canvas)");
+  s.cropped = extent == "crop";
+  const std::vector<std::string> given = args.paths("images");
+  if (!given.empty() && given.size() != p.images.size())
+    throw Error("images: " + std::to_string(given.size()) + " files for a project of " +
+                std::to_string(p.images.size()) + " images");
+  const std::filesystem::path folder = std::filesystem::path(p.path).parent_path();
+  const std::optional<int64_t> only = args.optional_integer("image");
+  if (only && (*only < 0 || *only >= static_cast<int64_t>(p.images.size())))
+    throw Error("image: " + std::to_string(*only) + " (the project has images 0 to " +
+                std::to_string(p.images.size() - 1) + ")");
+  s.pano = parse_spec(pano_spec(p));
+  s.canvas = {p.pano.width, p.pano.height};
+  make_projection(*s.pano, s.canvas);
+  const std::string prefix = args.text("output");
+  for (size_t i = 0; i < p.images.size(); ++i) {
+    const PtoImage& im = p.images[i];
+    if (im.disabled || (only && static_cast<int64_t>(i) != *only)) continue;
+    StitchLayer l;
+    l.index = static_cast<int>(i);
+    l.file = given.empty() ? (folder / im.name).string() : given[i];
+    l.output = layer_path(prefix, i);
+    s.layers.push_back(std::move(l));
+  }
+  for (StitchLayer& l : s.layers) {
+    const PtoImage& im = p.images[static_cast<size_t>(l.index)];
+    const ImageInfo info = read_image_info(l.file);
+    l.size = info.size;
+    l.sx = static_cast<double>(info.size.width) / static_cast<double>(im.width);
+    l.sy = static_cast<double>(info.size.height) / static_cast<double>(im.height);
+    // Another size: scaled as Hugin's "change image" does, where the aspect is the project's (to
+    // a pixel); else refused, as nona's remapImage() does.
+    if (std::fabs(l.sx * static_cast<double>(im.height) - static_cast<double>(info.size.height)) >
+        1.0)
+      throw Error(l.file + ": " + size_text(info.size) + " where the project (line " +
+                  std::to_string(im.line) + ") says " + size_text({im.width, im.height}) +
+                  ": another aspect cannot be scaled to it");
+    l.spec = parse_spec(image_spec(p, im, l.sx, l.sy));
+    make_projection(*l.spec, l.size);
+    if (files) check_output_path(l.output, s.overwrite);
+  }
+  if (s.layers.empty()) throw Error(p.path + ": no image to render (all are disabled)");
+  if (files) {
+    std::vector<std::pair<std::string, std::string>> outputs;
+    for (const StitchLayer& l : s.layers) outputs.push_back({"layer", l.output});
+    require_distinct_outputs(outputs);
+  }
+  return s;
+}
+
+namespace {
+
+Report run(const Arguments& args, const JobEvents& events) {
+  const StitchPlan plan = plan_stitch(args);
+  if (events.warning)
+    for (const StitchLayer& l : plan.layers)
+      if (plan.project.images[static_cast<size_t>(l.index)].photometry) {
+        events.warning(plan.project.path +
+                       ": exposure, response and vignetting values are not applied yet");
+        break;
+      }
+  OutputSet set(plan.overwrite);
+  std::vector<ReportValue> layers;
+  for (size_t k = 0; k < plan.layers.size(); ++k) {
+    const StitchLayer& l = plan.layers[k];
+    check_interrupt();
+    const RenderedLayer r = render_layer(plan, l);
+    if (r.image.size().width == 0) {
+      if (events.warning)
+        events.warning(l.file + ": no pixel on the panorama's canvas (no layer written)");
+      continue;
+    }
+    set.add(l.output, encode_tiff_layer(r.image, {r.x, r.y, plan.canvas}, plan.compression,
+                                        plan.options.threads));
+    if (events.line)
+      events.line(l.output + ": " + size_text(r.image.size()) + " at " + std::to_string(r.x) + "," +
+                  std::to_string(r.y) + " of " + size_text(plan.canvas));
+    if (events.progress)
+      events.progress(static_cast<double>(k + 1) / static_cast<double>(plan.layers.size()));
+    layers.push_back(
+        {std::vector<ReportField>{{"output", {l.output}},
+                                  {"image", {static_cast<int64_t>(l.index)}},
+                                  {"offset", {std::vector<ReportValue>{{r.x}, {r.y}}, true}},
+                                  {"size", report_size(r.image.size())}}});
+  }
+  set.commit();
+  return {{"layers", {layers}}, {"canvas", report_size(plan.canvas)}};
+}
+
+}  // namespace
+
+const JobDef stitch_job{
+    .name = "stitch",
+    .summary = "remap a Hugin project's images into layers for enblend (as nona -m TIFF_m)",
+    .python =
+        "Remaps a Hugin project's (.pto) images onto its panorama as layer TIFFs for enblend "
+        "(PREFIX0000.tif, ...: RGBA, unassociated alpha, placed on the canvas as nona -m TIFF_m "
+        "writes "
+        "them).",
+    .rows = stitch_rows,
+    .run = run,
+};
+
+}  // namespace panoproj

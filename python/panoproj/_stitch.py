@@ -1,0 +1,54 @@
+"""A Hugin project's layers as arrays: the stitch job's rendering (the same pixels as its
+layer files), without files."""
+from __future__ import annotations
+
+import sys
+from typing import TYPE_CHECKING, List, NamedTuple, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _core, _job
+from ._declared import StitchOptions
+from ._types import PathLike
+
+if sys.version_info >= (3, 8):
+    from typing import Literal
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
+
+
+class Layer(NamedTuple):
+    """One image's layer: its index in the project, its pixels (H x W x 4, or x 2 for a gray image;
+    alpha last, 0 or full) and the canvas position of its top-left pixel."""
+
+    image: int
+    pixels: np.ndarray
+    offset: Tuple[int, int]
+
+
+class Layers(NamedTuple):
+    """The layers in the project's order (images without a pixel on the canvas left out) and the
+    canvas's (width, height)."""
+
+    layers: List[Layer]
+    canvas: Tuple[int, int]
+
+
+def stitch_layers(
+    project: PathLike,
+    *,
+    images: Union[PathLike, Sequence[PathLike], None] = None,
+    image: Optional[int] = None,
+    extent: Optional[Literal["crop", "canvas"]] = None,
+    depth: Optional[Literal["uint8", "uint16", "float"]] = None,
+    **options: Unpack[StitchOptions],
+) -> Layers:
+    """Remaps a Hugin project's (.pto) images onto its panorama as ``stitch`` does, returning the
+    layers as arrays with their offsets instead of writing them."""
+    given = {"project": project, "output": "", "images": images, "image": image, "extent": extent, "depth": depth}
+    args = _job.arguments("stitch", given, dict(options))
+    layers, canvas = _core.stitch_layers(args)
+    return Layers([Layer(i, a, (int(x), int(y))) for i, a, (x, y) in layers], (int(canvas[0]), int(canvas[1])))
+
+
+__all__ = ["stitch_layers", "Layer", "Layers"]
