@@ -206,7 +206,7 @@ def stitch(
     image: Optional[int] = None,
     compression: Optional[Literal['none', 'deflate']] = None,
     extent: Optional[Literal['crop', 'canvas']] = None,
-    depth: Optional[Literal['keep', 'uint8', 'uint16', 'half', 'float']] = None,
+    depth: Optional[Literal['uint8', 'uint16', 'float']] = None,
     overwrite: bool = False,
     **options: Unpack[StitchOptions],
 ) -> Dict[str, Any]:

@@ -29,6 +29,14 @@ void put32(std::string& s, uint32_t v) {
   s.append(reinterpret_cast<const char*>(&v), 4);
 }
 
+// A position in inches as (4 p + 1) / (4 dpi): a quarter pixel past p, so that readers that
+// take it as a float32 and truncate its product with the resolution (OpenImageIO, vigra) get p,
+// as do those that round.
+uint32_t position(int64_t p) {
+  if (p < 0 || p >= (int64_t{1} << 30)) throw InternalError("a layer's position is in [0, 2^30)");
+  return static_cast<uint32_t>(4 * p + 1);
+}
+
 // Rows per strip: about 256 kB of samples each.
 int64_t strip_rows(const Image& im) {
   return std::max<int64_t>(1,
@@ -94,8 +102,8 @@ std::string encode_tiff_layer(const Image& layer, const TiffPlacement& place,
       {282, kRational, 1, {kLayerDpi, 1}},
       {283, kRational, 1, {kLayerDpi, 1}},
       {284, kShort, 1, {1}},  // chunky
-      {286, kRational, 1, {u(place.x), kLayerDpi}},
-      {287, kRational, 1, {u(place.y), kLayerDpi}},
+      {286, kRational, 1, {position(place.x), 4 * kLayerDpi}},
+      {287, kRational, 1, {position(place.y), 4 * kLayerDpi}},
       {296, kShort, 1, {2}},  // inches
       {338, kShort, 1, {2}},  // unassociated alpha
       {339, kShort, u(ch), formats},

@@ -1,7 +1,8 @@
 #pragma once
 // A layer as Hugin's nona writes them for enblend (-m TIFF_m): one TIFF of an image's part of the
 // canvas, RGBA or gray + alpha with unassociated alpha (ExtraSamples 2), placed by XPOSITION /
-// YPOSITION (inches at XRESOLUTION / YRESOLUTION 150 dpi) on a canvas of PIXAR_IMAGEFULLWIDTH x
+// YPOSITION (inches at XRESOLUTION / YRESOLUTION 150 dpi; a quarter pixel past the pixel, so
+// readers that truncate get it) on a canvas of PIXAR_IMAGEFULLWIDTH x
 // PIXAR_IMAGEFULLLENGTH (tags 33300, 33301). Baseline TIFF 6.0, little-endian, in strips.
 #include <cstdint>
 #include <string>

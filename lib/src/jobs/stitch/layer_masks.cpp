@@ -8,10 +8,14 @@
 
 namespace panoproj {
 
+bool circular_crop(const PtoImage& im) {
+  return im.lens_type == 2 || im.lens_type == 8 || im.lens_type == 20;
+}
+
 bool inside_crop(const PtoImage& im, double x, double y) {
   if (!im.crop) return true;
   const PtoRect& r = *im.crop;
-  if (im.lens_type == 2) {  // circular fisheye: the circle inscribed in the rectangle
+  if (circular_crop(im)) {  // the circle inscribed in the rectangle
     const double cx = 0.5 * static_cast<double>(r.left + r.right),
                  cy = 0.5 * static_cast<double>(r.top + r.bottom);
     const double radius = 0.5 * static_cast<double>(std::min(r.right - r.left, r.bottom - r.top));
@@ -23,7 +27,7 @@ bool inside_crop(const PtoImage& im, double x, double y) {
 
 bool inside_include_clip(const PtoImage& im, double x, double y) {
   PtoRect r{0, im.width, 0, im.height};
-  if (im.crop && im.lens_type == 2) {
+  if (im.crop && circular_crop(im)) {
     const PtoRect& c = *im.crop;
     const double cx = 0.5 * static_cast<double>(c.left + c.right),
                  cy = 0.5 * static_cast<double>(c.top + c.bottom);

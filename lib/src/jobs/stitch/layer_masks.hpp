@@ -1,6 +1,6 @@
 #pragma once
 // What of each image a layer keeps, as Hugin decides it (Panorama::updateMasks): its crop (S: a
-// rectangle, or for circular fisheyes (f2) the circle inscribed in it), its exclude masks (k t0),
+// rectangle, or for circular crops the circle inscribed in it), its exclude masks (k t0),
 // its stack's (t2) and its lens's (t4, every image of that lens); and in the panorama, other
 // images' include masks (t1: excluded from every other image there; t3: from the images outside
 // its stack) and its stack's exclude masks (t2, through the panorama). Points are in Hugin's
@@ -12,6 +12,9 @@
 
 namespace panoproj {
 
+// Whether the image's crop is the circle inscribed in its S rectangle: circular fisheyes (f2),
+// Thoby's (f20) and orthographic ones (f8), as SrcPanoImage::isCircularCrop says.
+bool circular_crop(const PtoImage& image);
 // Whether Hugin position (x, y) of the image is inside its crop (true without one).
 bool inside_crop(const PtoImage& image, double x, double y);
 // Whether Hugin position (x, y) is inside the region an include mask of the image counts in
