@@ -11,7 +11,8 @@
 # and convert alone, transcodes against the encoder's floor, peak RSS (bench/bench_video.py); with
 # "video-quality" first, a video's luma PSNR and chroma error against an analytic truth, panoproj
 # against v360 (bench/video_quality.py); with "gopro-max" first, GoPro MAX 5.6K pairs and a .360
-# to a 5376x2688 equirect, against max2sphere given its binary (bench/bench_gopro_max.py).
+# to a 5376x2688 equirect, against max2sphere given its binary (bench/bench_gopro_max.py); with
+# "stitch" first, a Hugin project's layers against nona -m TIFF_m (bench/bench_stitch.py).
 # Installs what is missing, builds in build-bench/, runs.
 # Usage: scripts/bench.sh [--threads N] [--runs N]  |  scripts/bench.sh big [--threads N]
 #        scripts/bench.sh python [--runs N] [--only keep]  |  scripts/bench.sh plot [--runs N]
@@ -19,6 +20,7 @@
 #        scripts/bench.sh cv [--runs N] [--rounds N]  |  scripts/bench.sh profile [--runs N]
 #        scripts/bench.sh video [--runs N] [--frames N] [--only filter,transcode,rss]  |  scripts/bench.sh video-quality
 #        scripts/bench.sh gopro-max [--runs N] [--frames N] [--max2sphere PATH] [--only pairs,convert,video]
+#        scripts/bench.sh stitch [--runs N] [--only none,deflate,float]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [[ ${1:-} == io ]]; then
@@ -40,6 +42,12 @@ if [[ ${1:-} == gopro-max ]]; then
   read -ra py_args < <(bash "$root/scripts/python-env.sh" --cmake-args)
   bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF "${py_args[@]}"
   exec "$root/.venv/bin/python" "$root/bench/bench_gopro_max.py" "$@"
+fi
+if [[ ${1:-} == stitch ]]; then
+  shift
+  bash "$root/scripts/install-deps.sh" hugin-tools
+  bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF
+  exec python3 "$root/bench/bench_stitch.py" "$@"
 fi
 if [[ ${1:-} == video ]]; then
   shift

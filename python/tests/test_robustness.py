@@ -2027,3 +2027,109 @@ def test_bad_video_inputs_and_parameters_from_python_through_the_plugin_and_pyav
             assert left == [], (name, via, left)
         assert pyav[name][0] == plugin[name][0] and plugin[name][0] in (
             "OSError", "ValueError", "MemoryError", "FileNotFoundError"), (name, plugin[name], pyav[name])
+
+
+# ---------------------------------------------------------------------------------------------
+# Hugin projects (stitch): each bad project, image or parameter refused in one line naming its
+# line and token (or file), exit 1, nothing written, bounded time and memory; full disks and
+# signals leave no layer.
+
+STITCH_IMAGE = 'i w64 h48 f0 v50 r0 p0 y0 n"a.png"\n'
+STITCH_PANO = 'p f2 w256 h128 v360 n"TIFF_m c:NONE r:CROP"\nm i5\n'
+STITCH = [
+    ("unknown_line", STITCH_PANO + "z f0\n" + STITCH_IMAGE, [], "t.pto:3: line: unknown line 'z f0'", False),
+    ("unknown_token", STITCH_PANO + 'i w64 h48 f0 v50 Q7 n"a.png"\n', [], "t.pto:3: i line: unknown token 'Q7'", False),
+    ("nan", STITCH_PANO + 'i w64 h48 f0 vnan n"a.png"\n', [], "token vnan: expected a finite number", False),
+    ("inf_yaw", STITCH_PANO + 'i w64 h48 f0 v50 yinf n"a.png"\n', [], "token yinf: expected a finite number", False),
+    ("huge_number", STITCH_PANO + 'i w64 h48 f0 v50 a1e400 n"a.png"\n', [], "token a1e400: expected a finite", False),
+    ("fov_out_of_range", STITCH_PANO + 'i w64 h48 f0 v400 n"a.png"\n', [], "token v: expected a field of view", False),
+    ("rectilinear_too_wide", STITCH_PANO + 'i w64 h48 f0 v190 n"a.png"\n', [], "hfov=190 is too wide for lens=rectilinear",
+     False),
+    ("lens_type", STITCH_PANO + 'i w64 h48 f7 v50 n"a.png"\n', [], "token f7: this lens type is not supported", False),
+    ("projection", 'p f13 w256 h128 v360\n' + STITCH_IMAGE, [], "token f13: this panorama projection is not supported",
+     False),
+    ("panini_f12", 'p f12 w256 h128 v200\n' + STITCH_IMAGE, [], "libpano13's Panini (f12)", True),
+    ("translation", STITCH_PANO + 'i w64 h48 f0 v50 TrX1 n"a.png"\n', [], "translation (mosaic mode) is not supported",
+     False),
+    ("missing_image", STITCH_PANO + 'i w64 h48 f0 v50 n"gone.png"\n', [], "gone.png", False),
+    ("image_is_garbage", STITCH_PANO + 'i w64 h48 f0 v50 n"garbage.png"\n', [], "garbage.png", False),
+    ("image_is_a_fifo", STITCH_PANO + 'i w64 h48 f0 v50 n"fifo.png"\n', [], "a FIFO", True),
+    ("other_aspect", STITCH_PANO + 'i w64 h64 f0 v50 n"a.png"\n', [],
+     "a.png: 64x48 where the project (line 3) says 64x64: another aspect cannot be scaled to it", False),
+    ("mask_two_points", STITCH_PANO + STITCH_IMAGE + 'k i0 t0 p"1 1 5 5"\n', [], "a mask needs at least 3 points", False),
+    ("mask_no_image", STITCH_PANO + STITCH_IMAGE + 'k i3 t0 p"1 1 5 5 9 1"\n', [], "token i3: no such image", False),
+    ("crop_outside", STITCH_PANO + 'i w64 h48 f0 v50 S0,80,0,48 n"a.png"\n', [], "inside the 64x48 frame", False),
+    ("link_cycle", STITCH_PANO + 'i w64 h48 f0 v=1 n"a.png"\ni w64 h48 f0 v=0 n"a.png"\n', [], "the links form a cycle",
+     True),
+    ("no_images", STITCH_PANO, [], "t.pto: no i lines", False),
+    ("binary_project", "\x00\x01\x02p f2\n", [], "a NUL byte", False),
+    ("canvas_over_budget", 'p f2 w4000000 h2000000 v360\n' + STITCH_IMAGE, ["--memory-limit", "256M"],
+     "over the memory limit of 256 MB", True),
+    ("image_out_of_range", STITCH_PANO + STITCH_IMAGE, ["--image", "5"], "image: 5 (the project has images 0 to 0)",
+     False),
+    ("images_count", STITCH_PANO + STITCH_IMAGE, ["--images", "a.png", "a.png"], "images: 2 files for a project of 1",
+     False),
+    ("depth", STITCH_PANO + STITCH_IMAGE, ["--depth", "half"], "depth", False),
+    ("interp", STITCH_PANO + STITCH_IMAGE, ["--interp", "sinc"], "sinc", False),
+]
+
+
+@pytest.fixture()
+def stitch_folder(tmp_path):
+    pp.write(str(tmp_path / "a.png"), smooth_equirect(64, 48))
+    (tmp_path / "garbage.png").write_bytes(b"\x89PNG garbage" * 50)
+    os.mkfifo(tmp_path / "fifo.png")
+    return tmp_path
+
+
+@pytest.mark.parametrize("case", _table(STITCH))
+def test_stitch_bad_projects_and_parameters(cli, stitch_folder, case):
+    name, text, args, needle, _ = case
+    (stitch_folder / "t.pto").write_text(text)
+    before = snapshot(stitch_folder)
+    r = run(cli, ["stitch", "t.pto", "l_", *args], stitch_folder, timeout=30)
+    line = expect_refused(r, needle)
+    assert len(line) < 400
+    assert snapshot(stitch_folder) == before
+
+
+@pytest.mark.why
+def test_stitch_a_million_image_project_is_refused_at_its_bound(cli, stitch_folder):
+    (stitch_folder / "t.pto").write_text(STITCH_PANO + 'i w4 h3 f0 v50 n"a.png"\n' * 1000000)
+    r = run(cli, ["stitch", "t.pto", "l_"], stitch_folder, timeout=30)
+    expect_refused(r, "t.pto:65539: i line: more than 65536 images", rss=400 << 20)
+
+
+@pytest.mark.parametrize("what", ["project_fifo", "project_directory", "project_missing", "project_device"])
+def test_stitch_projects_that_are_not_regular_files(cli, stitch_folder, what):
+    path = {"project_fifo": "fifo.png", "project_directory": ".", "project_missing": "none.pto",
+            "project_device": "/dev/zero"}[what]
+    r = run(cli, ["stitch", path, "l_"], stitch_folder, timeout=30)
+    expect_refused(r, path)
+    assert not list(stitch_folder.glob("l_*"))
+
+
+def test_stitch_layers_need_overwrite_and_a_full_disk_leaves_none(cli, stitch_folder):
+    (stitch_folder / "t.pto").write_text(STITCH_PANO + STITCH_IMAGE + 'i w64 h48 f0 v50 r0 p0 y90 n"a.png"\n')
+    (stitch_folder / "l_0001.tif").write_bytes(b"old")
+    expect_refused(run(cli, ["stitch", "t.pto", "l_"], stitch_folder), "l_0001.tif", "exists")
+    # The disk fills while a layer is written (each is about 7 kB): none lands, the old file stays.
+    r = run(cli, ["stitch", "t.pto", "l_", "--overwrite"], stitch_folder, fsize=3000)
+    expect_refused(r, "l_000")
+    assert sorted(p.name for p in stitch_folder.glob("l_*")) == ["l_0001.tif"]
+    assert (stitch_folder / "l_0001.tif").read_bytes() == b"old"
+    assert not [p for p in stitch_folder.iterdir() if p.name.startswith(".panoproj-")]
+    assert run(cli, ["stitch", "t.pto", "l_", "--overwrite"], stitch_folder).code == 0
+    assert (stitch_folder / "l_0001.tif").read_bytes()[:4] == b"II*\x00"
+
+
+@pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["INT", "TERM"])
+def test_stitch_signals_leave_no_layer(cli, stitch_folder, sig):
+    (stitch_folder / "t.pto").write_text(STITCH_PANO + STITCH_IMAGE + 'i w64 h48 f0 v50 r0 p0 y90 n"a.png"\n')
+    r = run(cli, ["stitch", "t.pto", "l_"], stitch_folder,
+            strace=["-e", "trace=fsync", "-e", "inject=fsync:delay_enter=3000000:when=1"],
+            on_start=_signal_once_a_temporary_exists(stitch_folder, sig, 0.3))
+    assert r.code in (-sig, 128 + sig), (r.code, r.err)
+    assert not list(stitch_folder.glob("l_*"))
+    assert not [p for p in stitch_folder.iterdir() if p.name.startswith(".panoproj-")]

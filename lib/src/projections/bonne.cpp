@@ -78,6 +78,7 @@ std::vector<ProjectionCase> cases() {
   c.push_back({"bonne:phi1=-30,lon0=10", {{2048, 2048}}});
   c.push_back({"bonne:aspect=stretch", {{2048, 1024}}});
   c.push_back({"sinusoidal", {{512, 256}, {1000, 1000}, kPhotoFrame, kHugeFrame}, 1e-9});
+  c.push_back({"sinusoidal:hfov=300", {{2048, 1024}}, 1e-9});
   return c;
 }
 

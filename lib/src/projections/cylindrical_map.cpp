@@ -60,9 +60,12 @@ std::vector<ProjectionCase> cases() {
   std::vector<ProjectionCase> c;
   for (const char* s : {"mercator", "miller", "cylindrical-equal-area"})
     c.push_back({s, {kTinyFrame, {512, 512}, kPhotoFrame, kHugeFrame}, 1e-9});
-  for (const char* s : {"mercator:lat_max=89.999", "mercator:lat_max=1e-6,aspect=stretch", "cylindrical-equal-area:lat_ts=45",
-                        "cylindrical-equal-area:lat_ts=-89.9,aspect=stretch", "miller:lat_max=60,lon0=-120",
-                        "mercator:aspect=stretch"})
+  for (const char* s :
+       {"mercator:lat_max=89.999", "mercator:lat_max=1e-6,aspect=stretch",
+        "cylindrical-equal-area:lat_ts=45", "cylindrical-equal-area:lat_ts=-89.9,aspect=stretch",
+        "miller:lat_max=60,lon0=-120", "mercator:aspect=stretch",
+        "mercator:lat_max=89.999999,hfov=300", "miller:hfov=0.5",
+        "cylindrical-equal-area:hfov=360"})
     c.push_back({s, {{2048, 1024}}, 1e-9});
   return c;
 }

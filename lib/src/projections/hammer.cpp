@@ -29,9 +29,13 @@ Projection rescale(const Projection& p, Size size, double, double) { return std:
 
 // Hammer from 1x1 to 40000 px, Eckert-Greifendorff (W = 0.25), a W near 1.
 std::vector<ProjectionCase> cases() {
-  return {{"hammer:aspect=stretch", {kTinyFrame}}, {"hammer", {{512, 256}, kPhotoFrame, kHugeFrame}},
+  return {{"hammer:aspect=stretch", {kTinyFrame}},
+          {"hammer", {{512, 256}, kPhotoFrame, kHugeFrame}},
           {"eckert-greifendorff", {{512, 256}, kPhotoFrame, {4096, 1892}}},
-          {"hammer:w=0.9", {{2048, 1024}}}, {"hammer", {{1000, 1000}}}, {"eckert-greifendorff:aspect=stretch", {{1000, 1000}}}};
+          {"hammer:w=0.9", {{2048, 1024}}},
+          {"hammer:hfov=200", {{2048, 1024}}},
+          {"hammer", {{1000, 1000}}},
+          {"eckert-greifendorff:aspect=stretch", {{1000, 1000}}}};
 }
 
 }  // namespace

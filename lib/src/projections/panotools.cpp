@@ -55,10 +55,11 @@ void check(const ProjectionSpec& s) {
   if (lens == "stereographic" && v >= 360) fail(s, o.str() + " (expected < 360)");
   if (lens == "thoby" && 0.5 * deg2rad(v) * kThobyK2 > kHalfPi)
     fail(s, o.str() + " (expected <= 252.45)");
-  const PanoToolsDistortion d{*s.number("a"), *s.number("b"), *s.number("c")};
-  if (!(d.slope(0) > 0)) {
+  const PTLensLaw law =
+      PanoToolsDistortion{*s.number("a"), *s.number("b"), *s.number("c")}.radial();
+  if (!(law.d() > 0)) {
     o.str("");
-    o << "the radial scale does not increase from the centre (1 - a - b - c = " << d.slope(0)
+    o << "the radial scale does not increase from the centre (1 - a - b - c = " << law.d()
       << "; expected a + b + c < 1)";
     fail(s, o.str());
   }
@@ -69,7 +70,8 @@ void check(const ProjectionSpec& s) {
 // Where r P(r) first stops increasing (libpano13's correction radius), at most its bound: on the
 // image's range finely, then beyond it.
 double fold_of(const PanoToolsDistortion& d) {
-  const auto slope = [&d](double r) { return d.slope(r); };
+  const PTLensLaw law = d.radial();
+  const auto slope = [&law](double r) { return law.slope(r); };
   const double near = first_fold(slope, 4.0);
   if (near >= 0) return near;
   const double far = first_fold(slope, kPanoToolsMaxRadius);

@@ -30,6 +30,7 @@ Projection rescale(const Projection& p, Size size, double, double) { return std:
 std::vector<ProjectionCase> cases() {
   return {{"transverse-mercator", {kTinyFrame, {512, 512}, kPhotoFrame, kHugeFrame}, 1e-9},
           {"transverse-mercator:x_max=89.999", {{2048, 2048}}, 1e-9},
+          {"transverse-mercator:x_max=89.999999,hfov=120", {{2048, 1024}}, 1e-9},
           {"transverse-mercator:x_max=89.9999995", {{2048, 2048}}, 1e-6},
           {"transverse-mercator:x_max=3,lon0=9", {{256, 4096}}, 1e-9},
           {"transverse-mercator:aspect=stretch", {{2048, 1024}}, 1e-9}};

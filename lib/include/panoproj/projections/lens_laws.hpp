@@ -152,7 +152,8 @@ inline double KannalaBrandtLaw::angle(double r, double t_max) const {
 
 struct PTLensLaw {
   double a = 0.0, b = 0.0, c = 0.0, s = 1.0;  // s: focal length / half the shorter side
-  double g(double u) const { return u * (d() + u * (c + u * (b + u * a))); }
+  double scale(double u) const { return d() + u * (c + u * (b + u * a)); }  // g(u) / u
+  double g(double u) const { return u * scale(u); }
   double slope(double u) const { return d() + u * (2.0 * c + u * (3.0 * b + u * 4.0 * a)); }
   double d() const { return 1.0 - a - b - c; }
   double radius(double t) const { return t >= kHalfPi ? HUGE_VAL : g(s * std::tan(t)) / s; }

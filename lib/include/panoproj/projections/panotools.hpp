@@ -26,14 +26,11 @@ inline constexpr double kPanoToolsMaxRadius = 1000.0;
 enum class PanoToolsLens { Rectilinear, Cylindrical, Equirect, Fisheye };
 
 struct PanoToolsDistortion {
-  double a = 0, b = 0, c = 0;  // the radial polynomial
+  double a = 0, b = 0, c = 0;  // the radial polynomial (PTLensLaw's: ideal and distorted radii in
+                               // half the shorter side, s = 1)
   double d = 0, e = 0;         // the shift (pixels)
   double g = 0, t = 0;         // the shear (pixels over the height, the width)
-  double p(double r) const { return r * (r * (r * a + b) + c) + 1.0 - a - b - c; }
-  double g_r(double r) const { return r * p(r); }  // distorted radius of ideal radius r
-  double slope(double r) const {
-    return r * (r * (4.0 * a * r + 3.0 * b) + 2.0 * c) + 1.0 - a - b - c;
-  }
+  PTLensLaw radial() const { return {a, b, c, 1.0}; }
 };
 
 class PanoTools {
@@ -48,7 +45,7 @@ class PanoTools {
     r0_ = 0.5 * std::fmin(w, h);
     g_ = dist.g / h;
     t_ = dist.t / w;
-    rs_max_ = dist.g_r(fold);
+    rs_max_ = dist.radial().g(fold);
   }
 
   bool to_pixel(const Ray& ray, double& x, double& y) const {
@@ -56,7 +53,7 @@ class PanoTools {
     if (!ideal(ray, u, v)) return false;
     const double r = std::hypot(u, v) / r0_;
     if (!(r < fold_)) return false;
-    const double s = dist_.p(r);
+    const double s = dist_.radial().scale(r);
     u = u * s + dist_.d;
     v = v * s + dist_.e;
     x = 0.5 * static_cast<double>(size_.width) + u + g_ * v;
@@ -178,9 +175,10 @@ class PanoTools {
   // r / rs for the ideal radius r with r P(r) = rs (1 / P(0) at the centre).
   double undistort_scale(double rs) const {
     if (dist_.a == 0 && dist_.b == 0 && dist_.c == 0) return 1.0;
-    if (rs == 0.0) return 1.0 / (1.0 - dist_.a - dist_.b - dist_.c);
-    const double r = bracketed_newton([this](double q) { return dist_.g_r(q); },
-                                      [this](double q) { return dist_.slope(q); }, rs, fold_);
+    const PTLensLaw law = dist_.radial();
+    if (rs == 0.0) return 1.0 / law.d();
+    const double r = bracketed_newton([&law](double q) { return law.g(q); },
+                                      [&law](double q) { return law.slope(q); }, rs, fold_);
     return r / rs;
   }
 

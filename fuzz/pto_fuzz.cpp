@@ -1,0 +1,51 @@
+// Fuzzes the Hugin project reader (jobs/stitch/pto_project.hpp) and what reads its values: the
+// panorama's and images' specs, their projections and each image's extent on the canvas. Only
+// panoproj::Error may leave it; whatever it accepts must hold what the reader promises.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+#include "jobs/stitch/layer_masks.hpp"
+#include "jobs/stitch/pano_spec.hpp"
+#include "jobs/stitch/pto_project.hpp"
+#include "jobs/stitch/stitch.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/projection.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace panoproj;
+  try {
+    const PtoProject p = parse_pto(std::string(reinterpret_cast<const char*>(data), size), "f.pto");
+    if (p.images.empty() || !(p.pano.hfov > 0 && p.pano.hfov <= 360) || p.pano.width < 1)
+      std::abort();
+    for (const PtoImage& im : p.images)
+      if (!(im.hfov > 0 && im.hfov <= 360) ||
+          !std::isfinite(im.a + im.b + im.c + im.d + im.e + im.g + im.t) || im.lens < 0 ||
+          im.lens >= static_cast<int>(p.images.size()) || im.stack < 0 ||
+          (im.crop &&
+           (im.crop->left < 0 || im.crop->right > im.width || im.crop->left >= im.crop->right)))
+        std::abort();
+    for (const PtoMask& m : p.masks)
+      if (m.xy.size() < 6 || m.xy.size() % 2 || m.image >= static_cast<int>(p.images.size()))
+        std::abort();
+    // Small canvases only: the extent's miniature is at most 180 px a side whatever the canvas.
+    StitchPlan plan;
+    plan.project = p;
+    plan.pano = parse_spec(pano_spec(p));
+    plan.canvas = {p.pano.width, p.pano.height};
+    make_projection(*plan.pano, plan.canvas);
+    for (size_t i = 0; i < p.images.size() && i < 4; ++i) {
+      const PtoImage& im = p.images[i];
+      make_projection(parse_spec(image_spec(p, im)), {im.width, im.height});
+      const PixelRect r = layer_extent(plan, static_cast<int>(i));
+      if (r.width() < 0 || r.x0 < 0 || r.x1 > plan.canvas.width || r.y1 > plan.canvas.height)
+        std::abort();
+      pano_exclusions(p, static_cast<int>(i));
+      image_masks(p, static_cast<int>(i));
+    }
+  } catch (const Error&) {
+  }
+  return 0;
+}
