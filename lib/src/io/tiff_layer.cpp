@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string_view>
 #include <vector>
 
 #include "base/parallel.hpp"
@@ -45,8 +46,8 @@ int64_t strip_rows(const Image& im) {
 
 }  // namespace
 
-std::string encode_tiff_layer(const Image& layer, const TiffPlacement& place,
-                              TiffCompression compression, int threads) {
+TiffLayerFile encode_tiff_layer(const Image& layer, const TiffPlacement& place,
+                                TiffCompression compression, int threads) {
   static_assert(std::endian::native == std::endian::little,
                 "the writer lays out little-endian words");
   const int ch = layer.channels();
@@ -55,24 +56,28 @@ std::string encode_tiff_layer(const Image& layer, const TiffPlacement& place,
     throw InternalError("a layer's samples are uint8, uint16 or float");
   const Size s = layer.size();
   const int64_t rows = strip_rows(layer), strips = (s.height + rows - 1) / rows;
-  std::vector<std::string> data(static_cast<size_t>(strips));
+  TiffLayerFile file;
+  // Uncompressed strips are the image's rows as they are (one piece, not copied).
+  std::vector<std::string_view> data(static_cast<size_t>(strips));
+  if (compression == TiffCompression::Deflate) file.strips.resize(static_cast<size_t>(strips));
   parallel_tasks(strips, threads, [&](int64_t k, int) {
     const int64_t y0 = k * rows, y1 = std::min(s.height, y0 + rows);
     const auto* first = reinterpret_cast<const Bytef*>(layer.row(y0));
     const auto n = static_cast<uLong>(static_cast<size_t>(y1 - y0) * layer.row_bytes());
-    std::string& out = data[static_cast<size_t>(k)];
     if (compression == TiffCompression::None) {
-      out.assign(reinterpret_cast<const char*>(first), n);
+      data[static_cast<size_t>(k)] = {reinterpret_cast<const char*>(first), n};
       return;
     }
+    std::string& out = file.strips[static_cast<size_t>(k)];
     uLongf size = compressBound(n);
     out.resize(size);
     if (compress2(reinterpret_cast<Bytef*>(out.data()), &size, first, n, 6) != Z_OK)
       throw Error("cannot compress a layer's strip (zlib)");
     out.resize(size);
+    data[static_cast<size_t>(k)] = out;
   });
   uint64_t total = 8;
-  for (const std::string& d : data) total += d.size();
+  for (const std::string_view d : data) total += d.size();
   if (total + 4096 + 8 * static_cast<uint64_t>(strips) > 0xFFFFFFFFull)
     throw Error("a layer of " + std::to_string(s.width) + "x" + std::to_string(s.height) +
                 " would pass the 4 GiB of a TIFF: give a smaller canvas or a crop");
@@ -81,7 +86,7 @@ std::string encode_tiff_layer(const Image& layer, const TiffPlacement& place,
   const uint32_t format = layer.type() == PixelType::F32 ? 3 : 1;
   std::vector<uint32_t> offsets, counts;
   uint32_t at = 8;
-  for (const std::string& d : data) {
+  for (const std::string_view d : data) {
     offsets.push_back(at);
     counts.push_back(static_cast<uint32_t>(d.size()));
     at += static_cast<uint32_t>(d.size());
@@ -112,15 +117,12 @@ std::string encode_tiff_layer(const Image& layer, const TiffPlacement& place,
   };
   // The IFD after the strips; values that do not fit its 4 bytes after it.
   const uint32_t ifd = at;
-  uint32_t extra = ifd + 2 + 12 * static_cast<uint32_t>(tags.size()) + 4;
-  std::string out;
-  out.reserve(static_cast<size_t>(extra) + 64 + 16 * static_cast<size_t>(strips));
-  out.append("II", 2);
-  put16(out, 42);
-  put32(out, ifd);
-  for (const std::string& d : data) out += d;
-  data.clear();
-  std::string tail;
+  const uint32_t extra = ifd + 2 + 12 * static_cast<uint32_t>(tags.size()) + 4;
+  file.head.append("II", 2);
+  put16(file.head, 42);
+  put32(file.head, ifd);
+  std::string& out = file.tail;
+  std::string values;
   put16(out, static_cast<uint16_t>(tags.size()));
   for (const Entry& e : tags) {
     put16(out, e.tag);
@@ -134,13 +136,23 @@ std::string encode_tiff_layer(const Image& layer, const TiffPlacement& place,
       value.resize(4, '\0');
       out += value;
     } else {
-      put32(out, extra + static_cast<uint32_t>(tail.size()));
-      tail += value;
-      if (tail.size() % 2) tail += '\0';  // word boundaries
+      put32(out, extra + static_cast<uint32_t>(values.size()));
+      values += value;
+      if (values.size() % 2) values += '\0';  // word boundaries
     }
   }
   put32(out, 0);  // no next IFD
-  out += tail;
+  out += values;
+  if (compression == TiffCompression::None)
+    file.pixels = {reinterpret_cast<const char*>(layer.data()), layer.byte_size()};
+  return file;
+}
+
+std::vector<std::string_view> TiffLayerFile::pieces() const {
+  std::vector<std::string_view> out{head};
+  if (strips.empty()) out.push_back(pixels);
+  out.insert(out.end(), strips.begin(), strips.end());
+  out.push_back(tail);
   return out;
 }
 

@@ -215,8 +215,10 @@ Report run(const Arguments& args, const JobEvents& events) {
         events.warning(l.file + ": no pixel on the panorama's canvas (no layer written)");
       continue;
     }
-    set.add(l.output, encode_tiff_layer(r.image, {r.x, r.y, plan.canvas}, plan.compression,
-                                        plan.options.threads));
+    const TiffLayerFile file =
+        encode_tiff_layer(r.image, {r.x, r.y, plan.canvas}, plan.compression, plan.options.threads);
+    const std::vector<std::string_view> pieces = file.pieces();
+    set.add(l.output, pieces);
     if (events.line)
       events.line(l.output + ": " + size_text(r.image.size()) + " at " + std::to_string(r.x) + "," +
                   std::to_string(r.y) + " of " + size_text(plan.canvas));
