@@ -308,6 +308,33 @@ TEST(LayerMasks, PolygonsCropsAndWhereEachMaskTypeApplies) {
   EXPECT_EQ(image_masks(p, 0).size(), 2u);  // its t2 and its t4
 }
 
+// The image's alpha: cleared exactly where the crop and the pixel-centre polygon tests say, for
+// a file at the project's size and one twice as large (its centres mapped back).
+TEST(LayerMasks, TheSourcesAlphaIsThePerPixelTests) {
+  const PtoProject p = parse_pto(
+      "p f2 w400 h200 v360\ni w40 h30 f0 v50 S3,37,2,27 n\"a\"\n"
+      "k i0 t0 p\"5 5 30 4 20 25 12 15\"\nk i0 t4 p\"25 20 39 20 39 29 25 29 32 24\"\n",
+      "a.pto");
+  for (const double scale : {1.0, 2.0}) {
+    const Size size{static_cast<int64_t>(40 * scale), static_cast<int64_t>(30 * scale)};
+    Image im(size, 2, PixelType::U8, 1);
+    for (int64_t y = 0; y < size.height; ++y)
+      for (int64_t x = 0; x < size.width; ++x) test::set(im, x, y, 1, 1.0);
+    mask_source(p, 0, scale, scale, im);
+    int64_t cleared = 0;
+    for (int64_t y = 0; y < size.height; ++y)
+      for (int64_t x = 0; x < size.width; ++x) {
+        const double hx = (x + 0.5) / scale - 0.5, hy = (y + 0.5) / scale - 0.5;
+        const bool keep = inside_crop(p.images[0], hx, hy) &&
+                          !inside_polygon(p.masks[0].xy, hx, hy) &&
+                          !inside_polygon(p.masks[1].xy, hx, hy);
+        ASSERT_EQ(test::get(im, x, y, 1), keep ? 255 : 0) << scale << " " << x << "," << y;
+        cleared += !keep;
+      }
+    EXPECT_GT(cleared, 300 * scale * scale);
+  }
+}
+
 class Stitch : public TempDirTest {
  protected:
   std::string project(const std::string& text) {
@@ -340,6 +367,23 @@ TEST_F(Stitch, AnEquirectImageTurnedAQuarterIsItsRolledPixels) {
         ASSERT_EQ(test::get(r.image, x, y, 3), 255);
       }
   }
+}
+
+// Layers keep each image's samples unless the project (T) or --depth says otherwise.
+TEST_F(Stitch, LayersKeepTheImagesDepthUnlessTold) {
+  write_image(test::pattern({60, 40}, 3, PixelType::U16, -1), path("deep.png"), {});
+  const std::string body = "i w60 h40 f0 v50 r0 p0 y0 n\"deep.png\"\n";
+  const auto depth_of = [&](const std::string& pano,
+                            std::vector<std::pair<const char*, OptionValue>> more) {
+    more.push_back({"project", project(pano + body)});
+    more.push_back({"output", path("")});
+    const StitchPlan plan = plan_stitch(test::job_args("stitch", more), false);
+    return render_layer(plan, plan.layers[0]).image.type();
+  };
+  EXPECT_EQ(depth_of("p f2 w400 h200 v360\n", {}), PixelType::U16);
+  EXPECT_EQ(depth_of("p f2 w400 h200 v360 T\"UINT8\"\n", {}), PixelType::U8);
+  EXPECT_EQ(depth_of("p f2 w400 h200 v360 T\"UINT8\"\n", {{"depth", std::string("float")}}),
+            PixelType::F32);
 }
 
 // The job: one layer file per image, placed where the render says; refusals leave nothing.

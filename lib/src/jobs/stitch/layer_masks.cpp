@@ -44,14 +44,20 @@ bool inside_include_clip(const PtoImage& im, double x, double y) {
          y >= static_cast<double>(r.top) && y <= static_cast<double>(r.bottom);
 }
 
-bool inside_polygon(const std::vector<double>& xy, double x, double y) {
-  bool in = false;
+std::vector<double> crossings(const std::vector<double>& xy, double y) {
+  std::vector<double> out;
   const size_t n = xy.size() / 2;
   for (size_t i = 0, j = n - 1; i < n; j = i++) {
     const double xi = xy[2 * i], yi = xy[2 * i + 1], xj = xy[2 * j], yj = xy[2 * j + 1];
-    if ((yi > y) != (yj > y) && x < (xj - xi) * (y - yi) / (yj - yi) + xi) in = !in;
+    if ((yi > y) != (yj > y)) out.push_back((xj - xi) * (y - yi) / (yj - yi) + xi);
   }
-  return in;
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+bool inside_polygon(const std::vector<double>& xy, double x, double y) {
+  const std::vector<double> c = crossings(xy, y);
+  return (c.end() - std::upper_bound(c.begin(), c.end(), x)) % 2 == 1;
 }
 
 std::vector<const PtoMask*> image_masks(const PtoProject& p, int index) {
@@ -78,16 +84,23 @@ void mask_source(const PtoProject& p, int index, double sx, double sy, Image& so
   const std::vector<const PtoMask*> masks = image_masks(p, index);
   if (!im.crop && masks.empty()) return;
   parallel_rows(source.size().height, 0, [&](int64_t y0, int64_t y1) {
-    for (int64_t y = y0; y < y1; ++y)
+    std::vector<std::vector<double>> rows(masks.size());
+    std::vector<size_t> next(masks.size());
+    for (int64_t y = y0; y < y1; ++y) {
+      // The project's position of the file's pixel centres, in Hugin's coordinates; each mask's
+      // crossings of the row, passed left to right (inside: an odd number of them to the right).
+      const double hy = (static_cast<double>(y) + 0.5) / sy - 0.5;
+      for (size_t k = 0; k < masks.size(); ++k) rows[k] = crossings(masks[k]->xy, hy), next[k] = 0;
       for (int64_t x = 0; x < source.size().width; ++x) {
-        // The project's position of the file's pixel centre, in Hugin's coordinates.
-        const double hx = (static_cast<double>(x) + 0.5) / sx - 0.5,
-                     hy = (static_cast<double>(y) + 0.5) / sy - 0.5;
+        const double hx = (static_cast<double>(x) + 0.5) / sx - 0.5;
         bool keep = inside_crop(im, hx, hy);
-        for (size_t k = 0; keep && k < masks.size(); ++k)
-          keep = !inside_polygon(masks[k]->xy, hx, hy);
+        for (size_t k = 0; k < masks.size(); ++k) {
+          while (next[k] < rows[k].size() && rows[k][next[k]] <= hx) ++next[k];
+          if ((rows[k].size() - next[k]) % 2 == 1) keep = false;
+        }
         if (!keep) clear_alpha(source, x, y);
       }
+    }
   });
 }
 

@@ -21,7 +21,10 @@ bool inside_crop(const PtoImage& image, double x, double y);
 // (Panorama::transferMask): its crop rectangle (the frame without one), or its crop circle, 2 px
 // inside where that is over 10 px.
 bool inside_include_clip(const PtoImage& image, double x, double y);
-// Whether (x, y) is inside the polygon x0 y0 x1 y1 ... (even-odd rule).
+// Where the polygon x0 y0 x1 y1 ... crosses the line at y, sorted; (x, y) is inside it (the
+// even-odd rule) where an odd number of them lie right of x.
+std::vector<double> crossings(const std::vector<double>& xy, double y);
+bool inside_polygon(const std::vector<double>& xy, double x, double y);
 bool inside_polygon(const std::vector<double>& xy, double x, double y);
 
 // The image-space masks of image `index`: its exclude masks (t0, t2) and its lens's (t4).

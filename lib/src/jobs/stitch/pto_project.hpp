@@ -43,7 +43,7 @@ struct PtoPanorama {
   double hfov = 0;
   std::optional<PtoRect> crop;  // S
   std::vector<double> params;   // P"..."
-  std::string depth;            // T"UINT8" | "UINT16" | "FLOAT" ("": UINT8)
+  std::string depth;            // T"UINT8" | "UINT16" | "FLOAT" ("": the images' own)
   std::string output;           // n"TIFF_m c:LZW ..."
 };
 

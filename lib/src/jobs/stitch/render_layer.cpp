@@ -140,12 +140,13 @@ RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
   // Before the file is read: its samples (floats where the layer is), the part, the canvas.
   const ImageInfo info = read_image_info(l.file);
   const int channels = info.channels == 1 || info.channels == 3 ? info.channels + 1 : info.channels;
-  const PixelType work = plan.depth == PixelType::F32 ? PixelType::F32 : info.type;
-  require_job_memory(
-      geometry, channels, work, plan.options,
-      image_bytes(l.size, channels, bytes_of(work)) +
-          (plan.cropped ? 0 : image_bytes(plan.canvas, channels, bytes_of(plan.depth))),
-      "the image and the canvas");
+  const PixelType out =
+      plan.depth.value_or(info.type == PixelType::F16 ? PixelType::F32 : info.type);
+  const PixelType work = out == PixelType::F32 ? PixelType::F32 : info.type;
+  require_job_memory(geometry, channels, work, plan.options,
+                     image_bytes(l.size, channels, bytes_of(work)) +
+                         (plan.cropped ? 0 : image_bytes(plan.canvas, channels, bytes_of(out))),
+                     "the image and the canvas");
   ConvertOptions with_alpha = plan.options;
   with_alpha.add_alpha = true;
   Image storage;
@@ -163,7 +164,7 @@ RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
                {extent.x0 - made.x0, extent.y0 - made.y0, extent.x1 - made.x0, extent.y1 - made.y0},
                plan.options.threads);
   if (!window) part = crop(part, extent);
-  if (part.type() != plan.depth) part = convert_pixels(part, plan.depth);
+  if (part.type() != out) part = convert_pixels(part, out);
   if (plan.cropped) return {std::move(part), extent.x0, extent.y0};
   Image canvas(plan.canvas, part.channels(), part.type(), part.channels() - 1);
   for (int64_t y = 0; y < part.size().height; ++y)

@@ -29,7 +29,7 @@ struct StitchPlan {
   Size canvas;
   std::vector<StitchLayer> layers;  // the images rendered, in the project's order
   ConvertOptions options;           // interp, antialias (off unless given), engine, threads, memory
-  PixelType depth = PixelType::U8;
+  std::optional<PixelType> depth;   // none: each image's own (as nona, without -p or T)
   TiffCompression compression = TiffCompression::Deflate;
   bool cropped = true;  // layers cut to their extent (n"... r:CROP"), else the whole canvas
   bool overwrite = false;
@@ -41,9 +41,10 @@ StitchPlan plan_stitch(const Arguments& args, bool files = true);
 // The part of the canvas nona gives image `index` (layer_extent.cpp); empty if none.
 PixelRect layer_extent(const StitchPlan& plan, int index);
 
-// A layer: RGBA (gray + alpha for a gray image) of plan.depth, alpha 0 or full (nona's rule: a
-// pixel is kept where its kernel's taps with alpha hold over 0.2 of its weight) within its
-// extent, cut to the extent where plan.cropped, at (x, y) on the canvas; empty if no extent.
+// A layer: RGBA (gray + alpha for a gray image) of plan.depth (else the image's), alpha 0 or full
+// (nona's rule: a pixel is kept where its kernel's taps with alpha hold over 0.2 of its weight)
+// within its extent, cut to the extent where plan.cropped, at (x, y) on the canvas; empty if no
+// extent.
 struct RenderedLayer {
   Image image;
   int64_t x = 0, y = 0;

@@ -36,8 +36,8 @@ OptionDef interp_row() {
 
 OptionDef depth_row() {
   OptionDef r = with_help(write_option("depth"),
-                          "layer samples: uint8|uint16|float; default: the project's T (UINT8 "
-                          "unless it says UINT16 or FLOAT)");
+                          "layer samples: uint8|uint16|float; default: the project's T, else each "
+                          "image's own (as nona)");
   r.choices = "uint8|uint16|float";
   return r;
 }
@@ -100,10 +100,11 @@ Interp project_interp(int i) {
   }
 }
 
-PixelType depth_of(const Arguments& args, const PtoProject& p) {
+std::optional<PixelType> depth_of(const Arguments& args, const PtoProject& p) {
   const std::string given = args.optional_text("depth").value_or("");
   const std::string d = given.empty() ? p.pano.depth : given;
-  if (d.empty() || d == "UINT8" || d == "uint8") return PixelType::U8;
+  if (d.empty()) return std::nullopt;
+  if (d == "UINT8" || d == "uint8") return PixelType::U8;
   if (d == "UINT16" || d == "uint16") return PixelType::U16;
   if (d == "FLOAT" || d == "float") return PixelType::F32;
   throw Error("depth: " + d + " (a layer holds uint8, uint16 or float)");
@@ -160,7 +161,12 @@ StitchPlan plan_stitch(const Arguments& args, bool files) {
   const std::string prefix = args.text("output");
   for (size_t i = 0; i < p.images.size(); ++i) {
     const PtoImage& im = p.images[i];
-    if (im.disabled || (only && static_cast<int64_t>(i) != *only)) continue;
+    if (only && static_cast<int64_t>(i) != *only) continue;
+    if (im.disabled && only)
+      throw Error("image: " + std::to_string(*only) +
+                  " is disabled in the project (#-hugin disabled before line " +
+                  std::to_string(im.line) + ")");
+    if (im.disabled) continue;
     StitchLayer l;
     l.index = static_cast<int>(i);
     l.file = given.empty() ? (folder / im.name).string() : given[i];
