@@ -1522,7 +1522,8 @@ def test_a_broadcast_array_is_counted_before_it_is_copied():
                           pp.convert(np.ascontiguousarray(small), "equirect", "fisheye", size=(16, 16)))
 
 
-@pytest.mark.parametrize("call", ["tiles", "views", "convert", "convert_file_video", "convert_file_video_pyav"])
+@pytest.mark.parametrize("call", ["tiles", "views", "convert", "convert_file_video", "convert_file_video_pyav",
+                                  "stitch", "stitch_layers"])
 def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
     env = child_env(call.endswith("pyav"))
     clip = tmp_path / "clip.mkv"
@@ -1538,6 +1539,10 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
         frames.append(str(tmp_path / f"frame{k}.jpg"))
         os.link(big, frames[-1])
     out = tmp_path / "out"
+    project = tmp_path / "p.pto"  # (stitch: four equirect images onto a 12000x6000 canvas)
+    if call.startswith("stitch"):
+        project.write_text('p f2 w12000 h6000 v360 n"TIFF_m c:NONE r:CROP"\n' + "".join(
+            f'i w4096 h2048 f4 v360 r0 p0 y{90 * k} n"big.jpg"\n' for k in range(4)))
     # Each 20 to 40 s uninterrupted here (lanczos3, 4x4 samples a pixel): far from done at the
     # signal on a machine several times faster.
     slow = "threads=1, interp='lanczos3', antialias=4"
@@ -1545,7 +1550,9 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
             "views": f"pp.views(frames, {str(out)!r}, size=(3000, 3000), {slow})",
             "convert": f"pp.convert(a, 'equirect', 'fisheye', size=(12000, 12000), {slow})",
             "convert_file_video": f"pp.convert_file({str(clip)!r}, {str(out) + '.mkv'!r}, dst='equirect', "
-                                  f"size=(4096, 2048), codec='ffv1', {slow})"}
+                                  f"size=(4096, 2048), codec='ffv1', {slow})",
+            "stitch": f"pp.stitch({str(project)!r}, {str(out)!r}, {slow})",
+            "stitch_layers": f"pp.stitch_layers({str(project)!r}, {slow})"}
     body["convert_file_video_pyav"] = body["convert_file_video"]
     body = body[call]
     code = ("import os, sys, time, numpy as np, panoproj as pp\n"
@@ -1564,7 +1571,8 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
     out_text, err = p.communicate(timeout=60)
     assert "interrupted" in out_text, out_text + err
     assert time.perf_counter() - sent < 3, "Ctrl-C took effect late"
-    made = [pathlib.Path(f).name for f in frames] + (["clip.mkv"] if clip.exists() else [])
+    made = [pathlib.Path(f).name for f in frames] + (["clip.mkv"] if clip.exists() else []) + (
+        ["p.pto"] if project.exists() else [])
     assert sorted(os.listdir(tmp_path)) == sorted(made)  # nothing written, no temporary
 
 
@@ -2121,6 +2129,17 @@ def test_stitch_layers_need_overwrite_and_a_full_disk_leaves_none(cli, stitch_fo
     assert not [p for p in stitch_folder.iterdir() if p.name.startswith(".panoproj-")]
     assert run(cli, ["stitch", "t.pto", "l_", "--overwrite"], stitch_folder).code == 0
     assert (stitch_folder / "l_0001.tif").read_bytes()[:4] == b"II*\x00"
+
+
+def test_stitch_a_layer_that_is_a_link_is_replaced_not_its_target(cli, stitch_folder):
+    (stitch_folder / "t.pto").write_text(STITCH_PANO + STITCH_IMAGE)
+    target = stitch_folder / "elsewhere.tif"
+    target.write_bytes(b"keep")
+    os.symlink(target, stitch_folder / "l_0000.tif")
+    expect_refused(run(cli, ["stitch", "t.pto", "l_"], stitch_folder), "l_0000.tif")
+    assert run(cli, ["stitch", "t.pto", "l_", "--overwrite"], stitch_folder).code == 0
+    assert target.read_bytes() == b"keep"
+    assert not (stitch_folder / "l_0000.tif").is_symlink()
 
 
 @pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")
