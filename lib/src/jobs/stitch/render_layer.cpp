@@ -16,23 +16,11 @@
 namespace panoproj {
 namespace {
 
-// Per-type access to a pixel's alpha (the last channel) in unit range, and clearing a pixel.
-template <class T>
-struct Samples {
-  static double unit() {
-    if constexpr (std::is_same_v<T, uint8_t>)
-      return 255.0;
-    else if constexpr (std::is_same_v<T, uint16_t>)
-      return 65535.0;
-    else
-      return 1.0;
-  }
-};
-
 template <class T>
 void finish_rows(Image& canvas, const PixelRect& roi, int64_t y0, int64_t y1, PixelRect& kept) {
   const int ch = canvas.channels();
-  const double threshold = 0.2 * Samples<T>::unit();
+  const double unit = unit_of(canvas.type());
+  const double threshold = 0.2 * unit;
   for (int64_t y = y0; y < y1; ++y) {
     auto* row = reinterpret_cast<T*>(canvas.row(y));
     for (int64_t x = 0; x < canvas.size().width; ++x) {
@@ -43,7 +31,7 @@ void finish_rows(Image& canvas, const PixelRect& roi, int64_t y0, int64_t y1, Pi
         std::fill(px, px + ch, T{});
         continue;
       }
-      px[ch - 1] = static_cast<T>(Samples<T>::unit());
+      px[ch - 1] = static_cast<T>(unit);
       kept.x0 = std::min(kept.x0, x), kept.x1 = std::max(kept.x1, x + 1);
       kept.y0 = std::min(kept.y0, y), kept.y1 = std::max(kept.y1, y + 1);
     }
