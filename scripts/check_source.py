@@ -112,6 +112,7 @@ def check_layers():
 
 FORMAT_FILES = re.compile(r"lib/src/io/(formats\.[ch]pp|\w+_codec\.cpp|oiio_plugin\.cpp|oiio/backend\.cpp)$|python/src/oiio_package\.cpp$")
 FORMAT_LITERAL = re.compile(r'(["\'])\.?(jpe?g|png|pnm|ppm|pgm|tiff?|openexr|exr|hdr)\1', re.I)
+RANGE = re.compile(r'(["\'])ldr\1')
 GENERATED = re.compile(r"python/panoproj/(_declared|_jobs)\.py$")  # made from the tables (generate_api.py)
 
 
@@ -150,8 +151,10 @@ def python_lines(folder, skip):
 def check_formats():
     lines = [*code_lines(("lib/src", "lib/include", "tools", "python/src"), FORMAT_FILES),
              *python_lines("python/panoproj", GENERATED)]
+    # "hdr" beside "ldr" is a dynamic range (stitch's output_mode), not the Radiance format.
     return [f"{rel}:{n}: format literal {m.group(0)} outside the format table (io/formats.hpp)"
-            for rel, n, code in lines if (m := FORMAT_LITERAL.search(code))]
+            for rel, n, code in lines
+            if (m := FORMAT_LITERAL.search(code)) and not (m.group(2).lower() == "hdr" and RANGE.search(code))]
 
 
 def projection_types():

@@ -63,7 +63,10 @@ TEST(PtoProject, ReadsHuginsLinesLinksAndMasks) {
   EXPECT_EQ(a.roll, 1.5);
   EXPECT_EQ(a.d, 12);
   EXPECT_FALSE(a.disabled);
-  EXPECT_FALSE(a.photometry);  // Eev equals the panorama's E, no vignetting
+  EXPECT_EQ(a.exposure, 11.5);
+  EXPECT_EQ(p.pano.exposure, 11.5);
+  EXPECT_FALSE(p.pano.hdr);
+  EXPECT_EQ(a.vignetting_mode, 5);
   ASSERT_TRUE(a.crop);
   EXPECT_EQ(a.crop->left, 10);
   // Links take image 0's values; the lens and stack are image 0's.
@@ -75,7 +78,8 @@ TEST(PtoProject, ReadsHuginsLinesLinksAndMasks) {
   EXPECT_EQ(b.yaw, 70);
   EXPECT_EQ(b.lens, 0);
   EXPECT_EQ(b.stack, 0);
-  EXPECT_TRUE(b.photometry);  // Eev12 against E11.5
+  EXPECT_EQ(b.exposure, 12);
+  EXPECT_EQ(b.red, 1);  // Er=0: image 0's
   EXPECT_EQ(p.images[2].lens, 2);
   EXPECT_EQ(p.images[2].stack, 2);
   ASSERT_EQ(p.masks.size(), 2u);

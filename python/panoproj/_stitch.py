@@ -19,11 +19,13 @@ if TYPE_CHECKING:
 
 class Layer(NamedTuple):
     """One image's layer: its index in the project, its pixels (H x W x 4, or x 2 for a gray image;
-    alpha last, 0 or full) and the canvas position of its top-left pixel."""
+    alpha last, 0 or full), the canvas position of its top-left pixel and, for HDR layers, nona's
+    weights (H x W uint8: each kept pixel's largest code value, the ``_gray.pgm`` file's)."""
 
     image: int
     pixels: np.ndarray
     offset: Tuple[int, int]
+    weights: Optional[np.ndarray] = None
 
 
 class Layers(NamedTuple):
@@ -41,14 +43,19 @@ def stitch_layers(
     image: Optional[int] = None,
     extent: Optional[Literal["crop", "canvas"]] = None,
     depth: Optional[Literal["uint8", "uint16", "float"]] = None,
+    exposure: Optional[float] = None,
+    ignore_exposure: bool = False,
+    output_mode: Optional[Literal["ldr", "hdr"]] = None,
     **options: Unpack[StitchOptions],
 ) -> Layers:
     """Remaps a Hugin project's (.pto) images onto its panorama as ``stitch`` does, returning the
     layers as arrays with their offsets instead of writing them."""
-    given = {"project": project, "output": "", "images": images, "image": image, "extent": extent, "depth": depth}
+    given = {"project": project, "output": "", "images": images, "image": image, "extent": extent, "depth": depth,
+             "exposure": exposure, "ignore_exposure": ignore_exposure, "output_mode": output_mode}
     args = _job.arguments("stitch", given, dict(options))
     layers, canvas = _core.stitch_layers(args)
-    return Layers([Layer(i, a, (int(x), int(y))) for i, a, (x, y) in layers], (int(canvas[0]), int(canvas[1])))
+    return Layers([Layer(i, a, (int(x), int(y)), w) for i, a, (x, y), w in layers],
+                  (int(canvas[0]), int(canvas[1])))
 
 
 __all__ = ["stitch_layers", "Layer", "Layers"]

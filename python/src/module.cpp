@@ -630,9 +630,12 @@ void bind_jobs(py::module_& m) {
       }
     }
     py::list out;
-    for (auto& [index, r] : layers)
-      out.append(
-          py::make_tuple(index, array_of(std::move(r.image), false), py::make_tuple(r.x, r.y)));
+    for (auto& [index, r] : layers) {
+      py::object weights = py::none();
+      if (r.weights.size().width > 0) weights = array_of(std::move(r.weights), false);
+      out.append(py::make_tuple(index, array_of(std::move(r.image), false),
+                                py::make_tuple(r.x, r.y), weights));
+    }
     return py::make_tuple(out, py::make_tuple(canvas.width, canvas.height));
   });
 }

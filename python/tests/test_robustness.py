@@ -2079,6 +2079,27 @@ STITCH = [
      False),
     ("depth", STITCH_PANO + STITCH_IMAGE, ["--depth", "half"], "depth", False),
     ("interp", STITCH_PANO + STITCH_IMAGE, ["--interp", "sinc"], "sinc", False),
+    # Photometry (nona's): responses that are not, vignetting that reaches 0, absurd exposures.
+    ("response_not_monotonic", STITCH_PANO + 'i w64 h48 f0 v50 Ra-9 n"a.png"\n', [], "not monotonic", False),
+    ("response_huge", STITCH_PANO + 'i w64 h48 f0 v50 Rb1e300 n"a.png"\n', [], "must be a finite number", False),
+    ("response_nan", STITCH_PANO + 'i w64 h48 f0 v50 Rcnan n"a.png"\n', [], "token Rcnan: expected a finite number",
+     False),
+    ("response_type", STITCH_PANO + 'i w64 h48 f0 v50 Rt3 n"a.png"\n', [], "token Rt3: expected 0 (EMoR) or 1", False),
+    ("vignetting_reaches_zero", STITCH_PANO + 'i w64 h48 f0 v50 Va1 Vb-1.2 Vm5 n"a.png"\n', [],
+     "inside the image: nothing can be divided by it", False),
+    ("vignetting_negative", STITCH_PANO + 'i w64 h48 f0 v50 Va-1 Vm5 n"a.png"\n', [], "falls to -1", False),
+    ("vignetting_centre_far", STITCH_PANO + 'i w64 h48 f0 v50 Va1 Vb0.1 Vx1e9 Vm5 n"a.png"\n', [],
+     "vignetting centre shift", False),
+    ("white_balance_zero", STITCH_PANO + 'i w64 h48 f0 v50 Er0 n"a.png"\n', [], "white balance Er0", False),
+    ("white_balance_negative", STITCH_PANO + 'i w64 h48 f0 v50 Eb-2 n"a.png"\n', [], "white balance Eb-2", False),
+    ("exposure_apart", STITCH_PANO + 'i w64 h48 f0 v50 Eev1e5 n"a.png"\n', [], "expected finite EVs at most 128 apart",
+     False),
+    ("output_mode", 'p f2 w256 h128 v360 R2\n' + STITCH_IMAGE, [], "token R2: expected a whole number in [0, 1]", False),
+    ("exposure_option_nan", STITCH_PANO + STITCH_IMAGE, ["--exposure", "nan"], "exposure: nan", False),
+    ("exposure_option_huge", STITCH_PANO + STITCH_IMAGE, ["--exposure", "1e9"], "exposure: ", False),
+    ("exposure_and_ignore", STITCH_PANO + STITCH_IMAGE, ["--exposure", "1", "--ignore-exposure"],
+     "exposure and ignore_exposure: give one", False),
+    ("output_mode_option", STITCH_PANO + STITCH_IMAGE, ["--output-mode", "log"], "log", False),
 ]
 
 

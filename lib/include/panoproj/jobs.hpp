@@ -41,6 +41,7 @@ class Arguments {
       std::string_view name) const;  // none: not given, no default
   bool flag(std::string_view name) const;
   double angle(std::string_view name) const;
+  std::optional<double> optional_angle(std::string_view name) const;  // none: not given, no default
   std::vector<std::string> paths(std::string_view name) const;
   // The conversion options (conversion_options()) given, through their setters, in order.
   ConvertOptions options() const;

@@ -209,6 +209,13 @@ double Arguments::angle(std::string_view name) const {
   return d ? std::get<double>(*d) : 0;
 }
 
+std::optional<double> Arguments::optional_angle(std::string_view name) const {
+  if (const OptionValue* v = find(name)) return std::get<double>(*v);
+  const auto d = default_of(row(name));
+  if (d) return std::get<double>(*d);
+  return std::nullopt;
+}
+
 std::vector<std::string> Arguments::paths(std::string_view name) const {
   if (const OptionValue* v = find(name)) return std::get<std::vector<std::string>>(*v);
   row(name);

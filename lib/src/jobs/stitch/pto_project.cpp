@@ -19,9 +19,9 @@ const std::vector<std::string_view> kPanoKeys{"f", "w", "h", "v", "E", "R",
                                               "S", "n", "k", "T", "P"};
 const std::vector<std::string_view> kOptionKeys{"g", "i", "f", "m", "p"};
 const std::vector<std::string_view> kImageKeys{
-    "TrX", "TrY", "TrZ", "Tpy", "Tpp", "Eev", "Ra", "Rb", "Rc", "Rd", "Re", "Er", "Eb",
-    "Va",  "Vb",  "Vc",  "Vd",  "Vx",  "Vy",  "Vm", "Vf", "w",  "h",  "f",  "v",  "y",
-    "p",   "r",   "j",   "a",   "b",   "c",   "d",  "e",  "g",  "t",  "S",  "C",  "n"};
+    "TrX", "TrY", "TrZ", "Tpy", "Tpp", "Eev", "Ra", "Rb", "Rc", "Rd", "Re", "Er", "Eb", "Va",
+    "Vb",  "Vc",  "Vd",  "Vx",  "Vy",  "Vm",  "Vf", "Rt", "w",  "h",  "f",  "v",  "y",  "p",
+    "r",   "j",   "a",   "b",   "c",   "d",   "e",  "g",  "t",  "S",  "C",  "n"};
 const std::vector<std::string_view> kMaskKeys{"i", "t", "p"};
 // Image values that may be links (=N), and those that make an image's lens.
 const std::vector<std::string_view> kLensKeys{"v", "a", "b", "c", "d", "e", "g", "t"};
@@ -144,7 +144,11 @@ void read_pano(const Reader& rd, std::string_view rest, PtoPanorama& p) {
     else if (t.key == "P") {
       std::istringstream in(t.text);
       for (std::string w; in >> w;) p.params.push_back(rd.number(Token{"P", w}));
-    } else if (t.key == "E" || t.key == "R" || t.key == "k") {
+    } else if (t.key == "E") {
+      p.exposure = rd.number(t);
+    } else if (t.key == "R") {
+      p.hdr = rd.integer(t, 0, 1) == 1;
+    } else if (t.key == "k") {
       rd.number(t);
     }
   }
@@ -161,15 +165,6 @@ struct PendingImage {
   std::map<std::string, double> values;
 };
 
-bool identity_photometry(const std::map<std::string, double>& v, double pano_exposure) {
-  const auto at = [&v](const char* k, double def) {
-    const auto i = v.find(k);
-    return i == v.end() ? def : i->second;
-  };
-  return at("Eev", pano_exposure) == pano_exposure && at("Er", 1) == 1 && at("Eb", 1) == 1 &&
-         at("Va", 1) == 1 && at("Vb", 0) == 0 && at("Vc", 0) == 0 && at("Vd", 0) == 0;
-}
-
 PendingImage read_image(const Reader& rd, std::string_view rest, bool disabled) {
   PendingImage p;
   PtoImage& im = p.image;
@@ -185,7 +180,14 @@ PendingImage read_image(const Reader& rd, std::string_view rest, bool disabled) 
     } else if (t.key == "C") {
       rd.fail("token C (a cut frame) is not supported: give the crop as S");
     } else if (t.key == "Vf") {
-      if (!t.text.empty()) rd.fail("token Vf (a flat-field image) is not supported");
+      im.flat_field = t.text;
+    } else if (t.key == "Vm") {
+      im.vignetting_mode = static_cast<int>(rd.integer(t, 0, 15));
+    } else if (t.key == "Rt") {
+      im.response_type = static_cast<int>(rd.integer(t, 0, 4));
+      if (im.response_type > 1)
+        rd.fail("token Rt" + t.text +
+                ": expected 0 (EMoR) or 1 (linear); Hugin has no other response in a project");
     } else if (t.key == "w") {
       im.width = rd.integer(t, 1, kMaxSide), has_w = true;
     } else if (t.key == "h") {
@@ -246,11 +248,20 @@ double& image_value(PtoImage& im, std::string_view key) {
   if (key == "e") return im.e;
   if (key == "g") return im.g;
   if (key == "t") return im.t;
+  if (key == "Eev") return im.exposure;
+  if (key == "Er") return im.red;
+  if (key == "Eb") return im.blue;
+  if (key == "Vx") return im.vignetting_x;
+  if (key == "Vy") return im.vignetting_y;
+  if (key.size() == 2 && key[0] == 'R' && key[1] >= 'a' && key[1] <= 'e')
+    return im.emor[static_cast<size_t>(key[1] - 'a')];
+  if (key.size() == 2 && key[0] == 'V' && key[1] >= 'a' && key[1] <= 'd')
+    return im.vignetting[static_cast<size_t>(key[1] - 'a')];
   return ignored;
 }
 
 // Links resolved to values (a chain followed to its end; a cycle refused), lenses grouped.
-void resolve(std::vector<PendingImage>& pending, const std::string& path, double pano_exposure) {
+void resolve(std::vector<PendingImage>& pending, const std::string& path) {
   const int n = static_cast<int>(pending.size());
   for (int i = 0; i < n; ++i) {
     PendingImage& p = pending[static_cast<size_t>(i)];
@@ -280,7 +291,7 @@ void resolve(std::vector<PendingImage>& pending, const std::string& path, double
     if (!values.count("v")) rd.fail("an image needs v (its field of view)");
     if (!(p.image.hfov > 0 && p.image.hfov <= 360))
       rd.fail("token v: expected a field of view in (0, 360]");
-    p.image.photometry = !identity_photometry(values, pano_exposure);
+    if (p.image.vignetting_mode != 5) p.image.vignetting = {1, 0, 0, 0};
   }
 }
 
@@ -294,7 +305,6 @@ PtoProject parse_pto(std::string_view text, const std::string& path) {
   project.path = path;
   std::vector<PendingImage> pending;
   bool has_pano = false, disabled = false;
-  double pano_exposure = 0;
   int line = 0;
   size_t pos = 0;
   while (pos < text.size()) {
@@ -323,8 +333,6 @@ PtoProject parse_pto(std::string_view text, const std::string& path) {
         const Reader rd(path, line, "p line");
         if (has_pano) rd.fail("a second p line");
         read_pano(rd, rest, project.pano);
-        for (const Token& t : rd.tokens(rest, kPanoKeys))
-          if (t.key == "E") pano_exposure = rd.number(t);
         has_pano = true;
         break;
       }
@@ -362,7 +370,7 @@ PtoProject parse_pto(std::string_view text, const std::string& path) {
   }
   if (!has_pano) throw Error(path + ": no p line (the panorama)");
   if (pending.empty()) throw Error(path + ": no i lines (the images)");
-  resolve(pending, path, pano_exposure);
+  resolve(pending, path);
   for (PendingImage& p : pending) project.images.push_back(std::move(p.image));
   for (const PtoMask& m : project.masks)
     if (m.image >= static_cast<int>(project.images.size()))

@@ -3,6 +3,7 @@
 // lines and Hugin's `#-hugin` image comments; v (optimizer variables) and c (control points)
 // lines are read past. Links (`v=0`: image 0's value) are resolved; every number is checked
 // finite and in range. Errors name the file, line and token ("a.pto:7: i line: token ...").
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -26,7 +27,15 @@ struct PtoImage {
   int lens = 0;   // the image its field of view (v: the lens) links to, itself if none
   std::optional<PtoRect> crop;  // S
   bool disabled = false;        // #-hugin disabled
-  bool photometry = false;      // an exposure, response or vignetting value other than the identity
+  // Photometry (Hugin's defaults where not given).
+  int response_type = 0;                         // Rt: 0 EMoR, 1 linear
+  std::array<double, 5> emor{};                  // Ra..Re
+  double exposure = 0;                           // Eev
+  double red = 1, blue = 1;                      // Er Eb
+  std::array<double, 4> vignetting{1, 0, 0, 0};  // Va..Vd, as Hugin reads them (below)
+  double vignetting_x = 0, vignetting_y = 0;     // Vx Vy
+  int vignetting_mode = 0;                       // Vm as written (0 if not)
+  std::string flat_field;                        // Vf as written
 };
 
 struct PtoMask {
@@ -45,6 +54,8 @@ struct PtoPanorama {
   std::vector<double> params;   // P"..."
   std::string depth;            // T"UINT8" | "UINT16" | "FLOAT" ("": the images' own)
   std::string output;           // n"TIFF_m c:LZW ..."
+  double exposure = 0;          // E: the output's exposure value
+  bool hdr = false;             // R1 (R0: LDR)
 };
 
 struct PtoProject {

@@ -11,6 +11,7 @@
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
+#include "panoproj/maps.hpp"
 #include "panoproj/projection.hpp"
 
 namespace panoproj {
@@ -106,10 +107,19 @@ void exclude(const StitchPlan& plan, int index, const Projection& pano, Image& c
 }
 
 Image crop(const Image& canvas, const PixelRect& box) {
-  Image out(box.size(), canvas.channels(), canvas.type(), canvas.channels() - 1, Image::Unfilled{});
+  Image out(box.size(), canvas.channels(), canvas.type(), canvas.alpha_channel(),
+            Image::Unfilled{});
   const size_t offset = static_cast<size_t>(box.x0) * canvas.pixel_bytes();
   for (int64_t y = box.y0; y < box.y1; ++y)
     std::memcpy(out.row(y - box.y0), canvas.row(y) + offset, out.row_bytes());
+  return out;
+}
+
+// `part` placed at `extent` on an empty canvas.
+Image on_canvas(const Image& part, Size canvas, const PixelRect& extent) {
+  Image out(canvas, part.channels(), part.type(), part.alpha_channel());
+  for (int64_t y = 0; y < part.size().height; ++y)
+    std::memcpy(out.pixel(extent.x0, extent.y0 + y), part.row(y), part.row_bytes());
   return out;
 }
 
@@ -130,10 +140,16 @@ RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
   const int channels = info.channels == 1 || info.channels == 3 ? info.channels + 1 : info.channels;
   const PixelType out =
       plan.depth.value_or(info.type == PixelType::F16 ? PixelType::F32 : info.type);
-  const PixelType work = out == PixelType::F32 ? PixelType::F32 : info.type;
+  const PhotometricStep& photometry = *l.photometry;
+  // Corrected samples are made in float from the interpolated codes, rounded only at the end.
+  const bool corrected = !photometry.identity() || out == PixelType::F32;
+  const PixelType work = corrected ? PixelType::F32 : info.type;
+  const bool positions = corrected && photometry.needs_positions();
+  const int64_t made_px = made.width() * made.height();
   require_job_memory(geometry, channels, work, plan.options,
                      image_bytes(l.size, channels, bytes_of(work)) +
-                         (plan.cropped ? 0 : image_bytes(plan.canvas, channels, bytes_of(out))),
+                         (plan.cropped ? 0 : image_bytes(plan.canvas, channels, bytes_of(out))) +
+                         (positions ? made_px * 8 : 0) + (plan.hdr ? made_px : 0),
                      "the image and the canvas");
   ConvertOptions with_alpha = plan.options;
   with_alpha.add_alpha = true;
@@ -151,13 +167,24 @@ RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
   finish_alpha(part,
                {extent.x0 - made.x0, extent.y0 - made.y0, extent.x1 - made.x0, extent.y1 - made.y0},
                plan.options.threads);
-  if (!window) part = crop(part, extent);
+  Image weights;
+  if (corrected) {
+    const Image at = positions ? build_map(geometry.source, geometry.target, geometry.rotation,
+                                           MapConvention::Panoproj, plan.options.threads)
+                               : Image();
+    photometry.apply(part, positions ? &at : nullptr, l.sx, l.sy, plan.hdr ? &weights : nullptr,
+                     plan.options.threads);
+  }
+  const PixelRect in_made{extent.x0 - made.x0, extent.y0 - made.y0, extent.x1 - made.x0,
+                          extent.y1 - made.y0};
+  if (!window) {
+    part = crop(part, in_made);
+    if (plan.hdr) weights = crop(weights, in_made);
+  }
   if (part.type() != out) part = convert_pixels(part, out);
-  if (plan.cropped) return {std::move(part), extent.x0, extent.y0};
-  Image canvas(plan.canvas, part.channels(), part.type(), part.channels() - 1);
-  for (int64_t y = 0; y < part.size().height; ++y)
-    std::memcpy(canvas.pixel(extent.x0, extent.y0 + y), part.row(y), part.row_bytes());
-  return {std::move(canvas), 0, 0};
+  if (plan.cropped) return {std::move(part), extent.x0, extent.y0, std::move(weights)};
+  return {on_canvas(part, plan.canvas, extent), 0, 0,
+          plan.hdr ? on_canvas(weights, plan.canvas, extent) : Image()};
 }
 
 }  // namespace panoproj

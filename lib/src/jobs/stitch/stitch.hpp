@@ -11,16 +11,19 @@
 #include "panoproj/jobs.hpp"
 #include "panoproj/options.hpp"
 #include "panoproj/spec.hpp"
+#include "photometry/photometric.hpp"
 
 namespace panoproj {
 
 struct StitchLayer {
-  int index = 0;                       // the project's image
-  std::string file;                    // its file
-  Size size;                           // the file's size
-  double sx = 1, sy = 1;               // the file's size over the project's
-  std::optional<ProjectionSpec> spec;  // its lens at the file's size
-  std::string output;                  // its layer's path
+  int index = 0;                              // the project's image
+  std::string file;                           // its file
+  Size size;                                  // the file's size
+  double sx = 1, sy = 1;                      // the file's size over the project's
+  std::optional<ProjectionSpec> spec;         // its lens at the file's size
+  std::string output;                         // its layer's path
+  std::string weights;                        // HDR: its weights' path (nona's PREFIX0000_gray.pgm)
+  std::optional<PhotometricStep> photometry;  // its samples' correction (photometric.hpp)
 };
 
 struct StitchPlan {
@@ -33,6 +36,7 @@ struct StitchPlan {
   TiffCompression compression = TiffCompression::Deflate;
   bool cropped = true;  // layers cut to their extent (n"... r:CROP"), else the whole canvas
   bool overwrite = false;
+  bool hdr = false;  // linear layers (the project's R1 or output_mode hdr), with weights
 };
 
 // files: the layers are written (their paths checked); else only made (Python's arrays).
@@ -44,10 +48,12 @@ PixelRect layer_extent(const StitchPlan& plan, int index);
 // A layer: RGBA (gray + alpha for a gray image) of plan.depth (else the image's), alpha 0 or full
 // (nona's rule: a pixel is kept where its kernel's taps with alpha hold over 0.2 of its weight)
 // within its extent, cut to the extent where plan.cropped, at (x, y) on the canvas; empty if no
-// extent.
+// extent. Its samples are corrected (layer.photometry) in float from the interpolated code values
+// unless the correction keeps them. weights: HDR layers' (photometric.hpp), the layer's size.
 struct RenderedLayer {
   Image image;
   int64_t x = 0, y = 0;
+  Image weights;
 };
 RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& layer);
 

@@ -8,11 +8,13 @@
 #include <optional>
 
 #include "io/atomic_output.hpp"
+#include "io/codec.hpp"
 #include "io/formats.hpp"
 #include "io/tiff_layer.hpp"
 #include "jobs/list.hpp"
 #include "jobs/stitch/layer_masks.hpp"
 #include "jobs/stitch/pano_spec.hpp"
+#include "jobs/stitch/pto_photometry.hpp"
 #include "jobs/stitch/pto_project.hpp"
 #include "jobs/stitch/stitch.hpp"
 #include "panoproj/convert.hpp"
@@ -65,6 +67,15 @@ const std::vector<OptionDef>& rows() {
            nullptr, "crop|canvas"},
           depth_row(),
           interp_row(),
+          {"exposure", OptionType::Angle, 0, "None",
+           "the layers' exposure value (EV), in place of the project's p line E (nona's -e)"},
+          {"ignore_exposure", OptionType::Flag, 0, "False",
+           "each layer at its image's own exposure (Eev): no exposure correction (nona's "
+           "--ignore-exposure)"},
+          {"output_mode", OptionType::Text, 0, "None",
+           "ldr (codes of Hugin's output response) | hdr (linear, with nona's weights "
+           "PREFIX0000_gray.pgm); default: the project's p line R (R0 ldr, R1 hdr), as nona's -r",
+           nullptr, "ldr|hdr"},
       },
       kUseStitch,
       {with_help(write_option("overwrite"), "replace existing layers"), command_option("quiet")});
@@ -122,10 +133,28 @@ TiffCompression compression_of(const Arguments& args, const PtoProject& p) {
   return c == "NONE" ? TiffCompression::None : TiffCompression::Deflate;
 }
 
-std::string layer_path(const std::string& prefix, size_t index) {
+std::string layer_path(const std::string& prefix, size_t index, std::string_view suffix) {
   char number[24];
   std::snprintf(number, sizeof number, "%04zu", index);
-  return prefix + number + std::string(kTiffFormat.extensions[0]);
+  return prefix + number + std::string(suffix);
+}
+
+PhotometricOutput output_of(const Arguments& args, const PtoProject& p) {
+  PhotometricOutput o = pano_output(p);
+  if (const auto m = args.optional_text("output_mode")) {
+    if (*m != "ldr" && *m != "hdr") throw Error("output_mode: " + *m + " (expected ldr or hdr)");
+    o.hdr = *m != "ldr";
+  }
+  if (const auto e = args.optional_angle("exposure")) {
+    if (args.flag("ignore_exposure"))
+      throw Error(
+          "exposure and ignore_exposure: give one (an exposure for every layer, or each "
+          "its own)");
+    if (!std::isfinite(*e) || std::fabs(*e) > 64)
+      throw Error("exposure: " + std::to_string(*e) + " (expected an EV within -64..64)");
+    o.exposure = *e;
+  }
+  return o;
 }
 
 }  // namespace
@@ -139,6 +168,9 @@ StitchPlan plan_stitch(const Arguments& args, bool files) {
   s.options.interp = args.optional_text("interp") ? parse_interp(*args.optional_text("interp"))
                                                   : project_interp(p.interpolator);
   s.depth = depth_of(args, p);
+  const PhotometricOutput output = output_of(args, p);
+  s.hdr = output.hdr;
+  if (s.hdr && !s.depth) s.depth = PixelType::F32;  // as nona's HDR output
   s.compression = compression_of(args, p);
   s.overwrite = args.flag("overwrite");
   const std::string extent = args.optional_text("extent").value_or(
@@ -170,7 +202,9 @@ StitchPlan plan_stitch(const Arguments& args, bool files) {
     StitchLayer l;
     l.index = static_cast<int>(i);
     l.file = given.empty() ? (folder / im.name).string() : given[i];
-    l.output = layer_path(prefix, i);
+    l.output = layer_path(prefix, i, kTiffFormat.extensions[0]);
+    // nona's HDR weights: PREFIX0000_gray.pgm.
+    if (s.hdr) l.weights = layer_path(prefix, i, "_gray" + std::string(kPnmFormat.extensions[1]));
     s.layers.push_back(std::move(l));
   }
   for (StitchLayer& l : s.layers) {
@@ -188,12 +222,20 @@ StitchPlan plan_stitch(const Arguments& args, bool files) {
                   ": another aspect cannot be scaled to it");
     l.spec = parse_spec(image_spec(p, im, l.sx, l.sy));
     make_projection(*l.spec, l.size);
+    PhotometricOutput out = output;
+    if (args.flag("ignore_exposure")) out.exposure = im.exposure;
+    l.photometry.emplace(image_photometry(p, im), out, Size{im.width, im.height},
+                         p.path + ":" + std::to_string(im.line) + ": i line");
     if (files) check_output_path(l.output, s.overwrite);
+    if (files && s.hdr) check_output_path(l.weights, s.overwrite);
   }
   if (s.layers.empty()) throw Error(p.path + ": no image to render (all are disabled)");
   if (files) {
     std::vector<std::pair<std::string, std::string>> outputs;
-    for (const StitchLayer& l : s.layers) outputs.push_back({"layer", l.output});
+    for (const StitchLayer& l : s.layers) {
+      outputs.push_back({"layer", l.output});
+      if (s.hdr) outputs.push_back({"weights", l.weights});
+    }
     require_distinct_outputs(outputs);
   }
   return s;
@@ -205,11 +247,10 @@ Report run(const Arguments& args, const JobEvents& events) {
   const StitchPlan plan = plan_stitch(args);
   if (events.warning)
     for (const StitchLayer& l : plan.layers)
-      if (plan.project.images[static_cast<size_t>(l.index)].photometry) {
-        events.warning(plan.project.path +
-                       ": exposure, response and vignetting values are not applied yet");
-        break;
-      }
+      if (const std::string why =
+              unused_photometry(plan.project, plan.project.images[static_cast<size_t>(l.index)]);
+          !why.empty())
+        events.warning(why);
   OutputSet set(plan.overwrite);
   std::vector<ReportValue> layers;
   for (size_t k = 0; k < plan.layers.size(); ++k) {
@@ -225,6 +266,10 @@ Report run(const Arguments& args, const JobEvents& events) {
         encode_tiff_layer(r.image, {r.x, r.y, plan.canvas}, plan.compression, plan.options.threads);
     const std::vector<std::string_view> pieces = file.pieces();
     set.add(l.output, pieces);
+    if (plan.hdr) {
+      const FileBytes gray = encode_pnm(r.weights, l.weights);
+      set.add(l.weights, std::string_view(reinterpret_cast<const char*>(gray.data()), gray.size()));
+    }
     if (events.line)
       events.line(l.output + ": " + size_text(r.image.size()) + " at " + std::to_string(r.x) + "," +
                   std::to_string(r.y) + " of " + size_text(plan.canvas));

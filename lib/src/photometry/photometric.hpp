@@ -1,0 +1,68 @@
+#pragma once
+// One image's photometric model and its correction of remapped samples, as Hugin's nona applies
+// it (photometric/ResponseTransform.h's InvResponseTransform): a sample's code value c (the
+// source's code values interpolated, 0..1) becomes the linear
+//   L = R_src^-1(c) * 2^(Eev - E) / V(x, y),  red / Er, blue / Eb (colour images),
+// then R_out(L) for an LDR output (clamped to 0..1 by R_out's table) or L itself for HDR;
+// negatives become 0. (x, y): the sample's source position. V: the vignetting,
+//   a + b r^2 + c r^4 + d r^6,  r = |(x, y) - centre| / half diagonal,
+// centre ((w - 1) / 2 + Vx, (h - 1) / 2 + Vy) in Hugin's pixels (centres at integers); or a flat
+// field's value at the nearest pixel, the field scaled to a maximum of 1.
+#include <array>
+#include <memory>
+#include <string>
+
+#include "panoproj/image.hpp"
+#include "photometry/response.hpp"
+
+namespace panoproj {
+
+struct Vignetting {
+  std::array<double, 4> coefficients{1, 0, 0, 0};  // a b c d
+  double shift_x = 0, shift_y = 0;                 // Vx Vy (pixels)
+  std::shared_ptr<const Image> flat_field;  // 1-channel float, linear, the image's size: used
+                                            // in place of the polynomial
+  bool identity() const { return !flat_field && coefficients == std::array<double, 4>{1, 0, 0, 0}; }
+};
+
+struct Photometry {
+  Response response;         // the camera's
+  double exposure = 0;       // Eev: the image's exposure value
+  double red = 1, blue = 1;  // Er Eb: white balance multipliers
+  Vignetting vignetting;
+};
+
+struct PhotometricOutput {
+  bool hdr = false;     // linear output (a project's R1) instead of R_out's codes
+  double exposure = 0;  // E: the output's exposure value
+  Response response;    // R_out (LDR)
+};
+
+// The correction of one image's samples; the constructor checks the model over the image of
+// `size` (throws Error naming `what`: white balance not positive, vignetting at or below
+// kMinVignetting anywhere in the image, a flat field of another size or not positive).
+inline constexpr double kMinVignetting = 1e-3;
+class PhotometricStep {
+ public:
+  PhotometricStep(const Photometry& photometry, const PhotometricOutput& output, Size size,
+                  const std::string& what);
+  // Whether a sample's value is kept (within 0..1); positions not needed.
+  bool identity() const { return identity_; }
+  bool needs_positions() const { return !photometry_.vignetting.identity(); }
+  // part: float, its alpha last (gray + alpha or RGB + alpha); pixels of alpha 0 are left as they
+  // are. positions: build_map's (panoproj convention, NaN without a source) in pixels of an image
+  // `scale` times the model's size, where needs_positions(). weights: if given, nona's HDR weights
+  // (1 channel, 8-bit: the largest code value of each kept pixel, 0..255).
+  void apply(Image& part, const Image* positions, double scale_x, double scale_y, Image* weights,
+             int threads) const;
+
+ private:
+  double vignetting(double x, double y) const;  // at Hugin's pixel (x, y)
+  Photometry photometry_;
+  PhotometricOutput output_;
+  Size size_;
+  double gain_ = 1, radius_scale_ = 1, centre_x_ = 0, centre_y_ = 0, flat_max_ = 1;
+  bool identity_ = false;
+};
+
+}  // namespace panoproj
