@@ -1,6 +1,8 @@
 // Fuzzes the Hugin project reader (jobs/stitch/pto_project.hpp) and what reads its values: the
-// panorama's and images' specs, their projections and each image's extent on the canvas. Only
+// panorama's and images' specs, their projections, each image's extent on the canvas and its
+// photometric correction (finite, non-negative samples from any it accepts). Only
 // panoproj::Error may leave it; whatever it accepts must hold what the reader promises.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -9,6 +11,7 @@
 
 #include "jobs/stitch/layer_masks.hpp"
 #include "jobs/stitch/pano_spec.hpp"
+#include "jobs/stitch/pto_photometry.hpp"
 #include "jobs/stitch/pto_project.hpp"
 #include "jobs/stitch/stitch.hpp"
 #include "panoproj/error.hpp"
@@ -44,6 +47,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         std::abort();
       pano_exclusions(p, static_cast<int>(i));
       image_masks(p, static_cast<int>(i));
+      const PhotometricStep step(image_photometry(p, im), pano_output(p), {im.width, im.height},
+                                 "f.pto");
+      Image part({3, 1}, 4, PixelType::F32, 3), at({3, 1}, 2, PixelType::F32);
+      auto* px = reinterpret_cast<float*>(part.row(0));
+      auto* xy = reinterpret_cast<float*>(at.row(0));
+      const float codes[3] = {0.0f, 0.5f, 1.25f};
+      for (int k = 0; k < 3; ++k) {
+        std::fill(px + 4 * k, px + 4 * k + 4, codes[k]);
+        px[4 * k + 3] = 1;
+        xy[2 * k] = static_cast<float>(static_cast<double>(im.width) * k / 2);
+        xy[2 * k + 1] = static_cast<float>(static_cast<double>(im.height) * k / 2);
+      }
+      step.apply(part, &at, 1, 1, nullptr, 1);
+      for (int k = 0; k < 12; ++k)
+        if (!(px[k] >= 0) || !std::isfinite(px[k])) std::abort();
     }
   } catch (const Error&) {
   }

@@ -20,7 +20,7 @@
 #        scripts/bench.sh cv [--runs N] [--rounds N]  |  scripts/bench.sh profile [--runs N]
 #        scripts/bench.sh video [--runs N] [--frames N] [--only filter,transcode,rss]  |  scripts/bench.sh video-quality
 #        scripts/bench.sh gopro-max [--runs N] [--frames N] [--max2sphere PATH] [--only pairs,convert,video]
-#        scripts/bench.sh stitch [--runs N] [--only none,deflate,float]
+#        scripts/bench.sh stitch [--runs N] [--only none,deflate,float,photometry,photometry-float]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [[ ${1:-} == io ]]; then

@@ -28,9 +28,9 @@ PhotometricStep::PhotometricStep(const Photometry& photometry, const Photometric
       throw Error(what + ": white balance " + name + number(v) +
                   ": expected a positive multiplier");
   if (!std::isfinite(p.exposure) || !std::isfinite(output.exposure) ||
-      std::fabs(p.exposure - output.exposure) > 128)
+      std::fabs(p.exposure - output.exposure) > 64)
     throw Error(what + ": exposure values " + number(p.exposure) + " and " +
-                number(output.exposure) + ": expected finite EVs at most 128 apart");
+                number(output.exposure) + ": expected finite EVs at most 64 apart");
   gain_ = std::exp2(p.exposure - output.exposure);
   const double w = static_cast<double>(size.width), h = static_cast<double>(size.height);
   radius_scale_ = 1 / std::sqrt(w * w / 4 + h * h / 4);
@@ -104,18 +104,83 @@ double PhotometricStep::vignetting(double x, double y) const {
   return c[0] + s * (c[1] + s * (c[2] + s * c[3]));
 }
 
-void PhotometricStep::apply(Image& part, const Image* positions, double scale_x, double scale_y,
-                            Image* weights, int threads) const {
+namespace {
+
+// V at the nodes of a grid over a part: columns and rows every `step` pixels and the last. A
+// cell is interpolated where V at its centre is within kTolerance (relative) of its nodes' mean
+// (the bilinear error peaks there), else each of its pixels takes V at its own position.
+struct VignettingGrid {
+  static constexpr double kTolerance = 1e-5;
+  std::vector<int64_t> xs, ys;
+  std::vector<double> v;       // NaN: the node has no source
+  std::vector<uint8_t> exact;  // per cell
+  static std::vector<int64_t> nodes(int64_t n, int64_t step) {
+    std::vector<int64_t> out;
+    for (int64_t k = 0; k < n; k += step) out.push_back(k);
+    if (out.back() != n - 1) out.push_back(n - 1);
+    return out;
+  }
+  template <class At>
+  void check_cells(const At& at, int64_t j0, int64_t j1) {
+    const size_t w = xs.size();
+    for (int64_t j = j0; j < j1; ++j)
+      for (size_t i = 0; i + 1 < w; ++i) {
+        const size_t k = static_cast<size_t>(j) * w + i;
+        const double mean = (v[k] + v[k + 1] + v[k + w] + v[k + w + 1]) / 4;
+        const double centre = at(
+            static_cast<double>(xs[i] + xs[i + 1]) / 2,
+            static_cast<double>(ys[static_cast<size_t>(j)] + ys[static_cast<size_t>(j) + 1]) / 2);
+        exact[static_cast<size_t>(j) * (w - 1) + i] =
+            !(std::isfinite(mean) && std::fabs(centre - mean) <= kTolerance * std::fabs(centre));
+      }
+  }
+  // The interpolated V at pixel (x, y); NaN where its cell is exact.
+  double at(int64_t x, int64_t y, int64_t step) const {
+    const size_t i = std::min(static_cast<size_t>(x / step), xs.size() - 2);
+    const size_t j = std::min(static_cast<size_t>(y / step), ys.size() - 2);
+    if (exact[j * (xs.size() - 1) + i]) return NAN;
+    const double tx = static_cast<double>(x - xs[i]) / static_cast<double>(xs[i + 1] - xs[i]);
+    const double ty = static_cast<double>(y - ys[j]) / static_cast<double>(ys[j + 1] - ys[j]);
+    const size_t w = xs.size(), k = j * w + i;
+    return (1 - ty) * ((1 - tx) * v[k] + tx * v[k + 1]) +
+           ty * ((1 - tx) * v[k + w] + tx * v[k + w + 1]);
+  }
+};
+
+}  // namespace
+
+void PhotometricStep::apply(Image& part, const SourcePosition& position, Image* weights,
+                            int threads) const {
   if (part.type() != PixelType::F32) throw Error("photometry: float samples expected");
   const int ch = part.channels();
   const int colours = ch - 1;
   if (weights) *weights = Image(part.size(), 1, PixelType::U8);
-  const bool at_positions = needs_positions() && positions;
+  const bool vignetted = needs_positions() && position && !identity_;
+  // V at a pixel's own position (its centre), NaN without one.
+  const auto own = [&](double x, double y) {
+    double sx, sy;
+    return position(x + 0.5, y + 0.5, sx, sy) ? vignetting(sx, sy) : NAN;
+  };
+  VignettingGrid grid;
+  if (vignetted && part.width() > 1 && part.height() > 1) {
+    grid.xs = VignettingGrid::nodes(part.width(), kPositionStep);
+    grid.ys = VignettingGrid::nodes(part.height(), kPositionStep);
+    grid.v.resize(grid.xs.size() * grid.ys.size());
+    grid.exact.resize((grid.xs.size() - 1) * (grid.ys.size() - 1));
+    parallel_rows(static_cast<int64_t>(grid.ys.size()), threads, [&](int64_t j0, int64_t j1) {
+      for (int64_t j = j0; j < j1; ++j)
+        for (size_t i = 0; i < grid.xs.size(); ++i)
+          grid.v[static_cast<size_t>(j) * grid.xs.size() + i] =
+              own(static_cast<double>(grid.xs[i]),
+                  static_cast<double>(grid.ys[static_cast<size_t>(j)]));
+    });
+    parallel_rows(static_cast<int64_t>(grid.ys.size()) - 1, threads,
+                  [&](int64_t j0, int64_t j1) { grid.check_cells(own, j0, j1); });
+  }
   const double wb[3] = {1 / photometry_.red, 1.0, 1 / photometry_.blue};
   parallel_rows(part.height(), threads, [&](int64_t y0, int64_t y1) {
     for (int64_t y = y0; y < y1; ++y) {
       auto* row = reinterpret_cast<float*>(part.row(y));
-      const float* at = at_positions ? reinterpret_cast<const float*>(positions->row(y)) : nullptr;
       unsigned char* weight = weights ? weights->row(y) : nullptr;
       for (int64_t x = 0; x < part.width(); ++x) {
         float* px = row + x * ch;
@@ -130,10 +195,10 @@ void PhotometricStep::apply(Image& part, const Image* positions, double scale_x,
           continue;
         }
         double gain = gain_;
-        if (at_positions) {
-          const double sx = at[2 * x], sy = at[2 * x + 1];
-          if (std::isfinite(sx) && std::isfinite(sy))
-            gain /= vignetting(sx / scale_x - 0.5, sy / scale_y - 0.5);
+        if (vignetted) {
+          double v = grid.v.empty() ? NAN : grid.at(x, y, kPositionStep);
+          if (!std::isfinite(v)) v = own(static_cast<double>(x), static_cast<double>(y));
+          if (std::isfinite(v)) gain /= v;
         }
         for (int c = 0; c < colours; ++c) {
           double l = photometry_.response.irradiance(px[c]) * gain;

@@ -9,6 +9,7 @@
 // centre ((w - 1) / 2 + Vx, (h - 1) / 2 + Vy) in Hugin's pixels (centres at integers); or a flat
 // field's value at the nearest pixel, the field scaled to a maximum of 1.
 #include <array>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -39,7 +40,8 @@ struct PhotometricOutput {
 };
 
 // The correction of one image's samples; the constructor checks the model over the image of
-// `size` (throws Error naming `what`: white balance not positive, vignetting at or below
+// `size` (throws Error naming `what`: white balance outside 0.001..1000, exposures over 64 EV
+// apart, vignetting at or below
 // kMinVignetting anywhere in the image, a flat field of another size or not positive).
 inline constexpr double kMinVignetting = 1e-3;
 class PhotometricStep {
@@ -49,15 +51,20 @@ class PhotometricStep {
   // Whether a sample's value is kept (within 0..1); positions not needed.
   bool identity() const { return identity_; }
   bool needs_positions() const { return !photometry_.vignetting.identity(); }
+  // A part's pixel (its centre's coordinates in the part) to its source position in Hugin's
+  // pixels (centres at integers) of the model's image; false where it has none.
+  using SourcePosition = std::function<bool(double x, double y, double& sx, double& sy)>;
   // part: float, its alpha last (gray + alpha or RGB + alpha); pixels of alpha 0 are left as they
-  // are. positions: build_map's (panoproj convention, NaN without a source) in pixels of an image
-  // `scale` times the model's size, where needs_positions(). weights: if given, nona's HDR weights
-  // (1 channel, 8-bit: the largest code value of each kept pixel, 0..255).
-  void apply(Image& part, const Image* positions, double scale_x, double scale_y, Image* weights,
-             int threads) const;
+  // are. position: where needs_positions() (else unused). V is taken at the positions of a grid
+  // every kPositionStep pixels and interpolated bilinearly in the cells where that puts their
+  // centre within 1e-5 (relative) of V at its own position, else taken at each pixel's own.
+  // weights: if given, nona's HDR weights (1 channel, 8-bit: the largest code value of each kept
+  // pixel, 0..255).
+  static constexpr int64_t kPositionStep = 8;
+  void apply(Image& part, const SourcePosition& position, Image* weights, int threads) const;
+  double vignetting(double x, double y) const;  // V at Hugin's pixel (x, y)
 
  private:
-  double vignetting(double x, double y) const;  // at Hugin's pixel (x, y)
   Photometry photometry_;
   PhotometricOutput output_;
   Size size_;

@@ -11,7 +11,6 @@
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/io.hpp"
-#include "panoproj/maps.hpp"
 #include "panoproj/projection.hpp"
 
 namespace panoproj {
@@ -144,12 +143,11 @@ RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
   // Corrected samples are made in float from the interpolated codes, rounded only at the end.
   const bool corrected = !photometry.identity() || out == PixelType::F32;
   const PixelType work = corrected ? PixelType::F32 : info.type;
-  const bool positions = corrected && photometry.needs_positions();
   const int64_t made_px = made.width() * made.height();
   require_job_memory(geometry, channels, work, plan.options,
                      image_bytes(l.size, channels, bytes_of(work)) +
                          (plan.cropped ? 0 : image_bytes(plan.canvas, channels, bytes_of(out))) +
-                         (positions ? made_px * 8 : 0) + (plan.hdr ? made_px : 0),
+                         (plan.hdr ? made_px : 0),
                      "the image and the canvas");
   ConvertOptions with_alpha = plan.options;
   with_alpha.add_alpha = true;
@@ -169,11 +167,16 @@ RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
                plan.options.threads);
   Image weights;
   if (corrected) {
-    const Image at = positions ? build_map(geometry.source, geometry.target, geometry.rotation,
-                                           MapConvention::Panoproj, plan.options.threads)
-                               : Image();
-    photometry.apply(part, positions ? &at : nullptr, l.sx, l.sy, plan.hdr ? &weights : nullptr,
-                     plan.options.threads);
+    // A pixel's position in the image's own (Hugin's) pixels: the file's over its scale.
+    const auto position = [&](double x, double y, double& sx, double& sy) {
+      Ray d;
+      if (!to_ray(geometry.target, x, y, d) ||
+          !to_pixel(geometry.source, geometry.rotation * d, sx, sy))
+        return false;
+      sx = sx / l.sx - 0.5, sy = sy / l.sy - 0.5;
+      return true;
+    };
+    photometry.apply(part, position, plan.hdr ? &weights : nullptr, plan.options.threads);
   }
   const PixelRect in_made{extent.x0 - made.x0, extent.y0 - made.y0, extent.x1 - made.x0,
                           extent.y1 - made.y0};
