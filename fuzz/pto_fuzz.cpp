@@ -3,6 +3,7 @@
 // photometric correction (finite, non-negative samples from any it accepts). Only
 // panoproj::Error may leave it; whatever it accepts must hold what the reader promises.
 #include <algorithm>
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -49,17 +50,22 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       image_masks(p, static_cast<int>(i));
       const PhotometricStep step(image_photometry(p, im), pano_output(p), {im.width, im.height},
                                  "f.pto");
-      Image part({3, 1}, 4, PixelType::F32, 3), at({3, 1}, 2, PixelType::F32);
+      // Three samples (codes 0, 0.5, 1.25) at the image's corner, centre and far corner.
+      Image part({3, 1}, 4, PixelType::F32, 3);
       auto* px = reinterpret_cast<float*>(part.row(0));
-      auto* xy = reinterpret_cast<float*>(at.row(0));
       const float codes[3] = {0.0f, 0.5f, 1.25f};
       for (int k = 0; k < 3; ++k) {
         std::fill(px + 4 * k, px + 4 * k + 4, codes[k]);
         px[4 * k + 3] = 1;
-        xy[2 * k] = static_cast<float>(static_cast<double>(im.width) * k / 2);
-        xy[2 * k + 1] = static_cast<float>(static_cast<double>(im.height) * k / 2);
       }
-      step.apply(part, &at, 1, 1, nullptr, 1);
+      step.apply(
+          part,
+          [&](double x, double, double& sx, double& sy) {
+            sx = static_cast<double>(im.width - 1) * (x - 0.5) / 2;
+            sy = static_cast<double>(im.height - 1) * (x - 0.5) / 2;
+            return true;
+          },
+          nullptr, 1);
       for (int k = 0; k < 12; ++k)
         if (!(px[k] >= 0) || !std::isfinite(px[k])) std::abort();
     }

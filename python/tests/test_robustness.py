@@ -2152,6 +2152,19 @@ def test_stitch_layers_need_overwrite_and_a_full_disk_leaves_none(cli, stitch_fo
     assert (stitch_folder / "l_0001.tif").read_bytes()[:4] == b"II*\x00"
 
 
+def test_stitch_hdr_weights_need_overwrite_and_land_with_their_layer(cli, stitch_folder):
+    (stitch_folder / "t.pto").write_text(STITCH_PANO.replace("v360", "v360 R1") + STITCH_IMAGE)
+    (stitch_folder / "l_0000_gray.pgm").write_bytes(b"old")
+    expect_refused(run(cli, ["stitch", "t.pto", "l_"], stitch_folder), "l_0000_gray.pgm", "exists")
+    assert not (stitch_folder / "l_0000.tif").exists()
+    r = run(cli, ["stitch", "t.pto", "l_", "--overwrite"], stitch_folder, fsize=2000)
+    assert r.code != 0
+    assert (stitch_folder / "l_0000_gray.pgm").read_bytes() == b"old" and not (stitch_folder / "l_0000.tif").exists()
+    assert run(cli, ["stitch", "t.pto", "l_", "--overwrite"], stitch_folder).code == 0
+    assert (stitch_folder / "l_0000_gray.pgm").read_bytes()[:2] == b"P5"
+    assert (stitch_folder / "l_0000.tif").read_bytes()[:4] == b"II*\x00"
+
+
 def test_stitch_a_layer_that_is_a_link_is_replaced_not_its_target(cli, stitch_folder):
     (stitch_folder / "t.pto").write_text(STITCH_PANO + STITCH_IMAGE)
     target = stitch_folder / "elsewhere.tif"

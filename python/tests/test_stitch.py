@@ -289,6 +289,8 @@ def test_views_cut_from_a_real_panorama_put_back_give_it_again(tmp_path):
     ("p f2 w400 h200 v360\ni w60 h40 f0 v50 n\"a.png\"\nk i0 t0 p\"1 1 2 2\"\n", ValueError,
      "a mask needs at least 3 points"),
     ("p f2 w4000000 h2000000 v360\ni w60 h40 f0 v50 n\"a.png\"\n", MemoryError, "over the memory limit"),
+    ("p f2 w400 h200 v360\ni w60 h40 f0 v50 Ra-9 n\"a.png\"\n", ValueError, "t.pto:2: i line: response Ra-9 .* not monotonic"),
+    ("p f2 w400 h200 v360\ni w60 h40 f0 v50 Va1 Vb-1.5 Vm5 n\"a.png\"\n", ValueError, "vignetting Va1 Vb-1.5 .* falls to"),
 ])
 def test_bad_projects_raise_naming_the_line(tmp_path, text, kind, what):
     pp.write(str(tmp_path / "a.png"), np.zeros((40, 60, 3), np.uint8))
