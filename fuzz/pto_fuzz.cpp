@@ -3,7 +3,6 @@
 // photometric correction (finite, non-negative samples from any it accepts). Only
 // panoproj::Error may leave it; whatever it accepts must hold what the reader promises.
 #include <algorithm>
-#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
