@@ -108,6 +108,17 @@ def test_float_layers_match_nona_within_1e4(photo, hdr):
 
 
 @needs_nona
+def test_gray_layers_match_nona(photo):
+    """A gray image: the same model without white balance (nona's scalar path)."""
+    pixels = pp.read(str(photo / "img.png"))
+    pp.write(str(photo / "gray.png"), np.ascontiguousarray(pixels.mean(-1).astype(np.uint8)), overwrite=True)
+    gray = [(name.replace("img", "gray"), *rest) for name, *rest in TWO]
+    pairs, _ = render_both(photo, project(gray), args=("--engine", "reference"))
+    for pair in pairs:
+        assert excess(pair)[0] <= 1e-4
+
+
+@needs_nona
 def test_8_bit_layers_within_1_lsb_of_nonas_float_rounded(photo):
     pairs, _ = render_both(photo, project(TWO))
     for n, _ in pairs:
