@@ -1,5 +1,6 @@
 // One layer (stitch.hpp): the image with its crop and masks as alpha, remapped onto the canvas,
-// other images' masks taken out there, alpha made 0 or full, cropped to what is kept.
+// other images' masks taken out there, alpha made 0 or full, its samples corrected (the
+// image's photometry, in float), cropped to what is kept.
 #include <algorithm>
 #include <atomic>
 #include <cstring>
@@ -162,9 +163,9 @@ RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
   Image part = Converter(geometry, plan.options).run(source);
   source = Image();
   exclude(plan, l.index, geometry.target, part);
-  finish_alpha(part,
-               {extent.x0 - made.x0, extent.y0 - made.y0, extent.x1 - made.x0, extent.y1 - made.y0},
-               plan.options.threads);
+  const PixelRect in_made{extent.x0 - made.x0, extent.y0 - made.y0, extent.x1 - made.x0,
+                          extent.y1 - made.y0};
+  finish_alpha(part, in_made, plan.options.threads);
   Image weights;
   if (corrected) {
     // A pixel's position in the image's own (Hugin's) pixels: the file's over its scale.
@@ -178,8 +179,6 @@ RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
     };
     photometry.apply(part, position, plan.hdr ? &weights : nullptr, plan.options.threads);
   }
-  const PixelRect in_made{extent.x0 - made.x0, extent.y0 - made.y0, extent.x1 - made.x0,
-                          extent.y1 - made.y0};
   if (!window) {
     part = crop(part, in_made);
     if (plan.hdr) weights = crop(weights, in_made);

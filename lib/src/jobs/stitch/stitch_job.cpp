@@ -1,6 +1,7 @@
 // The stitch job: a Hugin project's images remapped onto its panorama as nona -m TIFF_m does,
 // one layer TIFF each (io/tiff_layer.hpp) for enblend: crops and masks as alpha (layer_masks),
-// the panorama and lenses as specs (pano_spec), every layer landed together or none.
+// the panorama and lenses as specs (pano_spec), the photometry as nona's (pto_photometry; HDR
+// layers with nona's weights beside them), every layer landed together or none.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
