@@ -222,6 +222,33 @@ TEST(Photometry, AFlatFieldDividesByItsNearestPixelOverItsLargest) {
   EXPECT_NEAR(part.px(1)[1], 0.5 * 8 / 1, 1e-6);
 }
 
+TEST(Photometry, AFlatFieldIsTakenAtEveryPixelNotInterpolated) {
+  // A field that steps every pixel (dust, a sensor's pattern): no grid may smooth it over.
+  const Size size{40, 24};
+  auto flat = std::make_shared<Image>(size, 1, PixelType::F32);
+  for (int64_t y = 0; y < size.height; ++y)
+    for (int64_t x = 0; x < size.width; ++x)
+      reinterpret_cast<float*>(flat->row(y))[x] = (x + y) % 2 ? 1.0f : 0.5f;
+  Photometry ph;
+  ph.response = Response();
+  ph.vignetting.flat_field = flat;
+  PhotometricOutput out;
+  out.hdr = true;
+  const PhotometricStep step(ph, out, size, "t");
+  Image part(size, 4, PixelType::F32, 3);
+  for (int64_t y = 0; y < size.height; ++y)
+    for (int64_t x = 0; x < size.width; ++x)
+      std::fill_n(reinterpret_cast<float*>(part.pixel(x, y)), 4, 0.25f);
+  step.apply(
+      part,
+      [](double x, double y, double& sx, double& sy) { return sx = x - 0.5, sy = y - 0.5, true; },
+      nullptr, 1);
+  for (int64_t y = 0; y < size.height; ++y)
+    for (int64_t x = 0; x < size.width; ++x)
+      ASSERT_NEAR(reinterpret_cast<float*>(part.pixel(x, y))[1], (x + y) % 2 ? 0.25 : 0.5, 1e-6)
+          << x << "," << y;
+}
+
 TEST(Photometry, RefusesModelsNothingCanBeDividedBy) {
   const PhotometricOutput out;
   const auto refused = [&](const Photometry& ph, Size size, const char* needle) {

@@ -161,8 +161,9 @@ void PhotometricStep::apply(Image& part, const SourcePosition& position, Image* 
     double sx, sy;
     return position(x + 0.5, y + 0.5, sx, sy) ? vignetting(sx, sy) : NAN;
   };
+  // (A flat field is not smooth: each pixel takes its own.)
   VignettingGrid grid;
-  if (vignetted && part.width() > 1 && part.height() > 1) {
+  if (vignetted && !photometry_.vignetting.flat_field && part.width() > 1 && part.height() > 1) {
     grid.xs = VignettingGrid::nodes(part.width(), kPositionStep);
     grid.ys = VignettingGrid::nodes(part.height(), kPositionStep);
     grid.v.resize(grid.xs.size() * grid.ys.size());

@@ -57,7 +57,8 @@ class PhotometricStep {
   // part: float, its alpha last (gray + alpha or RGB + alpha); pixels of alpha 0 are left as they
   // are. position: where needs_positions() (else unused). V is taken at the positions of a grid
   // every kPositionStep pixels and interpolated bilinearly in the cells where that puts their
-  // centre within 1e-5 (relative) of V at its own position, else taken at each pixel's own.
+  // centre within 1e-5 (relative) of V at its own position, else (and for a flat field) taken
+  // at each pixel's own.
   // weights: if given, nona's HDR weights (1 channel, 8-bit: the largest code value of each kept
   // pixel, 0..255).
   static constexpr int64_t kPositionStep = 8;
