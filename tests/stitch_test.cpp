@@ -359,7 +359,7 @@ TEST_F(Stitch, AnEquirectImageTurnedAQuarterIsItsRolledPixels) {
     const std::string pto = project(std::string("p f2 w64 h32 v360 n\"TIFF_m c:NONE r:CROP\"\nm ") +
                                     interp + "\ni w64 h32 f4 v360 r0 p0 y90 n\"e.png\"\n");
     const Arguments args = test::job_args("stitch", {{"project", pto}, {"output", path("")}});
-    const StitchPlan plan = plan_stitch(args, false);
+    const StitchPlan plan = plan_stitch(args, StitchMade::LayerArrays);
     const RenderedLayer r = render_layer(plan, plan.layers[0]);
     ASSERT_EQ(r.image.size(), (Size{64, 32}));
     EXPECT_EQ(r.x, 0);
@@ -381,7 +381,7 @@ TEST_F(Stitch, LayersKeepTheImagesDepthUnlessTold) {
                             std::vector<std::pair<const char*, OptionValue>> more) {
     more.push_back({"project", project(pano + body)});
     more.push_back({"output", path("")});
-    const StitchPlan plan = plan_stitch(test::job_args("stitch", more), false);
+    const StitchPlan plan = plan_stitch(test::job_args("stitch", more), StitchMade::LayerArrays);
     return render_layer(plan, plan.layers[0]).image.type();
   };
   EXPECT_EQ(depth_of("p f2 w400 h200 v360\n", {}), PixelType::U16);

@@ -1,5 +1,5 @@
-"""A Hugin project's layers as arrays: the stitch job's rendering (the same pixels as its
-layer files), without files."""
+"""A Hugin project's layers, or its blended panorama, as arrays: the stitch job's rendering (the
+same pixels as its files), without files."""
 from __future__ import annotations
 
 import sys
@@ -58,4 +58,29 @@ def stitch_layers(
                   (int(canvas[0]), int(canvas[1])))
 
 
-__all__ = ["stitch_layers", "Layer", "Layers"]
+def stitch_panorama(
+    project: PathLike,
+    *,
+    images: Union[PathLike, Sequence[PathLike], None] = None,
+    image: Optional[int] = None,
+    depth: Optional[Literal["uint8", "uint16", "float"]] = None,
+    exposure: Optional[float] = None,
+    ignore_exposure: bool = False,
+    output_mode: Optional[Literal["ldr", "hdr"]] = None,
+    blend: Optional[Literal["feather", "multiband"]] = None,
+    feather: Optional[float] = None,
+    levels: Optional[int] = None,
+    **options: Unpack[StitchOptions],
+) -> np.ndarray:
+    """Blends a Hugin project's (.pto) images into its panorama as ``stitch project.pto pano.jpg``
+    does, returning the canvas (H x W x 4, or x 2 where every image is gray; alpha last: full where
+    an image covers) instead of writing it."""
+    given = {"project": project, "output": "", "images": images, "image": image, "depth": depth,
+             "exposure": exposure, "ignore_exposure": ignore_exposure, "output_mode": output_mode,
+             "blend": blend, "feather": feather, "levels": levels}
+    args = _job.arguments("stitch", given, dict(options))
+    pixels, _levels = _core.stitch_panorama(args)
+    return pixels
+
+
+__all__ = ["stitch_layers", "stitch_panorama", "Layer", "Layers"]

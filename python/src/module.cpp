@@ -21,6 +21,7 @@
 
 #include "attribute_values.hpp"
 #include "jobs/convert/video_planes.hpp"
+#include "jobs/stitch/panorama.hpp"
 #include "jobs/stitch/stitch.hpp"
 #include "oiio_package.hpp"
 #include "panoproj/convert.hpp"
@@ -621,7 +622,7 @@ void bind_jobs(py::module_& m) {
     Size canvas;
     {
       Unlocked unlocked;
-      const StitchPlan plan = plan_stitch(args, false);
+      const StitchPlan plan = plan_stitch(args, StitchMade::LayerArrays);
       canvas = plan.canvas;
       for (const StitchLayer& l : plan.layers) {
         check_interrupt();
@@ -637,6 +638,18 @@ void bind_jobs(py::module_& m) {
                                 py::make_tuple(r.x, r.y), weights));
     }
     return py::make_tuple(out, py::make_tuple(canvas.width, canvas.height));
+  });
+  // The blended panorama as an array (the stitch job's rows; its output row unused) and the
+  // levels multiband used (0: feather).
+  m.def("stitch_panorama", [](const py::dict& given) {
+    const Arguments args = job_arguments(job_named("stitch"), given);
+    BlendedPanorama b;
+    {
+      Unlocked unlocked;
+      const StitchPlan plan = plan_stitch(args, StitchMade::PanoramaArray);
+      b = blend_panorama(plan, panorama_type(plan), {}, {});
+    }
+    return py::make_tuple(array_of(std::move(b.image), false), b.levels);
   });
 }
 

@@ -1523,7 +1523,7 @@ def test_a_broadcast_array_is_counted_before_it_is_copied():
 
 
 @pytest.mark.parametrize("call", ["tiles", "views", "convert", "convert_file_video", "convert_file_video_pyav",
-                                  "stitch", "stitch_layers"])
+                                  "stitch", "stitch_layers", "stitch_panorama"])
 def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
     env = child_env(call.endswith("pyav"))
     clip = tmp_path / "clip.mkv"
@@ -1552,7 +1552,8 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
             "convert_file_video": f"pp.convert_file({str(clip)!r}, {str(out) + '.mkv'!r}, dst='equirect', "
                                   f"size=(4096, 2048), codec='ffv1', {slow})",
             "stitch": f"pp.stitch({str(project)!r}, {str(out)!r}, {slow})",
-            "stitch_layers": f"pp.stitch_layers({str(project)!r}, {slow})"}
+            "stitch_layers": f"pp.stitch_layers({str(project)!r}, {slow})",
+            "stitch_panorama": f"pp.stitch_panorama({str(project)!r}, blend='multiband', {slow})"}
     body["convert_file_video_pyav"] = body["convert_file_video"]
     body = body[call]
     code = ("import os, sys, time, numpy as np, panoproj as pp\n"
@@ -2101,6 +2102,52 @@ STITCH = [
      "exposure and ignore_exposure: give one", False),
     ("output_mode_option", STITCH_PANO + STITCH_IMAGE, ["--output-mode", "log"], "log", False),
 ]
+
+
+# The blended panorama (stitch project.pto pano.jpg): its options refused in one line, nothing
+# written; "l_" rows: blend options given for layers.
+STITCH_PANORAMA = [
+    ("blend_unknown", "pano.jpg", ["--blend", "average"], "blend: average (expected feather or multiband)", False),
+    ("levels_zero", "pano.jpg", ["--blend", "multiband", "--levels", "0"], "levels: 0 (expected 1 to 12)", False),
+    ("levels_huge", "pano.jpg", ["--blend", "multiband", "--levels", "13"], "levels: 13 (expected 1 to 12)", False),
+    ("levels_without_multiband", "pano.jpg", ["--levels", "4"], "levels: multiband's", False),
+    ("feather_nan", "pano.jpg", ["--feather", "nan"], "feather", False),
+    ("feather_negative", "pano.jpg", ["--feather", "-1"], "feather: -1", False),
+    ("feather_too_wide", "pano.jpg", ["--feather", "400"], "feather: 400", False),
+    ("feather_with_multiband", "pano.jpg", ["--blend", "multiband", "--feather", "5"],
+     "feather: the feather's width; multiband blends by its levels", False),
+    ("blend_for_layers", "l_", ["--blend", "multiband"], "is a layers' prefix (give a file such as pano.jpg", False),
+    ("extent_for_panorama", "pano.jpg", ["--extent", "canvas"], "extent: shapes layers", False),
+    ("compression_for_panorama", "pano.tif", ["--compression", "none"], "compression: shapes layers", False),
+    ("quality_zero", "pano.jpg", ["--quality", "0"], "quality: 0 (expected 1 to 100)", False),
+    ("subsampling", "pano.jpg", ["--subsampling", "411"], "411", False),
+    ("over_budget", "pano.jpg", ["--memory-limit", "1M"], "the panorama 2000x1000, its images and a band's buffers needs",
+     False),
+    ("unknown_extension_is_a_prefix", "pano.xyz", ["--blend", "feather"], "pano.xyz is a layers' prefix", False),
+]
+
+
+@pytest.mark.parametrize("case", _table(STITCH_PANORAMA))
+def test_stitch_panorama_bad_options(cli, stitch_folder, case):
+    name, out, args, needle, _ = case
+    pano = STITCH_PANO.replace("w256 h128", "w2000 h1000") if name == "over_budget" else STITCH_PANO
+    (stitch_folder / "t.pto").write_text(pano + STITCH_IMAGE)
+    before = snapshot(stitch_folder)
+    line = expect_refused(run(cli, ["stitch", "t.pto", out, *args], stitch_folder, timeout=30), needle)
+    assert len(line) < 400
+    assert snapshot(stitch_folder) == before
+
+
+def test_stitch_panorama_needs_overwrite_and_a_full_disk_leaves_the_old_one(cli, stitch_folder):
+    (stitch_folder / "t.pto").write_text(STITCH_PANO + STITCH_IMAGE + 'i w64 h48 f0 v50 r0 p0 y30 n"a.png"\n')
+    (stitch_folder / "pano.png").write_bytes(b"old")
+    expect_refused(run(cli, ["stitch", "t.pto", "pano.png"], stitch_folder), "pano.png", "exists")
+    r = run(cli, ["stitch", "t.pto", "pano.png", "--overwrite"], stitch_folder, fsize=3000)
+    assert r.code != 0
+    assert (stitch_folder / "pano.png").read_bytes() == b"old"
+    assert not [p for p in stitch_folder.iterdir() if p.name.startswith(".panoproj-")]
+    assert run(cli, ["stitch", "t.pto", "pano.png", "--overwrite", "--blend", "multiband"], stitch_folder).code == 0
+    assert (stitch_folder / "pano.png").read_bytes()[:4] == b"\x89PNG"
 
 
 @pytest.fixture()

@@ -125,31 +125,7 @@ Image on_canvas(const Image& part, Size canvas, const PixelRect& extent) {
 
 }  // namespace
 
-RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
-  const PtoImage& im = plan.project.images[static_cast<size_t>(l.index)];
-  const PixelRect extent = layer_extent(plan, l.index);
-  if (extent.width() == 0) return {};
-  // Only the extent is made where the panorama has windows; else the canvas, then cut.
-  const Projection pano = make_projection(*plan.pano, plan.canvas);
-  const bool window = has_window(pano);
-  const PixelRect made = window ? extent : PixelRect{0, 0, plan.canvas.width, plan.canvas.height};
-  const ConversionGeometry geometry{make_projection(*l.spec, l.size),
-                                    window ? windowed(pano, extent) : pano, image_rotation(im)};
-  // Before the file is read: its samples (floats where the layer is), the part, the canvas.
-  const ImageInfo info = read_image_info(l.file);
-  const int channels = info.channels == 1 || info.channels == 3 ? info.channels + 1 : info.channels;
-  const PixelType out =
-      plan.depth.value_or(info.type == PixelType::F16 ? PixelType::F32 : info.type);
-  const PhotometricStep& photometry = *l.photometry;
-  // Corrected samples are made in float from the interpolated codes, rounded only at the end.
-  const bool corrected = !photometry.identity() || out == PixelType::F32;
-  const PixelType work = corrected ? PixelType::F32 : info.type;
-  const int64_t made_px = made.width() * made.height();
-  require_job_memory(geometry, channels, work, plan.options,
-                     image_bytes(l.size, channels, bytes_of(work)) +
-                         (plan.cropped ? 0 : image_bytes(plan.canvas, channels, bytes_of(out))) +
-                         (plan.hdr ? made_px : 0),
-                     "the image and the canvas");
+Image layer_source(const StitchPlan& plan, const StitchLayer& l, PixelType type) {
   ConvertOptions with_alpha = plan.options;
   with_alpha.add_alpha = true;
   Image storage;
@@ -159,15 +135,30 @@ RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
   if (source.size() != l.size) throw Error(l.file + ": changed while the job ran");
   mask_source(plan.project, l.index, l.sx, l.sy, source);
   // Float layers from integer files: remapped in float, so nothing is rounded before the end.
-  if (work != source.type()) source = convert_pixels(source, work);
+  if (type != source.type()) source = convert_pixels(source, type);
+  return source;
+}
+
+PixelType layer_work_type(const StitchPlan& plan, const StitchLayer& l, const ImageInfo& info) {
+  const PixelType out =
+      plan.depth.value_or(info.type == PixelType::F16 ? PixelType::F32 : info.type);
+  // Corrected samples are made in float from the interpolated codes, rounded only at the end.
+  return !l.photometry->identity() || out == PixelType::F32 ? PixelType::F32 : info.type;
+}
+
+Image render_window(const StitchPlan& plan, const StitchLayer& l, const Image& source,
+                    const PixelRect& window, const PixelRect& extent, Image* weights) {
+  const PtoImage& im = plan.project.images[static_cast<size_t>(l.index)];
+  const Projection pano = make_projection(*plan.pano, plan.canvas);
+  const bool whole = window == PixelRect{0, 0, plan.canvas.width, plan.canvas.height};
+  const ConversionGeometry geometry{make_projection(*l.spec, l.size),
+                                    whole ? pano : windowed(pano, window), image_rotation(im)};
   Image part = Converter(geometry, plan.options).run(source);
-  source = Image();
   exclude(plan, l.index, geometry.target, part);
-  const PixelRect in_made{extent.x0 - made.x0, extent.y0 - made.y0, extent.x1 - made.x0,
-                          extent.y1 - made.y0};
-  finish_alpha(part, in_made, plan.options.threads);
-  Image weights;
-  if (corrected) {
+  const PixelRect in_window{extent.x0 - window.x0, extent.y0 - window.y0, extent.x1 - window.x0,
+                            extent.y1 - window.y0};
+  finish_alpha(part, in_window, plan.options.threads);
+  if (part.type() == PixelType::F32) {
     // A pixel's position in the image's own (Hugin's) pixels: the file's over its scale.
     const auto position = [&](double x, double y, double& sx, double& sy) {
       Ray d;
@@ -177,8 +168,39 @@ RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
       sx = sx / l.sx - 0.5, sy = sy / l.sy - 0.5;
       return true;
     };
-    photometry.apply(part, position, plan.hdr ? &weights : nullptr, plan.options.threads);
+    l.photometry->apply(part, position, weights, plan.options.threads);
   }
+  return part;
+}
+
+RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
+  const PixelRect extent = layer_extent(plan, l.index);
+  if (extent.width() == 0) return {};
+  // Only the extent is made where the panorama has windows; else the canvas, then cut.
+  const bool window = has_window(make_projection(*plan.pano, plan.canvas));
+  const PixelRect made = window ? extent : PixelRect{0, 0, plan.canvas.width, plan.canvas.height};
+  // Before the file is read: its samples (floats where the layer is), the part, the canvas.
+  const ImageInfo info = read_image_info(l.file);
+  const int channels = info.channels == 1 || info.channels == 3 ? info.channels + 1 : info.channels;
+  const PixelType out =
+      plan.depth.value_or(info.type == PixelType::F16 ? PixelType::F32 : info.type);
+  const PixelType work = layer_work_type(plan, l, info);
+  const int64_t made_px = made.width() * made.height();
+  const Projection pano = make_projection(*plan.pano, plan.canvas);
+  require_job_memory({make_projection(*l.spec, l.size), window ? windowed(pano, made) : pano,
+                      image_rotation(plan.project.images[static_cast<size_t>(l.index)])},
+                     channels, work, plan.options,
+                     image_bytes(l.size, channels, bytes_of(work)) +
+                         (plan.cropped ? 0 : image_bytes(plan.canvas, channels, bytes_of(out))) +
+                         (plan.hdr ? made_px : 0),
+                     "the image and the canvas");
+  Image weights;
+  Image part = [&] {
+    const Image source = layer_source(plan, l, work);
+    return render_window(plan, l, source, made, extent, plan.hdr ? &weights : nullptr);
+  }();
+  const PixelRect in_made{extent.x0 - made.x0, extent.y0 - made.y0, extent.x1 - made.x0,
+                          extent.y1 - made.y0};
   if (!window) {
     part = crop(part, in_made);
     if (plan.hdr) weights = crop(weights, in_made);

@@ -1,6 +1,7 @@
 #pragma once
 // The stitch job's plan (every input, spec and output checked before any pixel is made) and the
 // rendering of one layer; shared by the job (stitch_job.cpp) and Python's arrays.
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -8,6 +9,7 @@
 #include "io/tiff_layer.hpp"
 #include "jobs/stitch/pto_project.hpp"
 #include "panoproj/image.hpp"
+#include "panoproj/io.hpp"
 #include "panoproj/jobs.hpp"
 #include "panoproj/options.hpp"
 #include "panoproj/spec.hpp"
@@ -19,11 +21,19 @@ struct StitchLayer {
   int index = 0;                              // the project's image
   std::string file;                           // its file
   Size size;                                  // the file's size
+  int channels = 0;                           // the file's channels
   double sx = 1, sy = 1;                      // the file's size over the project's
   std::optional<ProjectionSpec> spec;         // its lens at the file's size
   std::string output;                         // its layer's path
   std::string weights;                        // HDR: its weights' path (nona's PREFIX0000_gray.pgm)
   std::optional<PhotometricStep> photometry;  // its samples' correction (photometric.hpp)
+};
+
+// The blended panorama's blend (panorama.hpp).
+struct BlendSettings {
+  bool multiband = false;     // else the feather
+  double feather = INFINITY;  // the feather's ramp (radians): the whole overlap
+  int levels = 0;             // multiband's; 0: from the overlaps' width
 };
 
 struct StitchPlan {
@@ -37,10 +47,14 @@ struct StitchPlan {
   bool cropped = true;  // layers cut to their extent (n"... r:CROP"), else the whole canvas
   bool overwrite = false;
   bool hdr = false;  // linear layers (the project's R1 or output_mode hdr), with weights
+  std::string panorama;  // the blended panorama's file, "(array)" for an array; empty: layers
+  BlendSettings blend;
 };
 
-// files: the layers are written (their paths checked); else only made (Python's arrays).
-StitchPlan plan_stitch(const Arguments& args, bool files = true);
+// What is made: files (the output: a panorama where it names an image format, else the layers'
+// prefix; paths checked), or arrays (Python's: the layers, or the blended panorama).
+enum class StitchMade { Files, LayerArrays, PanoramaArray };
+StitchPlan plan_stitch(const Arguments& args, StitchMade made = StitchMade::Files);
 
 // The part of the canvas nona gives image `index` (layer_extent.cpp); empty if none.
 PixelRect layer_extent(const StitchPlan& plan, int index);
@@ -56,5 +70,15 @@ struct RenderedLayer {
   Image weights;
 };
 RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& layer);
+
+// render_layer's steps, for the blended panorama (panorama.cpp). The samples a layer is made in
+// (float where it is corrected or float); the image's file as its source (alpha added, its crop
+// and masks in it, in `type`); its pixels in `window` of the canvas (the whole canvas where the
+// panorama has no windows), its alpha as render_layer's and 0 outside `extent`, corrected where
+// float (weights: as render_layer's).
+PixelType layer_work_type(const StitchPlan& plan, const StitchLayer& layer, const ImageInfo& info);
+Image layer_source(const StitchPlan& plan, const StitchLayer& layer, PixelType type);
+Image render_window(const StitchPlan& plan, const StitchLayer& layer, const Image& source,
+                    const PixelRect& window, const PixelRect& extent, Image* weights);
 
 }  // namespace panoproj

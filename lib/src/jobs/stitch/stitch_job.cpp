@@ -13,7 +13,9 @@
 #include "io/formats.hpp"
 #include "io/tiff_layer.hpp"
 #include "jobs/list.hpp"
+#include "io/streamed_output.hpp"
 #include "jobs/stitch/layer_masks.hpp"
+#include "jobs/stitch/panorama.hpp"
 #include "jobs/stitch/pano_spec.hpp"
 #include "jobs/stitch/pto_photometry.hpp"
 #include "jobs/stitch/pto_project.hpp"
@@ -22,6 +24,7 @@
 #include "panoproj/error.hpp"
 #include "panoproj/interrupt.hpp"
 #include "panoproj/limits.hpp"
+#include "panoproj/photo_sphere.hpp"
 
 namespace panoproj {
 namespace {
@@ -51,8 +54,8 @@ const std::vector<OptionDef>& rows() {
           {"project", OptionType::Path, 0, "None", "the Hugin project (.pto)", nullptr, nullptr,
            nullptr, kPositional | kRequired},
           {"output", OptionType::Path, 0, "None",
-           "the layers' prefix: PREFIX0000.tif, PREFIX0001.tif, ... (a number per image, as nona's "
-           "-o)",
+           "the blended panorama (a file of an image format: pano.jpg, pano.tif, ...), or the "
+           "layers' prefix: PREFIX0000.tif, PREFIX0001.tif, ... (a number per image, as nona's -o)",
            nullptr, nullptr, nullptr, kPositional | kRequired},
           {"images", OptionType::Paths, 0, "None",
            "image files in place of the project's, in its order (a template project)"},
@@ -77,6 +80,17 @@ const std::vector<OptionDef>& rows() {
            "ldr (codes of Hugin's output response) | hdr (linear, with nona's weights "
            "PREFIX0000_gray.pgm); default: the project's p line R (R0 ldr, R1 hdr), as nona's -r",
            nullptr, "ldr|hdr"},
+          {"blend", OptionType::Text, 0, "None",
+           "the panorama's blend: feather (default: weights from each image's distance to its "
+           "edge) | multiband (Burt-Adelson)",
+           nullptr, "feather|multiband"},
+          {"feather", OptionType::Angle, 0, "None",
+           "the feather's ramp (deg, across the midline between two images); default: the whole "
+           "overlap; 0: a hard cut"},
+          {"levels", OptionType::Integer, 0, "None",
+           "multiband's levels, 1 to 12; default: from the overlaps' width"},
+          write_option("quality"),
+          write_option("subsampling"),
       },
       kUseStitch,
       {with_help(write_option("overwrite"), "replace existing layers"), command_option("quiet")});
@@ -158,9 +172,43 @@ PhotometricOutput output_of(const Arguments& args, const PtoProject& p) {
   return o;
 }
 
+// The blend rows: a panorama's only; the layer rows (extent, compression): layers' only.
+void blend_of(const Arguments& args, StitchPlan& s) {
+  const bool panorama = !s.panorama.empty();
+  const bool blend_given = args.optional_text("blend") || args.optional_angle("feather") ||
+                           args.optional_integer("levels");
+  if (!panorama && blend_given)
+    throw Error("blend, feather and levels: blend a panorama; " + args.text("output") +
+                " is a layers' prefix (give a file such as pano.jpg to blend)");
+  for (const char* row : {"extent", "compression"})
+    if (panorama && args.optional_text(row))
+      throw Error(std::string(row) + ": shapes layers; " + s.panorama +
+                  " is a blended panorama (give a prefix such as layer_ for layers)");
+  if (const auto b = args.optional_text("blend")) {
+    if (*b != "feather" && *b != "multiband")
+      throw Error("blend: " + *b + " (expected feather or multiband)");
+    s.blend.multiband = *b == "multiband";
+  }
+  if (const auto f = args.optional_angle("feather")) {
+    if (s.blend.multiband)
+      throw Error("feather: the feather's width; multiband blends by its levels (--levels)");
+    if (!(*f >= 0 && *f <= 360))
+      throw Error("feather: " + std::to_string(*f) + " (expected 0 to 360 degrees)");
+    s.blend.feather = *f * kPi / 180;
+  }
+  if (const auto l = args.optional_integer("levels")) {
+    if (!s.blend.multiband) throw Error("levels: multiband's (give --blend multiband)");
+    if (*l < 1 || *l > kMaxBlendLevels)
+      throw Error("levels: " + std::to_string(*l) + " (expected 1 to " +
+                  std::to_string(kMaxBlendLevels) + ")");
+    s.blend.levels = static_cast<int>(*l);
+  }
+}
+
 }  // namespace
 
-StitchPlan plan_stitch(const Arguments& args, bool files) {
+StitchPlan plan_stitch(const Arguments& args, StitchMade made) {
+  const bool files = made == StitchMade::Files;
   StitchPlan s;
   s.project = read_pto(args.text("project"));
   const PtoProject& p = s.project;
@@ -192,6 +240,10 @@ StitchPlan plan_stitch(const Arguments& args, bool files) {
   s.canvas = {p.pano.width, p.pano.height};
   make_projection(*s.pano, s.canvas);
   const std::string prefix = args.text("output");
+  if (made == StitchMade::PanoramaArray) s.panorama = "(array)";
+  else if (files && format_of_extension(std::filesystem::path(prefix).extension().string()))
+    s.panorama = prefix;
+  blend_of(args, s);
   for (size_t i = 0; i < p.images.size(); ++i) {
     const PtoImage& im = p.images[i];
     if (only && static_cast<int64_t>(i) != *only) continue;
@@ -227,11 +279,15 @@ StitchPlan plan_stitch(const Arguments& args, bool files) {
     if (args.flag("ignore_exposure")) out.exposure = im.exposure;
     l.photometry.emplace(image_photometry(p, im), out, Size{im.width, im.height},
                          p.path + ":" + std::to_string(im.line) + ": i line");
-    if (files) check_output_path(l.output, s.overwrite);
-    if (files && s.hdr) check_output_path(l.weights, s.overwrite);
+    l.channels = info.channels;
+    if (files && s.panorama.empty()) check_output_path(l.output, s.overwrite);
+    if (files && s.panorama.empty() && s.hdr) check_output_path(l.weights, s.overwrite);
   }
   if (s.layers.empty()) throw Error(p.path + ": no image to render (all are disabled)");
-  if (files) {
+  if (files && !s.panorama.empty()) {
+    format_of_path(s.panorama);
+    check_output_path(s.panorama, s.overwrite);
+  } else if (files) {
     std::vector<std::pair<std::string, std::string>> outputs;
     for (const StitchLayer& l : s.layers) {
       outputs.push_back({"layer", l.output});
@@ -244,6 +300,39 @@ StitchPlan plan_stitch(const Arguments& args, bool files) {
 
 namespace {
 
+Report run_panorama(const Arguments& args, const StitchPlan& plan, const JobEvents& events) {
+  WriteOptions write;
+  write.overwrite = plan.overwrite;
+  write.quality = static_cast<int>(args.integer("quality"));
+  if (write.quality < 1 || write.quality > 100)
+    throw Error("quality: " + std::to_string(write.quality) + " (expected 1 to 100)");
+  write.subsampling = parse_subsampling(args.text("subsampling"));
+  write.threads = plan.options.threads;
+  // An equirect says where it sits in the sphere (Photo Sphere XMP), as convert's.
+  const Projection pano = make_projection(*plan.pano, plan.canvas);
+  if (const auto* e = std::get_if<Equirect>(&pano)) write.xmp = photo_sphere_xmp(photo_sphere_of(*e));
+  const PixelType type = panorama_type(plan);
+  int colour = 1;
+  for (const StitchLayer& l : plan.layers) colour = l.channels >= 3 ? 3 : colour;
+  StreamedOutput output(plan.panorama, write, plan.canvas, colour + 1, type);
+  const BlendedPanorama b = blend_panorama(
+      plan, type,
+      [&](const Image& image, const PixelRect& rows) {
+        if (output.streams()) output.done(image, rows);
+      },
+      events.progress);
+  output.finish(b.image).write();
+  if (events.line)
+    events.line(plan.panorama + ": " + size_text(plan.canvas) + ", " +
+                std::to_string(plan.layers.size()) + " images, " +
+                (plan.blend.multiband ? "multiband (" + std::to_string(b.levels) + " levels)"
+                                      : std::string("feather")));
+  return {{"output", {plan.panorama}},
+          {"canvas", report_size(plan.canvas)},
+          {"blend", {std::string(plan.blend.multiband ? "multiband" : "feather")}},
+          {"levels", {static_cast<int64_t>(b.levels)}}};
+}
+
 Report run(const Arguments& args, const JobEvents& events) {
   const StitchPlan plan = plan_stitch(args);
   if (events.warning)
@@ -252,6 +341,7 @@ Report run(const Arguments& args, const JobEvents& events) {
               unused_photometry(plan.project, plan.project.images[static_cast<size_t>(l.index)]);
           !why.empty())
         events.warning(why);
+  if (!plan.panorama.empty()) return run_panorama(args, plan, events);
   OutputSet set(plan.overwrite);
   std::vector<ReportValue> layers;
   for (size_t k = 0; k < plan.layers.size(); ++k) {
@@ -290,7 +380,9 @@ Report run(const Arguments& args, const JobEvents& events) {
 
 const JobDef stitch_job{
     .name = "stitch",
-    .summary = "remap a Hugin project's images into layers for enblend (as nona -m TIFF_m)",
+    .summary =
+        "a Hugin project's images blended into a panorama, or remapped into layers for enblend "
+        "(as nona -m TIFF_m)",
     .python =
         "Remaps a Hugin project's (.pto) images onto its panorama as layer TIFFs for enblend "
         "(PREFIX0000.tif, ...: RGBA, unassociated alpha, placed on the canvas as nona -m TIFF_m "

@@ -1,0 +1,85 @@
+// Margins of the blended panorama (blend_margins.hpp).
+#include "jobs/stitch/blend_margins.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "jobs/stitch/layer_masks.hpp"
+#include "jobs/stitch/pano_spec.hpp"
+#include "panoproj/spec.hpp"
+
+namespace panoproj {
+
+LayerMargin::LayerMargin(const PtoProject& project, int index)
+    : image_(&project.images[static_cast<size_t>(index)]),
+      lens_(make_projection(parse_spec(image_spec(project, *image_)),
+                            {image_->width, image_->height})),
+      rotation_(image_rotation(*image_)),
+      per_radian_(center_density(lens_)) {}
+
+double LayerMargin::at(const Ray& d) const {
+  double px, py;
+  if (!to_pixel(lens_, rotation_ * d, px, py)) return kNoMargin;
+  // Hugin's positions (pixel centres at integers): the frame's edges at -1/2 and w - 1/2.
+  const double x = px - 0.5, y = py - 0.5;
+  const PtoImage& im = *image_;
+  PtoRect r{0, im.width, 0, im.height};
+  double m = 0;
+  if (im.crop && circular_crop(im)) {
+    const PtoRect& c = *im.crop;
+    const double cx = 0.5 * static_cast<double>(c.left + c.right),
+                 cy = 0.5 * static_cast<double>(c.top + c.bottom);
+    const double radius = 0.5 * static_cast<double>(std::min(c.right - c.left, c.bottom - c.top));
+    m = radius - std::hypot(x - cx, y - cy);
+  } else {
+    if (im.crop)
+      r = {std::max(r.left, im.crop->left), std::min(r.right, im.crop->right),
+           std::max(r.top, im.crop->top), std::min(r.bottom, im.crop->bottom)};
+    m = INFINITY;
+  }
+  m = std::min({m, x - (static_cast<double>(r.left) - 0.5), static_cast<double>(r.right) - 0.5 - x,
+                y - (static_cast<double>(r.top) - 0.5), static_cast<double>(r.bottom) - 0.5 - y});
+  return std::max(m / per_radian_, static_cast<double>(kNoMargin));
+}
+
+void LayerMargin::over(const Projection& pano, const PixelRect& rect, float* out) const {
+  const int64_t w = rect.width(), h = rect.height();
+  if (w <= 0 || h <= 0) return;
+  const auto exact = [&](int64_t x, int64_t y) {
+    Ray d;
+    if (!to_ray(pano, static_cast<double>(x) + 0.5, static_cast<double>(y) + 0.5, d))
+      return kNoMargin;
+    return static_cast<float>(at(d));
+  };
+  // Nodes on the panorama's grid (multiples of kStep), so that every rectangle gets the same
+  // values at a pixel.
+  const int64_t gx0 = rect.x0 / kStep, gy0 = rect.y0 / kStep;
+  const int64_t cols = (rect.x1 - 1) / kStep - gx0 + 2, node_rows = (rect.y1 - 1) / kStep - gy0 + 2;
+  std::vector<float> node(static_cast<size_t>(cols * node_rows));
+  for (int64_t r = 0; r < node_rows; ++r)
+    for (int64_t c = 0; c < cols; ++c)
+      node[static_cast<size_t>(r * cols + c)] = exact((gx0 + c) * kStep, (gy0 + r) * kStep);
+  constexpr float inv = 1.0f / static_cast<float>(kStep);
+  for (int64_t y = rect.y0; y < rect.y1; ++y) {
+    const int64_t r = y / kStep - gy0;
+    const float ty = static_cast<float>(y % kStep) * inv;
+    float* row = out + (y - rect.y0) * w;
+    for (int64_t x = rect.x0; x < rect.x1; ++x) {
+      const int64_t c = x / kStep - gx0;
+      const float* n0 = node.data() + r * cols + c;
+      const float* n1 = n0 + cols;
+      const float n00 = n0[0], n01 = n0[1], n10 = n1[0], n11 = n1[1];
+      const bool smooth =
+          n00 > kNoMargin && n01 > kNoMargin && n10 > kNoMargin && n11 > kNoMargin;
+      // No node with a pixel: the cell is taken as without (a lens's field ends smoothly, so a
+      // sliver of it inside a cell kStep wide lies on the layer's very edge, at margin < 0).
+      const bool none =
+          n00 == kNoMargin && n01 == kNoMargin && n10 == kNoMargin && n11 == kNoMargin;
+      const float tx = static_cast<float>(x % kStep) * inv;
+      const float a = n00 + ty * (n10 - n00), b = n01 + ty * (n11 - n01);
+      row[x - rect.x0] = smooth ? a + tx * (b - a) : none ? kNoMargin : exact(x, y);
+    }
+  }
+}
+
+}  // namespace panoproj
