@@ -1,6 +1,7 @@
-"""A Hugin project's layers: panoproj stitch against nona -m TIFF_m (issues 50 and 51's figures):
+"""A Hugin project's layers: panoproj stitch against nona -m TIFF_m (issues 50 and 51's figures),
+and its blended panorama against nona -m TIFF_m followed by enblend (issue 52's):
 
-    scripts/bench.sh stitch [--runs N] [--only none,deflate,float,photometry,photometry-float]
+    scripts/bench.sh stitch [--runs N] [--only none,deflate,float,photometry,photometry-float,feather,multiband]
 
 The project is made here from the real Jordan Pond panorama (samples/images/): six 2400x1600
 rectilinear views (hfov 75, 60 degrees apart, JPEG) and two 1600x1600 equidistant fisheyes (180,
@@ -8,7 +9,9 @@ up and down), with a b c d e g t non-zero and an S crop, onto a 6000x3000 equire
 bilinear (m i5), no antialiasing, the same layers (8-bit RGBA, r:CROP) with the same compression:
 none, Deflate, and float samples (nona -p FLOAT). photometry and photometry-float: the same with
 every photometric value non-trivial (EMoR response, exposures, white balance, vignetting), timed
-against the same project without them (the photometric path's cost) and against nona. The whole
+against the same project without them (the photometric path's cost) and against nona. feather and
+multiband: `stitch project.pto pano.tif` (--blend multiband) against `nona -m TIFF_m` then
+`enblend -o pano.tif` on its layers (enblend's defaults), the two timed together. The whole
 process each, interleaved, --runs times: medians with the spread (min-max), and the ratio per run.
 """
 import argparse
@@ -62,10 +65,13 @@ def spread(xs):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=11)
-    ap.add_argument("--only", default="none,deflate,float,photometry,photometry-float")
+    ap.add_argument("--only", default="none,deflate,float,photometry,photometry-float,feather,multiband")
     args = ap.parse_args()
     if shutil.which("nona") is None:
         sys.exit("bench_stitch: nona (apt's hugin-tools) is not installed")
+    blends = {"feather": [], "multiband": ["--blend", "multiband"]}
+    if any(b in args.only.split(",") for b in blends) and shutil.which("enblend") is None:
+        sys.exit("bench_stitch: enblend (apt's enblend) is not installed")
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
         cases = {"none": ("NONE", [], [], False), "deflate": ("DEFLATE", [], [], False),
@@ -74,6 +80,9 @@ def main():
                  "photometry-float": ("NONE", ["-p", "FLOAT"], ["--depth", "float"], True)}
         print(f"{args.runs} interleaved runs each; seconds, median (min-max); ratio nona / panoproj per run")
         for name in args.only.split(","):
+            if name in blends:
+                blend(work, name, blends[name], args.runs)
+                continue
             compression, nona_args, our_args, photometric = cases[name]
             project = make_project(work, compression, photometric)
             ours = [CLI, "stitch", project, work / "q_", "--overwrite", "--quiet", *our_args]
@@ -95,6 +104,26 @@ def main():
                 cost = [o / p for o, p in zip(t_ours, t_plain)]
                 print(f"{'':8s} the same without photometry: panoproj {spread(t_plain)} s; "
                       f"photometric / plain {spread(cost)}")
+
+
+def blend(work, name, our_args, runs):
+    project = make_project(work, "NONE")
+    ours = [CLI, "stitch", project, work / "pano.tif", "--overwrite", "--quiet", *our_args]
+
+    def peers():
+        for old in work.glob("n_*.tif"):
+            old.unlink()
+        return timed(["nona", "-m", "TIFF_m", "-o", work / "n_", project]) + \
+            timed(["enblend", "-o", work / "enblend.tif", *sorted(work.glob("n_*.tif"))])
+
+    timed(ours), peers()  # warm the page cache
+    t_ours, t_peers = [], []
+    for _ in range(runs):
+        t_peers.append(peers())
+        t_ours.append(timed(ours))
+    ratios = [n / o for n, o in zip(t_peers, t_ours)]
+    print(f"{name:8s} (8 images onto 6000x3000, one blended TIFF): panoproj {spread(t_ours)} s, "
+          f"nona + enblend {spread(t_peers)} s, (nona + enblend) / panoproj {spread(ratios)}")
 
 
 if __name__ == "__main__":

@@ -1049,6 +1049,7 @@ class StitchOptions(TypedDict, total=False):
     """The keyword options of stitch() (the command's flags)."""
 
     interp: Interp
+    size: SizeLike
     threads: int
     engine: Engine
     antialias: Union[Antialias, int, None]

@@ -203,6 +203,7 @@ def stitch(
     output: PathLike,
     *,
     images: Union[PathLike, Sequence[PathLike]] = None,
+    to: Optional[str] = None,
     image: Optional[int] = None,
     compression: Optional[Literal['none', 'deflate']] = None,
     extent: Optional[Literal['crop', 'canvas']] = None,
@@ -218,7 +219,7 @@ def stitch(
     overwrite: bool = False,
     **options: Unpack[StitchOptions],
 ) -> Dict[str, Any]:
-    """Remaps a Hugin project's (.pto) images onto its panorama as layer TIFFs for enblend (PREFIX0000.tif, ...: RGBA, unassociated alpha, placed on the canvas as nona -m TIFF_m writes them).
+    """Blends a Hugin project's (.pto) images, or a rig's lenses (.yaml, .yml, .json), into one panorama where the output is an image file (pano.jpg), else remaps them onto the panorama as layer TIFFs for enblend (PREFIX0000.tif, ...: RGBA, unassociated alpha, placed on the canvas as nona -m TIFF_m writes them).
     """
     return _job.run(
         'stitch',
@@ -226,6 +227,7 @@ def stitch(
             'project': project,
             'output': output,
             'images': images,
+            'to': to,
             'image': image,
             'compression': compression,
             'extent': extent,

@@ -40,6 +40,7 @@ def stitch_layers(
     project: PathLike,
     *,
     images: Union[PathLike, Sequence[PathLike], None] = None,
+    to: Optional[str] = None,
     image: Optional[int] = None,
     extent: Optional[Literal["crop", "canvas"]] = None,
     depth: Optional[Literal["uint8", "uint16", "float"]] = None,
@@ -48,9 +49,11 @@ def stitch_layers(
     output_mode: Optional[Literal["ldr", "hdr"]] = None,
     **options: Unpack[StitchOptions],
 ) -> Layers:
-    """Remaps a Hugin project's (.pto) images onto its panorama as ``stitch`` does, returning the
-    layers as arrays with their offsets instead of writing them."""
-    given = {"project": project, "output": "", "images": images, "image": image, "extent": extent, "depth": depth,
+    """Remaps a Hugin project's (.pto) images, or a rig's lenses (.yaml, .yml, .json; its panorama
+    ``to`` at ``size``), onto its panorama as ``stitch`` does, returning the layers as arrays with
+    their offsets instead of writing them."""
+    given = {"project": project, "output": "", "images": images, "to": to, "image": image, "extent": extent,
+             "depth": depth,
              "exposure": exposure, "ignore_exposure": ignore_exposure, "output_mode": output_mode}
     args = _job.arguments("stitch", given, dict(options))
     layers, canvas = _core.stitch_layers(args)
@@ -62,6 +65,7 @@ def stitch_panorama(
     project: PathLike,
     *,
     images: Union[PathLike, Sequence[PathLike], None] = None,
+    to: Optional[str] = None,
     image: Optional[int] = None,
     depth: Optional[Literal["uint8", "uint16", "float"]] = None,
     exposure: Optional[float] = None,
@@ -72,10 +76,11 @@ def stitch_panorama(
     levels: Optional[int] = None,
     **options: Unpack[StitchOptions],
 ) -> np.ndarray:
-    """Blends a Hugin project's (.pto) images into its panorama as ``stitch project.pto pano.jpg``
-    does, returning the canvas (H x W x 4, or x 2 where every image is gray; alpha last: full where
-    an image covers) instead of writing it."""
-    given = {"project": project, "output": "", "images": images, "image": image, "depth": depth,
+    """Blends a Hugin project's (.pto) images, or a rig's lenses (.yaml, .yml, .json; its panorama
+    ``to`` at ``size``), into its panorama as ``stitch project.pto pano.jpg`` does, returning the
+    canvas (H x W x 4, or x 2 where every image is gray; alpha last: full where an image covers)
+    instead of writing it."""
+    given = {"project": project, "output": "", "images": images, "to": to, "image": image, "depth": depth,
              "exposure": exposure, "ignore_exposure": ignore_exposure, "output_mode": output_mode,
              "blend": blend, "feather": feather, "levels": levels}
     args = _job.arguments("stitch", given, dict(options))

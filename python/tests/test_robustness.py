@@ -2118,7 +2118,7 @@ STITCH_PANORAMA = [
      "feather: the feather's width; multiband blends by its levels", False),
     ("blend_for_layers", "l_", ["--blend", "multiband"], "is a layers' prefix (give a file such as pano.jpg", False),
     ("extent_for_panorama", "pano.jpg", ["--extent", "canvas"], "extent: shapes layers", False),
-    ("compression_for_panorama", "pano.tif", ["--compression", "none"], "compression: shapes layers", False),
+    ("compression_for_panorama", "pano.png", ["--compression", "none"], "compression: shapes layers and TIFF", False),
     ("quality_zero", "pano.jpg", ["--quality", "0"], "quality: 0 (expected 1 to 100)", False),
     ("subsampling", "pano.jpg", ["--subsampling", "411"], "411", False),
     ("over_budget", "pano.jpg", ["--memory-limit", "1M"], "the panorama 2000x1000, its images and a band's buffers needs",
@@ -2148,6 +2148,62 @@ def test_stitch_panorama_needs_overwrite_and_a_full_disk_leaves_the_old_one(cli,
     assert not [p for p in stitch_folder.iterdir() if p.name.startswith(".panoproj-")]
     assert run(cli, ["stitch", "t.pto", "pano.png", "--overwrite", "--blend", "multiband"], stitch_folder).code == 0
     assert (stitch_folder / "pano.png").read_bytes()[:4] == b"\x89PNG"
+
+
+# Rigs of lenses (stitch rig.yaml pano.jpg): bad rigs and options refused in one line, nothing
+# written. a.png is 64x48.
+RIG_LENS = "  - {spec: 'fisheye:fov=200', input: a.png, rect: 32x48+0+0}\n"
+RIG_BACK = "  - {spec: 'fisheye:fov=200', input: a.png, rect: 32x48+32+0, yaw: 180}\n"
+STITCH_RIG = [
+    ("rig_no_lens", "lenses:\n", [], "no lenses (expected a list", False),
+    ("rig_empty_json", "[]", [], "no lenses", False),
+    ("rig_no_input", "- {spec: 'fisheye:fov=200'}\n", [], "lens 1 has no input", False),
+    ("rig_no_spec", "- {input: a.png}\n", [], "lens 1 has no spec", False),
+    ("rig_unknown_key", "- {spec: equirect, input: a.png, fov: 3}\n", [], "unknown key 'fov'", False),
+    ("rig_bad_spec", "- {spec: 'fisheye:fov=nan', input: a.png}\n", [], "lens 1: spec", False),
+    ("rig_missing_input", "- {spec: equirect, input: nothere.png}\n", [], "nothere.png", False),
+    ("rig_garbage_input", "- {spec: equirect, input: garbage.png}\n", [], "garbage.png", False),
+    ("rig_fifo_input", "- {spec: equirect, input: fifo.png}\n", [], "fifo.png", False),
+    ("rig_rect_outside", "- {spec: equirect, input: a.png, rect: 64x48+1+0}\n", [], "reaches outside a.png", False),
+    ("rig_rect_malformed", "- {spec: equirect, input: a.png, rect: 64x48}\n", [], "rect '64x48' (expected WxH+X+Y", False),
+    ("rig_rect_zero", "- {spec: equirect, input: a.png, rect: 0x48+0+0}\n", [], "rect '0x48+0+0'", False),
+    ("rig_rect_huge", "- {spec: equirect, input: a.png, rect: 99999999999x1+0+0}\n", [], "expected WxH+X+Y", False),
+    ("rig_crop_outside", "- {spec: equirect, input: a.png, crop: 10x10+60+0}\n", [], "crop 10x10+60+0 reaches outside", False),
+    ("rig_rects_overlap", RIG_LENS + "  - {spec: 'fisheye:fov=200', input: a.png, rect: 32x48+16+0}\n", [],
+     "overlaps lens 1's", False),
+    ("rig_lens_sees_nothing", "- {spec: 'pinhole:hfov=10', input: a.png, yaw: 90}\n", ["--to", "pinhole:hfov=20"],
+     "lens 1 has no pixel on the panorama", False),
+    ("rig_yaw_nan", "- {spec: equirect, input: a.png, yaw: nan}\n", [], "yaw 'nan' (expected -360 to 360", False),
+    ("rig_key_twice", "- {spec: equirect, input: a.png, input: a.png}\n", [], "'input' given twice", False),
+    ("rig_tab", "-\tspec: equirect\n", [], "a tab", False),
+    ("rig_nul", "- {spec: equirect\x00}\n", [], "a NUL byte", False),
+    ("rig_json_nested", '[{"spec": "equirect", "input": {"a": 1}}]', [], "not a string or number", False),
+    ("rig_json_unterminated", '[{"spec": "equirect', [], "an unterminated string", False),
+    ("rig_images_count", "lenses:\n" + RIG_LENS + RIG_BACK, ["--images", "a.png", "a.png"],
+     "images: 2 files for a rig of 1 inputs", False),
+    ("rig_exposure", "lenses:\n" + RIG_LENS + RIG_BACK, ["--exposure", "1"], "exposure: a Hugin project's", False),
+    ("rig_to_bad", "lenses:\n" + RIG_LENS + RIG_BACK, ["--to", "nosuch"], "nosuch", False),
+    ("rig_size_bad", "lenses:\n" + RIG_LENS + RIG_BACK, ["--size", "0x10"], "size", False),
+]
+
+
+@pytest.mark.parametrize("case", _table(STITCH_RIG))
+def test_stitch_bad_rigs(cli, stitch_folder, case):
+    name, text, args, needle, _ = case
+    rig = "rig.json" if text.startswith("[") else "rig.yaml"
+    (stitch_folder / rig).write_text(text)
+    before = snapshot(stitch_folder)
+    line = expect_refused(run(cli, ["stitch", rig, "pano.jpg", *args], stitch_folder, timeout=30), needle)
+    assert len(line) < 400
+    assert snapshot(stitch_folder) == before
+
+
+def test_stitch_size_and_to_are_a_rigs(cli, stitch_folder):
+    (stitch_folder / "t.pto").write_text(STITCH_PANO + STITCH_IMAGE)
+    for args in (["--size", "64x32"], ["--to", "equirect"]):
+        expect_refused(run(cli, ["stitch", "t.pto", "pano.jpg", *args], stitch_folder), "a rig's panorama")
+    (stitch_folder / "rig.yaml").write_text("lenses:\n" + RIG_LENS + RIG_BACK)
+    assert run(cli, ["stitch", "rig.yaml", "pano.jpg", "--size", "64x32"], stitch_folder).code == 0
 
 
 @pytest.fixture()

@@ -143,10 +143,11 @@ void parallel_rows(int64_t rows, int threads, const std::function<void(int64_t, 
   parallel_tasks(n, static_cast<int>(n), [&](int64_t i, int) { band(rows * i / n, rows * (i + 1) / n); });
 }
 
-void parallel_row_blocks(int64_t rows, int threads, const std::function<void(int64_t, int64_t)>& band,
-                         int64_t block) {
+void parallel_row_blocks(int64_t rows, int threads,
+                         const std::function<void(int64_t, int64_t)>& band, int64_t block) {
   const int64_t n = (rows + block - 1) / block;
-  parallel_tasks(n, threads, [&](int64_t t, int) { band(t * block, std::min(rows, (t + 1) * block)); });
+  parallel_tasks(n, threads,
+                 [&](int64_t t, int) { band(t * block, std::min(rows, (t + 1) * block)); });
 }
 
 int workers_for(int64_t n, int threads) {

@@ -12,8 +12,8 @@ namespace panoproj {
 void parallel_rows(int64_t rows, int threads, const std::function<void(int64_t, int64_t)>& band);
 // Rows [0, rows) in blocks of `block` rows handed out as parallel_tasks' (so the calling thread
 // checks for an interrupt between them: long single passes over large images).
-void parallel_row_blocks(int64_t rows, int threads, const std::function<void(int64_t, int64_t)>& band,
-                         int64_t block = 64);
+void parallel_row_blocks(int64_t rows, int threads,
+                         const std::function<void(int64_t, int64_t)>& band, int64_t block = 64);
 // Workers parallel_tasks uses for n tasks: min(threads, n), at least 1.
 int workers_for(int64_t n, int threads);
 // Hands tasks 0 .. n-1 out in order, one at a time, to workers_for(n, threads) threads; worker 0

@@ -5,10 +5,10 @@
 #include <cerrno>
 #include <cstdlib>
 
-#include "panoproj/error.hpp"
-#include "sampling/interpolator.hpp"
-#include "panoproj/limits.hpp"
 #include "base/parallel.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/limits.hpp"
+#include "sampling/interpolator.hpp"
 
 namespace panoproj {
 namespace {
@@ -22,7 +22,7 @@ const T& value_as(const OptionValue& v, const char* name) {
 std::vector<OptionDef> make_options() {
   constexpr unsigned kAll = kUseConvert | kUseMaps | kUseAccuracy;
   return {
-      {"size", OptionType::Text, kAll | kUseViews, "None",
+      {"size", OptionType::Text, kAll | kUseViews | kUseStitch, "None",
        "output size WxH (cube faces: one face); default: the source's resolution at the target's "
        "centre, square pixels",
        [](ConvertOptions& o, const OptionValue& v) {
@@ -152,7 +152,8 @@ OptionValue option_value(const OptionDef& option, const std::string& text) {
       return text;
     case OptionType::Paths:
       return std::vector<std::string>{text};
-    case OptionType::Flag: break;
+    case OptionType::Flag:
+      break;
   }
   throw InternalError(flag_of(option) + " is a flag: it has no text to parse");
 }
@@ -168,7 +169,8 @@ Size parse_size(std::string_view text, std::string_view what) {
     } catch (const std::exception&) {
     }
   }
-  throw Error(std::string(what) + ": " + t + " (expected WxH with positive integers, e.g. 2048x1024)");
+  throw Error(std::string(what) + ": " + t +
+              " (expected WxH with positive integers, e.g. 2048x1024)");
 }
 
 }  // namespace panoproj

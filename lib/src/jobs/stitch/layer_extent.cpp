@@ -6,18 +6,18 @@
 #include <cmath>
 
 #include "jobs/stitch/layer_masks.hpp"
-#include "jobs/stitch/pano_spec.hpp"
 #include "jobs/stitch/stitch.hpp"
 #include "panoproj/projection.hpp"
 
 namespace panoproj {
 
-PixelRect layer_extent(const StitchPlan& plan, int index) {
+PixelRect layer_extent(const StitchPlan& plan, const StitchLayer& layer) {
   const PtoProject& p = plan.project;
+  const int index = layer.index;
   const PtoImage& im = p.images[static_cast<size_t>(index)];
   const Projection pano = make_projection(*plan.pano, plan.canvas);
-  const Projection lens = make_projection(parse_spec(image_spec(p, im)), {im.width, im.height});
-  const Eigen::Matrix3d rotation = image_rotation(im);
+  const Projection lens = make_projection(*layer.lens, {im.width, im.height});
+  const Eigen::Matrix3d& rotation = layer.rotation;
   const auto W = static_cast<double>(plan.canvas.width),
              H = static_cast<double>(plan.canvas.height);
   const double scale = std::fmin(180.0 / W, 180.0 / H);

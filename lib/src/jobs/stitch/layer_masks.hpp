@@ -25,7 +25,6 @@ bool inside_include_clip(const PtoImage& image, double x, double y);
 // even-odd rule) where an odd number of them lie right of x.
 std::vector<double> crossings(const std::vector<double>& xy, double y);
 bool inside_polygon(const std::vector<double>& xy, double x, double y);
-bool inside_polygon(const std::vector<double>& xy, double x, double y);
 
 // The image-space masks of image `index`: its exclude masks (t0, t2) and its lens's (t4).
 std::vector<const PtoMask*> image_masks(const PtoProject& project, int index);

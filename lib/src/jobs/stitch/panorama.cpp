@@ -38,30 +38,38 @@ PixelRect meet(const PixelRect& a, const PixelRect& b) {
   return r.x1 > r.x0 && r.y1 > r.y0 ? r : PixelRect{};
 }
 
-int64_t align_down(int64_t v, int64_t a) { return v / a * a; }
+int64_t align_down(int64_t v, int64_t a) {
+  return v / a * a;
+}
 
 // The largest and second largest margins at each pixel of the window, and whose the largest is.
+template <class T>
+using Buffer = std::vector<T, PixelAllocator<T>>;  // (huge pages, unset on resize)
 struct Leaders {
-  std::vector<float> first, second;
-  std::vector<int> owner;
+  Buffer<float> first, second;
+  Buffer<int> owner;
 };
 
-// A layer's part: colours (gray replicated where the panorama is RGB) and alpha 0 or 1, as floats.
+// A layer's part: colours (gray replicated where the panorama is RGB) and alpha 0 or 1, as floats
+// (out reshaped; uncovered pixels 0).
 void load_part(const Image& part, int colour, Plane& out, int threads) {
   const int ch = part.channels(), alpha = ch - 1;
   const double unit = unit_of(part.type());
   const size_t bytes = bytes_of(part.type());
-  out = Plane(part.width(), part.height(), colour + 1);
+  out.reshape(part.width(), part.height(), colour + 1);
   with_sample_type(part.type(), [&](auto t) {
     using T = decltype(t);
     parallel_row_blocks(part.height(), threads, [&](int64_t y0, int64_t y1) {
       for (int64_t y = y0; y < y1; ++y) {
         const unsigned char* in = part.row(y);
         float* o = out.row(y);
-        for (int64_t x = 0; x < part.width(); ++x, in += bytes * static_cast<size_t>(ch),
-                     o += colour + 1) {
+        for (int64_t x = 0; x < part.width();
+             ++x, in += bytes * static_cast<size_t>(ch), o += colour + 1) {
           const double a = load<T>(in + bytes * static_cast<size_t>(alpha)) / unit;
-          if (a <= 0) continue;  // (zeros)
+          if (!(a > 0)) {
+            std::fill(o, o + colour + 1, 0.0f);
+            continue;
+          }
           for (int c = 0; c < colour; ++c)
             o[c] = static_cast<float>(load<T>(in + bytes * static_cast<size_t>(ch == 2 ? 0 : c)) /
                                       unit);
@@ -77,11 +85,15 @@ class BandBlender {
   BandBlender(const StitchPlan& plan, const Projection& pano, bool windows, int colour, int levels)
       : plan_(plan), pano_(pano), windows_(windows), colour_(colour), levels_(levels) {}
 
-  // Blends the items meeting `window` (full canvas width) into `out` (window-sized, colour + 1).
-  void run(std::vector<Item*>& items, const PixelRect& window, Plane& out) const {
-    const Leaders lead = leaders(items, window);
-    if (plan_.blend.multiband) multiband(items, window, lead, out);
-    else feather(items, window, lead, out);
+  // Blends the items meeting `window` (full canvas width): window-sized, colour + 1 channels,
+  // valid until the next call.
+  const Plane& run(std::vector<Item*>& items, const PixelRect& window) const {
+    leaders(items, window);
+    if (plan_.blend.multiband)
+      multiband(items, window, out_);
+    else
+      feather(items, window);
+    return out_;
   }
 
  private:
@@ -90,25 +102,37 @@ class BandBlender {
   bool windows_;
   int colour_, levels_;
 
+  // Buffers kept from band to band (their pages touched once).
+  mutable Leaders lead_;
+  mutable Plane out_;
+  mutable Buffer<float> margins_;
+  mutable std::vector<Plane> acc_, P_, G_;  // multiband's: the band's sums, a layer's pyramids
+  mutable Plane up_, scratch_;
+  mutable Buffer<uint8_t> covered_;
+
   int threads() const { return plan_.options.threads; }
 
-  Leaders leaders(const std::vector<Item*>& items, const PixelRect& window) const {
-    const int64_t n = window.width() * window.height();
-    Leaders l{std::vector<float>(static_cast<size_t>(n), kNoMargin),
-              std::vector<float>(static_cast<size_t>(n), kNoMargin),
-              std::vector<int>(static_cast<size_t>(n), -1)};
-    std::vector<float> m;
+  static void reset(Plane& p, int64_t w, int64_t h, int c) {
+    p.width = w, p.height = h, p.channels = c;
+    p.v.assign(static_cast<size_t>(w * h * c), 0.0f);
+  }
+
+  void leaders(const std::vector<Item*>& items, const PixelRect& window) const {
+    const auto n = static_cast<size_t>(window.width() * window.height());
+    Leaders& l = lead_;
+    l.first.assign(n, kNoMargin), l.second.assign(n, kNoMargin), l.owner.assign(n, -1);
+    Buffer<float>& m = margins_;
     for (size_t k = 0; k < items.size(); ++k) {
       const PixelRect r = meet(items[k]->extent, window);
       if (r.width() == 0) continue;
       m.resize(static_cast<size_t>(r.width() * r.height()));
-      items[k]->margin.over(pano_, r, m.data());
+      items[k]->margin.over(pano_, r, m.data(), threads());
       parallel_row_blocks(r.height(), threads(), [&](int64_t y0, int64_t y1) {
         for (int64_t y = y0; y < y1; ++y)
           for (int64_t x = 0; x < r.width(); ++x) {
             const float v = m[static_cast<size_t>(y * r.width() + x)];
-            const auto at = static_cast<size_t>((r.y0 + y - window.y0) * window.width() + r.x0 +
-                                                x - window.x0);
+            const auto at =
+                static_cast<size_t>((r.y0 + y - window.y0) * window.width() + r.x0 + x - window.x0);
             if (v > l.first[at]) {
               l.second[at] = l.first[at], l.first[at] = v, l.owner[at] = static_cast<int>(k);
             } else if (v > l.second[at]) {
@@ -117,57 +141,63 @@ class BandBlender {
           }
       });
     }
-    return l;
   }
 
-  // Item k's part over `r` (canvas pixels, inside `window`) and its margins there.
-  Plane part(const Item& item, const PixelRect& r, std::vector<float>& margins) const {
+  // Item k's part over `r` (canvas pixels, inside `window`), and with `margins` its margins there
+  // (margins_).
+  Image part(const Item& item, const PixelRect& r, bool margins) const {
     const PixelRect made = windows_ ? r : PixelRect{0, 0, plan_.canvas.width, plan_.canvas.height};
     Image image = render_window(plan_, *item.layer, item.source, made, item.extent, nullptr);
     if (!windows_) {  // (the canvas: the rectangle cut out)
       Image cut(r.size(), image.channels(), image.type(), image.alpha_channel());
       for (int64_t y = r.y0; y < r.y1; ++y)
-        std::copy(image.pixel(r.x0, y), image.pixel(r.x0, y) + cut.row_bytes(),
-                  cut.row(y - r.y0));
+        std::copy(image.pixel(r.x0, y), image.pixel(r.x0, y) + cut.row_bytes(), cut.row(y - r.y0));
       image = std::move(cut);
     }
-    Plane p;
-    load_part(image, colour_, p, threads());
-    margins.resize(static_cast<size_t>(r.width() * r.height()));
-    item.margin.over(pano_, r, margins.data());
-    return p;
+    if (margins) {
+      margins_.resize(static_cast<size_t>(r.width() * r.height()));
+      item.margin.over(pano_, r, margins_.data(), threads());
+    }
+    return image;
   }
 
-  void feather(const std::vector<Item*>& items, const PixelRect& window, const Leaders& lead,
-               Plane& out) const {
-    Plane acc(window.width(), window.height(), colour_ + 1);
-    std::vector<float> m;
+  void feather(const std::vector<Item*>& items, const PixelRect& window) const {
+    Plane& acc = out_;
+    reset(acc, window.width(), window.height(), colour_ + 1);
+    const Leaders& lead = lead_;
     for (size_t k = 0; k < items.size(); ++k) {
       check_interrupt();
       const PixelRect r = meet(items[k]->extent, window);
       if (r.width() == 0) continue;
-      const Plane p = part(*items[k], r, m);
-      parallel_row_blocks(r.height(), threads(), [&](int64_t y0, int64_t y1) {
-        for (int64_t y = y0; y < y1; ++y) {
-          const float* in = p.row(y);
-          float* o = acc.row(r.y0 + y - window.y0) + (r.x0 - window.x0) * (colour_ + 1);
-          const size_t lead_row = static_cast<size_t>((r.y0 + y - window.y0) * window.width());
-          for (int64_t x = 0; x < r.width(); ++x, in += colour_ + 1, o += colour_ + 1) {
-            if (in[colour_] <= 0) continue;
-            const size_t at = lead_row + static_cast<size_t>(r.x0 - window.x0 + x);
-            const float mine = m[static_cast<size_t>(y * r.width() + x)];
-            const float other = lead.owner[at] == static_cast<int>(k) ? lead.second[at]
-                                                                       : lead.first[at];
-            const auto s = std::max(
-                static_cast<float>(lens_weight0(mine, other, plan_.blend.feather)), kLeastShare);
-            for (int c = 0; c < colour_; ++c) o[c] += s * in[c];
-            o[colour_] += s;
+      const Image p = part(*items[k], r, true);
+      const Buffer<float>& m = margins_;
+      const int ch = p.channels();
+      const auto unit = static_cast<float>(unit_of(p.type()));
+      with_sample_type(p.type(), [&](auto t) {
+        using T = decltype(t);
+        parallel_row_blocks(r.height(), threads(), [&](int64_t y0, int64_t y1) {
+          for (int64_t y = y0; y < y1; ++y) {
+            const T* in = reinterpret_cast<const T*>(p.row(y));
+            float* o = acc.row(r.y0 + y - window.y0) + (r.x0 - window.x0) * (colour_ + 1);
+            const size_t lead_row = static_cast<size_t>((r.y0 + y - window.y0) * window.width());
+            for (int64_t x = 0; x < r.width(); ++x, in += ch, o += colour_ + 1) {
+              if (!(static_cast<float>(in[ch - 1]) > 0)) continue;
+              const size_t at = lead_row + static_cast<size_t>(r.x0 - window.x0 + x);
+              const float mine = m[static_cast<size_t>(y * r.width() + x)];
+              const float other =
+                  lead.owner[at] == static_cast<int>(k) ? lead.second[at] : lead.first[at];
+              const float s =
+                  std::max(static_cast<float>(lens_weight0(mine, other, plan_.blend.feather)),
+                           kLeastShare) /
+                  unit;
+              for (int c = 0; c < colour_; ++c) o[c] += s * static_cast<float>(in[ch == 2 ? 0 : c]);
+              o[colour_] += s * unit;
+            }
           }
-        }
+        });
       });
     }
     normalise(acc);
-    out = std::move(acc);
   }
 
   // colour /= weight where the weight is positive (the weight becomes 1), else all 0.
@@ -188,103 +218,129 @@ class BandBlender {
     });
   }
 
-  void multiband(const std::vector<Item*>& items, const PixelRect& window, const Leaders& lead,
-                 Plane& out) const {
+  void multiband(const std::vector<Item*>& items, const PixelRect& window, Plane& out) const {
     const int L = levels_;
-    const int64_t align = int64_t{1} << L, pad = 4 * align;
-    std::vector<Plane> acc;
+    std::vector<Plane>& acc = acc_;
+    acc.resize(static_cast<size_t>(L) + 1), P_.resize(acc.size()), G_.resize(acc.size());
     for (int64_t w = window.width(), h = window.height(), k = 0; k <= L;
-         ++k, w = (w + 1) / 2, h = (h + 1) / 2)
-      acc.emplace_back(w, h, colour_ + 1);
-    std::vector<float> m;
+         ++k, w = (w + 1) / 2, h = (h + 1) / 2) {
+      acc[static_cast<size_t>(k)].reshape(w, h, colour_ + 1);
+      std::fill(acc[static_cast<size_t>(k)].v.begin(), acc[static_cast<size_t>(k)].v.end(), 0.0f);
+    }
     for (size_t k = 0; k < items.size(); ++k) {
       check_interrupt();
-      const PixelRect e = meet(items[k]->extent, window);
-      if (e.width() == 0) continue;
-      // The part and the reach of its pyramid, on the window's level grid.
-      const PixelRect r{window.x0 + align_down(std::max<int64_t>(e.x0 - pad - window.x0, 0), align),
-                        window.y0 + align_down(std::max<int64_t>(e.y0 - pad - window.y0, 0), align),
-                        std::min(window.x1, e.x1 + pad), std::min(window.y1, e.y1 + pad)};
-      Plane p = part(*items[k], r, m);
-      // Level 0: colours times alpha and alpha; the seam mask: alpha where its margin leads.
-      Plane g(r.width(), r.height(), 1);
-      parallel_row_blocks(r.height(), threads(), [&](int64_t y0, int64_t y1) {
+      add_pyramid(*items[k], static_cast<int>(k), window);
+    }
+    collapse(out);
+  }
+
+  // Item k's Laplacian pyramid added to the band's (acc_), weighted by its seam mask's pyramid.
+  void add_pyramid(const Item& item, int k, const PixelRect& window) const {
+    const Leaders& lead = lead_;
+    const int L = levels_;
+    const int64_t align = int64_t{1} << L;
+    // A layer's weights reach 2^(L+1) - 2 pixels past its seam mask (REDUCE's 2 samples a level);
+    // past that its pyramid adds nothing.
+    const int64_t reach = 3 * align;
+    std::vector<Plane>& acc = acc_;
+    const PixelRect e = meet(item.extent, window);
+    if (e.width() == 0) return;
+    // The part and the reach of its pyramid, on the window's level grid.
+    const PixelRect r{window.x0 + align_down(std::max<int64_t>(e.x0 - reach - window.x0, 0), align),
+                      window.y0 + align_down(std::max<int64_t>(e.y0 - reach - window.y0, 0), align),
+                      std::min(window.x1, e.x1 + reach), std::min(window.y1, e.y1 + reach)};
+    std::vector<Plane>& P = P_;
+    std::vector<Plane>& G = G_;
+    load_part(part(item, r, false), colour_, P[0], threads());
+    // Level 0: colours times alpha and alpha; the seam mask: alpha where its margin leads.
+    G[0].reshape(r.width(), r.height(), 1);
+    parallel_row_blocks(r.height(), threads(), [&](int64_t y0, int64_t y1) {
+      for (int64_t y = y0; y < y1; ++y) {
+        const float* q = P[0].row(y);
+        float* s = G[0].row(y);
+        const size_t lead_row = static_cast<size_t>((r.y0 + y - window.y0) * window.width());
+        for (int64_t x = 0; x < r.width(); ++x, q += colour_ + 1) {
+          const size_t at = lead_row + static_cast<size_t>(r.x0 - window.x0 + x);
+          s[x] = !(q[colour_] > 0) ? 0.0f : lead.owner[at] == k ? 1.0f : kLeastShare;
+        }
+      }
+    });
+    for (size_t l = 1; l <= static_cast<size_t>(L); ++l) {
+      reduce_into(P[l - 1], P[l], scratch_, threads());
+      reduce_into(G[l - 1], G[l], scratch_, threads());
+    }
+    // Colours extended past the alpha (P / alpha, else the level above's, expanded), from the
+    // top down; then from the bottom up each level's Laplacian, N_l - EXPAND(N_{l+1}) (the
+    // level above still N), added to the band's level weighted by G_l.
+    for (int l = L; l >= 0; --l) {
+      Plane& q = P[static_cast<size_t>(l)];
+      if (l < L) {
+        up_.reshape(q.width, q.height, colour_ + 1);
+        expand_into(P[static_cast<size_t>(l) + 1], up_, scratch_, threads());
+      }
+      const Plane& up = up_;
+      parallel_row_blocks(q.height, threads(), [&](int64_t y0, int64_t y1) {
         for (int64_t y = y0; y < y1; ++y) {
-          float* q = p.row(y);
-          float* s = g.row(y);
-          const size_t lead_row = static_cast<size_t>((r.y0 + y - window.y0) * window.width());
-          for (int64_t x = 0; x < r.width(); ++x, q += colour_ + 1) {
-            if (q[colour_] <= 0) continue;
-            const size_t at = lead_row + static_cast<size_t>(r.x0 - window.x0 + x);
-            s[x] = lead.owner[at] == static_cast<int>(k) ? 1.0f : kLeastShare;
+          float* o = q.row(y);
+          const float* u = l < L ? up.row(y) : nullptr;
+          for (int64_t x = 0; x < q.width; ++x, o += colour_ + 1) {
+            const float a = o[colour_];
+            for (int c = 0; c < colour_; ++c)
+              o[c] = a > 1e-6f ? o[c] / a : (u ? u[x * (colour_ + 1) + c] : 0.0f);
+            o[colour_] = 0.0f;
           }
         }
       });
-      std::vector<Plane> P{std::move(p)}, G{std::move(g)};
-      for (int l = 1; l <= L; ++l) {
-        P.push_back(reduce(P.back(), threads()));
-        G.push_back(reduce(G.back(), threads()));
-      }
-      // Colours extended past the alpha (P / alpha, else the level above's, expanded), from the
-      // top down; then each level l < L its Laplacian, N_l - EXPAND(N_{l+1}), once N_{l-1} is made.
-      Plane above;  // the level above's EXPAND(N), for its Laplacian
-      for (int l = L; l >= 0; --l) {
-        Plane& q = P[static_cast<size_t>(l)];
-        Plane up;
-        if (l < L) {
-          up = Plane(q.width, q.height, colour_ + 1);
-          expand_add(P[static_cast<size_t>(l) + 1], up, 1.0f, threads());
-        }
-        parallel_row_blocks(q.height, threads(), [&](int64_t y0, int64_t y1) {
-          for (int64_t y = y0; y < y1; ++y) {
-            float* o = q.row(y);
-            const float* u = l < L ? up.row(y) : nullptr;
-            for (int64_t x = 0; x < q.width; ++x, o += colour_ + 1) {
-              const float a = o[colour_];
-              for (int c = 0; c < colour_; ++c)
-                o[c] = a > 1e-6f ? o[c] / a : (u ? u[x * (colour_ + 1) + c] : 0.0f);
-              o[colour_] = 0.0f;
-            }
-          }
-        });
-        if (l + 1 < L) subtract(P[static_cast<size_t>(l) + 1], above);
-        above = std::move(up);
-      }
-      if (L > 0) subtract(P[0], above);
-      for (int l = 0; l <= L; ++l) {
-        const Plane& lap = P[static_cast<size_t>(l)];
-        const Plane& w = G[static_cast<size_t>(l)];
-        Plane& a = acc[static_cast<size_t>(l)];
-        const int64_t ox = (r.x0 - window.x0) >> l, oy = (r.y0 - window.y0) >> l;
-        const int64_t cw = std::min(lap.width, a.width - ox), chh = std::min(lap.height, a.height - oy);
-        parallel_row_blocks(chh, threads(), [&](int64_t y0, int64_t y1) {
-          for (int64_t y = y0; y < y1; ++y) {
-            const float* q = lap.row(y);
-            const float* s = w.row(y);
-            float* o = a.row(oy + y) + ox * (colour_ + 1);
-            for (int64_t x = 0; x < cw; ++x, q += colour_ + 1, o += colour_ + 1) {
-              if (s[x] <= 0) continue;
-              for (int c = 0; c < colour_; ++c) o[c] += s[x] * q[c];
-              o[colour_] += s[x];
-            }
-          }
-        });
-      }
     }
-    // Each level's weighted mean, then the pyramid collapsed; covered where level 0 has weight.
-    std::vector<uint8_t> covered(static_cast<size_t>(window.width() * window.height()));
-    for (int64_t i = 0; i < window.width() * window.height(); ++i)
-      covered[static_cast<size_t>(i)] = acc[0].v[static_cast<size_t>(i * (colour_ + 1) + colour_)] > 0;
+    for (int l = 0; l <= L; ++l) {
+      Plane& lap = P[static_cast<size_t>(l)];
+      if (l < L) {
+        up_.reshape(lap.width, lap.height, colour_ + 1);
+        expand_into(P[static_cast<size_t>(l) + 1], up_, scratch_, threads());
+        subtract(lap, up_);
+      }
+      const Plane& w = G[static_cast<size_t>(l)];
+      Plane& a = acc[static_cast<size_t>(l)];
+      const int64_t ox = (r.x0 - window.x0) >> l, oy = (r.y0 - window.y0) >> l;
+      const int64_t cw = std::min(lap.width, a.width - ox),
+                    chh = std::min(lap.height, a.height - oy);
+      parallel_row_blocks(chh, threads(), [&](int64_t y0, int64_t y1) {
+        for (int64_t y = y0; y < y1; ++y) {
+          const float* q = lap.row(y);
+          const float* s = w.row(y);
+          float* o = a.row(oy + y) + ox * (colour_ + 1);
+          for (int64_t x = 0; x < cw; ++x, q += colour_ + 1, o += colour_ + 1) {
+            if (s[x] <= 0) continue;
+            for (int c = 0; c < colour_; ++c) o[c] += s[x] * q[c];
+            o[colour_] += s[x];
+          }
+        }
+      });
+    }
+  }
+
+  // Each level's weighted mean, then the pyramid collapsed into out; covered where level 0 has
+  // weight.
+  void collapse(Plane& out) const {
+    std::vector<Plane>& acc = acc_;
+    const int L = levels_;
+    Plane& o = acc[0];
+    covered_.resize(static_cast<size_t>(o.width * o.height));
+    for (size_t i = 0; i < covered_.size(); ++i)
+      covered_[i] = o.v[i * static_cast<size_t>(colour_ + 1) + static_cast<size_t>(colour_)] > 0;
     for (Plane& a : acc) normalise(a);
     for (int l = L - 1; l >= 0; --l)
-      expand_add(acc[static_cast<size_t>(l) + 1], acc[static_cast<size_t>(l)], 1.0f, threads());
-    Plane& o = acc[0];
-    for (int64_t i = 0; i < window.width() * window.height(); ++i) {
-      float* px = o.v.data() + i * (colour_ + 1);
-      if (!covered[static_cast<size_t>(i)]) std::fill(px, px + colour_ + 1, 0.0f);
-      else px[colour_] = 1.0f;
-    }
-    out = std::move(acc[0]);
+      expand_add(acc[static_cast<size_t>(l) + 1], acc[static_cast<size_t>(l)], scratch_, threads());
+    parallel_row_blocks(o.height, threads(), [&](int64_t y0, int64_t y1) {
+      for (int64_t i = y0 * o.width; i < y1 * o.width; ++i) {
+        float* px = o.v.data() + i * (colour_ + 1);
+        if (!covered_[static_cast<size_t>(i)])
+          std::fill(px, px + colour_ + 1, 0.0f);
+        else
+          px[colour_] = 1.0f;
+      }
+    });
+    std::swap(out, o);
   }
 
   // level -= expanded, sample by sample.
@@ -298,6 +354,45 @@ class BandBlender {
     });
   }
 };
+
+// The layers with a pixel on the canvas; colour: 3 if one is RGB, else 1 (gray).
+std::vector<Item> items_of(const StitchPlan& plan, int& colour) {
+  std::vector<Item> items;
+  for (const StitchLayer& l : plan.layers) {
+    const PixelRect e = layer_extent(plan, l);
+    if (e.width() == 0) continue;
+    const ImageInfo info = read_image_info(l.file);
+    if (info.channels >= 3) colour = 3;
+    items.push_back({&l, e, LayerMargin(plan, l), layer_work_type(plan, l, info), 0, -1, Image()});
+  }
+  if (items.empty())
+    throw Error(plan.project.path + ": no image has a pixel on the panorama's canvas");
+  return items;
+}
+
+// Canvas rows [y0, y1) of `blended` (made over `window`) into out's samples.
+void store_rows(const Plane& blended, const PixelRect& window, int64_t y0, int64_t y1, Image& out,
+                int threads) {
+  const int64_t W = out.width();
+  const int colour = out.channels() - 1;
+  const double unit = unit_of(out.type());
+  const PixelType type = out.type();
+  with_sample_type(type, [&](auto t) {
+    using T = decltype(t);
+    const bool integer = std::is_integral_v<T>;
+    parallel_row_blocks(y1 - y0, threads, [&](int64_t j0, int64_t j1) {
+      for (int64_t j = j0; j < j1; ++j) {
+        const float* in = blended.row(y0 + j - window.y0);
+        unsigned char* o = out.row(y0 + j);
+        for (int64_t i = 0; i < W * (colour + 1); ++i) {
+          // Multiband can overshoot: integers clamp to their range, floats to >= 0.
+          const double v = std::max(0.0, static_cast<double>(in[i]));
+          store<T>(o + static_cast<size_t>(i) * sizeof(T), (integer ? std::min(v, 1.0) : v) * unit);
+        }
+      }
+    });
+  });
+}
 
 }  // namespace
 
@@ -316,12 +411,12 @@ int blend_levels(const StitchPlan& plan) {
   if (plan.blend.levels > 0) return plan.blend.levels;
   // The overlaps' width in canvas pixels (the two largest margins' sum), on a grid of at most
   // 256 x 256 positions: its median w gives L = floor(log2(w / 4)), so that the coarsest level's
-  // kernel (about 2^(L+1) pixels each side) stays within half the overlap; 1 to kAutoBlendLevels, and
-  // 2^L at most a quarter of the canvas's shorter side (the pyramids' reach, 4 x 2^L rows,
+  // kernel (about 2^(L+1) pixels each side) stays within half the overlap; 1 to kAutoBlendLevels,
+  // and 2^L at most a quarter of the canvas's shorter side (the pyramids' reach, 4 x 2^L rows,
   // widens every band).
   const Projection pano = make_projection(*plan.pano, plan.canvas);
   std::vector<LayerMargin> margins;
-  for (const StitchLayer& l : plan.layers) margins.emplace_back(plan.project, l.index);
+  for (const StitchLayer& l : plan.layers) margins.emplace_back(plan, l);
   const int64_t step =
       std::max<int64_t>(1, (std::max(plan.canvas.width, plan.canvas.height) + 255) / 256);
   std::vector<double> widths;
@@ -332,8 +427,10 @@ int blend_levels(const StitchPlan& plan) {
       double a = kNoMargin, b = kNoMargin;
       for (const LayerMargin& m : margins) {
         const double v = m.at(d);
-        if (v > a) b = a, a = v;
-        else if (v > b) b = v;
+        if (v > a)
+          b = a, a = v;
+        else if (v > b)
+          b = v;
       }
       if (b > 0) widths.push_back((a + b) * center_density(pano));
     }
@@ -352,24 +449,14 @@ BlendedPanorama blend_panorama(const StitchPlan& plan, PixelType type,
                                const std::function<void(double)>& progress) {
   const Projection pano = make_projection(*plan.pano, plan.canvas);
   const bool windows = has_window(pano);
-  std::vector<Item> items;
   int colour = 1;
-  for (const StitchLayer& l : plan.layers) {
-    const PixelRect e = layer_extent(plan, l.index);
-    if (e.width() == 0) continue;
-    const ImageInfo info = read_image_info(l.file);
-    if (info.channels >= 3) colour = 3;
-    items.push_back({&l, e, LayerMargin(plan.project, l.index), layer_work_type(plan, l, info)});
-  }
-  if (items.empty())
-    throw Error(plan.project.path + ": no image has a pixel on the panorama's canvas");
+  std::vector<Item> items = items_of(plan, colour);
   const int levels = plan.blend.multiband ? blend_levels(plan) : 0;
   const int64_t align = int64_t{1} << levels, pad = plan.blend.multiband ? 4 * align : 0;
   const int64_t W = plan.canvas.width, H = plan.canvas.height;
   // Sources: each band's, from the first band an image meets to its last (found for bands of
   // `rows`).
-  const uint64_t per_px =
-      plan.blend.multiband ? (colour + 1) * 4 * 4 + 24 : (colour + 1) * 8 + 24;
+  const uint64_t per_px = plan.blend.multiband ? (colour + 1) * 4 * 4 + 24 : (colour + 1) * 8 + 24;
   int64_t rows = H, bands = 1;
   const auto window_of = [&](int64_t b) {
     const int64_t y0 = b * rows, y1 = std::min(H, y0 + rows);
@@ -399,14 +486,17 @@ BlendedPanorama blend_panorama(const StitchPlan& plan, PixelType type,
   const uint64_t image = image_bytes(plan.canvas, colour + 1, bytes_of(type));
   uint64_t sources = place();
   if (windows) {
-    // Bands of at most kBandPixels, and what the budget leaves for their buffers (at least twice
-    // the pyramids' reach, on the coarsest level's grid).
+    // Bands of at most kBandPixels (multiband: at least 8 times the pyramids' reach past their
+    // edges, which are made twice), and what the budget leaves for their buffers (at least twice
+    // that reach), on the coarsest level's grid; the whole canvas where a band would cover most.
     const uint64_t budget = memory_budget(plan.options.memory_limit);
     const uint64_t left = budget > add_bytes(image, sources) ? budget - image - sources : 0;
     const int64_t fit =
         static_cast<int64_t>(left / per_px / static_cast<uint64_t>(W)) - 2 * pad - align;
-    rows = std::max<int64_t>({align_down(std::min(kBandPixels / W, fit), align),
+    const int64_t wanted = std::max(kBandPixels / W, 8 * pad);
+    rows = std::max<int64_t>({align_down(std::min(wanted, fit), align),
                               (std::max<int64_t>(2 * pad, 16) + align - 1) / align * align});
+    if (rows + 2 * pad >= H && static_cast<int64_t>(left / per_px) >= W * H) rows = H;
     rows = std::min(rows, H);
     sources = place();
   }
@@ -417,7 +507,6 @@ BlendedPanorama blend_panorama(const StitchPlan& plan, PixelType type,
   BlendedPanorama result{Image(plan.canvas, colour + 1, type, colour), levels};
   Image& out = result.image;
   const BandBlender blender(plan, pano, windows, colour, levels);
-  const double unit = unit_of(type);
   for (int64_t b = 0; b < bands; ++b) {
     check_interrupt();
     std::vector<Item*> active;
@@ -426,24 +515,9 @@ BlendedPanorama blend_panorama(const StitchPlan& plan, PixelType type,
       if (it.first <= b && b <= it.last) active.push_back(&it);
     }
     const PixelRect window = window_of(b);
-    Plane blended;
-    blender.run(active, window, blended);
+    const Plane& blended = blender.run(active, window);
     const int64_t y0 = b * rows, y1 = std::min(H, y0 + rows);
-    with_sample_type(type, [&](auto t) {
-      using T = decltype(t);
-      const bool integer = std::is_integral_v<T>;
-      parallel_row_blocks(y1 - y0, plan.options.threads, [&](int64_t j0, int64_t j1) {
-        for (int64_t j = j0; j < j1; ++j) {
-          const float* in = blended.row(y0 + j - window.y0);
-          unsigned char* o = out.row(y0 + j);
-          for (int64_t i = 0; i < W * (colour + 1); ++i) {
-            // Multiband can overshoot: integers clamp to their range, floats to >= 0.
-            const double v = std::max(0.0, static_cast<double>(in[i]));
-            store<T>(o + static_cast<size_t>(i) * sizeof(T), (integer ? std::min(v, 1.0) : v) * unit);
-          }
-        }
-      });
-    });
+    store_rows(blended, window, y0, y1, out, plan.options.threads);
     if (band_done) band_done(out, {0, y0, W, y1});
     for (Item& it : items)
       if (it.last == b) it.source = Image();

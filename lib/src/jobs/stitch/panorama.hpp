@@ -31,8 +31,8 @@ BlendedPanorama blend_panorama(const StitchPlan& plan, PixelType type,
                                const std::function<void(const Image&, const PixelRect&)>& band_done,
                                const std::function<void(double)>& progress);
 
-inline constexpr int kMaxBlendLevels = 12;   // given
-inline constexpr int kAutoBlendLevels = 8;   // estimated
+inline constexpr int kMaxBlendLevels = 12;  // given
+inline constexpr int kAutoBlendLevels = 8;  // estimated
 // The levels multiband uses on the plan's canvas (its estimate, or plan.blend.levels).
 int blend_levels(const StitchPlan& plan);
 

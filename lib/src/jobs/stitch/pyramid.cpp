@@ -10,28 +10,91 @@ namespace {
 
 constexpr float k0 = 1.0f / 16, k1 = 4.0f / 16, k2 = 6.0f / 16;
 
-int64_t clamp_index(int64_t i, int64_t n) { return std::clamp<int64_t>(i, 0, n - 1); }
+int64_t clamp_index(int64_t i, int64_t n) {
+  return std::clamp<int64_t>(i, 0, n - 1);
+}
+
+// One row's REDUCE along x: C channels (0: c at run time), the interior without clamps.
+template <int C>
+void reduce_row(const float* in, float* o, int64_t w, int64_t cw, int c) {
+  const int n = C > 0 ? C : c;
+  const auto tap = [&](int64_t j) {
+    const float* a = in + clamp_index(2 * j - 2, w) * n;
+    const float* b = in + clamp_index(2 * j - 1, w) * n;
+    const float* m = in + 2 * j * n;
+    const float* d = in + clamp_index(2 * j + 1, w) * n;
+    const float* e = in + clamp_index(2 * j + 2, w) * n;
+    for (int k = 0; k < n; ++k) o[j * n + k] = k0 * (a[k] + e[k]) + k1 * (b[k] + d[k]) + k2 * m[k];
+  };
+  const int64_t last = (w - 3) / 2;  // the last j whose taps lie inside
+  for (int64_t j = 0; j < std::min<int64_t>(1, cw); ++j) tap(j);
+  for (int64_t j = 1; j <= last && j < cw; ++j) {
+    const float* m = in + 2 * j * n;
+    for (int k = 0; k < n; ++k)
+      o[j * n + k] = k0 * (m[k - 2 * n] + m[k + 2 * n]) + k1 * (m[k - n] + m[k + n]) + k2 * m[k];
+  }
+  for (int64_t j = std::max<int64_t>(last + 1, 1); j < cw; ++j) tap(j);
+}
+
+// One row's EXPAND along x into `o` (w samples of n channels).
+template <int C>
+void expand_row(const float* in, float* o, int64_t w, int64_t cw, int c) {
+  const int n = C > 0 ? C : c;
+  for (int64_t i = 0; i < w; ++i) {
+    const int64_t j = i / 2;
+    const float* m = in + clamp_index(j, cw) * n;
+    const float* b = in + clamp_index(j + 1, cw) * n;
+    if (i % 2 == 0) {
+      const float* a = in + clamp_index(j - 1, cw) * n;
+      for (int k = 0; k < n; ++k) o[i * n + k] = 0.125f * (a[k] + b[k]) + 0.75f * m[k];
+    } else {
+      for (int k = 0; k < n; ++k) o[i * n + k] = 0.5f * (m[k] + b[k]);
+    }
+  }
+}
+
+template <template <int> class Row, class... A>
+void by_channels(int c, A... a) {
+  switch (c) {
+    case 1:
+      return Row<1>::run(a..., c);
+    case 2:
+      return Row<2>::run(a..., c);
+    case 4:
+      return Row<4>::run(a..., c);
+    default:
+      return Row<0>::run(a..., c);
+  }
+}
+template <int C>
+struct ReduceRow {
+  static void run(const float* in, float* o, int64_t w, int64_t cw, int c) {
+    reduce_row<C>(in, o, w, cw, c);
+  }
+};
+template <int C>
+struct ExpandRow {
+  static void run(const float* in, float* o, int64_t w, int64_t cw, int c) {
+    expand_row<C>(in, o, w, cw, c);
+  }
+};
 
 }  // namespace
 
 Plane reduce(const Plane& fine, int threads) {
+  Plane out, scratch;
+  reduce_into(fine, out, scratch, threads);
+  return out;
+}
+
+void reduce_into(const Plane& fine, Plane& out, Plane& across, int threads) {
   const int c = fine.channels;
   const int64_t w = fine.width, h = fine.height, cw = (w + 1) / 2, ch = (h + 1) / 2;
   // Rows first (every row of fine, every second column), then columns.
-  Plane across(cw, h, c), out(cw, ch, c);
+  across.reshape(cw, h, c), out.reshape(cw, ch, c);
   parallel_row_blocks(h, threads, [&](int64_t y0, int64_t y1) {
     for (int64_t y = y0; y < y1; ++y) {
-      const float* in = fine.row(y);
-      float* o = across.row(y);
-      for (int64_t j = 0; j < cw; ++j) {
-        const float* a = in + clamp_index(2 * j - 2, w) * c;
-        const float* b = in + clamp_index(2 * j - 1, w) * c;
-        const float* m = in + 2 * j * c;
-        const float* d = in + clamp_index(2 * j + 1, w) * c;
-        const float* e = in + clamp_index(2 * j + 2, w) * c;
-        for (int k = 0; k < c; ++k)
-          o[j * c + k] = k0 * (a[k] + e[k]) + k1 * (b[k] + d[k]) + k2 * m[k];
-      }
+      by_channels<ReduceRow>(c, fine.row(y), across.row(y), w, cw);
     }
   });
   parallel_row_blocks(ch, threads, [&](int64_t j0, int64_t j1) {
@@ -46,31 +109,20 @@ Plane reduce(const Plane& fine, int threads) {
       for (int64_t i = 0; i < n; ++i) o[i] = k0 * (a[i] + e[i]) + k1 * (b[i] + d[i]) + k2 * m[i];
     }
   });
-  return out;
 }
 
-void expand_add(const Plane& coarse, Plane& fine, float sign, int threads) {
+namespace {
+
+// fine = (add ? fine : 0) + EXPAND(coarse).
+void expand_to(const Plane& coarse, Plane& fine, Plane& across, bool add, int threads) {
   const int c = fine.channels;
   const int64_t w = fine.width, h = fine.height, cw = coarse.width, chh = coarse.height;
   // Sample i of the fine level gathers the coarse samples j with i - 2j + 2 in 0..4, the
   // kernel's taps times 2 (each direction): (1 6 1) / 8 at even i, (4 4) / 8 at odd i.
-  Plane across(w, chh, c);
+  across.reshape(w, chh, c);
   parallel_row_blocks(chh, threads, [&](int64_t y0, int64_t y1) {
     for (int64_t y = y0; y < y1; ++y) {
-      const float* in = coarse.row(y);
-      float* o = across.row(y);
-      for (int64_t i = 0; i < w; ++i) {
-        const int64_t j = i / 2;
-        const float* m = in + clamp_index(j, cw) * c;
-        if (i % 2 == 0) {
-          const float* a = in + clamp_index(j - 1, cw) * c;
-          const float* b = in + clamp_index(j + 1, cw) * c;
-          for (int k = 0; k < c; ++k) o[i * c + k] = 0.125f * (a[k] + b[k]) + 0.75f * m[k];
-        } else {
-          const float* b = in + clamp_index(j + 1, cw) * c;
-          for (int k = 0; k < c; ++k) o[i * c + k] = 0.5f * (m[k] + b[k]);
-        }
-      }
+      by_channels<ExpandRow>(c, coarse.row(y), across.row(y), w, cw);
     }
   });
   parallel_row_blocks(h, threads, [&](int64_t y0, int64_t y1) {
@@ -79,16 +131,27 @@ void expand_add(const Plane& coarse, Plane& fine, float sign, int threads) {
       const int64_t j = y / 2;
       float* o = fine.row(y);
       const float* m = across.row(clamp_index(j, chh));
-      if (y % 2 == 0) {
-        const float* a = across.row(clamp_index(j - 1, chh));
-        const float* b = across.row(clamp_index(j + 1, chh));
-        for (int64_t i = 0; i < n; ++i) o[i] += sign * (0.125f * (a[i] + b[i]) + 0.75f * m[i]);
-      } else {
-        const float* b = across.row(clamp_index(j + 1, chh));
-        for (int64_t i = 0; i < n; ++i) o[i] += sign * 0.5f * (m[i] + b[i]);
-      }
+      // (fine's samples read only when added to: they may be unset)
+      const float* a = across.row(clamp_index(y % 2 == 0 ? j - 1 : j, chh));
+      const float* b = across.row(clamp_index(j + 1, chh));
+      const float ka = y % 2 == 0 ? 0.125f : 0.0f, km = y % 2 == 0 ? 0.75f : 0.5f,
+                  kb = y % 2 == 0 ? 0.125f : 0.5f;
+      if (add)
+        for (int64_t i = 0; i < n; ++i) o[i] += ka * a[i] + km * m[i] + kb * b[i];
+      else
+        for (int64_t i = 0; i < n; ++i) o[i] = ka * a[i] + km * m[i] + kb * b[i];
     }
   });
+}
+
+}  // namespace
+
+void expand_add(const Plane& coarse, Plane& fine, Plane& scratch, int threads) {
+  expand_to(coarse, fine, scratch, true, threads);
+}
+
+void expand_into(const Plane& coarse, Plane& fine, Plane& scratch, int threads) {
+  expand_to(coarse, fine, scratch, false, threads);
 }
 
 }  // namespace panoproj

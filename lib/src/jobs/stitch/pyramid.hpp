@@ -8,22 +8,33 @@
 #include <cstdint>
 #include <vector>
 
+#include "panoproj/image.hpp"
+
 namespace panoproj {
 
 struct Plane {
   int64_t width = 0, height = 0;
   int channels = 0;
-  std::vector<float> v;  // interleaved, row-major
+  std::vector<float, PixelAllocator<float>> v;  // interleaved, row-major (unset on resize)
   Plane() = default;
+  // Zeros.
   Plane(int64_t w, int64_t h, int c)
       : width(w), height(h), channels(c), v(static_cast<size_t>(w * h * c), 0.0f) {}
+  // w x h x c samples, unset (the buffer kept where it is large enough).
+  void reshape(int64_t w, int64_t h, int c) {
+    width = w, height = h, channels = c;
+    v.resize(static_cast<size_t>(w * h * c));
+  }
   float* row(int64_t y) { return v.data() + y * width * channels; }
   const float* row(int64_t y) const { return v.data() + y * width * channels; }
 };
 
-// The level above `fine`.
+// The level above `fine`, into `coarse` (scratch: a buffer for the pass between).
+void reduce_into(const Plane& fine, Plane& coarse, Plane& scratch, int threads);
 Plane reduce(const Plane& fine, int threads);
-// fine += sign * EXPAND(coarse), EXPAND taken to fine's size (coarse: the level above it).
-void expand_add(const Plane& coarse, Plane& fine, float sign, int threads);
+// fine += EXPAND(coarse), EXPAND taken to fine's size (coarse: the level above it).
+void expand_add(const Plane& coarse, Plane& fine, Plane& scratch, int threads);
+// fine = EXPAND(coarse) at fine's size (fine's samples unread).
+void expand_into(const Plane& coarse, Plane& fine, Plane& scratch, int threads);
 
 }  // namespace panoproj

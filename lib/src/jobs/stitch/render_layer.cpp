@@ -132,6 +132,11 @@ Image layer_source(const StitchPlan& plan, const StitchLayer& l, PixelType type)
   const Image& read =
       source_for(read_image(l.file, plan.options.memory_limit), with_alpha, storage);
   Image source = &read == &storage ? std::move(storage) : read;
+  if (l.region) {  // (a rig's lens in a shared frame: its rectangle, checked inside when planned)
+    if (source.size().width < l.region->x1 || source.size().height < l.region->y1)
+      throw Error(l.file + ": changed while the job ran");
+    source = crop(source, *l.region);
+  }
   if (source.size() != l.size) throw Error(l.file + ": changed while the job ran");
   mask_source(plan.project, l.index, l.sx, l.sy, source);
   // Float layers from integer files: remapped in float, so nothing is rounded before the end.
@@ -148,11 +153,10 @@ PixelType layer_work_type(const StitchPlan& plan, const StitchLayer& l, const Im
 
 Image render_window(const StitchPlan& plan, const StitchLayer& l, const Image& source,
                     const PixelRect& window, const PixelRect& extent, Image* weights) {
-  const PtoImage& im = plan.project.images[static_cast<size_t>(l.index)];
   const Projection pano = make_projection(*plan.pano, plan.canvas);
   const bool whole = window == PixelRect{0, 0, plan.canvas.width, plan.canvas.height};
   const ConversionGeometry geometry{make_projection(*l.spec, l.size),
-                                    whole ? pano : windowed(pano, window), image_rotation(im)};
+                                    whole ? pano : windowed(pano, window), l.rotation};
   Image part = Converter(geometry, plan.options).run(source);
   exclude(plan, l.index, geometry.target, part);
   const PixelRect in_window{extent.x0 - window.x0, extent.y0 - window.y0, extent.x1 - window.x0,
@@ -174,7 +178,7 @@ Image render_window(const StitchPlan& plan, const StitchLayer& l, const Image& s
 }
 
 RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
-  const PixelRect extent = layer_extent(plan, l.index);
+  const PixelRect extent = layer_extent(plan, l);
   if (extent.width() == 0) return {};
   // Only the extent is made where the panorama has windows; else the canvas, then cut.
   const bool window = has_window(make_projection(*plan.pano, plan.canvas));
@@ -187,13 +191,13 @@ RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
   const PixelType work = layer_work_type(plan, l, info);
   const int64_t made_px = made.width() * made.height();
   const Projection pano = make_projection(*plan.pano, plan.canvas);
-  require_job_memory({make_projection(*l.spec, l.size), window ? windowed(pano, made) : pano,
-                      image_rotation(plan.project.images[static_cast<size_t>(l.index)])},
-                     channels, work, plan.options,
-                     image_bytes(l.size, channels, bytes_of(work)) +
-                         (plan.cropped ? 0 : image_bytes(plan.canvas, channels, bytes_of(out))) +
-                         (plan.hdr ? made_px : 0),
-                     "the image and the canvas");
+  require_job_memory(
+      {make_projection(*l.spec, l.size), window ? windowed(pano, made) : pano, l.rotation},
+      channels, work, plan.options,
+      image_bytes(l.size, channels, bytes_of(work)) +
+          (plan.cropped ? 0 : image_bytes(plan.canvas, channels, bytes_of(out))) +
+          (plan.hdr ? made_px : 0),
+      "the image and the canvas");
   Image weights;
   Image part = [&] {
     const Image source = layer_source(plan, l, work);

@@ -1,6 +1,7 @@
 #pragma once
 // The stitch job's plan (every input, spec and output checked before any pixel is made) and the
 // rendering of one layer; shared by the job (stitch_job.cpp) and Python's arrays.
+#include <Eigen/Core>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -18,14 +19,17 @@
 namespace panoproj {
 
 struct StitchLayer {
-  int index = 0;                              // the project's image
-  std::string file;                           // its file
-  Size size;                                  // the file's size
-  int channels = 0;                           // the file's channels
-  double sx = 1, sy = 1;                      // the file's size over the project's
-  std::optional<ProjectionSpec> spec;         // its lens at the file's size
-  std::string output;                         // its layer's path
-  std::string weights;                        // HDR: its weights' path (nona's PREFIX0000_gray.pgm)
+  int index = 0;                       // the project's image
+  std::string file;                    // its file
+  Size size;                           // the file's size
+  int channels = 0;                    // the file's channels
+  double sx = 1, sy = 1;               // the file's size over the project's
+  std::optional<ProjectionSpec> spec;  // its lens at the file's size
+  std::optional<ProjectionSpec> lens;  // its lens at the project's size (extent, margins)
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // the panorama's rays to the image's
+  std::optional<PixelRect> region;  // the rectangle of the file that is the image (a rig's frame)
+  std::string output;               // its layer's path
+  std::string weights;              // HDR: its weights' path (nona's PREFIX0000_gray.pgm)
   std::optional<PhotometricStep> photometry;  // its samples' correction (photometric.hpp)
 };
 
@@ -46,7 +50,7 @@ struct StitchPlan {
   TiffCompression compression = TiffCompression::Deflate;
   bool cropped = true;  // layers cut to their extent (n"... r:CROP"), else the whole canvas
   bool overwrite = false;
-  bool hdr = false;  // linear layers (the project's R1 or output_mode hdr), with weights
+  bool hdr = false;      // linear layers (the project's R1 or output_mode hdr), with weights
   std::string panorama;  // the blended panorama's file, "(array)" for an array; empty: layers
   BlendSettings blend;
 };
@@ -56,8 +60,8 @@ struct StitchPlan {
 enum class StitchMade { Files, LayerArrays, PanoramaArray };
 StitchPlan plan_stitch(const Arguments& args, StitchMade made = StitchMade::Files);
 
-// The part of the canvas nona gives image `index` (layer_extent.cpp); empty if none.
-PixelRect layer_extent(const StitchPlan& plan, int index);
+// The part of the canvas nona gives the layer's image (layer_extent.cpp); empty if none.
+PixelRect layer_extent(const StitchPlan& plan, const StitchLayer& layer);
 
 // A layer: RGBA (gray + alpha for a gray image) of plan.depth (else the image's), alpha 0 or full
 // (nona's rule: a pixel is kept where its kernel's taps with alpha hold over 0.2 of its weight)

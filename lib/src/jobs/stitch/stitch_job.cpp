@@ -11,12 +11,13 @@
 #include "io/atomic_output.hpp"
 #include "io/codec.hpp"
 #include "io/formats.hpp"
+#include "io/streamed_output.hpp"
 #include "io/tiff_layer.hpp"
 #include "jobs/list.hpp"
-#include "io/streamed_output.hpp"
 #include "jobs/stitch/layer_masks.hpp"
-#include "jobs/stitch/panorama.hpp"
+#include "jobs/stitch/lens_rig.hpp"
 #include "jobs/stitch/pano_spec.hpp"
+#include "jobs/stitch/panorama.hpp"
 #include "jobs/stitch/pto_photometry.hpp"
 #include "jobs/stitch/pto_project.hpp"
 #include "jobs/stitch/stitch.hpp"
@@ -25,6 +26,8 @@
 #include "panoproj/interrupt.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/photo_sphere.hpp"
+#include "panoproj/projection.hpp"
+#include "panoproj/rotation.hpp"
 
 namespace panoproj {
 namespace {
@@ -51,18 +54,22 @@ OptionDef depth_row() {
 const std::vector<OptionDef>& rows() {
   static const std::vector<OptionDef> rows = job_rows(
       {
-          {"project", OptionType::Path, 0, "None", "the Hugin project (.pto)", nullptr, nullptr,
+          {"project", OptionType::Path, 0, "None",
+           "the Hugin project (.pto), or a rig of lenses (.yaml, .yml, .json)", nullptr, nullptr,
            nullptr, kPositional | kRequired},
           {"output", OptionType::Path, 0, "None",
            "the blended panorama (a file of an image format: pano.jpg, pano.tif, ...), or the "
            "layers' prefix: PREFIX0000.tif, PREFIX0001.tif, ... (a number per image, as nona's -o)",
            nullptr, nullptr, nullptr, kPositional | kRequired},
           {"images", OptionType::Paths, 0, "None",
-           "image files in place of the project's, in its order (a template project)"},
+           "image files in place of the project's, in its order (a template project), or of a "
+           "rig's inputs, in the order it first names them"},
+          {"to", OptionType::Text, 0, "None",
+           "a rig's panorama: a projection spec (default: equirect); a project's is its p line"},
           {"image", OptionType::Integer, 0, "None", "render only this image (nona's -i)"},
           {"compression", OptionType::Text, 0, "None",
-           "none | deflate; default: the project's n\"TIFF_m c:...\" (c:NONE: none; LZW, PACKBITS, "
-           "DEFLATE: deflate)",
+           "the layers' and a TIFF panorama's: none | deflate; default: the project's n\"TIFF_m "
+           "c:...\" (c:NONE: none; LZW, PACKBITS, DEFLATE: deflate)",
            nullptr, "none|deflate"},
           {"extent", OptionType::Text, 0, "None",
            "crop (each layer its part of the canvas) | canvas (each the whole canvas); default: "
@@ -180,10 +187,14 @@ void blend_of(const Arguments& args, StitchPlan& s) {
   if (!panorama && blend_given)
     throw Error("blend, feather and levels: blend a panorama; " + args.text("output") +
                 " is a layers' prefix (give a file such as pano.jpg to blend)");
+  const bool tiff =
+      panorama &&
+      format_of_extension(std::filesystem::path(s.panorama).extension().string()) == &kTiffFormat;
   for (const char* row : {"extent", "compression"})
-    if (panorama && args.optional_text(row))
-      throw Error(std::string(row) + ": shapes layers; " + s.panorama +
-                  " is a blended panorama (give a prefix such as layer_ for layers)");
+    if (panorama && args.optional_text(row) && (row != std::string_view("compression") || !tiff))
+      throw Error(std::string(row) + ": shapes layers" +
+                  (row == std::string_view("compression") ? " and TIFF panoramas; " : "; ") +
+                  s.panorama + " is a blended panorama (give a prefix such as layer_ for layers)");
   if (const auto b = args.optional_text("blend")) {
     if (*b != "feather" && *b != "multiband")
       throw Error("blend: " + *b + " (expected feather or multiband)");
@@ -205,19 +216,172 @@ void blend_of(const Arguments& args, StitchPlan& s) {
   }
 }
 
+// Whether a row was given (a flag: set).
+bool given(const Arguments& args, const char* row) {
+  switch (args.row(row).type) {
+    case OptionType::Flag:
+      return args.flag(row);
+    case OptionType::Angle:
+      return args.optional_angle(row).has_value();
+    case OptionType::Integer:
+      return args.optional_integer(row).has_value();
+    default:
+      return args.optional_text(row).has_value();
+  }
+}
+
+std::string rect_text(const PixelRect& r) {
+  return size_text(r.size()) + "+" + std::to_string(r.x0) + "+" + std::to_string(r.y0);
+}
+
+// A rig's lenses as the plan's images and layers (lens_rig.hpp), and its panorama: `to` (default
+// equirect) at `size` (default: the finest lens's resolution at its centre).
+void rig_layers(const Arguments& args, const LensRig& rig, bool files, const std::string& prefix,
+                StitchPlan& s) {
+  const std::filesystem::path folder = std::filesystem::path(rig.path).parent_path();
+  // The inputs in the order first named; --images gives files in their place, one each.
+  std::vector<std::string> inputs;
+  for (const RigLens& lens : rig.lenses)
+    if (std::find(inputs.begin(), inputs.end(), lens.input) == inputs.end())
+      inputs.push_back(lens.input);
+  const std::vector<std::string> given_files = args.paths("images");
+  if (!given_files.empty() && given_files.size() != inputs.size())
+    throw Error("images: " + std::to_string(given_files.size()) + " files for a rig of " +
+                std::to_string(inputs.size()) + " inputs (one per input it names, in order)");
+  std::vector<std::string> paths;
+  std::vector<ImageInfo> infos;
+  for (size_t k = 0; k < inputs.size(); ++k) {
+    paths.push_back(given_files.empty() ? (folder / inputs[k]).string() : given_files[k]);
+    infos.push_back(read_image_info(paths.back()));
+  }
+  const auto rect_of = [&](const RigLens& lens, size_t in) {
+    return lens.rect.value_or(PixelRect{0, 0, infos[in].size.width, infos[in].size.height});
+  };
+  const auto input_of = [&](const RigLens& lens) {
+    return static_cast<size_t>(std::find(inputs.begin(), inputs.end(), lens.input) -
+                               inputs.begin());
+  };
+  double density = 0;
+  for (size_t k = 0; k < rig.lenses.size(); ++k) {
+    const RigLens& lens = rig.lenses[k];
+    const std::string of = rig.path + " line " + std::to_string(lens.line) + ": " + lens.name;
+    const size_t in = input_of(lens);
+    const PixelRect rect = rect_of(lens, in);
+    if (rect.x1 > infos[in].size.width || rect.y1 > infos[in].size.height)
+      throw Error(of + ": rect " + rect_text(rect) + " reaches outside " + paths[in] + " (" +
+                  size_text(infos[in].size) + ")");
+    for (size_t j = 0; j < k; ++j) {
+      const RigLens& other = rig.lenses[j];
+      const PixelRect o = rect_of(other, in);
+      if (other.input == lens.input && o.x0 < rect.x1 && rect.x0 < o.x1 && o.y0 < rect.y1 &&
+          rect.y0 < o.y1)
+        throw Error(of + ": rect " + rect_text(rect) + " overlaps " + other.name + "'s (" +
+                    rect_text(o) + ") in " + paths[in] +
+                    " (give each lens of a shared frame its own rect)");
+    }
+    const Size size = rect.size();
+    PtoImage im;
+    im.line = lens.line;
+    im.name = lens.input;
+    im.width = size.width, im.height = size.height;
+    if (lens.crop) {
+      const PixelRect& c = *lens.crop;
+      if (c.x1 > size.width || c.y1 > size.height)
+        throw Error(of + ": crop " + rect_text(c) + " reaches outside its image (" +
+                    size_text(size) + ")");
+      im.crop = PtoRect{c.x0, c.x1, c.y0, c.y1};
+    }
+    s.project.images.push_back(im);
+    StitchLayer l;
+    l.index = static_cast<int>(k);
+    l.file = paths[in];
+    l.size = size;
+    l.channels = infos[in].channels;
+    if (lens.rect) l.region = rect;
+    // A calibration file is found beside the rig.
+    const std::string spec =
+        lens.spec.front() == '@' && std::filesystem::path(lens.spec.substr(1)).is_relative()
+            ? "@" + (folder / lens.spec.substr(1)).string()
+            : lens.spec;
+    try {
+      l.spec = parse_spec(spec);
+      density = std::max(density, center_density(make_projection(*l.spec, size)));
+    } catch (const Error& e) {
+      throw Error(of + ": spec " + e.what());
+    }
+    l.lens = l.spec;
+    l.rotation = rotation_from_ypr(lens.yaw, lens.pitch, lens.roll).transpose();
+    l.photometry.emplace(Photometry{}, PhotometricOutput{}, size, of);
+    l.output = layer_path(prefix, k, kTiffFormat.extensions[0]);
+    if (files && s.panorama.empty()) check_output_path(l.output, s.overwrite);
+    s.layers.push_back(std::move(l));
+  }
+  s.pano = parse_spec(args.optional_text("to").value_or("equirect"));
+  s.canvas = s.options.size ? *s.options.size : default_size(*s.pano, density);
+  make_projection(*s.pano, s.canvas);
+  s.project.pano.width = s.canvas.width, s.project.pano.height = s.canvas.height;
+  for (const StitchLayer& l : s.layers)
+    if (layer_extent(s, l).width() == 0) {
+      const RigLens& lens = rig.lenses[static_cast<size_t>(l.index)];
+      throw Error(rig.path + " line " + std::to_string(lens.line) + ": " + lens.name +
+                  " has no pixel on the panorama (its image, crop and field, at its pose, see "
+                  "none of the canvas)");
+    }
+}
+
+// The input: a rig (its lenses; the plan's project has its path) or a Hugin project (the plan's),
+// and the rows the other kind takes refused.
+std::optional<LensRig> read_input(const Arguments& args, StitchPlan& s) {
+  if (!is_rig_path(args.text("project"))) {
+    s.project = read_pto(args.text("project"));
+    for (const char* row : {"size", "to"})
+      if (given(args, row))
+        throw Error(std::string(row) + ": a rig's panorama; " + s.project.path +
+                    "'s is its p line (its projection, w and h)");
+    return std::nullopt;
+  }
+  LensRig rig = read_lens_rig(args.text("project"));
+  s.project.path = rig.path;
+  s.project.pano.output = "r:CROP";
+  for (const char* row : {"exposure", "ignore_exposure", "output_mode", "image"})
+    if (given(args, row))
+      throw Error(std::string(row) + ": a Hugin project's; " + rig.path +
+                  " is a rig (its lenses have no photometry yet)");
+  return rig;
+}
+
+// The outputs checked: the panorama's path, or the layers' (distinct).
+StitchPlan checked_outputs(bool files, StitchPlan& s) {
+  if (files && !s.panorama.empty()) {
+    format_of_path(s.panorama);
+    check_output_path(s.panorama, s.overwrite);
+  } else if (files) {
+    std::vector<std::pair<std::string, std::string>> outputs;
+    for (const StitchLayer& l : s.layers) {
+      outputs.push_back({"layer", l.output});
+      if (s.hdr) outputs.push_back({"weights", l.weights});
+    }
+    require_distinct_outputs(outputs);
+  }
+  return std::move(s);
+}
+
 }  // namespace
 
 StitchPlan plan_stitch(const Arguments& args, StitchMade made) {
   const bool files = made == StitchMade::Files;
   StitchPlan s;
-  s.project = read_pto(args.text("project"));
+  const std::optional<LensRig> lenses = read_input(args, s);
+  const bool rig = lenses.has_value();
   const PtoProject& p = s.project;
   s.options = args.options();
   if (!args.optional_text("antialias")) s.options.antialias = Antialias{};  // off, as nona
   s.options.interp = args.optional_text("interp") ? parse_interp(*args.optional_text("interp"))
+                     : rig                        ? Interp::Bicubic
                                                   : project_interp(p.interpolator);
   s.depth = depth_of(args, p);
-  const PhotometricOutput output = output_of(args, p);
+  // (A rig's lenses have no photometry: the default response in and out, the identity.)
+  const PhotometricOutput output = rig ? PhotometricOutput{} : output_of(args, p);
   s.hdr = output.hdr;
   if (s.hdr && !s.depth) s.depth = PixelType::F32;  // as nona's HDR output
   s.compression = compression_of(args, p);
@@ -227,6 +391,16 @@ StitchPlan plan_stitch(const Arguments& args, StitchMade made) {
   if (extent != "crop" && extent != "canvas")
     throw Error("extent: " + extent + " (expected crop or canvas)");
   s.cropped = extent == "crop";
+  const std::string prefix = args.text("output");
+  if (made == StitchMade::PanoramaArray)
+    s.panorama = "(array)";
+  else if (files && format_of_extension(std::filesystem::path(prefix).extension().string()))
+    s.panorama = prefix;
+  blend_of(args, s);
+  if (rig) {
+    rig_layers(args, *lenses, files, prefix, s);
+    return checked_outputs(files, s);
+  }
   const std::vector<std::string> given = args.paths("images");
   if (!given.empty() && given.size() != p.images.size())
     throw Error("images: " + std::to_string(given.size()) + " files for a project of " +
@@ -239,11 +413,6 @@ StitchPlan plan_stitch(const Arguments& args, StitchMade made) {
   s.pano = parse_spec(pano_spec(p));
   s.canvas = {p.pano.width, p.pano.height};
   make_projection(*s.pano, s.canvas);
-  const std::string prefix = args.text("output");
-  if (made == StitchMade::PanoramaArray) s.panorama = "(array)";
-  else if (files && format_of_extension(std::filesystem::path(prefix).extension().string()))
-    s.panorama = prefix;
-  blend_of(args, s);
   for (size_t i = 0; i < p.images.size(); ++i) {
     const PtoImage& im = p.images[i];
     if (only && static_cast<int64_t>(i) != *only) continue;
@@ -274,6 +443,8 @@ StitchPlan plan_stitch(const Arguments& args, StitchMade made) {
                   std::to_string(im.line) + ") says " + size_text({im.width, im.height}) +
                   ": another aspect cannot be scaled to it");
     l.spec = parse_spec(image_spec(p, im, l.sx, l.sy));
+    l.lens = parse_spec(image_spec(p, im));
+    l.rotation = image_rotation(im);
     make_projection(*l.spec, l.size);
     PhotometricOutput out = output;
     if (args.flag("ignore_exposure")) out.exposure = im.exposure;
@@ -284,18 +455,7 @@ StitchPlan plan_stitch(const Arguments& args, StitchMade made) {
     if (files && s.panorama.empty() && s.hdr) check_output_path(l.weights, s.overwrite);
   }
   if (s.layers.empty()) throw Error(p.path + ": no image to render (all are disabled)");
-  if (files && !s.panorama.empty()) {
-    format_of_path(s.panorama);
-    check_output_path(s.panorama, s.overwrite);
-  } else if (files) {
-    std::vector<std::pair<std::string, std::string>> outputs;
-    for (const StitchLayer& l : s.layers) {
-      outputs.push_back({"layer", l.output});
-      if (s.hdr) outputs.push_back({"weights", l.weights});
-    }
-    require_distinct_outputs(outputs);
-  }
-  return s;
+  return checked_outputs(files, s);
 }
 
 namespace {
@@ -310,18 +470,33 @@ Report run_panorama(const Arguments& args, const StitchPlan& plan, const JobEven
   write.threads = plan.options.threads;
   // An equirect says where it sits in the sphere (Photo Sphere XMP), as convert's.
   const Projection pano = make_projection(*plan.pano, plan.canvas);
-  if (const auto* e = std::get_if<Equirect>(&pano)) write.xmp = photo_sphere_xmp(photo_sphere_of(*e));
+  if (const auto* e = std::get_if<Equirect>(&pano))
+    write.xmp = photo_sphere_xmp(photo_sphere_of(*e));
   const PixelType type = panorama_type(plan);
   int colour = 1;
   for (const StitchLayer& l : plan.layers) colour = l.channels >= 3 ? 3 : colour;
-  StreamedOutput output(plan.panorama, write, plan.canvas, colour + 1, type);
+  // A TIFF under classic TIFF's 4 GiB is written as the layers are (its strips compressed on
+  // every thread); other formats, and larger TIFFs, as convert writes them.
+  const bool tiff = &format_of_path(plan.panorama) == &kTiffFormat &&
+                    image_bytes(plan.canvas, colour + 1, bytes_of(type)) < (uint64_t{1} << 32) &&
+                    type != PixelType::F16;
+  std::optional<StreamedOutput> output;
+  if (!tiff) output.emplace(plan.panorama, write, plan.canvas, colour + 1, type);
   const BlendedPanorama b = blend_panorama(
       plan, type,
       [&](const Image& image, const PixelRect& rows) {
-        if (output.streams()) output.done(image, rows);
+        if (output && output->streams()) output->done(image, rows);
       },
       events.progress);
-  output.finish(b.image).write();
+  if (output) {
+    output->finish(b.image).write();
+  } else {
+    const TiffLayerFile file =
+        encode_tiff_layer(b.image, {0, 0, plan.canvas}, plan.compression, plan.options.threads);
+    OutputSet set(plan.overwrite);
+    set.add(plan.panorama, file.pieces());
+    set.commit();
+  }
   if (events.line)
     events.line(plan.panorama + ": " + size_text(plan.canvas) + ", " +
                 std::to_string(plan.layers.size()) + " images, " +
@@ -381,13 +556,13 @@ Report run(const Arguments& args, const JobEvents& events) {
 const JobDef stitch_job{
     .name = "stitch",
     .summary =
-        "a Hugin project's images blended into a panorama, or remapped into layers for enblend "
-        "(as nona -m TIFF_m)",
+        "a Hugin project's images or a rig's lenses blended into a panorama, or remapped into "
+        "layers for enblend (as nona -m TIFF_m)",
     .python =
-        "Remaps a Hugin project's (.pto) images onto its panorama as layer TIFFs for enblend "
-        "(PREFIX0000.tif, ...: RGBA, unassociated alpha, placed on the canvas as nona -m TIFF_m "
-        "writes "
-        "them).",
+        "Blends a Hugin project's (.pto) images, or a rig's lenses (.yaml, .yml, .json), into "
+        "one panorama where the output is an image file (pano.jpg), else remaps them onto the "
+        "panorama as layer TIFFs for enblend (PREFIX0000.tif, ...: RGBA, unassociated alpha, "
+        "placed on the canvas as nona -m TIFF_m writes them).",
     .rows = stitch_rows,
     .run = run,
 };

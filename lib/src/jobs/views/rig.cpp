@@ -7,6 +7,7 @@
 #include <string>
 
 #include "base/input_check.hpp"
+#include "base/mapping_list.hpp"
 #include "base/text.hpp"
 #include "jobs/views/views.hpp"
 #include "panoproj/error.hpp"
@@ -62,11 +63,8 @@ void check_view(const ViewSpec& v, const std::string& where) {
 }
 
 // One key of a view (from a YAML mapping).
-void set_key(ViewSpec& v, const std::string& key, std::string value, std::set<std::string>& seen,
-             const std::string& where) {
-  if (value.size() >= 2 && (value.front() == '"' || value.front() == '\'') &&
-      value.back() == value.front())
-    value = value.substr(1, value.size() - 2);
+void set_key(ViewSpec& v, const std::string& key, const std::string& value,
+             std::set<std::string>& seen, const std::string& where) {
   const std::string k = key == "fov" ? "hfov" : key;
   if (!seen.insert(k).second) throw Error(where + "'" + key + "' given twice in one view");
   const std::string what = where + key;
@@ -157,62 +155,15 @@ std::string read_rig_file(const std::string& path) {
 // `label` names the text in errors ("rig file 'x.yaml'", "rig").
 std::vector<ViewSpec> yaml_views(const std::string& text, const std::string& label) {
   std::vector<ViewSpec> views;
-  std::vector<std::set<std::string>> seen;
-  bool top = false;
-  size_t line_no = 0, at = 0;
-  while (at < text.size()) {
-    const size_t nl = std::min(text.find('\n', at), text.size());
-    std::string line = text.substr(at, nl - at);
-    at = nl + 1;
-    ++line_no;
-    const std::string where = label + " line " + std::to_string(line_no) + ": ";
-    if (line.find('\0') != std::string::npos)
-      throw Error(where + "a NUL byte (expected YAML text)");
-    if (const size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
-    if (line.find('\t') != std::string::npos)
-      throw Error(where + "a tab (YAML indents with spaces)");
-    std::string s = trim(line);
-    if (!s.empty() && s.back() == '\r') s = trim(s.substr(0, s.size() - 1));
-    if (s.empty() || s == "---") continue;
-    if (s == "views:" && views.empty() && !top) {
-      top = true;
-      continue;
-    }
-    if (s == "-" || s.rfind("- ", 0) == 0) {
-      if (views.size() == kMaxViews)
-        throw Error(where + "more than " + std::to_string(kMaxViews) + " views");
-      views.emplace_back();
-      views.back().name.clear();
-      seen.emplace_back();
-      s = trim(s.substr(1));
-      if (s.empty()) continue;
-      if (s.front() == '{') {
-        if (s.back() != '}')
-          throw Error(where + "'" + s + "' (a flow mapping ends with '}' on its line)");
-        const std::string inner = s.substr(1, s.size() - 2);
-        size_t p = 0;
-        while (p < inner.size()) {
-          const size_t comma = std::min(inner.find(',', p), inner.size());
-          const std::string kv = trim(std::string_view(inner).substr(p, comma - p));
-          p = comma + 1;
-          if (kv.empty()) continue;
-          const size_t colon = kv.find(':');
-          if (colon == std::string::npos) throw Error(where + "'" + kv + "' (expected key: value)");
-          set_key(views.back(), trim(kv.substr(0, colon)), trim(kv.substr(colon + 1)), seen.back(),
-                  where);
-        }
-        continue;
-      }
-    } else if (views.empty()) {
-      throw Error(where + "'" + s +
-                  "' (expected a list of views: lines starting '- ', optionally under 'views:')");
-    }
-    const size_t colon = s.find(':');
-    if (colon == std::string::npos) throw Error(where + "'" + s + "' (expected key: value)");
-    set_key(views.back(), trim(s.substr(0, colon)), trim(s.substr(colon + 1)), seen.back(), where);
+  for (const Mapping& m : parse_mapping_list(
+           text, label, {"view", "views", "views", "{name: front, yaw: 0, hfov: 90}"}, kMaxViews)) {
+    views.emplace_back();
+    views.back().name.clear();
+    std::set<std::string> seen;
+    for (size_t k = 0; k < m.entries.size(); ++k)
+      set_key(views.back(), m.entries[k].first, m.entries[k].second, seen,
+              label + " line " + std::to_string(m.lines[k]) + ": ");
   }
-  if (views.empty())
-    throw Error(label + ": no views (expected a list: - {name: front, yaw: 0, hfov: 90})");
   for (size_t i = 0; i < views.size(); ++i)
     if (views[i].name.empty())
       throw Error(label + ": view " + std::to_string(i + 1) + " has no name");
