@@ -1,5 +1,7 @@
 #include "base/input_check.hpp"
 
+#include <algorithm>
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -33,23 +35,28 @@ int open_regular(const std::string& path, uint64_t& bytes, const char* what, con
     throw Error("cannot read " + shown + ": " + std::strerror(err), ErrorKind::File);
   }
   if (!S_ISREG(st.st_mode))
-    throw Error("cannot read " + shown + ": " + kind_of(st.st_mode) + " (expected " + expected + ")", ErrorKind::File);
+    throw Error(
+        "cannot read " + shown + ": " + kind_of(st.st_mode) + " (expected " + expected + ")",
+        ErrorKind::File);
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) throw Error("cannot read " + shown + ": " + std::strerror(errno), ErrorKind::File);
   struct stat fst {};
   if (::fstat(fd, &fst) != 0 || !S_ISREG(fst.st_mode)) {  // swapped between the two looks
     ::close(fd);
-    throw Error("cannot read " + shown + ": not a regular file (expected " + expected + ")", ErrorKind::File);
+    throw Error("cannot read " + shown + ": not a regular file (expected " + expected + ")",
+                ErrorKind::File);
   }
   bytes = static_cast<uint64_t>(fst.st_size);
   return fd;
 }
 
 std::string read_fd(int fd, size_t most) {
-  std::string b(most, '\0');
+  // Grown as it fills (doubling from 64 KiB): a small file costs no `most`-sized buffer.
+  std::string b;
   size_t got = 0;
   while (got < most) {
-    const ssize_t n = ::read(fd, b.data() + got, most - got);
+    if (got == b.size()) b.resize(std::min(most, std::max<size_t>(2 * b.size(), size_t{1} << 16)));
+    const ssize_t n = ::read(fd, b.data() + got, b.size() - got);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;
     got += static_cast<size_t>(n);
@@ -58,7 +65,8 @@ std::string read_fd(int fd, size_t most) {
   return b;
 }
 
-std::string read_head(const std::string& path, size_t most, const char* what, const char* expected) {
+std::string read_head(const std::string& path, size_t most, const char* what,
+                      const char* expected) {
   uint64_t bytes = 0;
   const int fd = open_regular(path, bytes, what, expected);
   std::string b = read_fd(fd, most);

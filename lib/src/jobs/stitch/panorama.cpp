@@ -227,6 +227,18 @@ class BandBlender {
       acc[static_cast<size_t>(k)].reshape(w, h, colour_ + 1);
       std::fill(acc[static_cast<size_t>(k)].v.begin(), acc[static_cast<size_t>(k)].v.end(), 0.0f);
     }
+    // The pyramids' buffers at the largest part's size, once (growing them part by part would
+    // move and fault their pages again).
+    int64_t most = 0;
+    for (const Item* item : items) {
+      const PixelRect r = pyramid_rect(*item, window);
+      most = std::max(most, r.width() * r.height());
+    }
+    for (size_t l = 0; l <= static_cast<size_t>(L); ++l, most = (most >> 2) + most / 2 + 2) {
+      const auto n = static_cast<size_t>(most * (colour_ + 1));
+      P_[l].v.reserve(n), G_[l].v.reserve(static_cast<size_t>(most));
+      if (l == 0) up_.v.reserve(n), scratch_.v.reserve(n);
+    }
     for (size_t k = 0; k < items.size(); ++k) {
       check_interrupt();
       add_pyramid(*items[k], static_cast<int>(k), window);
@@ -234,21 +246,25 @@ class BandBlender {
     collapse(out);
   }
 
+  // The part of `window` item's pyramid spans: its extent and the pyramid's reach (its weights
+  // reach 2^(L+1) - 2 pixels past its seam mask, REDUCE's 2 samples a level; past that it adds
+  // nothing), on the window's level grid; empty where the item misses the window.
+  PixelRect pyramid_rect(const Item& item, const PixelRect& window) const {
+    const int64_t align = int64_t{1} << levels_, reach = 3 * align;
+    const PixelRect e = meet(item.extent, window);
+    if (e.width() == 0) return {};
+    return {window.x0 + align_down(std::max<int64_t>(e.x0 - reach - window.x0, 0), align),
+            window.y0 + align_down(std::max<int64_t>(e.y0 - reach - window.y0, 0), align),
+            std::min(window.x1, e.x1 + reach), std::min(window.y1, e.y1 + reach)};
+  }
+
   // Item k's Laplacian pyramid added to the band's (acc_), weighted by its seam mask's pyramid.
   void add_pyramid(const Item& item, int k, const PixelRect& window) const {
     const Leaders& lead = lead_;
     const int L = levels_;
-    const int64_t align = int64_t{1} << L;
-    // A layer's weights reach 2^(L+1) - 2 pixels past its seam mask (REDUCE's 2 samples a level);
-    // past that its pyramid adds nothing.
-    const int64_t reach = 3 * align;
     std::vector<Plane>& acc = acc_;
-    const PixelRect e = meet(item.extent, window);
-    if (e.width() == 0) return;
-    // The part and the reach of its pyramid, on the window's level grid.
-    const PixelRect r{window.x0 + align_down(std::max<int64_t>(e.x0 - reach - window.x0, 0), align),
-                      window.y0 + align_down(std::max<int64_t>(e.y0 - reach - window.y0, 0), align),
-                      std::min(window.x1, e.x1 + reach), std::min(window.y1, e.y1 + reach)};
+    const PixelRect r = pyramid_rect(item, window);
+    if (r.width() == 0) return;
     std::vector<Plane>& P = P_;
     std::vector<Plane>& G = G_;
     load_part(part(item, r, false), colour_, P[0], threads());
@@ -269,9 +285,9 @@ class BandBlender {
       reduce_into(P[l - 1], P[l], scratch_, threads());
       reduce_into(G[l - 1], G[l], scratch_, threads());
     }
-    // Colours extended past the alpha (P / alpha, else the level above's, expanded), from the
-    // top down; then from the bottom up each level's Laplacian, N_l - EXPAND(N_{l+1}) (the
-    // level above still N), added to the band's level weighted by G_l.
+    // From the top down, in one pass a level: its colours extended past the alpha (N_l = P_l /
+    // alpha, else EXPAND(N_{l+1})), kept in P_l for the level below, and its Laplacian N_l -
+    // EXPAND(N_{l+1}) (N_L at the top) added to the band's level weighted by G_l.
     for (int l = L; l >= 0; --l) {
       Plane& q = P[static_cast<size_t>(l)];
       if (l < L) {
@@ -279,40 +295,26 @@ class BandBlender {
         expand_into(P[static_cast<size_t>(l) + 1], up_, scratch_, threads());
       }
       const Plane& up = up_;
-      parallel_row_blocks(q.height, threads(), [&](int64_t y0, int64_t y1) {
-        for (int64_t y = y0; y < y1; ++y) {
-          float* o = q.row(y);
-          const float* u = l < L ? up.row(y) : nullptr;
-          for (int64_t x = 0; x < q.width; ++x, o += colour_ + 1) {
-            const float a = o[colour_];
-            for (int c = 0; c < colour_; ++c)
-              o[c] = a > 1e-6f ? o[c] / a : (u ? u[x * (colour_ + 1) + c] : 0.0f);
-            o[colour_] = 0.0f;
-          }
-        }
-      });
-    }
-    for (int l = 0; l <= L; ++l) {
-      Plane& lap = P[static_cast<size_t>(l)];
-      if (l < L) {
-        up_.reshape(lap.width, lap.height, colour_ + 1);
-        expand_into(P[static_cast<size_t>(l) + 1], up_, scratch_, threads());
-        subtract(lap, up_);
-      }
       const Plane& w = G[static_cast<size_t>(l)];
       Plane& a = acc[static_cast<size_t>(l)];
       const int64_t ox = (r.x0 - window.x0) >> l, oy = (r.y0 - window.y0) >> l;
-      const int64_t cw = std::min(lap.width, a.width - ox),
-                    chh = std::min(lap.height, a.height - oy);
-      parallel_row_blocks(chh, threads(), [&](int64_t y0, int64_t y1) {
+      const int64_t cw = std::min(q.width, a.width - ox), chh = std::min(q.height, a.height - oy);
+      parallel_row_blocks(q.height, threads(), [&](int64_t y0, int64_t y1) {
+        const int C = colour_ + 1;
         for (int64_t y = y0; y < y1; ++y) {
-          const float* q = lap.row(y);
+          float* n = q.row(y);
+          const float* u = l < L ? up.row(y) : nullptr;
           const float* s = w.row(y);
-          float* o = a.row(oy + y) + ox * (colour_ + 1);
-          for (int64_t x = 0; x < cw; ++x, q += colour_ + 1, o += colour_ + 1) {
-            if (s[x] <= 0) continue;
-            for (int c = 0; c < colour_; ++c) o[c] += s[x] * q[c];
-            o[colour_] += s[x];
+          float* o = y < chh ? a.row(oy + y) + ox * C : nullptr;
+          for (int64_t x = 0; x < q.width; ++x, n += C) {
+            const float alpha = n[colour_];
+            for (int c = 0; c < colour_; ++c)
+              n[c] = alpha > 1e-6f ? n[c] / alpha : (u ? u[x * C + c] : 0.0f);
+            n[colour_] = 0.0f;
+            if (!o || x >= cw || !(s[x] > 0)) continue;
+            float* at = o + x * C;
+            for (int c = 0; c < colour_; ++c) at[c] += s[x] * (n[c] - (u ? u[x * C + c] : 0.0f));
+            at[colour_] += s[x];
           }
         }
       });
@@ -341,17 +343,6 @@ class BandBlender {
       }
     });
     std::swap(out, o);
-  }
-
-  // level -= expanded, sample by sample.
-  void subtract(Plane& level, const Plane& expanded) const {
-    parallel_row_blocks(level.height, threads(), [&](int64_t y0, int64_t y1) {
-      for (int64_t y = y0; y < y1; ++y) {
-        float* o = level.row(y);
-        const float* e = expanded.row(y);
-        for (int64_t i = 0; i < level.width * (colour_ + 1); ++i) o[i] -= e[i];
-      }
-    });
   }
 };
 
