@@ -46,7 +46,7 @@ from ._declared import CLASSES, ConvertOptions, MapOptions, ProjectionName
 from ._projection import _CLASSES, Projection, projection
 from ._types import Array, FillLike, ImageLike, Mask, PathLike, SizeLike
 from ._video import VideoPlan
-from ._stitch import Layer, Layers, stitch_layers, stitch_panorama
+from ._stitch import Layer, Layers, StitchPlan, stitch_layers, stitch_panorama
 
 if TYPE_CHECKING:
     from typing import Literal
@@ -58,7 +58,7 @@ __version__: str = _core.__version__  # the project's version (`panoproj --versi
 _CLASSES.update(CLASSES)
 __all__ = [
     "Projection", "projection", "projections", "ProjectionInfo", "ParameterInfo", "convert", "build_map", "Plan",
-    "VideoPlan", "stitch_layers", "stitch_panorama", "Layer", "Layers",
+    "VideoPlan", "stitch_layers", "stitch_panorama", "StitchPlan", "Layer", "Layers",
     "read", "write", "to_ray", "to_pixel", "split_faces", "simd_target", "ConvertOptions", "MapOptions",
     "SizeLike", "FillLike", "ImageLike", "PathLike",
 ]

@@ -88,4 +88,42 @@ def stitch_panorama(
     return pixels
 
 
-__all__ = ["stitch_layers", "stitch_panorama", "Layer", "Layers"]
+class StitchPlan:
+    """A rig's (or a template project's) panorama over frames in memory, for video loops: the
+    plan (each lens's geometry, margins and seams: content-free) is made once, at the first call,
+    from its frames' shapes; each call blends one set of frames (one array per input: a rig's in
+    the order it first names them, a project's per image) into the panorama (H x W x 4, alpha
+    last), as :func:`stitch_panorama` would from files holding them. Later frames keep the first
+    ones' shapes. Options as :func:`stitch_panorama`'s."""
+
+    def __init__(
+        self,
+        project: PathLike,
+        *,
+        to: Optional[str] = None,
+        depth: Optional[Literal["uint8", "uint16", "float"]] = None,
+        blend: Optional[Literal["feather", "multiband"]] = None,
+        feather: Optional[float] = None,
+        levels: Optional[int] = None,
+        **options: Unpack[StitchOptions],
+    ) -> None:
+        given = {"project": project, "output": "", "to": to, "depth": depth, "blend": blend,
+                 "feather": feather, "levels": levels}
+        self._args = _job.arguments("stitch", given, dict(options))
+        self._core: Optional[_core.ArrayStitch] = None
+
+    def __call__(self, frames: Sequence[np.ndarray]) -> np.ndarray:
+        frames = [np.asarray(f) for f in frames]
+        if self._core is None:
+            self._core = _core.ArrayStitch(self._args, frames)
+        return self._core(frames)
+
+    @property
+    def canvas(self) -> Tuple[int, int]:
+        """The panorama's (width, height), once planned (after the first call)."""
+        if self._core is None:
+            raise RuntimeError("StitchPlan: planned at its first call (give it frames first)")
+        return self._core.canvas
+
+
+__all__ = ["stitch_layers", "stitch_panorama", "StitchPlan", "Layer", "Layers"]

@@ -614,6 +614,10 @@ void bind_jobs(py::module_& m) {
     return python_report(r);
   });
   m.def("job_abandon", [](const py::tuple& folder) { abandon_staged(staged_of(folder)); });
+}
+
+// Stitch's arrays: a project's layers, its panorama, and a plan over frames in memory.
+void bind_stitch(py::module_& m) {
   // A project's layers as arrays (the stitch job's rows; its output row unused): a list of
   // (image, array, (x, y)) and the canvas's (width, height).
   m.def("stitch_layers", [](const py::dict& given) {
@@ -650,7 +654,62 @@ void bind_jobs(py::module_& m) {
       b = blend_panorama(plan, panorama_type(plan), {}, {});
     }
     return py::make_tuple(array_of(std::move(b.image), false), b.levels);
-  });
+  });  // A plan over in-memory frames (Python's StitchPlan): planned once from the first frames'
+  // shapes (one array per input), then each call's frames blended into the panorama.
+  struct ArrayStitch {
+    StitchPlan plan;
+    std::vector<ImageInfo> infos;
+  };
+  py::class_<ArrayStitch>(m, "ArrayStitch")
+      .def(py::init([](const py::dict& given, const std::vector<py::array>& first) {
+        const Arguments args = job_arguments(job_named("stitch"), given);
+        std::vector<ImageInfo> infos;
+        for (const py::array& a : first) {
+          py::object keep;
+          const Image im = image_of(a, keep);
+          infos.push_back({im.size(), im.channels(), im.type(), "array", false});
+        }
+        Unlocked unlocked;
+        return ArrayStitch{plan_stitch(args, StitchMade::PanoramaArray, &infos), infos};
+      }))
+      .def("__call__",
+           [](ArrayStitch& s, const std::vector<py::array>& frames) {
+             if (frames.size() != s.infos.size())
+               throw py::value_error("frames: " + std::to_string(frames.size()) +
+                                     " arrays for a plan of " + std::to_string(s.infos.size()) +
+                                     " inputs (one per input, in order)");
+             std::vector<py::object> keep(frames.size());
+             std::vector<std::shared_ptr<const Image>> images;
+             for (size_t k = 0; k < frames.size(); ++k) {
+               auto im = std::make_shared<Image>(image_of(frames[k], keep[k]));
+               const ImageInfo& i = s.infos[k];
+               if (im->size() != i.size || im->channels() != i.channels || im->type() != i.type)
+                 throw py::value_error("frames[" + std::to_string(k) +
+                                       "]: " + size_text(im->size()) + " x " +
+                                       std::to_string(im->channels()) + " " + name_of(im->type()) +
+                                       " where the plan's is " + size_text(i.size) + " x " +
+                                       std::to_string(i.channels) + " " + name_of(i.type) +
+                                       " (a plan's frames keep the first frames' shapes)");
+               images.push_back(std::move(im));
+             }
+             BlendedPanorama b;
+             {
+               Unlocked unlocked;
+               for (StitchLayer& l : s.plan.layers) l.frame = images[static_cast<size_t>(l.input)];
+               // (The arrays' views are dropped however the call ends.)
+               struct Drop {
+                 StitchPlan& p;
+                 ~Drop() {
+                   for (StitchLayer& l : p.layers) l.frame.reset();
+                 }
+               } drop{s.plan};
+               b = blend_panorama(s.plan, panorama_type(s.plan), {}, {});
+             }
+             return array_of(std::move(b.image), false);
+           })
+      .def_property_readonly("canvas", [](const ArrayStitch& s) {
+        return py::make_tuple(s.plan.canvas.width, s.plan.canvas.height);
+      });
 }
 
 // Image files: read, read_faces, read_metadata, write.
@@ -834,6 +893,7 @@ PYBIND11_MODULE(_core, m) {
   bind_tables(m);
   bind_conversions(m);
   bind_jobs(m);
+  bind_stitch(m);
   bind_files(m);
   bind_coordinates(m);
 }

@@ -84,8 +84,10 @@ class Image {
   bool is_view() const { return view_; }
   Image(const Image& o) { *this = o; }
   Image& operator=(const Image& o);
-  Image(Image&&) noexcept = default;  // a vector's move keeps its buffer, so data_ stays valid
-  Image& operator=(Image&&) noexcept = default;
+  // A vector's move keeps its buffer, so data_ stays valid; the moved-from image is left empty
+  // (0 x 0, no pixels), never a second name for the pixels it gave away.
+  Image(Image&& o) noexcept { *this = std::move(o); }
+  Image& operator=(Image&& o) noexcept;
 
   Size size() const { return size_; }
   int64_t width() const { return size_.width; }

@@ -73,6 +73,17 @@ Image& Image::operator=(const Image& o) {
   return *this;
 }
 
+Image& Image::operator=(Image&& o) noexcept {
+  if (this == &o) return *this;
+  size_ = o.size_, channels_ = o.channels_, type_ = o.type_, alpha_ = o.alpha_;
+  ox_ = o.ox_, oy_ = o.oy_, frame_ = o.frame_, bytes_ = o.bytes_, view_ = o.view_;
+  pixels_ = std::move(o.pixels_);
+  data_ = o.data_;
+  o.size_ = {}, o.frame_ = {}, o.bytes_ = 0, o.ox_ = o.oy_ = 0, o.data_ = nullptr, o.view_ = false;
+  o.pixels_.clear();
+  return *this;
+}
+
 bool Image::operator==(const Image& o) const {
   return size_ == o.size_ && channels_ == o.channels_ && type_ == o.type_ && alpha_ == o.alpha_ &&
          std::equal(data_, data_ + bytes_, o.data_, o.data_ + o.bytes_);

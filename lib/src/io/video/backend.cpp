@@ -1080,14 +1080,22 @@ class FfWriter final : public VideoWriter {
       if (!tc) tc = av_dict_get(st->metadata, "timecode", nullptr, 0);
       const AVMediaType t = st->codecpar->codec_type;
       const bool media = t == AVMEDIA_TYPE_AUDIO || t == AVMEDIA_TYPE_SUBTITLE;
-      const bool takes = media ? avformat_query_codec(fmt_->oformat, st->codecpar->codec_id,
-                                                      FF_COMPLIANCE_NORMAL) == 1
-                               : t == AVMEDIA_TYPE_DATA && takes_data(fmt_->oformat, o);
+      // (libavformat 5.1's MP4 muxer lists FLAC and TrueHD but refuses them in its header
+      // unless told to write experimental files.)
+      const AVCodecID id = st->codecpar->codec_id;
+      const bool experimental = std::strcmp(fmt_->oformat->name, "mp4") == 0 &&
+                                (id == AV_CODEC_ID_FLAC || id == AV_CODEC_ID_TRUEHD);
+      const bool takes =
+          media
+              ? avformat_query_codec(fmt_->oformat, id, FF_COMPLIANCE_NORMAL) == 1 && !experimental
+              : t == AVMEDIA_TYPE_DATA && takes_data(fmt_->oformat, o);
       if (!takes) {
         if (o.tag != "tmcd")
-          notes_.push_back("stream " + std::to_string(o.index) + " (" + o.kind + ", " + o.codec +
-                           (o.tag.empty() ? "" : ", " + o.tag) +
-                           ") dropped: " + fmt_->oformat->name + " does not take it");
+          notes_.push_back(
+              "stream " + std::to_string(o.index) + " (" + o.kind + ", " + o.codec +
+              (o.tag.empty() ? "" : ", " + o.tag) + ") dropped: " + fmt_->oformat->name +
+              " does not take it" +
+              (experimental ? " (libavformat 5.1 writes it only as experimental)" : ""));
         continue;
       }
       AVStream* out = avformat_new_stream(fmt_, nullptr);

@@ -27,12 +27,8 @@ double LayerMargin::at(const Ray& d) const {
   const PtoImage& im = *image_;
   PtoRect r{0, im.width, 0, im.height};
   double m = 0;
-  if (im.crop && circular_crop(im)) {
-    const PtoRect& c = *im.crop;
-    const double cx = 0.5 * static_cast<double>(c.left + c.right),
-                 cy = 0.5 * static_cast<double>(c.top + c.bottom);
-    const double radius = 0.5 * static_cast<double>(std::min(c.right - c.left, c.bottom - c.top));
-    m = radius - std::hypot(x - cx, y - cy);
+  if (const auto c = crop_circle(im)) {
+    m = c->radius - std::hypot(x - c->cx, y - c->cy);
   } else {
     if (im.crop)
       r = {std::max(r.left, im.crop->left), std::min(r.right, im.crop->right),

@@ -46,7 +46,7 @@ PixelRect layer_extent(const StitchPlan& plan, const StitchLayer& layer) {
         continue;
       sx -= 0.5, sy -= 0.5;
       const double rx = std::round(sx), ry = std::round(sy);
-      bool valid = im.crop && circular_crop(im)
+      bool valid = crop_circle(im)
                        ? inside_crop(im, sx, sy)
                        : rx >= 0 && ry >= 0 && rx < static_cast<double>(im.width) &&
                              ry < static_cast<double>(im.height) && inside_crop(im, rx, ry);

@@ -8,32 +8,39 @@
 
 namespace panoproj {
 
+namespace {
+
+// Whether the image's crop is the circle inscribed in its S rectangle: circular fisheyes (f2),
+// Thoby's (f20) and orthographic ones (f8), as SrcPanoImage::isCircularCrop says.
 bool circular_crop(const PtoImage& im) {
   return im.lens_type == 2 || im.lens_type == 8 || im.lens_type == 20;
 }
 
+}  // namespace
+
+std::optional<CropCircle> crop_circle(const PtoImage& im) {
+  if (im.circle) return CropCircle{(*im.circle)[0], (*im.circle)[1], (*im.circle)[2]};
+  if (!im.crop || !circular_crop(im)) return std::nullopt;
+  const PtoRect& r = *im.crop;  // the circle inscribed in the rectangle
+  return CropCircle{0.5 * static_cast<double>(r.left + r.right),
+                    0.5 * static_cast<double>(r.top + r.bottom),
+                    0.5 * static_cast<double>(std::min(r.right - r.left, r.bottom - r.top))};
+}
+
 bool inside_crop(const PtoImage& im, double x, double y) {
+  if (const auto c = crop_circle(im))
+    return (x - c->cx) * (x - c->cx) + (y - c->cy) * (y - c->cy) < c->radius * c->radius;
   if (!im.crop) return true;
   const PtoRect& r = *im.crop;
-  if (circular_crop(im)) {  // the circle inscribed in the rectangle
-    const double cx = 0.5 * static_cast<double>(r.left + r.right),
-                 cy = 0.5 * static_cast<double>(r.top + r.bottom);
-    const double radius = 0.5 * static_cast<double>(std::min(r.right - r.left, r.bottom - r.top));
-    return (x - cx) * (x - cx) + (y - cy) * (y - cy) < radius * radius;
-  }
   return x >= static_cast<double>(r.left) && x < static_cast<double>(r.right) &&
          y >= static_cast<double>(r.top) && y < static_cast<double>(r.bottom);
 }
 
 bool inside_include_clip(const PtoImage& im, double x, double y) {
   PtoRect r{0, im.width, 0, im.height};
-  if (im.crop && circular_crop(im)) {
-    const PtoRect& c = *im.crop;
-    const double cx = 0.5 * static_cast<double>(c.left + c.right),
-                 cy = 0.5 * static_cast<double>(c.top + c.bottom);
-    double radius = 0.5 * static_cast<double>(std::min(c.right - c.left, c.bottom - c.top));
-    if (radius > 10) radius -= 2;
-    return (x - cx) * (x - cx) + (y - cy) * (y - cy) <= radius * radius;
+  if (const auto c = crop_circle(im)) {
+    const double radius = c->radius > 10 ? c->radius - 2 : c->radius;
+    return (x - c->cx) * (x - c->cx) + (y - c->cy) * (y - c->cy) <= radius * radius;
   }
   if (im.crop)
     r = {std::max(r.left, im.crop->left), std::min(r.right, im.crop->right),
@@ -82,7 +89,7 @@ void clear_alpha(Image& im, int64_t x, int64_t y) {
 void mask_source(const PtoProject& p, int index, double sx, double sy, Image& source) {
   const PtoImage& im = p.images[static_cast<size_t>(index)];
   const std::vector<const PtoMask*> masks = image_masks(p, index);
-  if (!im.crop && masks.empty()) return;
+  if (!im.crop && !im.circle && masks.empty()) return;
   parallel_rows(source.size().height, 0, [&](int64_t y0, int64_t y1) {
     std::vector<std::vector<double>> rows(masks.size());
     std::vector<size_t> next(masks.size());

@@ -5,6 +5,7 @@
 // images' include masks (t1: excluded from every other image there; t3: from the images outside
 // its stack) and its stack's exclude masks (t2, through the panorama). Points are in Hugin's
 // pixel coordinates (pixel centres at integers: panoproj's position - 0.5).
+#include <optional>
 #include <vector>
 
 #include "jobs/stitch/pto_project.hpp"
@@ -12,9 +13,13 @@
 
 namespace panoproj {
 
-// Whether the image's crop is the circle inscribed in its S rectangle: circular fisheyes (f2),
-// Thoby's (f20) and orthographic ones (f8), as SrcPanoImage::isCircularCrop says.
-bool circular_crop(const PtoImage& image);
+// The image's crop circle in Hugin's positions: a rig's, or the one inscribed in the S rectangle
+// of a circular crop (circular fisheyes f2, Thoby's f20 and orthographic f8, as
+// SrcPanoImage::isCircularCrop says); none for a rectangle or no crop.
+struct CropCircle {
+  double cx, cy, radius;
+};
+std::optional<CropCircle> crop_circle(const PtoImage& image);
 // Whether Hugin position (x, y) of the image is inside its crop (true without one).
 bool inside_crop(const PtoImage& image, double x, double y);
 // Whether Hugin position (x, y) is inside the region an include mask of the image counts in

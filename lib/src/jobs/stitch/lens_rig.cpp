@@ -53,6 +53,26 @@ PixelRect rectangle(const std::string& text, const std::string& what) {
   return {v[2], v[3], v[2] + v[0], v[3] + v[1]};
 }
 
+// CX CY R: three finite numbers, R over 0.
+std::array<double, 3> circle(const std::string& text, const std::string& what) {
+  std::array<double, 3> v{};
+  const char* at = text.c_str();
+  bool ok = true;
+  for (double& x : v) {
+    char* end = nullptr;
+    errno = 0;
+    x = std::strtod(at, &end);
+    ok = ok && end != at && errno != ERANGE && std::isfinite(x) && std::abs(x) <= 1e9;
+    at = end;
+  }
+  while (ok && *at == ' ') ++at;
+  if (!ok || *at != '\0' || !(v[2] > 0))
+    throw Error(what + " '" + text +
+                "' (expected CX CY R: the circle's centre and radius over 0, in pixels, e.g. 960 "
+                "960 950)");
+  return v;
+}
+
 }  // namespace
 
 bool is_rig_path(const std::string& path) {
@@ -86,6 +106,8 @@ LensRig parse_lens_rig(const std::string& text, const std::string& path) {
         lens.rect = rectangle(value, what);
       else if (key == "crop")
         lens.crop = rectangle(value, what);
+      else if (key == "circle")
+        lens.circle = circle(value, what);
       else if (key == "yaw")
         lens.yaw = angle(value, what);
       else if (key == "pitch")
@@ -94,7 +116,7 @@ LensRig parse_lens_rig(const std::string& text, const std::string& path) {
         lens.roll = angle(value, what);
       else
         throw Error(label + " line " + std::to_string(m.lines[k]) + ": unknown key '" + key +
-                    "' (expected spec, input, rect, crop, yaw, pitch, roll, name)");
+                    "' (expected spec, input, rect, crop, circle, yaw, pitch, roll, name)");
     }
     const std::string of = label + " line " + std::to_string(m.line) + ": " + lens.name;
     if (lens.name.empty() || lens.name.size() > 64)
@@ -104,6 +126,8 @@ LensRig parse_lens_rig(const std::string& text, const std::string& path) {
       throw Error(of +
                   " has no spec (expected spec: its projection, e.g. 'fisheye:fov=200', or "
                   "@calibration.yaml)");
+    if (lens.crop && lens.circle)
+      throw Error(of + " has a crop and a circle (give one: the part of its image it keeps)");
     if (lens.input.empty())
       throw Error(of + " has no input (expected input: its image file, or the frame it shares)");
     rig.lenses.push_back(std::move(lens));

@@ -6,11 +6,14 @@
 //   input    its image file, relative to the rig's folder (required); lenses that share a frame
 //            name the same file, each with its rect
 //   rect     WxH+X+Y: the rectangle of the input that is this lens's image (default: the whole)
-//   crop     WxH+X+Y: the part of its image it keeps (default: the whole image)
+//   crop     WxH+X+Y: the part of its image it keeps (default: the whole image), or
+//   circle   CX CY R: the circle of its image it keeps (centre and radius in pixels, the image's
+//            top-left corner at 0 0)
 //   yaw, pitch, roll   its pose in the rig, degrees (rotation.hpp's, as convert's --yaw: a lens at
 //            yaw 180 looks back)
 //   name     its name in messages (default: "lens N", from 1)
 // A fisheye spec's own image circle (its fov) bounds it too. Errors name the file and line.
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,6 +28,7 @@ struct RigLens {
   std::string spec;   // as written
   std::string input;  // as written
   std::optional<PixelRect> rect, crop;
+  std::optional<std::array<double, 3>> circle;  // cx, cy, r
   double yaw = 0, pitch = 0, roll = 0;
 };
 

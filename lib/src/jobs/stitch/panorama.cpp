@@ -120,7 +120,10 @@ class BandBlender {
   void leaders(const std::vector<Item*>& items, const PixelRect& window) const {
     const auto n = static_cast<size_t>(window.width() * window.height());
     Leaders& l = lead_;
-    l.first.assign(n, kNoMargin), l.second.assign(n, kNoMargin), l.owner.assign(n, -1);
+    // (The second largest: the feather's; multiband's seams need only the largest's owner.)
+    const bool second = !plan_.blend.multiband;
+    l.first.assign(n, kNoMargin), l.owner.assign(n, -1);
+    if (second) l.second.assign(n, kNoMargin);
     Buffer<float>& m = margins_;
     for (size_t k = 0; k < items.size(); ++k) {
       const PixelRect r = meet(items[k]->extent, window);
@@ -134,8 +137,9 @@ class BandBlender {
             const auto at =
                 static_cast<size_t>((r.y0 + y - window.y0) * window.width() + r.x0 + x - window.x0);
             if (v > l.first[at]) {
-              l.second[at] = l.first[at], l.first[at] = v, l.owner[at] = static_cast<int>(k);
-            } else if (v > l.second[at]) {
+              if (second) l.second[at] = l.first[at];
+              l.first[at] = v, l.owner[at] = static_cast<int>(k);
+            } else if (second && v > l.second[at]) {
               l.second[at] = v;
             }
           }
@@ -352,9 +356,9 @@ std::vector<Item> items_of(const StitchPlan& plan, int& colour) {
   for (const StitchLayer& l : plan.layers) {
     const PixelRect e = layer_extent(plan, l);
     if (e.width() == 0) continue;
-    const ImageInfo info = read_image_info(l.file);
-    if (info.channels >= 3) colour = 3;
-    items.push_back({&l, e, LayerMargin(plan, l), layer_work_type(plan, l, info), 0, -1, Image()});
+    if (l.info.channels >= 3) colour = 3;
+    items.push_back(
+        {&l, e, LayerMargin(plan, l), layer_work_type(plan, l, l.info), 0, -1, Image()});
   }
   if (items.empty())
     throw Error(plan.project.path + ": no image has a pixel on the panorama's canvas");
@@ -391,7 +395,7 @@ PixelType panorama_type(const StitchPlan& plan) {
   if (plan.depth) return *plan.depth;
   PixelType t = PixelType::U8;
   for (const StitchLayer& l : plan.layers) {
-    const PixelType u = read_image_info(l.file).type;
+    const PixelType u = l.info.type;
     if (u == PixelType::F16 || u == PixelType::F32) return PixelType::F32;
     if (u == PixelType::U16) t = u;
   }

@@ -27,6 +27,9 @@ struct PtoImage {
   int lens = 0;   // the image its field of view (v: the lens) links to, itself if none
   std::optional<PtoRect> crop;  // S
   bool disabled = false;        // #-hugin disabled
+  // A rig's crop circle (not a .pto's: Hugin's circles are its S rectangle's): centre x, y and
+  // radius in Hugin's positions (pixel centres at integers).
+  std::optional<std::array<double, 3>> circle;
   // Photometry (Hugin's defaults where not given).
   int response_type = 0;                         // Rt: 0 EMoR, 1 linear
   std::array<double, 5> emor{};                  // Ra..Re

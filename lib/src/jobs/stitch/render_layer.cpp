@@ -128,15 +128,20 @@ Image on_canvas(const Image& part, Size canvas, const PixelRect& extent) {
 Image layer_source(const StitchPlan& plan, const StitchLayer& l, PixelType type) {
   ConvertOptions with_alpha = plan.options;
   with_alpha.add_alpha = true;
-  Image storage;
-  const Image& read =
-      source_for(read_image(l.file, plan.options.memory_limit), with_alpha, storage);
-  Image source = &read == &storage ? std::move(storage) : read;
-  if (l.region) {  // (a rig's lens in a shared frame: its rectangle, checked inside when planned)
-    if (source.size().width < l.region->x1 || source.size().height < l.region->y1)
+  // The file, or the frame in its place; a rig's lens in a shared frame: its rectangle (checked
+  // inside when planned); alpha added.
+  Image file = l.frame ? Image() : read_image(l.file, plan.options.memory_limit), cut, storage;
+  const Image& whole = l.frame ? *l.frame : file;
+  if (l.region) {
+    if (whole.size().width < l.region->x1 || whole.size().height < l.region->y1)
       throw Error(l.file + ": changed while the job ran");
-    source = crop(source, *l.region);
+    cut = crop(whole, *l.region);
   }
+  const Image& read = source_for(l.region ? cut : whole, with_alpha, storage);
+  Image source = &read == &storage ? std::move(storage)
+                 : &read == &cut   ? std::move(cut)
+                 : &read == &file  ? std::move(file)
+                                   : read;
   if (source.size() != l.size) throw Error(l.file + ": changed while the job ran");
   mask_source(plan.project, l.index, l.sx, l.sy, source);
   // Float layers from integer files: remapped in float, so nothing is rounded before the end.
@@ -184,7 +189,7 @@ RenderedLayer render_layer(const StitchPlan& plan, const StitchLayer& l) {
   const bool window = has_window(make_projection(*plan.pano, plan.canvas));
   const PixelRect made = window ? extent : PixelRect{0, 0, plan.canvas.width, plan.canvas.height};
   // Before the file is read: its samples (floats where the layer is), the part, the canvas.
-  const ImageInfo info = read_image_info(l.file);
+  const ImageInfo& info = l.info;
   const int channels = info.channels == 1 || info.channels == 3 ? info.channels + 1 : info.channels;
   const PixelType out =
       plan.depth.value_or(info.type == PixelType::F16 ? PixelType::F32 : info.type);

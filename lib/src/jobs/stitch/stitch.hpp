@@ -3,6 +3,7 @@
 // rendering of one layer; shared by the job (stitch_job.cpp) and Python's arrays.
 #include <Eigen/Core>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,8 +22,12 @@ namespace panoproj {
 struct StitchLayer {
   int index = 0;                       // the project's image
   std::string file;                    // its file
-  Size size;                           // the file's size
-  int channels = 0;                    // the file's channels
+  ImageInfo info;                      // the file's (a video's frames')
+  std::shared_ptr<const Image> frame;  // in memory in place of the file (a video's frame)
+  int input = -1;    // its in-memory input (plan.videos' index, or the arrays'): frames in place of
+                     // the file
+  Size size;         // the image's size (the file's, or its region's)
+  int channels = 0;  // the file's channels
   double sx = 1, sy = 1;               // the file's size over the project's
   std::optional<ProjectionSpec> spec;  // its lens at the file's size
   std::optional<ProjectionSpec> lens;  // its lens at the project's size (extent, margins)
@@ -53,12 +58,17 @@ struct StitchPlan {
   bool hdr = false;      // linear layers (the project's R1 or output_mode hdr), with weights
   std::string panorama;  // the blended panorama's file, "(array)" for an array; empty: layers
   BlendSettings blend;
+  std::vector<std::string> videos;  // the inputs that are videos (stitch_video.hpp), in order
 };
 
 // What is made: files (the output: a panorama where it names an image format, else the layers'
 // prefix; paths checked), or arrays (Python's: the layers, or the blended panorama).
 enum class StitchMade { Files, LayerArrays, PanoramaArray };
-StitchPlan plan_stitch(const Arguments& args, StitchMade made = StitchMade::Files);
+// arrays: the inputs are in memory (Python's arrays, given to each call of blend_panorama as the
+// layers' frames): their infos, one per input (a rig's in the order first named; a project's per
+// image), in place of the files'.
+StitchPlan plan_stitch(const Arguments& args, StitchMade made = StitchMade::Files,
+                       const std::vector<ImageInfo>* arrays = nullptr);
 
 // The part of the canvas nona gives the layer's image (layer_extent.cpp); empty if none.
 PixelRect layer_extent(const StitchPlan& plan, const StitchLayer& layer);

@@ -13,6 +13,7 @@
 #include "io/formats.hpp"
 #include "io/streamed_output.hpp"
 #include "io/tiff_layer.hpp"
+#include "io/video_formats.hpp"
 #include "jobs/list.hpp"
 #include "jobs/stitch/layer_masks.hpp"
 #include "jobs/stitch/lens_rig.hpp"
@@ -21,6 +22,7 @@
 #include "jobs/stitch/pto_photometry.hpp"
 #include "jobs/stitch/pto_project.hpp"
 #include "jobs/stitch/stitch.hpp"
+#include "jobs/stitch/stitch_video.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/interrupt.hpp"
@@ -234,10 +236,53 @@ std::string rect_text(const PixelRect& r) {
   return size_text(r.size()) + "+" + std::to_string(r.x0) + "+" + std::to_string(r.y0);
 }
 
+// Input k's samples: an array's (arrays: the in-memory inputs), an image file's, or a video's
+// frames' (the video noted in the plan); `input`: its in-memory index (-1: a file's).
+ImageInfo input_info(const std::string& path, size_t k, const std::vector<ImageInfo>* arrays,
+                     StitchPlan& s, int& input) {
+  input = -1;
+  if (arrays) {
+    if (k >= arrays->size())
+      throw Error("arrays: " + std::to_string(arrays->size()) + " given for " + s.project.path +
+                  ", which has more inputs (one array per input, in order)");
+    input = static_cast<int>(k);
+    return (*arrays)[k];
+  }
+  if (!is_video_file(path)) return read_image_info(path);
+  const auto at = std::find(s.videos.begin(), s.videos.end(), path);
+  input = static_cast<int>(at - s.videos.begin());
+  if (at == s.videos.end()) s.videos.push_back(path);
+  return video_frames_info(path);
+}
+
+// A rig's lens as a project's image: its size, and its crop (a rectangle, or a circle).
+PtoImage rig_image(const RigLens& lens, Size size, const std::string& of) {
+  PtoImage im;
+  im.line = lens.line;
+  im.name = lens.input;
+  im.width = size.width, im.height = size.height;
+  if (lens.crop) {
+    const PixelRect& c = *lens.crop;
+    if (c.x1 > size.width || c.y1 > size.height)
+      throw Error(of + ": crop " + rect_text(c) + " reaches outside its image (" + size_text(size) +
+                  ")");
+    im.crop = PtoRect{c.x0, c.x1, c.y0, c.y1};
+  }
+  if (lens.circle) {
+    const auto [cx, cy, r] = *lens.circle;
+    if (!(cx > 0 && cy > 0 && cx < static_cast<double>(size.width) &&
+          cy < static_cast<double>(size.height)))
+      throw Error(of + ": circle centre " + std::to_string(cx) + " " + std::to_string(cy) +
+                  " outside its image (" + size_text(size) + ")");
+    im.circle = {cx - 0.5, cy - 0.5, r};  // (Hugin's positions)
+  }
+  return im;
+}
+
 // A rig's lenses as the plan's images and layers (lens_rig.hpp), and its panorama: `to` (default
 // equirect) at `size` (default: the finest lens's resolution at its centre).
 void rig_layers(const Arguments& args, const LensRig& rig, bool files, const std::string& prefix,
-                StitchPlan& s) {
+                const std::vector<ImageInfo>* arrays, StitchPlan& s) {
   const std::filesystem::path folder = std::filesystem::path(rig.path).parent_path();
   // The inputs in the order first named; --images gives files in their place, one each.
   std::vector<std::string> inputs;
@@ -245,14 +290,18 @@ void rig_layers(const Arguments& args, const LensRig& rig, bool files, const std
     if (std::find(inputs.begin(), inputs.end(), lens.input) == inputs.end())
       inputs.push_back(lens.input);
   const std::vector<std::string> given_files = args.paths("images");
+  if (arrays && arrays->size() != inputs.size())
+    throw Error("arrays: " + std::to_string(arrays->size()) + " for a rig of " +
+                std::to_string(inputs.size()) + " inputs (one per input it names, in order)");
   if (!given_files.empty() && given_files.size() != inputs.size())
     throw Error("images: " + std::to_string(given_files.size()) + " files for a rig of " +
                 std::to_string(inputs.size()) + " inputs (one per input it names, in order)");
   std::vector<std::string> paths;
   std::vector<ImageInfo> infos;
+  std::vector<int> videos;
   for (size_t k = 0; k < inputs.size(); ++k) {
     paths.push_back(given_files.empty() ? (folder / inputs[k]).string() : given_files[k]);
-    infos.push_back(read_image_info(paths.back()));
+    infos.push_back(input_info(paths.back(), k, arrays, s, videos.emplace_back()));
   }
   const auto rect_of = [&](const RigLens& lens, size_t in) {
     return lens.rect.value_or(PixelRect{0, 0, infos[in].size.width, infos[in].size.height});
@@ -280,22 +329,14 @@ void rig_layers(const Arguments& args, const LensRig& rig, bool files, const std
                     " (give each lens of a shared frame its own rect)");
     }
     const Size size = rect.size();
-    PtoImage im;
-    im.line = lens.line;
-    im.name = lens.input;
-    im.width = size.width, im.height = size.height;
-    if (lens.crop) {
-      const PixelRect& c = *lens.crop;
-      if (c.x1 > size.width || c.y1 > size.height)
-        throw Error(of + ": crop " + rect_text(c) + " reaches outside its image (" +
-                    size_text(size) + ")");
-      im.crop = PtoRect{c.x0, c.x1, c.y0, c.y1};
-    }
+    const PtoImage im = rig_image(lens, size, of);
     s.project.images.push_back(im);
     StitchLayer l;
     l.index = static_cast<int>(k);
     l.file = paths[in];
     l.size = size;
+    l.info = infos[in];
+    l.input = videos[in];
     l.channels = infos[in].channels;
     if (lens.rect) l.region = rect;
     // A calibration file is found beside the rig.
@@ -350,8 +391,24 @@ std::optional<LensRig> read_input(const Arguments& args, StitchPlan& s) {
   return rig;
 }
 
-// The outputs checked: the panorama's path, or the layers' (distinct).
-StitchPlan checked_outputs(bool files, StitchPlan& s) {
+// The outputs checked: the panorama's path (a video's for video inputs, and only then), or the
+// layers' (distinct).
+StitchPlan checked_outputs(const Arguments& args, bool files, StitchPlan& s) {
+  if (!s.videos.empty()) {
+    for (const StitchLayer& l : s.layers)
+      if (l.input < 0)
+        throw Error("input " + l.file + " is an image among videos (" + s.videos[0] +
+                    "): give every input as a video, or every one as images");
+    check_video_output(args, s);
+    check_output_path(s.panorama, s.overwrite);
+    for (const std::string& v : s.videos)
+      if (same_file(v, s.panorama)) throw Error("output " + s.panorama + " is an input");
+    return std::move(s);
+  }
+  if (video_container_of(s.panorama))
+    throw Error("output " + s.panorama +
+                " is a video: its inputs are images (give an image "
+                "output such as pano.jpg, or videos as the inputs)");
   if (files && !s.panorama.empty()) {
     format_of_path(s.panorama);
     check_output_path(s.panorama, s.overwrite);
@@ -368,7 +425,8 @@ StitchPlan checked_outputs(bool files, StitchPlan& s) {
 
 }  // namespace
 
-StitchPlan plan_stitch(const Arguments& args, StitchMade made) {
+StitchPlan plan_stitch(const Arguments& args, StitchMade made,
+                       const std::vector<ImageInfo>* arrays) {
   const bool files = made == StitchMade::Files;
   StitchPlan s;
   const std::optional<LensRig> lenses = read_input(args, s);
@@ -394,17 +452,21 @@ StitchPlan plan_stitch(const Arguments& args, StitchMade made) {
   const std::string prefix = args.text("output");
   if (made == StitchMade::PanoramaArray)
     s.panorama = "(array)";
-  else if (files && format_of_extension(std::filesystem::path(prefix).extension().string()))
+  else if (files && (format_of_extension(std::filesystem::path(prefix).extension().string()) ||
+                     video_container_of(prefix)))
     s.panorama = prefix;
   blend_of(args, s);
   if (rig) {
-    rig_layers(args, *lenses, files, prefix, s);
-    return checked_outputs(files, s);
+    rig_layers(args, *lenses, files, prefix, arrays, s);
+    return checked_outputs(args, files, s);
   }
   const std::vector<std::string> given = args.paths("images");
   if (!given.empty() && given.size() != p.images.size())
     throw Error("images: " + std::to_string(given.size()) + " files for a project of " +
                 std::to_string(p.images.size()) + " images");
+  if (arrays && arrays->size() != p.images.size())
+    throw Error("arrays: " + std::to_string(arrays->size()) + " for a project of " +
+                std::to_string(p.images.size()) + " images (one per image, in order)");
   const std::filesystem::path folder = std::filesystem::path(p.path).parent_path();
   const std::optional<int64_t> only = args.optional_integer("image");
   if (only && (*only < 0 || *only >= static_cast<int64_t>(p.images.size())))
@@ -431,7 +493,8 @@ StitchPlan plan_stitch(const Arguments& args, StitchMade made) {
   }
   for (StitchLayer& l : s.layers) {
     const PtoImage& im = p.images[static_cast<size_t>(l.index)];
-    const ImageInfo info = read_image_info(l.file);
+    const ImageInfo info = l.info =
+        input_info(l.file, static_cast<size_t>(l.index), arrays, s, l.input);
     l.size = info.size;
     l.sx = static_cast<double>(info.size.width) / static_cast<double>(im.width);
     l.sy = static_cast<double>(info.size.height) / static_cast<double>(im.height);
@@ -455,7 +518,7 @@ StitchPlan plan_stitch(const Arguments& args, StitchMade made) {
     if (files && s.panorama.empty() && s.hdr) check_output_path(l.weights, s.overwrite);
   }
   if (s.layers.empty()) throw Error(p.path + ": no image to render (all are disabled)");
-  return checked_outputs(files, s);
+  return checked_outputs(args, files, s);
 }
 
 namespace {
@@ -516,6 +579,7 @@ Report run(const Arguments& args, const JobEvents& events) {
               unused_photometry(plan.project, plan.project.images[static_cast<size_t>(l.index)]);
           !why.empty())
         events.warning(why);
+  if (!plan.videos.empty()) return run_stitch_video(plan, events);
   if (!plan.panorama.empty()) return run_panorama(args, plan, events);
   OutputSet set(plan.overwrite);
   std::vector<ReportValue> layers;
