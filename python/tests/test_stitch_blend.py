@@ -80,6 +80,25 @@ def test_weights_sum_to_one_wherever_an_image_covers(small, blend):
     assert not pano[~covered].any()
 
 
+def test_no_layer_ends_where_it_still_weighs(small):
+    """Each view a constant of its own (0.1 to 0.8): the feather's panorama has no step between
+    neighbouring pixels, so no layer's alpha ends where its weight is not ~0 (an orthographic
+    view's pixels end at 90 degrees, inside its frame: its margin ends there too)."""
+    d, project, _ = small
+    files = constant_images(d, project, [0.1 + 0.1 * k for k in range(len(VIEWS))], name="steps")
+    pano = pp.stitch_panorama(str(project), images=files).astype(np.float64)
+    steps = []
+    for axis in (0, 1):  # (down, and across the 360-degree seam too)
+        a = pano[..., 3] > 0
+        both = a & np.roll(a, -1, axis)
+        if axis == 0:
+            both[-1] = False  # (the bottom row's neighbour is not the top row)
+        steps.append(np.abs(pano[..., 0] - np.roll(pano[..., 0], -1, axis))[both].max())
+    # (Ramps as narrow as their overlap: a few pixels where two fields only graze.)
+    print(f"largest step between neighbours: {max(steps):.4f} (the views differ by up to 0.7)")
+    assert max(steps) < 0.06
+
+
 @pytest.mark.parametrize("blend", BLENDS, ids=["feather", "multiband"])
 def test_weights_hold_still_over_30_frames(small, blend):
     """Thirty frames of the scene, each image at its own flickering gain: each frame's panorama is

@@ -16,6 +16,8 @@ LayerMargin::LayerMargin(const StitchPlan& plan, const StitchLayer& layer)
       rotation_(layer.rotation),
       per_radian_(center_density(lens_)) {
   if (const auto* f = std::get_if<Fisheye>(&lens_)) field_ = f->psi_max();
+  if (const auto* p = std::get_if<PanoTools>(&lens_); p && p->lens() == PanoToolsLens::Fisheye)
+    field_ = Fisheye::law_limit(p->model());  // (an orthographic's 90 degrees: inside its frame)
 }
 
 double LayerMargin::at(const Ray& d) const {

@@ -2,10 +2,12 @@
 // How far inside its image a panorama pixel lies, for the blended panorama's weights: the image's
 // valid edge is its frame and crop (the S rectangle, or its circle for circular crops); the
 // distance to it, in the image's pixels, over its lens's pixels per radian at the centre, is the
-// margin (radians, as a dual fisheye's lens margin: negative outside). A fisheye lens (a rig's
-// fisheye spec) is bounded by its image circle too: its margin is at most psi_max less the ray's
-// angle from its axis, a dual fisheye's lens margin exactly. Geometry alone: the same for every
-// frame of a template. Masks are not edges here: they cut the layer's alpha.
+// margin (radians, as a dual fisheye's lens margin: negative outside). A fisheye lens is bounded
+// by its field too, where its pixels end inside the frame: its margin is at most the field's half
+// angle less the ray's angle from its axis (a rig's fisheye spec: psi_max, a dual fisheye's lens
+// margin exactly; a project's fisheye types: where their law ends, an orthographic's 90 degrees).
+// Geometry alone: the same for every frame of a template. Masks are not edges here: they cut the
+// layer's alpha.
 #include <Eigen/Core>
 #include <vector>
 
