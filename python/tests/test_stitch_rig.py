@@ -155,6 +155,12 @@ def _video(path, frames, rate=10, audio=False):
     return str(path)
 
 
+def _frame_file(d, frame, k):
+    path = str(d / f"frame{k}.png")
+    pp.write(path, frame, overwrite=True)
+    return path
+
+
 def _decoded(path):
     av = pytest.importorskip("av")
     with av.open(str(path)) as c:
@@ -186,6 +192,25 @@ def test_a_dual_fisheye_video_through_a_rig_is_the_equirect_video(tmp_path):
     streams = subprocess.run(["ffprobe", "-v", "error", "-show_entries", "stream=codec_type", "-of", "csv=p=0",
                               str(tmp_path / "pano.mp4")], capture_output=True, text=True, check=True).stdout.split()
     assert sorted(s.strip(",") for s in streams) == ["audio", "video"]
+    # A template project's images as videos (--images): the same panorama video as the rig's.
+    lines = ['p f2 w256 h128 v360 E0 R0 n"TIFF_m c:NONE r:CROP"\nm i2\n']
+    views = []
+    for k, yaw in enumerate((0, 120, 240)):
+        views.append(np.stack([pp.convert(f, "dual-fisheye:fov=200", "panotools:lens=rectilinear,hfov=130",
+                                          size=(160, 120), yaw=yaw) for f in frames]))
+        pp.write(str(tmp_path / f"t{k}.png"), views[-1][0])
+        lines.append(f'i w160 h120 f0 v130 r0 p0 y{yaw} n"t{k}.png"\n')
+    (tmp_path / "t.pto").write_text("".join(lines))
+    clips = [_video(tmp_path / f"t{k}.mkv", v) for k, v in enumerate(views)]
+    r = subprocess.run([CLI, "stitch", str(tmp_path / "t.pto"), str(tmp_path / "t.mp4"), "--images", *clips],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    got = _decoded(tmp_path / "t.mp4")
+    assert len(got) == len(frames)
+    for k in (0, 5):
+        still = pp.stitch_panorama(str(tmp_path / "t.pto"), images=[_frame_file(tmp_path, v[k], j)
+                                                                    for j, v in enumerate(views)])
+        assert psnr(got[k] / 255, still[..., :3] / 255) > 30
     # Two videos out of step: one frame short; another rate.
     lenses = [{**lenses[0], "input": "a.mkv"}, {**lenses[1], "input": "b.mkv"}]
     rig = write_rig(tmp_path / "two.yaml", lenses)
