@@ -41,8 +41,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     make_projection(*plan.pano, plan.canvas);
     for (size_t i = 0; i < p.images.size() && i < 4; ++i) {
       const PtoImage& im = p.images[i];
-      make_projection(parse_spec(image_spec(p, im)), {im.width, im.height});
-      const PixelRect r = layer_extent(plan, static_cast<int>(i));
+      StitchLayer layer;
+      layer.index = static_cast<int>(i);
+      layer.lens = parse_spec(image_spec(p, im));
+      layer.rotation = image_rotation(im);
+      make_projection(*layer.lens, {im.width, im.height});
+      const PixelRect r = layer_extent(plan, layer);
       if (r.width() < 0 || r.x0 < 0 || r.x1 > plan.canvas.width || r.y1 > plan.canvas.height)
         std::abort();
       pano_exclusions(p, static_cast<int>(i));
