@@ -19,6 +19,10 @@
 #include <string>
 #include <vector>
 
+#ifdef __GLIBC__
+#include <malloc.h>  // malloc_trim
+#endif
+
 #include "attribute_values.hpp"
 #include "jobs/convert/video_planes.hpp"
 #include "jobs/stitch/panorama.hpp"
@@ -616,6 +620,15 @@ void bind_jobs(py::module_& m) {
   m.def("job_abandon", [](const py::tuple& folder) { abandon_staged(staged_of(folder)); });
 }
 
+// Gives the memory a job freed back to the system: glibc keeps what its threads' arenas freed, so
+// a Python process would stay hundreds of MB larger after a large stitch (and every process it
+// forks starts that large).
+void release_freed_memory() {
+#ifdef __GLIBC__
+  malloc_trim(0);
+#endif
+}
+
 // Stitch's arrays: a project's layers, its panorama, and a plan over frames in memory.
 void bind_stitch(py::module_& m) {
   // A project's layers as arrays (the stitch job's rows; its output row unused): a list of
@@ -633,6 +646,7 @@ void bind_stitch(py::module_& m) {
         RenderedLayer r = render_layer(plan, l);
         if (r.image.size().width > 0) layers.emplace_back(l.index, std::move(r));
       }
+      release_freed_memory();
     }
     py::list out;
     for (auto& [index, r] : layers) {
@@ -652,6 +666,7 @@ void bind_stitch(py::module_& m) {
       Unlocked unlocked;
       const StitchPlan plan = plan_stitch(args, StitchMade::PanoramaArray);
       b = blend_panorama(plan, panorama_type(plan), {}, {});
+      release_freed_memory();
     }
     return py::make_tuple(array_of(std::move(b.image), false), b.levels);
   });  // A plan over in-memory frames (Python's StitchPlan): planned once from the first frames'
@@ -704,6 +719,7 @@ void bind_stitch(py::module_& m) {
                  }
                } drop{s.plan};
                b = blend_panorama(s.plan, panorama_type(s.plan), {}, {});
+               release_freed_memory();
              }
              return array_of(std::move(b.image), false);
            })
