@@ -1523,7 +1523,7 @@ def test_a_broadcast_array_is_counted_before_it_is_copied():
 
 
 @pytest.mark.parametrize("call", ["tiles", "views", "convert", "convert_file_video", "convert_file_video_pyav",
-                                  "stitch", "stitch_layers", "stitch_panorama"])
+                                  "stitch", "stitch_layers", "stitch_panorama", "stitch_plan"])
 def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
     env = child_env(call.endswith("pyav"))
     clip = tmp_path / "clip.mkv"
@@ -1553,7 +1553,8 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
                                   f"size=(4096, 2048), codec='ffv1', {slow})",
             "stitch": f"pp.stitch({str(project)!r}, {str(out)!r}, {slow})",
             "stitch_layers": f"pp.stitch_layers({str(project)!r}, {slow})",
-            "stitch_panorama": f"pp.stitch_panorama({str(project)!r}, blend='multiband', {slow})"}
+            "stitch_panorama": f"pp.stitch_panorama({str(project)!r}, blend='multiband', {slow})",
+            "stitch_plan": f"pp.StitchPlan({str(project)!r}, blend='multiband', {slow})([a] * 4)"}
     body["convert_file_video_pyav"] = body["convert_file_video"]
     body = body[call]
     code = ("import os, sys, time, numpy as np, panoproj as pp\n"
