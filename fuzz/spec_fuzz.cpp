@@ -9,6 +9,7 @@
 #include "panoproj/error.hpp"
 #include "panoproj/projection.hpp"
 #include "panoproj/spec.hpp"
+#include "spec/photometric_keys.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // First 4 bytes: the size (two 16-bit numbers, 0 included); the rest: the spec text.
@@ -23,6 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     const panoproj::ProjectionSpec spec = panoproj::parse_spec(text);
     (void)spec.str();
+    for (int lens : {0, 1}) (void)panoproj::photometric_keys(spec, lens);
     const panoproj::Projection p = panoproj::make_projection(spec, {w, h});
     // A few rays through the frame and back: must not crash on whatever was accepted.
     for (double y : {0.0, 0.5 * h, static_cast<double>(h)})

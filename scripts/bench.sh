@@ -12,7 +12,8 @@
 # "video-quality" first, a video's luma PSNR and chroma error against an analytic truth, panoproj
 # against v360 (bench/video_quality.py); with "gopro-max" first, GoPro MAX 5.6K pairs and a .360
 # to a 5376x2688 equirect, against max2sphere given its binary (bench/bench_gopro_max.py); with
-# "stitch" first, a Hugin project's layers against nona -m TIFF_m (bench/bench_stitch.py).
+# "stitch" first, a Hugin project's layers against nona -m TIFF_m (bench/bench_stitch.py); with
+# "photometry" first, convert with a lens's photometric keys against without (bench/bench_photometry.py).
 # Installs what is missing, builds in build-bench/, runs.
 # Usage: scripts/bench.sh [--threads N] [--runs N]  |  scripts/bench.sh big [--threads N]
 #        scripts/bench.sh python [--runs N] [--only keep]  |  scripts/bench.sh plot [--runs N]
@@ -21,6 +22,7 @@
 #        scripts/bench.sh video [--runs N] [--frames N] [--only filter,transcode,rss]  |  scripts/bench.sh video-quality
 #        scripts/bench.sh gopro-max [--runs N] [--frames N] [--max2sphere PATH] [--only pairs,convert,video]
 #        scripts/bench.sh stitch [--runs N] [--only none,deflate,float,photometry,photometry-float]
+#        scripts/bench.sh photometry [--runs N]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [[ ${1:-} == io ]]; then
@@ -48,6 +50,11 @@ if [[ ${1:-} == stitch ]]; then
   bash "$root/scripts/install-deps.sh" hugin-tools
   bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF
   exec python3 "$root/bench/bench_stitch.py" "$@"
+fi
+if [[ ${1:-} == photometry ]]; then
+  shift
+  bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF
+  exec python3 "$root/bench/bench_photometry.py" "$@"
 fi
 if [[ ${1:-} == video ]]; then
   shift

@@ -7,10 +7,11 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-"$root/build"}
 # The Python module builds against the venv's pybind11 >= 2.12 and numpy (scripts/python-env.sh).
 # exiftool: a second reader of the Photo Sphere XMP panoproj writes; strace: injects system-call
-# faults for the robustness suite (python/tests/test_robustness.py); ffmpeg: v360, the cube formats' oracle
+# faults for the robustness suite (python/tests/test_robustness.py), time (GNU) measures its
+# commands' peak memory; ffmpeg: v360, the cube formats' oracle
 # (python/tests/test_v360_oracle.py); hugin-tools and enblend: nona, the stitch job's oracle, and
 # the blender its layers are for (python/tests/test_stitch.py). Test oracles only.
-bash "$root/scripts/install-deps.sh" libimage-exiftool-perl strace ffmpeg hugin-tools enblend
+bash "$root/scripts/install-deps.sh" libimage-exiftool-perl strace time ffmpeg hugin-tools enblend
 read -ra py_args < <(bash "$root/scripts/python-env.sh" --cmake-args)
 bash "$root/scripts/check-source.sh"
 bash "$root/scripts/build.sh" "$build" "${py_args[@]}"

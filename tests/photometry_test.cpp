@@ -12,6 +12,7 @@
 #include "panoproj/spec.hpp"
 #include "photometry/photometric.hpp"
 #include "photometry/response.hpp"
+#include "photometry/source_correction.hpp"
 
 namespace panoproj {
 namespace {
@@ -278,6 +279,127 @@ TEST(Photometry, RefusesModelsNothingCanBeDividedBy) {
   auto zero = std::make_shared<Image>(Size{4, 4}, 1, PixelType::F32);
   ph.vignetting.flat_field = zero;
   refused(ph, {4, 4}, "the flat field's values run from 0");
+}
+
+// A source's correction from its spec's keys (source_correction.hpp).
+Image uniform(Size size, int channels, PixelType type, double value) {
+  Image im(size, channels, type);
+  for (int64_t y = 0; y < size.height; ++y)
+    for (int64_t x = 0; x < size.width; ++x)
+      for (int c = 0; c < channels; ++c) {
+        if (type == PixelType::F32)
+          reinterpret_cast<float*>(im.row(y))[x * channels + c] = static_cast<float>(value);
+        else
+          im.row(y)[x * channels + c] = static_cast<unsigned char>(std::lround(value * 255));
+      }
+  return im;
+}
+
+float at(const Image& im, int64_t x, int64_t y, int c = 0) {
+  return reinterpret_cast<const float*>(im.row(y))[x * im.channels() + c];
+}
+
+TEST(SourceCorrection, EachPixelTakesItsOwnLensModel) {
+  // Linear light 0.25; lens 1 a stop down (ev2 = 1): 0.5 where the projection's lens_at says 1.
+  const auto check = [](const std::string& spec, Size size) {
+    const ProjectionSpec from = parse_spec(spec + ",response=linear,ev2=1");
+    const Projection p = make_projection(from, size);
+    const auto c = SourceCorrection::make(from, parse_spec("equirect:ev=0"), p, StereoLayout::Mono);
+    ASSERT_TRUE(c && !c->identity(PixelType::F32)) << spec;
+    Image out;
+    c->apply(uniform(size, 3, PixelType::F32, 0.25), out, 2);
+    int64_t ones = 0;
+    for (int64_t y = 0; y < size.height; ++y)
+      for (int64_t x = 0; x < size.width; ++x) {
+        const int lens = std::visit(
+            [&](const auto& q) {
+              if constexpr (requires { q.lens_at(0.0, 0.0); })
+                return q.lens_at(static_cast<double>(x) + 0.5, static_cast<double>(y) + 0.5);
+              else
+                return 0;
+            },
+            p);
+        ones += lens;
+        ASSERT_NEAR(at(out, x, y, 1), lens ? 0.5 : 0.25, 1e-7) << spec << " at " << x << "," << y;
+      }
+    EXPECT_GT(ones, size.width * size.height / 4) << spec;
+  };
+  check("dual-fisheye:fov=200", {64, 32});
+  check("dual-fisheye:fov=200,layout=top-bottom", {32, 64});
+  check("gopro-max:face=64,outer=96,band=8", {256, 128});
+}
+
+TEST(SourceCorrection, WindowsScalesAndEyesTakeTheFramesPositions) {
+  // V = 1 - 0.5 r^2 about the eye's centre shifted (6, -4), r over its half diagonal: a window
+  // of the frame at 1/2 scale, each eye of a top-bottom stereo frame alike.
+  const Size eye{80, 40};
+  const ProjectionSpec from =
+      parse_spec("equirect:stereo=tb,response=linear,vignetting=1/-0.5,vignetting_centre=6/-4");
+  const auto c = SourceCorrection::make(from, parse_spec("equirect:stereo=tb"),
+                                        make_projection(from, eye), StereoLayout::TopBottom);
+  ASSERT_TRUE(c);
+  Image window = uniform({30, 50}, 1, PixelType::F32, 1.0);
+  window.set_window(7, 3, {40, 40});  // (the 80x80 frame at 1/2)
+  Image out;
+  c->apply(window, out, 2);
+  EXPECT_EQ(out.origin_x(), 7);
+  EXPECT_EQ(out.frame_size(), (Size{40, 40}));
+  const double half_diagonal = std::sqrt(80.0 * 80 / 4 + 40.0 * 40 / 4);
+  double worst = 0;
+  for (int64_t y = 0; y < 37; ++y)
+    for (int64_t x = 0; x < 30; ++x) {
+      const double fx = (static_cast<double>(7 + x) + 0.5) * 2 - 0.5;
+      double fy = (static_cast<double>(3 + y) + 0.5) * 2 - 0.5;
+      if (fy >= 40) fy -= 40;  // the right eye's rows
+      const double dx = fx - (79 / 2.0 + 6), dy = fy - (39 / 2.0 - 4);
+      const double v = 1 - 0.5 * (dx * dx + dy * dy) / (half_diagonal * half_diagonal);
+      worst = std::max(worst, std::fabs(at(out, x, y) - 1 / v));
+    }
+  EXPECT_LT(worst, 1e-6);
+}
+
+TEST(SourceCorrection, IntegerSamplesAreTheFloatCorrectionRounded) {
+  const ProjectionSpec from = parse_spec("fisheye:fov=180,ev=0.7,wb=1.1/0.9,vignetting=1/-0.3");
+  const ProjectionSpec to = parse_spec("equirect");
+  const Size size{48, 48};
+  const auto c = SourceCorrection::make(from, to, make_projection(from, size), StereoLayout::Mono);
+  Image u8(size, 3, PixelType::U8), f(size, 3, PixelType::F32);
+  for (int64_t y = 0; y < size.height; ++y)
+    for (int64_t x = 0; x < size.width; ++x)
+      for (int k = 0; k < 3; ++k) {
+        const auto v = static_cast<unsigned char>((x * 5 + y * 3 + k * 70) % 256);
+        u8.row(y)[x * 3 + k] = v;
+        reinterpret_cast<float*>(f.row(y))[x * 3 + k] = static_cast<float>(v / 255.0);
+      }
+  // (Float samples default to a linear response: the integer one's EMoR given for both.)
+  const ProjectionSpec from_f = parse_spec(from.str() + ",response=emor");
+  const auto cf =
+      SourceCorrection::make(from_f, to, make_projection(from_f, size), StereoLayout::Mono);
+  Image a, b;
+  c->apply(u8, a, 2);
+  cf->apply(f, b, 2);
+  int64_t moved = 0;
+  for (int64_t y = 0; y < size.height; ++y)
+    for (int64_t x = 0; x < size.width; ++x)
+      for (int k = 0; k < 3; ++k) {
+        const double want = std::clamp(std::nearbyint(at(b, x, y, k) * 255.0), 0.0, 255.0);
+        ASSERT_EQ(a.row(y)[x * 3 + k], want) << x << "," << y << "," << k;
+        moved += a.row(y)[x * 3 + k] != u8.row(y)[x * 3 + k];
+      }
+  EXPECT_GT(moved, size.width * size.height);  // (the correction does something)
+}
+
+TEST(SourceCorrection, RefusesWhatNoSourceCanMean) {
+  const auto make = [](const std::string& from, const std::string& to, Size size) {
+    const ProjectionSpec f = parse_spec(from);
+    return SourceCorrection::make(f, parse_spec(to), make_projection(f, size), StereoLayout::Mono);
+  };
+  EXPECT_EQ(make("equirect", "fisheye", {64, 32}), nullptr);
+  EXPECT_THROW(make("equirect", "fisheye:wb=1/1", {64, 32}), Error);
+  EXPECT_THROW(make("gopro-max:face=64,outer=96,band=8,vignetting=1/-0.1", "equirect", {256, 128}),
+               Error);
+  EXPECT_THROW(make("equirect:vignetting=1/-1.5", "fisheye", {64, 32}), Error);
+  EXPECT_NO_THROW(make("equirect:vignetting=1/-0.5", "fisheye", {64, 32}));
 }
 
 }  // namespace

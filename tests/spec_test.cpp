@@ -78,12 +78,16 @@ TEST(Spec, ErrorsNameTheValueAndWhatWasExpected) {
             "equidistant|equisolid|orthographic|stereographic|thoby)");
   EXPECT_EQ(error_of("fisheye:fov"), "fisheye: 'fov' is not key=value");
   EXPECT_EQ(error_of("fisheye:zoom=2"),
-            "fisheye: unknown key 'zoom' (expected one of: fov, model, k2, clip, aspect, radius, cx, cy, stereo, eye)");
+            "fisheye: unknown key 'zoom' (expected one of: fov, model, k2, clip, aspect, radius, "
+            "cx, cy, stereo, eye, response, ev, wb, "
+            "vignetting, vignetting_centre)");
   EXPECT_EQ(error_of("fisheye:fov=100,fov=120"), "fisheye: fov given twice");
   EXPECT_EQ(error_of("cubemap:face=10.5"),
             "cubemap: face=10.5 is not a whole number (expected 1 <= face <= 1.07374e+09)");
   EXPECT_EQ(error_of("aitoff:w=1"),
-            "aitoff: unknown key 'w' (expected one of: lon0, aspect, hfov, stereo, eye)");
+            "aitoff: unknown key 'w' (expected one of: lon0, aspect, hfov, stereo, eye, response, "
+            "ev, wb, vignetting, "
+            "vignetting_centre)");
   EXPECT_EQ(error_of("bonne:phi1=91"), "bonne: phi1=91 is out of range (expected -90 <= phi1 <= 90)");
   EXPECT_EQ(make_error_of("cubemap:order=frblu", {6, 1}),
             "cubemap: order=frblu is not six distinct letters of f r b l u d (front right back left up down), e.g. rludfb");

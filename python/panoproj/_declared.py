@@ -29,6 +29,14 @@ class Pinhole(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'pinhole'
@@ -44,8 +52,13 @@ class Pinhole(Projection):
         cy: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(hfov=hfov, vfov=vfov, focal=focal, cx=cx, cy=cy, stereo=stereo, eye=eye)
+        self._set(hfov=hfov, vfov=vfov, focal=focal, cx=cx, cy=cy, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class BrownConrady(Projection):
@@ -69,6 +82,14 @@ class BrownConrady(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'brown-conrady'
@@ -89,8 +110,13 @@ class BrownConrady(Projection):
         k3: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, stereo=stereo, eye=eye)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Fisheye(Projection):
@@ -114,6 +140,14 @@ class Fisheye(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'fisheye'
@@ -132,8 +166,13 @@ class Fisheye(Projection):
         cy: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, model=model, k2=k2, clip=clip, aspect=aspect, radius=radius, cx=cx, cy=cy, stereo=stereo, eye=eye)
+        self._set(fov=fov, model=model, k2=k2, clip=clip, aspect=aspect, radius=radius, cx=cx, cy=cy, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class DualFisheye(Projection):
@@ -166,6 +205,18 @@ class DualFisheye(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
+    ev2: lens 1's exposure value; default: ev
+    wb2: lens 1's white balance R/B; default: wb
+    vignetting2: lens 1's vignetting a/b/c/d; default: vignetting
+    vignetting_centre2: lens 1's vignetting centre shift X/Y; default: vignetting_centre
     """
 
     name = 'dual-fisheye'
@@ -193,8 +244,17 @@ class DualFisheye(Projection):
         feather: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
+        ev2: Optional[float] = None,
+        wb2: Optional[str] = None,
+        vignetting2: Optional[str] = None,
+        vignetting_centre2: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fov2=fov2, model=model, layout=layout, radius=radius, radius2=radius2, cx=cx, cy=cy, cx2=cx2, cy2=cy2, yaw=yaw, pitch=pitch, roll=roll, yaw2=yaw2, pitch2=pitch2, roll2=roll2, feather=feather, stereo=stereo, eye=eye)
+        self._set(fov=fov, fov2=fov2, model=model, layout=layout, radius=radius, radius2=radius2, cx=cx, cy=cy, cx2=cx2, cy2=cy2, yaw=yaw, pitch=pitch, roll=roll, yaw2=yaw2, pitch2=pitch2, roll2=roll2, feather=feather, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre, ev2=ev2, wb2=wb2, vignetting2=vignetting2, vignetting_centre2=vignetting_centre2)
 
 
 class KannalaBrandt(Projection):
@@ -216,6 +276,14 @@ class KannalaBrandt(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'kannala-brandt'
@@ -235,8 +303,13 @@ class KannalaBrandt(Projection):
         k4: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, k3=k3, k4=k4, stereo=stereo, eye=eye)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, k3=k3, k4=k4, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class DoubleSphere(Projection):
@@ -256,6 +329,14 @@ class DoubleSphere(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'double-sphere'
@@ -273,8 +354,13 @@ class DoubleSphere(Projection):
         alpha: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, alpha=alpha, stereo=stereo, eye=eye)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, alpha=alpha, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Unified(Projection):
@@ -293,6 +379,14 @@ class Unified(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'unified'
@@ -309,8 +403,13 @@ class Unified(Projection):
         xi: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, stereo=stereo, eye=eye)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class ExtendedUnified(Projection):
@@ -330,6 +429,14 @@ class ExtendedUnified(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'extended-unified'
@@ -347,8 +454,13 @@ class ExtendedUnified(Projection):
         beta: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, alpha=alpha, beta=beta, stereo=stereo, eye=eye)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, alpha=alpha, beta=beta, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Ptlens(Projection):
@@ -368,6 +480,14 @@ class Ptlens(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'ptlens'
@@ -385,8 +505,13 @@ class Ptlens(Projection):
         cy: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(hfov=hfov, fov=fov, a=a, b=b, c=c, cx=cx, cy=cy, stereo=stereo, eye=eye)
+        self._set(hfov=hfov, fov=fov, a=a, b=b, c=c, cx=cx, cy=cy, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Panotools(Projection):
@@ -409,6 +534,14 @@ class Panotools(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'panotools'
@@ -428,8 +561,13 @@ class Panotools(Projection):
         t: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(lens=lens, hfov=hfov, a=a, b=b, c=c, d=d, e=e, g=g, t=t, stereo=stereo, eye=eye)
+        self._set(lens=lens, hfov=hfov, a=a, b=b, c=c, d=d, e=e, g=g, t=t, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Equirect(Projection):
@@ -443,6 +581,14 @@ class Equirect(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'equirect'
@@ -457,8 +603,13 @@ class Equirect(Projection):
         lat0: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(hfov=hfov, vfov=vfov, lon0=lon0, lat0=lat0, stereo=stereo, eye=eye)
+        self._set(hfov=hfov, vfov=vfov, lon0=lon0, lat0=lat0, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Cylindrical(Projection):
@@ -472,6 +623,14 @@ class Cylindrical(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'cylindrical'
@@ -486,8 +645,13 @@ class Cylindrical(Projection):
         lat0: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(hfov=hfov, vfov=vfov, lon0=lon0, lat0=lat0, stereo=stereo, eye=eye)
+        self._set(hfov=hfov, vfov=vfov, lon0=lon0, lat0=lat0, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Cubemap(Projection):
@@ -513,6 +677,14 @@ class Cubemap(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'cubemap'
@@ -531,8 +703,13 @@ class Cubemap(Projection):
         preset: Optional[Literal['none', 'threejs', 'unity']] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(layout=layout, face=face, order=order, rot=rot, pad=pad, pad_px=pad_px, border=border, preset=preset, stereo=stereo, eye=eye)
+        self._set(layout=layout, face=face, order=order, rot=rot, pad=pad, pad_px=pad_px, border=border, preset=preset, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class GoproMax(Projection):
@@ -550,6 +727,18 @@ class GoproMax(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
+    ev2: lens 1's exposure value; default: ev
+    wb2: lens 1's white balance R/B; default: wb
+    vignetting2: lens 1's vignetting a/b/c/d; default: vignetting
+    vignetting_centre2: lens 1's vignetting centre shift X/Y; default: vignetting_centre
     """
 
     name = 'gopro-max'
@@ -565,8 +754,17 @@ class GoproMax(Projection):
         feather: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
+        ev2: Optional[float] = None,
+        wb2: Optional[str] = None,
+        vignetting2: Optional[str] = None,
+        vignetting_centre2: Optional[str] = None,
     ) -> None:
-        self._set(preset=preset, face=face, outer=outer, band=band, feather=feather, stereo=stereo, eye=eye)
+        self._set(preset=preset, face=face, outer=outer, band=band, feather=feather, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre, ev2=ev2, wb2=wb2, vignetting2=vignetting2, vignetting_centre2=vignetting_centre2)
 
 
 class Panini(Projection):
@@ -585,6 +783,14 @@ class Panini(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'panini'
@@ -602,8 +808,13 @@ class Panini(Projection):
         vfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(model=model, d=d, vc=vc, a=a, b=b, hfov=hfov, vfov=vfov, stereo=stereo, eye=eye)
+        self._set(model=model, d=d, vc=vc, a=a, b=b, hfov=hfov, vfov=vfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class CompressedRectilinear(Projection):
@@ -618,6 +829,14 @@ class CompressedRectilinear(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'compressed-rectilinear'
@@ -632,8 +851,13 @@ class CompressedRectilinear(Projection):
         vfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(a=a, b=b, hfov=hfov, vfov=vfov, stereo=stereo, eye=eye)
+        self._set(a=a, b=b, hfov=hfov, vfov=vfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Aitoff(Projection):
@@ -648,6 +872,14 @@ class Aitoff(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'aitoff'
@@ -661,8 +893,13 @@ class Aitoff(Projection):
         hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
+        self._set(lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Hammer(Projection):
@@ -678,6 +915,14 @@ class Hammer(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'hammer'
@@ -692,8 +937,13 @@ class Hammer(Projection):
         hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(w=w, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
+        self._set(w=w, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class EckertGreifendorff(Projection):
@@ -709,6 +959,14 @@ class EckertGreifendorff(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'eckert-greifendorff'
@@ -723,8 +981,13 @@ class EckertGreifendorff(Projection):
         hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(w=w, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
+        self._set(w=w, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Bonne(Projection):
@@ -740,6 +1003,14 @@ class Bonne(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'bonne'
@@ -754,8 +1025,13 @@ class Bonne(Projection):
         hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(phi1=phi1, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
+        self._set(phi1=phi1, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Sinusoidal(Projection):
@@ -770,6 +1046,14 @@ class Sinusoidal(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'sinusoidal'
@@ -783,8 +1067,13 @@ class Sinusoidal(Projection):
         hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
+        self._set(lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Mollweide(Projection):
@@ -799,6 +1088,14 @@ class Mollweide(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'mollweide'
@@ -812,8 +1109,13 @@ class Mollweide(Projection):
         hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
+        self._set(lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Mercator(Projection):
@@ -829,6 +1131,14 @@ class Mercator(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'mercator'
@@ -843,8 +1153,13 @@ class Mercator(Projection):
         hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
+        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Miller(Projection):
@@ -860,6 +1175,14 @@ class Miller(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'miller'
@@ -874,8 +1197,13 @@ class Miller(Projection):
         hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
+        self._set(lat_max=lat_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class CylindricalEqualArea(Projection):
@@ -892,6 +1220,14 @@ class CylindricalEqualArea(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'cylindrical-equal-area'
@@ -907,8 +1243,13 @@ class CylindricalEqualArea(Projection):
         hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(lat_ts=lat_ts, lat_max=lat_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
+        self._set(lat_ts=lat_ts, lat_max=lat_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class TransverseMercator(Projection):
@@ -925,6 +1266,14 @@ class TransverseMercator(Projection):
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
     """
 
     name = 'transverse-mercator'
@@ -939,8 +1288,13 @@ class TransverseMercator(Projection):
         hfov: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(x_max=x_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye)
+        self._set(x_max=x_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 __all__ = ['ProjectionName', 'Interp', 'Engine', 'Antialias', 'DecodeScale', 'Pinhole', 'BrownConrady', 'Fisheye', 'DualFisheye', 'KannalaBrandt', 'DoubleSphere', 'Unified', 'ExtendedUnified', 'Ptlens', 'Panotools', 'Equirect', 'Cylindrical', 'Cubemap', 'GoproMax', 'Panini', 'CompressedRectilinear', 'Aitoff', 'Hammer', 'EckertGreifendorff', 'Bonne', 'Sinusoidal', 'Mollweide', 'Mercator', 'Miller', 'CylindricalEqualArea', 'TransverseMercator']

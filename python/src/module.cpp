@@ -527,6 +527,7 @@ void bind_conversions(py::module_& m) {
         const ConversionGeometry geometry =
             make_geometry(size_pair(source_size), parse_spec(src), parse_spec(dst), o);
         require_mono(geometry, "maps");
+        require_no_correction(geometry, "maps", "a map holds positions (drop them)");
         // The 2-float map and the two arrays split from it.
         require_memory("map " + size_text(size_of(geometry.target)), image_bytes(size_of(geometry.target), 4, sizeof(float)),
                        o.memory_limit);

@@ -25,6 +25,7 @@ import signal
 import struct
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 import zlib
@@ -39,6 +40,9 @@ from folder_race import folder_race
 HOSTILE_RSS = 300 << 20
 DEFAULT_RSS = 1500 << 20
 STRACE = shutil.which("strace")
+# GNU time: the command's own peak memory. A child's ru_maxrss counts the memory of the process it
+# was forked (or vforked) from until it execs, here a pytest worker's hundreds of MB.
+TIME = shutil.which("time")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -66,9 +70,15 @@ def run(cli, args, cwd, *, fsize=None, strace=None, timeout=60, on_start=None):
             signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # ignored dispositions survive exec
             resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, resource.RLIM_INFINITY))
 
+    # (Signals sent by on_start are for the command itself: no time between.)
+    measured = TIME is not None and on_start is None
+    if measured:
+        fd, rss_path = tempfile.mkstemp(prefix="panoproj-rss-")
+        os.close(fd)
+        cmd = [TIME, "-f", "%M", "-o", rss_path] + cmd
     # Pipes, not files: RLIMIT_FSIZE must not stop the error line itself.
     p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, cwd=cwd,
-                         preexec_fn=limits)
+                         preexec_fn=limits, start_new_session=measured)
     texts = {}
 
     def drain(name, pipe):
@@ -77,7 +87,7 @@ def run(cli, args, cwd, *, fsize=None, strace=None, timeout=60, on_start=None):
     readers = [threading.Thread(target=drain, args=(n, f)) for n, f in (("out", p.stdout), ("err", p.stderr))]
     for t in readers:
         t.start()
-    timer = threading.Timer(timeout, p.kill)
+    timer = threading.Timer(timeout, (lambda: os.killpg(p.pid, signal.SIGKILL)) if measured else p.kill)
     timer.start()
     try:
         if on_start:
@@ -88,11 +98,20 @@ def run(cli, args, cwd, *, fsize=None, strace=None, timeout=60, on_start=None):
     for t in readers:
         t.join()
     p.returncode = os.waitstatus_to_exitcode(status)
+    rss = usage.ru_maxrss * 1024
+    if measured:
+        said = _read(pathlib.Path(rss_path)).split("\n")  # ["Command terminated by signal 6", "1234", ""]
+        os.unlink(rss_path)
+        for line in said:
+            if line.startswith("Command terminated by signal "):
+                p.returncode = -int(line.rsplit(" ", 1)[1])
+            elif line.isdigit():  # (none where RLIMIT_FSIZE stopped time's own file)
+                rss = int(line) * 1024
     assert p.returncode != -signal.SIGKILL, f"{args} did not finish within {timeout} s"
     trace = _read(trace_path)
     if trace_path.exists():
         trace_path.unlink()
-    return Run(p.returncode, texts["out"], texts["err"], usage.ru_maxrss * 1024, trace)
+    return Run(p.returncode, texts["out"], texts["err"], rss, trace)
 
 
 def _read(path):
@@ -298,6 +317,40 @@ PARAMS = [
     ("stereo_face_files", ["--to", "cubemap:layout=files,stereo=tb", "OUT={face}.png"], "stereo= with layout=files", False),
     ("maps_stereo", ["maps", "m.exr", "--from", "equirect:stereo=tb", "--source-size", "64x64", "--to", "fisheye"],
      "maps: stereo=", False),
+    # Photometric keys (a source's response, exposure, white balance, vignetting).
+    ("photometry_wb_text", ["--from", "equirect:wb=1/x", "--to", "fisheye"], "wb=1/x (expected two multipliers R/B)",
+     False),
+    ("photometry_wb_zero", ["--from", "equirect:wb=0/1", "--to", "fisheye"], "white balance Er0: expected a positive",
+     False),
+    ("photometry_wb_one_number", ["--from", "equirect:wb=1.2", "--to", "fisheye"], "wb=1.2 has 1 numbers", False),
+    ("photometry_response_count", ["--from", "equirect:response=0.1/0.2", "--to", "fisheye"],
+     "response=0.1/0.2 has 2 numbers (expected emor, linear or five EMoR", False),
+    ("photometry_response_word", ["--from", "equirect:response=srgb", "--to", "fisheye"],
+     "response=srgb (expected emor, linear or five EMoR", False),
+    ("photometry_response_not_monotonic", ["--from", "equirect:response=9/0/0/0/0", "--to", "fisheye"],
+     "not monotonic", False),
+    ("photometry_response_inf", ["--from", "equirect:response=1e999/0/0/0/0", "--to", "fisheye"],
+     "response=1e999/0/0/0/0 (expected", False),
+    ("photometry_vignetting_zero", ["--from", "equirect:vignetting=1/-1.2", "--to", "fisheye"],
+     "inside the image: nothing can be divided by it", False),
+    ("photometry_vignetting_nan", ["--from", "equirect:vignetting=1/nan", "--to", "fisheye"],
+     "vignetting=1/nan (expected 1 to 4 coefficients", False),
+    ("photometry_vignetting_five", ["--from", "equirect:vignetting=1/0/0/0/0", "--to", "fisheye"],
+     "vignetting=1/0/0/0/0 has 5 numbers", False),
+    ("photometry_centre_far", ["--from", "equirect:vignetting_centre=1e9/0,vignetting=1/-0.1", "--to", "fisheye"],
+     "vignetting centre shift 1e+09,0", False),
+    ("photometry_ev_nan", ["--from", "equirect:ev=nan", "--to", "fisheye"], "ev=nan is not finite", False),
+    ("photometry_ev_range", ["--from", "equirect:ev=200", "--to", "fisheye"], "ev=200 is out of range", False),
+    ("photometry_ev_spread", ["--from", "equirect:ev=-60", "--to", "fisheye:ev=60"], "expected finite EVs at most 64",
+     False),
+    ("photometry_flat_field_key", ["--from", "equirect:flat_field=f.png", "--to", "fisheye"], "unknown key 'flat_field'",
+     False),
+    ("photometry_on_target", ["--to", "fisheye:vignetting=1/-0.1"], "vignetting= describes a source's lens", False),
+    ("photometry_lens2_on_one_lens", ["--from", "equirect:ev2=1", "--to", "fisheye"], "unknown key 'ev2'", False),
+    ("photometry_maps", ["maps", "m.exr", "--from", "fisheye:ev=1", "--source-size", "64x64", "--to", "equirect"],
+     "maps: photometric keys", False),
+    ("photometry_accuracy", ["accuracy", "--from", "fisheye:vignetting=1/-0.2", "--to", "equirect"],
+     "accuracy: photometric keys", False),
     ("unknown_option", ["--to", "fisheye", "--frobnicate"], "--frobnicate", True),
     ("missing_to", [], "--to", True),
     ("faces_without_files_layout", ["--to", "equirect"], "{face}", False),
@@ -879,6 +932,12 @@ PY_CALLS = [
      "over the memory limit", False),
     ("convert_limit", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', size=(4000, 4000), memory_limit='10M')",
      "MemoryError", "memory_limit=", False),
+    ("convert_photometry_wb", f"pp.convert({PY_IMG}, 'equirect:wb=0/1', 'fisheye')", "ValueError",
+     "white balance Er0", False),
+    ("plan_photometry_vignetting", f"pp.Plan('equirect:vignetting=1/-2', 'fisheye', {PY_IMG}.shape[1::-1])",
+     "ValueError", "inside the image", False),
+    ("build_map_photometry", "pp.build_map('fisheye:ev=1', 'equirect', (64, 64))", "ValueError",
+     "maps: photometric keys", False),
     ("build_map_2e32", "pp.build_map('equirect', 'fisheye', (64, 32), size=(2**32, 2**32))", "ValueError",
      "4294967296x4294967296", True),
     ("build_map_huge", "pp.build_map('equirect', 'fisheye', (64, 32), size=(100000, 100000))", "MemoryError",
@@ -2102,6 +2161,14 @@ STITCH = [
     ("exposure_and_ignore", STITCH_PANO + STITCH_IMAGE, ["--exposure", "1", "--ignore-exposure"],
      "exposure and ignore_exposure: give one", False),
     ("output_mode_option", STITCH_PANO + STITCH_IMAGE, ["--output-mode", "log"], "log", False),
+    ("exposure_layers_and_exposure", STITCH_PANO + STITCH_IMAGE, ["--create-exposure-layers", "--exposure", "1"],
+     "create_exposure_layers and exposure: each exposure layer is blended at its group's own", False),
+    ("exposure_layers_and_ignore", STITCH_PANO + STITCH_IMAGE, ["--create-exposure-layers", "--ignore-exposure"],
+     "create_exposure_layers and ignore_exposure", False),
+    ("exposure_layers_hdr", STITCH_PANO + STITCH_IMAGE, ["--create-exposure-layers", "--output-mode", "hdr"],
+     "create_exposure_layers: the layers are LDR", False),
+    ("exposure_layers_hdr_project", 'p f2 w256 h128 v360 R1\n' + STITCH_IMAGE, ["--create-exposure-layers"],
+     "the project's p line says R1: give output_mode ldr", False),
 ]
 
 
@@ -2185,7 +2252,19 @@ STITCH_RIG = [
     ("rig_json_unterminated", '[{"spec": "equirect', [], "an unterminated string", False),
     ("rig_images_count", "lenses:\n" + RIG_LENS + RIG_BACK, ["--images", "a.png", "a.png"],
      "images: 2 files for a rig of 1 inputs", False),
-    ("rig_exposure", "lenses:\n" + RIG_LENS + RIG_BACK, ["--exposure", "1"], "exposure: a Hugin project's", False),
+    ("rig_image", "lenses:\n" + RIG_LENS + RIG_BACK, ["--image", "1"], "image: a Hugin project's", False),
+    ("rig_second_lens_keys", "- {spec: 'dual-fisheye:ev2=1', input: a.png}\n", [], "ev2= is a second lens's", False),
+    ("rig_bad_photometry", "- {spec: 'fisheye:fov=200,wb=1/0', input: a.png}\n", [],
+     "lens 1: spec: white balance Eb0", False),
+    ("rig_exposure_nan", "lenses:\n" + RIG_LENS + RIG_BACK, ["--exposure", "nan"], "exposure: nan", False),
+    ("rig_flat_field_missing", "- {spec: equirect, input: a.png, flat_field: nothere.png}\n", [], "nothere.png", False),
+    ("rig_flat_field_garbage", "- {spec: equirect, input: a.png, flat_field: garbage.png}\n", [], "garbage.png", False),
+    ("rig_flat_field_size", "- {spec: equirect, input: a.png, rect: 32x48+0+0, flat_field: a.png}\n", [],
+     "lens 1: spec: a flat field of 64x48 x 1 for an image of 32x48", False),
+    ("rig_flat_field_zero", "- {spec: equirect, input: a.png, flat_field: black.png}\n", [],
+     "the flat field's values run from 0", False),
+    ("rig_exposure_layers_panorama", "lenses:\n" + RIG_LENS + RIG_BACK, ["--create-exposure-layers"],
+     "create_exposure_layers: one TIFF per exposure group under a prefix; pano.jpg is a blended", False),
     ("rig_to_bad", "lenses:\n" + RIG_LENS + RIG_BACK, ["--to", "nosuch"], "nosuch", False),
     ("rig_size_bad", "lenses:\n" + RIG_LENS + RIG_BACK, ["--size", "0x10"], "size", False),
 ]
@@ -2213,6 +2292,7 @@ def test_stitch_size_and_to_are_a_rigs(cli, stitch_folder):
 @pytest.fixture()
 def stitch_folder(tmp_path):
     pp.write(str(tmp_path / "a.png"), smooth_equirect(64, 48))
+    pp.write(str(tmp_path / "black.png"), np.zeros((48, 64), np.uint8))
     (tmp_path / "garbage.png").write_bytes(b"\x89PNG garbage" * 50)
     os.mkfifo(tmp_path / "fifo.png")
     return tmp_path

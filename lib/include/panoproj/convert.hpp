@@ -28,6 +28,8 @@
 
 namespace panoproj {
 
+class SourceCorrection;
+
 // Bytes a cached map takes per output pixel (double x, y and a validity byte).
 inline constexpr int64_t kCachedMapBytesPerPixel = 2 * sizeof(double) + 1;
 
@@ -54,6 +56,9 @@ struct ConversionGeometry {
   // Where the planes' samples sit (projection.hpp: a video's chroma planes); such geometry takes
   // tile maps (never the fused SIMD geometry) and the simd or scalar engine, without edge fills.
   Siting siting = {};
+  // The source's photometric correction (its spec's photometric keys), or null: the Converter
+  // corrects each source before sampling it (photometry/source_correction.hpp).
+  std::shared_ptr<const SourceCorrection> correction = nullptr;
   Size source_frame() const { return stereo_frame(size_of(source), stereo.source); }
   Size target_frame() const { return stereo_frame(size_of(target), stereo.target); }
 };
@@ -164,6 +169,10 @@ int output_channels(int channels, const ConvertOptions& options);
 
 // Throws Error naming `what` (maps, accuracy: one eye's work) where the geometry is stereo.
 void require_mono(const ConversionGeometry& geometry, const char* what);
+// Throws Error naming `what` and `instead` where the geometry corrects its source's colours
+// (photometric keys) and `what` cannot (maps and accuracy hold positions; a video's planes).
+void require_no_correction(const ConversionGeometry& geometry, const std::string& what,
+                           const std::string& instead);
 
 // options.antialias, or its default for options.engine.
 Antialias antialias_of(const ConvertOptions& options);

@@ -9,10 +9,11 @@
 #include <vector>
 #include <sstream>
 
+#include "base/parallel.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
-#include "base/parallel.hpp"
 #include "panoproj/rotation.hpp"
+#include "photometry/source_correction.hpp"
 
 namespace panoproj {
 
@@ -201,12 +202,27 @@ ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, c
   if (frame.width > kMaxSide || frame.height > kMaxSide)
     throw Error("size: both eyes' " + size_text(frame) + " (expected at most " + std::to_string(kMaxSide) + " pixels a side)");
   require_memory("output " + size_text(frame), image_bytes(frame, 1, 1), o.memory_limit);
-  return {std::move(source), std::move(target), rotation_from_ypr(o.yaw, o.pitch, o.roll), stereo};
+  auto correction = SourceCorrection::make(from, to, source, stereo.source);
+  return {std::move(source),
+          std::move(target),
+          rotation_from_ypr(o.yaw, o.pitch, o.roll),
+          stereo,
+          {},
+          std::move(correction)};
 }
 
 void require_mono(const ConversionGeometry& g, const char* what) {
   if (g.stereo.any())
     throw Error(std::string(what) + ": stereo= (they are one eye's: give one eye's specs and size without stereo=)");
+}
+
+void require_no_correction(const ConversionGeometry& g, const std::string& what,
+                           const std::string& instead) {
+  if (g.correction)
+    throw Error(what +
+                ": photometric keys (response, ev, wb, vignetting, flat_field) correct a "
+                "source's colours; " +
+                instead);
 }
 
 Antialias antialias_of(const ConvertOptions& options) {

@@ -11,16 +11,17 @@
 #include <string>
 #include <vector>
 
-#include "engine/tile_sampling.hpp"
-#include "panoproj/limits.hpp"
-#include "engine/tile_strategies.hpp"
-#include "panoproj/error.hpp"
 #include "base/parallel.hpp"
 #include "base/row_feed.hpp"
-#include "sampling/resample.hpp"
+#include "engine/tile_sampling.hpp"
+#include "engine/tile_strategies.hpp"
 #include "geometry/tile_map.hpp"
+#include "panoproj/error.hpp"
+#include "panoproj/limits.hpp"
+#include "photometry/source_correction.hpp"
 #include "sampling/edge_pass.hpp"
 #include "sampling/footprint_kernel.hpp"
+#include "sampling/resample.hpp"
 #include "simd/geometry.hpp"
 
 namespace panoproj {
@@ -61,6 +62,10 @@ struct Converter::Impl {
   using Finished = std::function<void(const PixelRect&)>;
   void run(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress,
            const Reader* read, const Finished& finished = {}) const;
+  // run() past the source's correction.
+  void run_source(const Image& src, Image& out, EngineStats* stats,
+                  const std::function<void(double)>& progress, const Reader* read,
+                  const Finished& finished) const;
   // One eye's frame (or a mono conversion's).
   void run_frame(const Image& src, Image& out, EngineStats* stats, const std::function<void(double)>& progress,
                  const Reader* read, const Finished& finished) const;
@@ -81,6 +86,7 @@ struct Converter::Impl {
   Keep keep_;
   std::vector<LensSource>
       lenses_;  // a two-lens source's lenses alone (blended per tile), else empty
+  std::shared_ptr<const SourceCorrection> correction_;  // applied to each source first, or null
   mutable std::vector<TileMap> cache_;  // one per tile (empty for fused tiles), built on first use
   mutable std::unique_ptr<PlannedTaps[]> planned_;  // one per tile (Keep::MapsAndTaps), with cache_
   mutable std::once_flag cache_once_;   // so that threads sharing a Converter build it once
@@ -117,7 +123,9 @@ struct Converter::Impl {
 
 Converter::Converter(const ConversionGeometry& g, const ConvertOptions& o, Keep keep)
     : impl_(std::make_unique<Impl>(g.source, g.target, g.siting, g.rotation, o.interp, o.engine,
-                                   o.threads, keep, antialias_of(o), o.edges, g.stereo)) {}
+                                   o.threads, keep, antialias_of(o), o.edges, g.stereo)) {
+  impl_->correction_ = g.correction;
+}
 Converter::~Converter() = default;
 Converter::Converter(Converter&&) noexcept = default;
 Converter& Converter::operator=(Converter&&) noexcept = default;
@@ -379,6 +387,19 @@ Image Converter::run(const Image& src, EngineStats* stats,
 void Converter::Impl::run(const Image& src, Image& out, EngineStats* stats,
                           const std::function<void(double)>& progress, const Reader* read,
                           const Finished& finished) const {
+  if (correction_ && !correction_->identity(src.type())) {
+    // The whole window first, corrected into a copy (the correction is per source pixel).
+    if (read) (*read)([](int64_t) {});
+    Image corrected;
+    correction_->apply(src, corrected, threads_);
+    return run_source(corrected, out, stats, progress, nullptr, finished);
+  }
+  run_source(src, out, stats, progress, read, finished);
+}
+
+void Converter::Impl::run_source(const Image& src, Image& out, EngineStats* stats,
+                                 const std::function<void(double)>& progress, const Reader* read,
+                                 const Finished& finished) const {
   if (stereo_.any()) return run_stereo(src, out, stats, progress, read);
   run_frame(src, out, stats, progress, read, finished);
 }

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "base/parallel.hpp"
+#include "base/sample_io.hpp"
 #include "panoproj/error.hpp"
 
 namespace panoproj {
@@ -18,6 +19,25 @@ std::string number(double v) {
 }
 
 }  // namespace
+
+std::shared_ptr<const Image> flat_field_of(const Image& file) {
+  auto out = std::make_shared<Image>(file.size(), 1, PixelType::F32);
+  const int alpha = file.alpha_channel();
+  const int colours = file.channels() - (alpha >= 0 ? 1 : 0);
+  with_sample_type(file.type(), [&](auto t) {
+    using T = decltype(t);
+    for (int64_t y = 0; y < file.height(); ++y) {
+      auto* o = reinterpret_cast<float*>(out->row(y));
+      for (int64_t x = 0; x < file.width(); ++x) {
+        double sum = 0;
+        for (int c = 0; c < file.channels(); ++c)
+          if (c != alpha) sum += load<T>(file.pixel(x, y) + static_cast<size_t>(c) * sizeof(T));
+        o[x] = static_cast<float>(sum / colours);
+      }
+    }
+  });
+  return out;
+}
 
 PhotometricStep::PhotometricStep(const Photometry& photometry, const PhotometricOutput& output,
                                  Size size, const std::string& what)
@@ -178,7 +198,6 @@ void PhotometricStep::apply(Image& part, const SourcePosition& position, Image* 
     parallel_rows(static_cast<int64_t>(grid.ys.size()) - 1, threads,
                   [&](int64_t j0, int64_t j1) { grid.check_cells(own, j0, j1); });
   }
-  const double wb[3] = {1 / photometry_.red, 1.0, 1 / photometry_.blue};
   parallel_rows(part.height(), threads, [&](int64_t y0, int64_t y1) {
     for (int64_t y = y0; y < y1; ++y) {
       auto* row = reinterpret_cast<float*>(part.row(y));
@@ -195,18 +214,14 @@ void PhotometricStep::apply(Image& part, const SourcePosition& position, Image* 
           for (int c = 0; c < colours; ++c) px[c] = std::clamp(px[c], 0.0f, 1.0f);
           continue;
         }
-        double gain = gain_;
+        double v = 1;
         if (vignetted) {
-          double v = grid.v.empty() ? NAN : grid.at(x, y, kPositionStep);
+          v = grid.v.empty() ? NAN : grid.at(x, y, kPositionStep);
           if (!std::isfinite(v)) v = own(static_cast<double>(x), static_cast<double>(y));
-          if (std::isfinite(v)) gain /= v;
+          if (!std::isfinite(v)) v = 1;
         }
-        for (int c = 0; c < colours; ++c) {
-          double l = photometry_.response.irradiance(px[c]) * gain;
-          if (colours == 3) l *= wb[c];
-          const double out = output_.hdr ? l : output_.response.code(l);
-          px[c] = static_cast<float>(out > 0 ? out : 0.0);
-        }
+        for (int c = 0; c < colours; ++c)
+          px[c] = static_cast<float>(corrected(px[c], colours == 3 ? c : -1, v));
       }
     }
   });

@@ -39,6 +39,10 @@ struct PhotometricOutput {
   Response response;    // R_out (LDR)
 };
 
+// A flat-field image (any channels and samples) as Vignetting::flat_field takes it: one float
+// channel, the mean of its colours (alpha left out).
+std::shared_ptr<const Image> flat_field_of(const Image& file);
+
 // The correction of one image's samples; the constructor checks the model over the image of
 // `size` (throws Error naming `what`: white balance outside 0.001..1000, exposures over 64 EV
 // apart, vignetting at or below
@@ -64,6 +68,20 @@ class PhotometricStep {
   static constexpr int64_t kPositionStep = 8;
   void apply(Image& part, const SourcePosition& position, Image* weights, int threads) const;
   double vignetting(double x, double y) const;  // V at Hugin's pixel (x, y)
+  // One sample's code value c corrected: colour channel `channel` of an RGB pixel (0 red, 2
+  // blue), or -1 (gray: no white balance); v: V at its position (1 without vignetting).
+  double corrected(double c, int channel, double v) const {
+    return from_irradiance(photometry_.response.irradiance(c), channel, v);
+  }
+  // The same from the code's irradiance R_src^-1(c) (tabulated by callers of integer samples).
+  double irradiance(double c) const { return photometry_.response.irradiance(c); }
+  double from_irradiance(double e, int channel, double v) const {
+    double l = e * gain_ / v;
+    if (channel == 0) l /= photometry_.red;
+    if (channel == 2) l /= photometry_.blue;
+    const double out = output_.hdr ? l : output_.response.code(l);
+    return out > 0 ? out : 0.0;
+  }
 
  private:
   Photometry photometry_;

@@ -7,9 +7,10 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "panoproj/error.hpp"
 #include "base/text.hpp"
+#include "panoproj/error.hpp"
 #include "projections/module.hpp"
+#include "spec/photometric_keys.hpp"
 
 namespace panoproj {
 namespace {
@@ -118,6 +119,10 @@ const std::vector<ProjectionDef>& projection_catalog() {
                             "converts within its half"});
         d.params.push_back({"eye", ParamType::Choice, "left", 0, 0, false, false, "left|right",
                             "a stereo source's eye a mono target takes"});
+        // Every form's photometry; a two-lens frame's per lens.
+        for (ParamDef& p :
+             photometric_key_defs(d.kind == Kind::DualFisheye || d.kind == Kind::GoProMax))
+          d.params.push_back(p);
         all.push_back(std::move(d));
       }
     return all;

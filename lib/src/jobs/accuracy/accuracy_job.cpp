@@ -109,6 +109,7 @@ Report run(const Arguments& a, const JobEvents& events) {
   sweep.type = parse_type(a.text("type"));
   const std::vector<SweepOption> options = options_of(a);
   require_mono(geometry, "accuracy");
+  require_no_correction(geometry, "accuracy", "it measures positions (drop them)");
   const Size fs = size_of(geometry.source), ts = size_of(geometry.target);
   const std::string about = "scene " + a.text("scene") + ", " + a.text("src") + " " +
                             size_text(fs) + " -> " + a.text("dst") + " " + size_text(ts) + ", " +

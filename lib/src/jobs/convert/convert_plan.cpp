@@ -180,12 +180,13 @@ void plan_memory(ConvertPlan& p) {
   p.map_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   m.window =
       image_bytes({p.need.x1 - p.need.x0, p.need.y1 - p.need.y0}, p.channels, bytes_of(p.type));
+  if (p.geometry->correction) m.corrected = m.window;
 }
 
 }  // namespace
 
 uint64_t ConvertMemory::job() const {
-  return add_bytes(add_bytes(map, converted), output);
+  return add_bytes(add_bytes(add_bytes(map, converted), output), corrected);
 }
 
 uint64_t ConvertMemory::pipeline(int readers) const {

@@ -39,7 +39,9 @@ struct ConvertMemory {
   uint64_t output = 0;     // one output as made
   uint64_t written = 0;    // one output as written (an encoded one counted at that size)
   uint64_t window = 0;     // the source's part one frame reads
-  // A frame at a time, besides its window: the map, the output and its converted copy.
+  uint64_t corrected = 0;  // its photometric correction's copy (photometric keys), or 0
+  // A frame at a time, besides its window: the map, the output, its converted copy and the
+  // window's corrected copy.
   uint64_t job() const;
   // A pipelined batch: `readers` windows decoding, 2 outputs converting and 2 being written.
   uint64_t pipeline(int readers) const;

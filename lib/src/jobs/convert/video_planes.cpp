@@ -79,6 +79,11 @@ ConversionGeometry fit_chroma(const VideoPixels& px, std::pair<int, int> sub,
                               const std::function<ConversionGeometry(const ConvertOptions&)>& make,
                               const std::function<void(const std::string&)>& warn) {
   ConversionGeometry g = make(options);
+  if (!px.packed)
+    require_no_correction(g, "a video",
+                          "its frames are converted in their own planes (Y, Cb, Cr): take them "
+                          "as images (an output pattern with {n}), or stitch a rig of its "
+                          "lenses, which corrects each frame in RGB");
   if (holds_chroma(px, sub, g)) return g;
   const Size out = g.target_frame();
   std::optional<ConversionGeometry> fitted;

@@ -57,6 +57,7 @@ Report run(const Arguments& args, const JobEvents& events) {
       make_geometry(parse_size(args.text("source_size")), parse_spec(args.text("src")),
                     parse_spec(args.text("dst")), options);
   require_mono(geometry, "maps");
+  require_no_correction(geometry, "maps", "a map holds positions (drop them)");
   // The map (2 floats a pixel) and its encoded copy.
   const Size out = size_of(geometry.target);
   check_writable_size(output, out);

@@ -106,6 +106,8 @@ LensRig parse_lens_rig(const std::string& text, const std::string& path) {
         lens.rect = rectangle(value, what);
       else if (key == "crop")
         lens.crop = rectangle(value, what);
+      else if (key == "flat_field")
+        lens.flat_field = value;
       else if (key == "circle")
         lens.circle = circle(value, what);
       else if (key == "yaw")
@@ -115,8 +117,9 @@ LensRig parse_lens_rig(const std::string& text, const std::string& path) {
       else if (key == "roll")
         lens.roll = angle(value, what);
       else
-        throw Error(label + " line " + std::to_string(m.lines[k]) + ": unknown key '" + key +
-                    "' (expected spec, input, rect, crop, circle, yaw, pitch, roll, name)");
+        throw Error(
+            label + " line " + std::to_string(m.lines[k]) + ": unknown key '" + key +
+            "' (expected spec, input, rect, crop, circle, yaw, pitch, roll, name, flat_field)");
     }
     const std::string of = label + " line " + std::to_string(m.line) + ": " + lens.name;
     if (lens.name.empty() || lens.name.size() > 64)

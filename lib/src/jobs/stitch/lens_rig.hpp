@@ -12,6 +12,8 @@
 //   yaw, pitch, roll   its pose in the rig, degrees (rotation.hpp's, as convert's --yaw: a lens at
 //            yaw 180 looks back)
 //   name     its name in messages (default: "lens N", from 1)
+//   flat_field   a flat-field image of its image's size (relative to the rig's folder), divided
+//            out in place of its spec's vignetting polynomial (photometric.hpp)
 // A fisheye spec's own image circle (its fov) bounds it too. Errors name the file and line.
 #include <array>
 #include <optional>
@@ -25,8 +27,9 @@ namespace panoproj {
 struct RigLens {
   int line = 0;
   std::string name;
-  std::string spec;   // as written
-  std::string input;  // as written
+  std::string spec;        // as written
+  std::string input;       // as written
+  std::string flat_field;  // as written, or empty
   std::optional<PixelRect> rect, crop;
   std::optional<std::array<double, 3>> circle;  // cx, cy, r
   double yaw = 0, pitch = 0, roll = 0;

@@ -35,6 +35,9 @@ struct StitchLayer {
   std::optional<PixelRect> region;  // the rectangle of the file that is the image (a rig's frame)
   std::string output;               // its layer's path
   std::string weights;              // HDR: its weights' path (nona's PREFIX0000_gray.pgm)
+  Photometry model;                 // its photometric model (the project's, or its lens spec's)
+  Size model_size;                  // the image the model's positions are in (vignetting)
+  std::string model_of;             // the model's place, named in its errors
   std::optional<PhotometricStep> photometry;  // its samples' correction (photometric.hpp)
 };
 
@@ -59,7 +62,20 @@ struct StitchPlan {
   std::string panorama;  // the blended panorama's file, "(array)" for an array; empty: layers
   BlendSettings blend;
   std::vector<std::string> videos;  // the inputs that are videos (stitch_video.hpp), in order
+  PhotometricOutput output;         // the layers' (each layer's exposure its own with
+  bool ignore_exposure = false;     // ignore_exposure)
+  bool exposure_layers = false;     // one blended layer per exposure group (exposure_groups)
 };
+
+// Each layer's correction (layer.photometry) from its model to `output` (its exposure the
+// layer's own with plan.ignore_exposure); throws Error naming the layer's model.
+void correct_layers(StitchPlan& plan, const PhotometricOutput& output);
+
+// nona's exposure layers (--create-exposure-layers): the layers in groups, each the first layer
+// not yet taken and every later one whose exposure is within kExposureLayerStep (exclusive) of
+// it; each group blended at its first layer's exposure.
+inline constexpr double kExposureLayerStep = 0.5;
+std::vector<std::vector<size_t>> exposure_groups(const StitchPlan& plan);
 
 // What is made: files (the output: a panorama where it names an image format, else the layers'
 // prefix; paths checked), or arrays (Python's: the layers, or the blended panorama).

@@ -30,6 +30,8 @@
 #include "panoproj/photo_sphere.hpp"
 #include "panoproj/projection.hpp"
 #include "panoproj/rotation.hpp"
+#include "photometry/source_correction.hpp"
+#include "spec/photometric_keys.hpp"
 
 namespace panoproj {
 namespace {
@@ -89,6 +91,9 @@ const std::vector<OptionDef>& rows() {
            "ldr (codes of Hugin's output response) | hdr (linear, with nona's weights "
            "PREFIX0000_gray.pgm); default: the project's p line R (R0 ldr, R1 hdr), as nona's -r",
            nullptr, "ldr|hdr"},
+          {"create_exposure_layers", OptionType::Flag, 0, "False",
+           "one blended layer per exposure (for enfuse, as nona's): PREFIX0000.tif, ... each "
+           "the images within 0.5 EV of the group's first, blended at its exposure"},
           {"blend", OptionType::Text, 0, "None",
            "the panorama's blend: feather (default: weights from each image's distance to its "
            "edge) | multiband (Burt-Adelson)",
@@ -163,8 +168,10 @@ std::string layer_path(const std::string& prefix, size_t index, std::string_view
   return prefix + number + std::string(suffix);
 }
 
-PhotometricOutput output_of(const Arguments& args, const PtoProject& p) {
-  PhotometricOutput o = pano_output(p);
+// The layers' output: the project's p line (a rig's: LDR), as the rows change it; a rig's exposure
+// is set with its lenses' (rig_output).
+PhotometricOutput output_of(const Arguments& args, const std::optional<PtoProject>& p) {
+  PhotometricOutput o = p ? pano_output(*p) : PhotometricOutput{};
   if (const auto m = args.optional_text("output_mode")) {
     if (*m != "ldr" && *m != "hdr") throw Error("output_mode: " + *m + " (expected ldr or hdr)");
     o.hdr = *m != "ldr";
@@ -179,6 +186,15 @@ PhotometricOutput output_of(const Arguments& args, const PtoProject& p) {
     o.exposure = *e;
   }
   return o;
+}
+
+// A rig's output: lens 0's response, at --exposure or else the mean of its lenses' exposures.
+void rig_output(const Arguments& args, StitchPlan& s) {
+  s.output.response = s.layers.at(0).model.response;
+  if (args.optional_angle("exposure")) return;
+  double sum = 0;
+  for (const StitchLayer& l : s.layers) sum += l.model.exposure;
+  s.output.exposure = sum / static_cast<double>(s.layers.size());
 }
 
 // The blend rows: a panorama's only; the layer rows (extent, compression): layers' only.
@@ -279,6 +295,17 @@ PtoImage rig_image(const RigLens& lens, Size size, const std::string& of) {
   return im;
 }
 
+// A rig lens's photometric model: its spec's keys (one lens's).
+Photometry lens_model(const ProjectionSpec& spec, const ImageInfo& info, const std::string& of) {
+  const std::vector<ParamDef> keys = photometric_key_defs(true);
+  for (size_t k = photometric_key_defs(false).size(); k < keys.size(); ++k)
+    if (spec.given(keys[k].key))
+      throw Error(of + ": spec " + spec.str() + ": " + keys[k].key +
+                  "= is a second lens's: a rig's lens is one lens (give each its own entry)");
+  const bool samples_float = info.type == PixelType::F16 || info.type == PixelType::F32;
+  return lens_photometry(spec, 0, samples_float, of + ": spec");
+}
+
 // A rig's lenses as the plan's images and layers (lens_rig.hpp), and its panorama: `to` (default
 // equirect) at `size` (default: the finest lens's resolution at its centre).
 void rig_layers(const Arguments& args, const LensRig& rig, bool files, const std::string& prefix,
@@ -352,9 +379,14 @@ void rig_layers(const Arguments& args, const LensRig& rig, bool files, const std
     }
     l.lens = l.spec;
     l.rotation = rotation_from_ypr(lens.yaw, lens.pitch, lens.roll).transpose();
-    l.photometry.emplace(Photometry{}, PhotometricOutput{}, size, of);
+    l.model = lens_model(*l.spec, infos[in], of);
+    if (!lens.flat_field.empty())
+      l.model.vignetting.flat_field =
+          flat_field_of(read_image((folder / lens.flat_field).string(), s.options.memory_limit));
+    l.model_size = size;
+    l.model_of = of + ": spec";
     l.output = layer_path(prefix, k, kTiffFormat.extensions[0]);
-    if (files && s.panorama.empty()) check_output_path(l.output, s.overwrite);
+    if (files && s.panorama.empty() && !s.exposure_layers) check_output_path(l.output, s.overwrite);
     s.layers.push_back(std::move(l));
   }
   s.pano = parse_spec(args.optional_text("to").value_or("equirect"));
@@ -384,16 +416,36 @@ std::optional<LensRig> read_input(const Arguments& args, StitchPlan& s) {
   LensRig rig = read_lens_rig(args.text("project"));
   s.project.path = rig.path;
   s.project.pano.output = "r:CROP";
-  for (const char* row : {"exposure", "ignore_exposure", "output_mode", "image"})
-    if (given(args, row))
-      throw Error(std::string(row) + ": a Hugin project's; " + rig.path +
-                  " is a rig (its lenses have no photometry yet)");
+  if (given(args, "image"))
+    throw Error("image: a Hugin project's; " + rig.path + " is a rig (its lenses blend as one)");
   return rig;
+}
+
+// nona's exposure layers: layers' files (LDR, each group at its own exposure), their paths free.
+void check_exposure_layers(const Arguments& args, const StitchPlan& s) {
+  for (const char* row : {"exposure", "ignore_exposure", "image"})
+    if (given(args, row))
+      throw Error(std::string("create_exposure_layers and ") + row +
+                  ": each exposure layer is blended at its group's own exposure (drop " + row +
+                  ")");
+  if (s.hdr)
+    throw Error("create_exposure_layers: the layers are LDR, for enfuse (drop output_mode hdr" +
+                std::string(s.project.pano.hdr
+                                ? "; the project's p line says R1: give output_mode ldr"
+                                : "") +
+                ")");
+  const std::string prefix = args.text("output");
+  for (size_t k = 0; k < exposure_groups(s).size(); ++k)
+    check_output_path(layer_path(prefix, k, kTiffFormat.extensions[0]), s.overwrite);
 }
 
 // The outputs checked: the panorama's path (a video's for video inputs, and only then), or the
 // layers' (distinct).
 StitchPlan checked_outputs(const Arguments& args, bool files, StitchPlan& s) {
+  if (s.exposure_layers && (!files || !s.panorama.empty() || !s.videos.empty()))
+    throw Error("create_exposure_layers: one TIFF per exposure group under a prefix; " +
+                (files ? args.text("output") + " is a blended panorama" : std::string("arrays")) +
+                " (give a prefix such as layer_)");
   if (!s.videos.empty()) {
     for (const StitchLayer& l : s.layers)
       if (l.input < 0)
@@ -412,6 +464,8 @@ StitchPlan checked_outputs(const Arguments& args, bool files, StitchPlan& s) {
   if (files && !s.panorama.empty()) {
     format_of_path(s.panorama);
     check_output_path(s.panorama, s.overwrite);
+  } else if (files && s.exposure_layers) {
+    check_exposure_layers(args, s);
   } else if (files) {
     std::vector<std::pair<std::string, std::string>> outputs;
     for (const StitchLayer& l : s.layers) {
@@ -438,9 +492,10 @@ StitchPlan plan_stitch(const Arguments& args, StitchMade made,
                      : rig                        ? Interp::Bicubic
                                                   : project_interp(p.interpolator);
   s.depth = depth_of(args, p);
-  // (A rig's lenses have no photometry: the default response in and out, the identity.)
-  const PhotometricOutput output = rig ? PhotometricOutput{} : output_of(args, p);
-  s.hdr = output.hdr;
+  s.output = output_of(args, rig ? std::nullopt : std::optional<PtoProject>(p));
+  s.ignore_exposure = args.flag("ignore_exposure");
+  s.hdr = s.output.hdr;
+  s.exposure_layers = args.flag("create_exposure_layers");
   if (s.hdr && !s.depth) s.depth = PixelType::F32;  // as nona's HDR output
   s.compression = compression_of(args, p);
   s.overwrite = args.flag("overwrite");
@@ -458,6 +513,8 @@ StitchPlan plan_stitch(const Arguments& args, StitchMade made,
   blend_of(args, s);
   if (rig) {
     rig_layers(args, *lenses, files, prefix, arrays, s);
+    rig_output(args, s);
+    correct_layers(s, s.output);
     return checked_outputs(args, files, s);
   }
   const std::vector<std::string> given = args.paths("images");
@@ -509,15 +566,15 @@ StitchPlan plan_stitch(const Arguments& args, StitchMade made,
     l.lens = parse_spec(image_spec(p, im));
     l.rotation = image_rotation(im);
     make_projection(*l.spec, l.size);
-    PhotometricOutput out = output;
-    if (args.flag("ignore_exposure")) out.exposure = im.exposure;
-    l.photometry.emplace(image_photometry(p, im), out, Size{im.width, im.height},
-                         p.path + ":" + std::to_string(im.line) + ": i line");
+    l.model = image_photometry(p, im);
+    l.model_size = {im.width, im.height};
+    l.model_of = p.path + ":" + std::to_string(im.line) + ": i line";
     l.channels = info.channels;
-    if (files && s.panorama.empty()) check_output_path(l.output, s.overwrite);
+    if (files && s.panorama.empty() && !s.exposure_layers) check_output_path(l.output, s.overwrite);
     if (files && s.panorama.empty() && s.hdr) check_output_path(l.weights, s.overwrite);
   }
   if (s.layers.empty()) throw Error(p.path + ": no image to render (all are disabled)");
+  correct_layers(s, s.output);
   return checked_outputs(args, files, s);
 }
 
@@ -571,6 +628,44 @@ Report run_panorama(const Arguments& args, const StitchPlan& plan, const JobEven
           {"levels", {static_cast<int64_t>(b.levels)}}};
 }
 
+// nona's exposure layers: each group blended at its first layer's exposure, written as a layer
+// TIFF of the whole canvas; all land together or none.
+Report run_exposure_layers(const Arguments& args, const StitchPlan& plan, const JobEvents& events) {
+  const std::vector<std::vector<size_t>> groups = exposure_groups(plan);
+  OutputSet set(plan.overwrite);
+  std::vector<ReportValue> layers;
+  for (size_t g = 0; g < groups.size(); ++g) {
+    StitchPlan group = plan;
+    group.layers.clear();
+    for (size_t i : groups[g]) group.layers.push_back(plan.layers[i]);
+    PhotometricOutput out = plan.output;
+    out.exposure = group.layers[0].model.exposure;
+    correct_layers(group, out);
+    const PixelType type = panorama_type(group);
+    const BlendedPanorama b = blend_panorama(group, type, {}, [&](double f) {
+      if (events.progress) events.progress((static_cast<double>(g) + f) / groups.size());
+    });
+    const std::string path = layer_path(args.text("output"), g, kTiffFormat.extensions[0]);
+    const TiffLayerFile file =
+        encode_tiff_layer(b.image, {0, 0, plan.canvas}, plan.compression, plan.options.threads);
+    set.add(path, file.pieces());
+    std::vector<ReportValue> images;
+    for (const StitchLayer& l : group.layers) images.push_back({static_cast<int64_t>(l.index)});
+    if (events.line) {
+      std::string list;
+      for (const StitchLayer& l : group.layers)
+        list += (list.empty() ? "" : ", ") + std::to_string(l.index);
+      char ev[32];
+      std::snprintf(ev, sizeof ev, "%.3g", out.exposure);
+      events.line(path + ": " + size_text(plan.canvas) + ", images " + list + " at " + ev + " EV");
+    }
+    layers.push_back({std::vector<ReportField>{
+        {"output", {path}}, {"images", {images}}, {"exposure", {out.exposure}}}});
+  }
+  set.commit();
+  return {{"layers", {layers}}, {"canvas", report_size(plan.canvas)}};
+}
+
 Report run(const Arguments& args, const JobEvents& events) {
   const StitchPlan plan = plan_stitch(args);
   if (events.warning)
@@ -581,6 +676,7 @@ Report run(const Arguments& args, const JobEvents& events) {
         events.warning(why);
   if (!plan.videos.empty()) return run_stitch_video(plan, events);
   if (!plan.panorama.empty()) return run_panorama(args, plan, events);
+  if (plan.exposure_layers) return run_exposure_layers(args, plan, events);
   OutputSet set(plan.overwrite);
   std::vector<ReportValue> layers;
   for (size_t k = 0; k < plan.layers.size(); ++k) {
