@@ -40,7 +40,7 @@ def main():
             plain, corrected = [], []
             for _ in range(args.runs):
                 for spec_of, times in ((spec, plain), (spec + keys, corrected)):
-                    target = to + (",ev=0" if spec_of != spec else "")
+                    target = to + ((":" if ":" not in to else ",") + "ev=0" if spec_of != spec else "")
                     times.append(timed([CLI, "convert", work / src, work / "out.jpg", "--from", spec_of, "--to", target,
                                         "--size", size, "--overwrite", "--quiet"]))
             ratios = [c / p for c, p in zip(corrected, plain)]

@@ -108,22 +108,6 @@ PhotometricStep::PhotometricStep(const Photometry& photometry, const Photometric
               v.identity() && !output.hdr;
 }
 
-double PhotometricStep::vignetting(double x, double y) const {
-  const Vignetting& v = photometry_.vignetting;
-  if (v.flat_field) {
-    const Image& f = *v.flat_field;
-    const auto ix =
-        static_cast<int64_t>(std::clamp(std::round(x), 0.0, static_cast<double>(f.width() - 1)));
-    const auto iy =
-        static_cast<int64_t>(std::clamp(std::round(y), 0.0, static_cast<double>(f.height() - 1)));
-    return reinterpret_cast<const float*>(f.row(iy))[ix] / flat_max_;
-  }
-  const double dx = (x - centre_x_) * radius_scale_, dy = (y - centre_y_) * radius_scale_;
-  const double s = dx * dx + dy * dy;
-  const auto& c = v.coefficients;
-  return c[0] + s * (c[1] + s * (c[2] + s * c[3]));
-}
-
 namespace {
 
 // V at the nodes of a grid over a part: columns and rows every `step` pixels and the last. A

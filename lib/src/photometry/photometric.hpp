@@ -8,7 +8,9 @@
 //   a + b r^2 + c r^4 + d r^6,  r = |(x, y) - centre| / half diagonal,
 // centre ((w - 1) / 2 + Vx, (h - 1) / 2 + Vy) in Hugin's pixels (centres at integers); or a flat
 // field's value at the nearest pixel, the field scaled to a maximum of 1.
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <string>
@@ -67,7 +69,22 @@ class PhotometricStep {
   // pixel, 0..255).
   static constexpr int64_t kPositionStep = 8;
   void apply(Image& part, const SourcePosition& position, Image* weights, int threads) const;
-  double vignetting(double x, double y) const;  // V at Hugin's pixel (x, y)
+  // V at Hugin's pixel (x, y). (Inline: once per corrected source pixel.)
+  double vignetting(double x, double y) const {
+    const Vignetting& v = photometry_.vignetting;
+    if (v.flat_field) {
+      const Image& f = *v.flat_field;
+      const auto ix =
+          static_cast<int64_t>(std::clamp(std::round(x), 0.0, static_cast<double>(f.width() - 1)));
+      const auto iy =
+          static_cast<int64_t>(std::clamp(std::round(y), 0.0, static_cast<double>(f.height() - 1)));
+      return reinterpret_cast<const float*>(f.row(iy))[ix] / flat_max_;
+    }
+    const double dx = (x - centre_x_) * radius_scale_, dy = (y - centre_y_) * radius_scale_;
+    const double s = dx * dx + dy * dy;
+    const auto& c = v.coefficients;
+    return c[0] + s * (c[1] + s * (c[2] + s * c[3]));
+  }
   // One sample's code value c corrected: colour channel `channel` of an RGB pixel (0 red, 2
   // blue), or -1 (gray: no white balance); v: V at its position (1 without vignetting).
   double corrected(double c, int channel, double v) const {
@@ -76,9 +93,17 @@ class PhotometricStep {
   // The same from the code's irradiance R_src^-1(c) (tabulated by callers of integer samples).
   double irradiance(double c) const { return photometry_.response.irradiance(c); }
   double from_irradiance(double e, int channel, double v) const {
-    double l = e * gain_ / v;
-    if (channel == 0) l /= photometry_.red;
-    if (channel == 2) l /= photometry_.blue;
+    return output(e * factor(channel, v));
+  }
+  // Its steps: the irradiance's factor (exposure, vignetting v, white balance), and the output
+  // of a linear value.
+  double factor(int channel, double v) const {
+    double f = gain_ / v;
+    if (channel == 0) f /= photometry_.red;
+    if (channel == 2) f /= photometry_.blue;
+    return f;
+  }
+  double output(double l) const {
     const double out = output_.hdr ? l : output_.response.code(l);
     return out > 0 ? out : 0.0;
   }

@@ -79,17 +79,6 @@ Response Response::emor(const std::array<double, 5>& p, const std::string& what)
   return r;
 }
 
-double Response::code(double e) const {
-  if (linear()) return e;
-  if (e > 1) return table_.back();
-  if (!(e >= 0)) return 0;
-  const double x = e * (kResponseSamples - 1);
-  const auto i = static_cast<size_t>(x);
-  const double f = x - static_cast<double>(i);
-  if (i + 1 < table_.size()) return (1 - f) * table_[i] + f * table_[i + 1];
-  return table_[i];
-}
-
 double Response::irradiance(double v) const {
   if (linear()) return v;
   if (v >= table_.back()) return table_.back();

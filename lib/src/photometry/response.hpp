@@ -25,7 +25,17 @@ class Response {
   bool linear() const { return table_.empty(); }
   bool operator==(const Response& o) const { return table_ == o.table_; }
   // Irradiance to code: below 0 gives 0, above 1 the last sample (Hugin's LUTFunctor).
-  double code(double irradiance) const;
+  // (Inline: once per corrected sample.)
+  double code(double e) const {
+    if (linear()) return e;
+    if (e > 1) return table_.back();
+    if (!(e >= 0)) return 0;
+    const double x = e * (kResponseSamples - 1);
+    const auto i = static_cast<size_t>(x);
+    const double f = x - static_cast<double>(i);
+    if (i + 1 < table_.size()) return (1 - f) * table_[i] + f * table_[i + 1];
+    return table_[i];
+  }
   // Code to irradiance: the exact inverse of the interpolated table, codes from its last sample
   // up giving that sample and codes below 0 giving 0 (Hugin's InvLUTFunctor); linear: the code.
   double irradiance(double code) const;

@@ -109,6 +109,11 @@ void SourceCorrection::apply(const Image& src, Image& out, int threads) const {
         for (size_t c = 0; c < tables[k].size(); ++c)
           tables[k][c] = lenses_[k].step(type).irradiance(static_cast<double>(c) / unit);
       }
+    // Each lens's factor per colour without vignetting (exposure over white balance; 1: gray).
+    std::vector<std::array<double, 3>> gains(lenses_.size());
+    for (size_t k = 0; k < lenses_.size(); ++k)
+      for (int c = 0; c < 3; ++c)
+        gains[k][static_cast<size_t>(c)] = lenses_[k].step(type).factor(c, 1);
     parallel_rows(src.height(), threads, [&](int64_t y0, int64_t y1) {
       for (int64_t y = y0; y < y1; ++y) {
         const unsigned char* in = src.row(y);
@@ -136,6 +141,7 @@ void SourceCorrection::apply(const Image& src, Image& out, int threads) const {
                                ? step.vignetting(fx - static_cast<double>(lens.rect.x0) - 0.5,
                                                  fy - static_cast<double>(lens.rect.y0) - 0.5)
                                : 1.0;
+          const double inverse_v = 1 / v;
           int colour = 0;
           for (int c = 0; c < src.channels(); ++c) {
             const size_t at = static_cast<size_t>(c) * sizeof(T);
@@ -143,15 +149,18 @@ void SourceCorrection::apply(const Image& src, Image& out, int threads) const {
               std::memcpy(q + at, p + at, sizeof(T));
               continue;
             }
-            const double code = load<T>(p + at);
-            double e;
-            if constexpr (std::is_integral_v<T>)
-              e = tables[k][static_cast<size_t>(code)];
-            else
-              e = step.irradiance(code);
-            store<T>(q + at, step.from_irradiance(e, colours == 3 ? colour : -1, v) *
-                                 (std::is_integral_v<T> ? unit : 1.0));
+            const double f = gains[k][colours == 3 ? static_cast<size_t>(colour) : 1] * inverse_v;
             ++colour;
+            if constexpr (std::is_integral_v<T>) {
+              // (Non-negative: rounded half up, as store's nearest for all but exact halves.)
+              T code;
+              std::memcpy(&code, p + at, sizeof(T));
+              const double out = step.output(tables[k][code] * f) * unit + 0.5;
+              const T t = static_cast<T>(out < unit ? out : unit);
+              std::memcpy(q + at, &t, sizeof(T));
+            } else {
+              store<T>(q + at, step.output(step.irradiance(load<T>(p + at)) * f));
+            }
           }
         }
       }

@@ -20,6 +20,7 @@
 #include "panoproj/error.hpp"
 #include "panoproj/interrupt.hpp"
 #include "panoproj/limits.hpp"
+#include "spec/photometric_keys.hpp"
 
 namespace panoproj {
 namespace {
@@ -69,9 +70,13 @@ class VideoJob {
       throw Error(option_number("stream", std::to_string(sel_.stream)) + " with " + input +
                   " as a GoPro MAX's strips: its two strip streams are found by their size (drop "
                   "--stream)");
+    // Frames decoded as RGB for images, and where the specs correct colours (photometric keys:
+    // a response needs RGB, not a video's planes).
+    const bool rgb = to_images_ || gives_photometry(parse_spec(r_.files.to)) ||
+                     (r_.files.from && gives_photometry(parse_spec(*r_.files.from)));
     reader_ = from_images_ ? image_list_reader(r_.files.inputs, sel_.fps > 0 ? sel_.fps : 25)
-              : strips_    ? vb->open_pair(input, !to_images_, sel_.range, to_images_)
-                           : vb->open(input, sel_.stream, !to_images_, sel_.range, to_images_);
+              : strips_    ? vb->open_pair(input, !to_images_, sel_.range, rgb)
+                           : vb->open(input, sel_.stream, !to_images_, sel_.range, rgb);
     if (from_images_) sel_.fps = 0;  // (the images' rate, every one taken)
     const VideoInfo& info = reader_->info();
     picker_.emplace(sel_, info);

@@ -80,10 +80,9 @@ ConversionGeometry fit_chroma(const VideoPixels& px, std::pair<int, int> sub,
                               const std::function<void(const std::string&)>& warn) {
   ConversionGeometry g = make(options);
   if (!px.packed)
-    require_no_correction(g, "a video",
-                          "its frames are converted in their own planes (Y, Cb, Cr): take them "
-                          "as images (an output pattern with {n}), or stitch a rig of its "
-                          "lenses, which corrects each frame in RGB");
+    require_no_correction(g, "a video's planes",
+                          "a response needs RGB (give packed RGB frames: Plan; the command "
+                          "decodes a video as RGB for them)");
   if (holds_chroma(px, sub, g)) return g;
   const Size out = g.target_frame();
   std::optional<ConversionGeometry> fitted;
