@@ -261,3 +261,22 @@ def test_a_calibration_file_carries_the_keys(tmp_path):
                         "vignetting_centre=4/-2", "equirect:ev=0", size=(256, 128))
     plain = pp.convert(src, "fisheye:fov=180", "equirect", size=(256, 128))
     assert (a == b).all() and not (a == plain).all()
+
+
+def test_views_and_tiles_take_the_keys(tmp_path):
+    """The folder jobs convert through the same Converter: a source's vignetting is divided out of
+    every view and tile (brighter than without), as convert's own view of it."""
+    pano = tmp_path / "pano.jpg"
+    pp.write(str(pano), pp.read(str(JORDAN))[::4, ::4])
+    for job, extra in (("views", []), ("tiles", [])):
+        for name, spec in (("plain", "equirect"), ("keys", "equirect:vignetting=1/-0.5")):
+            subprocess.run([CLI, job, str(pano), str(tmp_path / f"{job}_{name}"), "--from", spec, "--quiet", *extra],
+                           check=True)
+        plain = sorted((tmp_path / f"{job}_plain").rglob("*.jpg"))
+        assert plain
+        for f in plain:
+            g = tmp_path / f"{job}_keys" / f.relative_to(tmp_path / f"{job}_plain")
+            assert pp.read(str(g)).astype(float).mean() > pp.read(str(f)).astype(float).mean() + 1, g
+    front = pp.read(str(tmp_path / "views_keys" / "images" / "pano_front.jpg"))
+    want = pp.convert(pp.read(str(pano)), "equirect:vignetting=1/-0.5", "pinhole:hfov=90", size=front.shape[1::-1])
+    assert np.abs(front.astype(int) - want.astype(int)).mean() < 2  # (JPEG both ways)
