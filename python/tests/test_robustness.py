@@ -2257,6 +2257,8 @@ STITCH_RIG = [
     ("rig_bad_photometry", "- {spec: 'fisheye:fov=200,wb=1/0', input: a.png}\n", [],
      "lens 1: spec: white balance Eb0", False),
     ("rig_exposure_nan", "lenses:\n" + RIG_LENS + RIG_BACK, ["--exposure", "nan"], "exposure: nan", False),
+    ("rig_to_photometry", "lenses:\n" + RIG_LENS + RIG_BACK, ["--to", "equirect:ev=1"],
+     "photometric keys describe a lens (the panorama's exposure is --exposure", False),
     ("rig_flat_field_missing", "- {spec: equirect, input: a.png, flat_field: nothere.png}\n", [], "nothere.png", False),
     ("rig_flat_field_garbage", "- {spec: equirect, input: a.png, flat_field: garbage.png}\n", [], "garbage.png", False),
     ("rig_flat_field_size", "- {spec: equirect, input: a.png, rect: 32x48+0+0, flat_field: a.png}\n", [],

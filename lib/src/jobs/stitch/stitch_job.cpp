@@ -390,6 +390,10 @@ void rig_layers(const Arguments& args, const LensRig& rig, bool files, const std
     s.layers.push_back(std::move(l));
   }
   s.pano = parse_spec(args.optional_text("to").value_or("equirect"));
+  if (gives_photometry(*s.pano))
+    throw Error("to: " + s.pano->str() +
+                ": photometric keys describe a lens (the panorama's exposure is --exposure, its "
+                "response lens 0's)");
   s.canvas = s.options.size ? *s.options.size : default_size(*s.pano, density);
   make_projection(*s.pano, s.canvas);
   s.project.pano.width = s.canvas.width, s.project.pano.height = s.canvas.height;
