@@ -8,7 +8,8 @@
             table, the codecs and OpenImageIO's backends), in lib/, tools/, python/src and
             python/panoproj (less the files generate_api.py makes from the tables).
   variants  no std::get_if / std::holds_alternative / std::get on a projection alternative in
-            lib/src/engine, lib/src/sampling and lib/src/geometry: they ask a projection's module
+            lib/src/engine, lib/src/sampling, lib/src/photometry and lib/src/geometry: they ask a
+            projection's module
             (its sampling facts). lib/src/simd/geometry.cpp's pair table (which fused kernel
             serves a pair of forms, made from each form's parameters) is the one dispatch allowed.
 
@@ -165,7 +166,7 @@ def projection_types():
 def check_variants():
     pattern = re.compile(r"std::(get_if|holds_alternative|get)<\s*(" + "|".join(sorted(projection_types())) + r")\s*>")
     return [f"{rel}:{n}: {m.group(0)} (ask the projection's module: sampling_facts)"
-            for rel, n, code in code_lines(("lib/src/engine", "lib/src/sampling", "lib/src/geometry"))
+            for rel, n, code in code_lines(("lib/src/engine", "lib/src/sampling", "lib/src/photometry", "lib/src/geometry"))
             if (m := pattern.search(code))]
 
 

@@ -1582,7 +1582,8 @@ def test_a_broadcast_array_is_counted_before_it_is_copied():
 
 
 @pytest.mark.parametrize("call", ["tiles", "views", "convert", "convert_file_video", "convert_file_video_pyav",
-                                  "stitch", "stitch_layers", "stitch_panorama", "stitch_plan"])
+                                  "stitch", "stitch_layers", "stitch_panorama", "stitch_plan", "stitch_exposure_layers",
+                                  "convert_photometry"])
 def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
     env = child_env(call.endswith("pyav"))
     clip = tmp_path / "clip.mkv"
@@ -1613,7 +1614,11 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
             "stitch": f"pp.stitch({str(project)!r}, {str(out)!r}, {slow})",
             "stitch_layers": f"pp.stitch_layers({str(project)!r}, {slow})",
             "stitch_panorama": f"pp.stitch_panorama({str(project)!r}, blend='multiband', {slow})",
-            "stitch_plan": f"pp.StitchPlan({str(project)!r}, blend='multiband', {slow})([a] * 4)"}
+            "stitch_plan": f"pp.StitchPlan({str(project)!r}, blend='multiband', {slow})([a] * 4)",
+            "stitch_exposure_layers": f"pp.stitch({str(project)!r}, {str(out)!r}, create_exposure_layers=True, "
+                                      f"{slow})",
+            "convert_photometry": f"pp.convert(a, 'equirect:vignetting=1/-0.3,ev=1', 'fisheye:ev=0', "
+                                  f"size=(12000, 12000), {slow})"}
     body["convert_file_video_pyav"] = body["convert_file_video"]
     body = body[call]
     code = ("import os, sys, time, numpy as np, panoproj as pp\n"
@@ -2363,6 +2368,41 @@ def test_stitch_a_layer_that_is_a_link_is_replaced_not_its_target(cli, stitch_fo
     assert run(cli, ["stitch", "t.pto", "l_", "--overwrite"], stitch_folder).code == 0
     assert target.read_bytes() == b"keep"
     assert not (stitch_folder / "l_0000.tif").is_symlink()
+
+
+# Two exposure groups (0 and 1 EV): l_0000.tif and l_0001.tif.
+EXPOSURE_PTO = STITCH_PANO + 'i w64 h48 f0 v50 Eev0 r0 p0 y0 n"a.png"\n' + 'i w64 h48 f0 v50 Eev1 r0 p0 y90 n"a.png"\n'
+
+
+def test_stitch_exposure_layers_need_overwrite_a_full_disk_leaves_none_and_links_are_replaced(cli, stitch_folder):
+    (stitch_folder / "t.pto").write_text(EXPOSURE_PTO)
+    args = ["stitch", "t.pto", "l_", "--create-exposure-layers"]
+    (stitch_folder / "l_0001.tif").write_bytes(b"old")
+    expect_refused(run(cli, args, stitch_folder), "l_0001.tif", "exists")
+    assert not (stitch_folder / "l_0000.tif").exists()
+    # The disk fills while a layer is written (each about 40 kB, the whole canvas): none lands.
+    expect_refused(run(cli, args + ["--overwrite"], stitch_folder, fsize=20000), "l_000")
+    assert sorted(p.name for p in stitch_folder.glob("l_*")) == ["l_0001.tif"]
+    assert (stitch_folder / "l_0001.tif").read_bytes() == b"old"
+    assert not [p for p in stitch_folder.iterdir() if p.name.startswith(".panoproj-")]
+    target = stitch_folder / "elsewhere.tif"
+    target.write_bytes(b"keep")
+    os.symlink(target, stitch_folder / "l_0000.tif")
+    assert run(cli, args + ["--overwrite"], stitch_folder).code == 0
+    assert target.read_bytes() == b"keep" and not (stitch_folder / "l_0000.tif").is_symlink()
+    assert all((stitch_folder / f"l_000{k}.tif").read_bytes()[:4] == b"II*\x00" for k in (0, 1))
+
+
+@pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["INT", "TERM"])
+def test_stitch_exposure_layers_signals_leave_none(cli, stitch_folder, sig):
+    (stitch_folder / "t.pto").write_text(EXPOSURE_PTO)
+    r = run(cli, ["stitch", "t.pto", "l_", "--create-exposure-layers"], stitch_folder,
+            strace=["-e", "trace=fsync", "-e", "inject=fsync:delay_enter=3000000:when=1"],
+            on_start=_signal_once_a_temporary_exists(stitch_folder, sig, 0.3))
+    assert r.code in (-sig, 128 + sig), (r.code, r.err)
+    assert not list(stitch_folder.glob("l_*"))
+    assert not [p for p in stitch_folder.iterdir() if p.name.startswith(".panoproj-")]
 
 
 @pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")

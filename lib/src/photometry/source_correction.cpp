@@ -1,17 +1,19 @@
 // A source frame's photometric correction (source_correction.hpp).
 #include "photometry/source_correction.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <string_view>
-#include <variant>
 
 #include "base/parallel.hpp"
 #include "base/sample_io.hpp"
+#include "geometry/sampling_facts.hpp"
 #include "panoproj/error.hpp"
 #include "spec/photometric_keys.hpp"
 
 namespace panoproj {
+
 Photometry lens_photometry(const ProjectionSpec& spec, int lens, bool float_samples,
                            const std::string& what) {
   const PhotometricKeys k = photometric_keys(spec, lens);
@@ -34,40 +36,44 @@ std::shared_ptr<const SourceCorrection> SourceCorrection::make(const ProjectionS
     if (std::string_view(d.key) != "ev" && to.given(d.key))
       throw Error("to: " + to.str() + ": " + d.key +
                   "= describes a source's lens (a target takes ev=, the output's exposure)");
-  const bool gopro = std::holds_alternative<GoProMax>(source);
-  if (gopro)
+  // (The module's facts say what lenses a frame holds: sampling_facts.hpp.)
+  const SamplingFacts facts = sampling_facts(source);
+  if (facts.max)
     for (const char* k : {"vignetting", "vignetting_centre", "vignetting2", "vignetting_centre2"})
       if (from.given(k))
         throw Error("from: " + from.str() + ": " + k +
                     "= on a GoPro MAX frame (its cells are cube faces the camera made, no lens's "
                     "image; give ev= and wb= per lens)");
   std::shared_ptr<SourceCorrection> c(new SourceCorrection(source, stereo));
+  c->max_ = sampling_facts(c->source_).max;  // (into its own copy of the projection)
   const Size eye = size_of(source);
   std::vector<PixelRect> rects{{0, 0, eye.width, eye.height}};
-  if (const auto* d = std::get_if<DualFisheye>(&source)) {
+  if (const DualFisheye* d = facts.dual) {
     const int64_t w = d->cell_width(), h = d->cell_height();
     rects = {{0, 0, w, h},
              w == eye.width ? PixelRect{0, h, eye.width, eye.height}
                             : PixelRect{w, 0, eye.width, eye.height}};
-  } else if (gopro) {
+  } else if (facts.max) {
     rects.push_back(rects[0]);
   }
   // The output: lens 0's response at the target's exposure, else the lenses' mean.
   double mean = 0;
   for (size_t k = 0; k < rects.size(); ++k)
     mean += photometric_keys(from, static_cast<int>(k)).ev / static_cast<double>(rects.size());
+  std::array<PhotometricOutput, 2> outputs;  // for integer and float samples
+  for (const bool f : {false, true}) {
+    outputs[f].exposure = to.given("ev") ? *to.number("ev") : mean;
+    outputs[f].response = lens_photometry(from, 0, f, "from: " + from.str()).response;
+  }
   for (size_t k = 0; k < rects.size(); ++k) {
     Lens lens;
     lens.rect = rects[k];
     const std::string what =
         "from: " + from.str() + (rects.size() > 1 ? " lens " + std::to_string(k) : "");
-    for (const bool f : {false, true}) {
-      const Photometry p = lens_photometry(from, static_cast<int>(k), f, what);
-      PhotometricOutput out;
-      out.exposure = to.given("ev") ? *to.number("ev") : mean;
-      out.response = lens_photometry(from, 0, f, what).response;
-      (f ? lens.floating : lens.integer).emplace(p, out, rects[k].size(), what);
-    }
+    for (const bool f : {false, true})
+      (f ? lens.floating : lens.integer)
+          .emplace(lens_photometry(from, static_cast<int>(k), f, what), outputs[f], rects[k].size(),
+                   what);
     c->lenses_.push_back(std::move(lens));
   }
   return c;
@@ -80,7 +86,7 @@ bool SourceCorrection::identity(PixelType type) const {
 }
 
 int SourceCorrection::lens_at(double x, double y) const {
-  if (const auto* g = std::get_if<GoProMax>(&source_)) return g->lens_at(x, y);
+  if (max_) return max_->lens_at(x, y);
   for (size_t k = 1; k < lenses_.size(); ++k) {
     const PixelRect& r = lenses_[k].rect;
     if (x >= static_cast<double>(r.x0) && y >= static_cast<double>(r.y0))

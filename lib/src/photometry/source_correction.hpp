@@ -32,6 +32,8 @@ class SourceCorrection {
                                                       const ProjectionSpec& to,
                                                       const Projection& source,
                                                       StereoLayout stereo);
+  SourceCorrection(const SourceCorrection&) = delete;  // (max_ points into source_)
+  SourceCorrection& operator=(const SourceCorrection&) = delete;
   // Whether it keeps every value of a source of `type`.
   bool identity(PixelType type) const;
   // src (the frame, or a window of it, at any decode scale) corrected into out: src's layout,
@@ -50,6 +52,7 @@ class SourceCorrection {
       : source_(std::move(source)), stereo_(stereo) {}
   int lens_at(double x, double y) const;  // in the eye's frame
   Projection source_;
+  const GoProMax* max_ = nullptr;  // source_'s, where it is one: its lens_at says a cell's lens
   StereoLayout stereo_ = StereoLayout::Mono;
   std::vector<Lens> lenses_;
 };
