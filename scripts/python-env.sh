@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # A virtual environment for the Python side (.venv) with python/requirements-test.txt: Debian's
 # own python3 refuses pip installs outside one. Works with this machine's python3 and with
-# Debian's. Idempotent: a second run only checks (about a second).
+# Debian's. Idempotent: a second run only checks (about a second). Also .venv-omnidir, OpenCV's
+# contrib build for one oracle.
 # Usage: scripts/python-env.sh [--cmake-args]   (prints the CMake arguments that build the
 # module against this environment)
 set -euo pipefail
@@ -13,6 +14,13 @@ fi
 if ! "$venv/bin/python" -c "import pybind11, numpy, pytest, xdist, cv2, dask.distributed, scikit_build_core, OpenImageIO, mypy, pyright, py360convert, pyproj, pycolmap, av" 2>/dev/null \
   || [[ ! -x "$venv/bin/clang-format" || ! -x "$venv/bin/lizard" ]]; then
   "$venv/bin/python" -m pip install -q -r "$root/python/requirements-test.txt" >&2
+fi
+# cv2.omnidir (opencv-contrib) cannot share a venv with opencv-python: its own, for
+# python/tests/test_lens_models.py's omni-radtan oracle.
+omnidir="$root/.venv-omnidir"
+if ! "$omnidir/bin/python" -c "import cv2; cv2.omnidir" 2>/dev/null; then
+  python3 -m venv "$omnidir"
+  "$omnidir/bin/python" -m pip install -q "opencv-contrib-python-headless==5.0.0.93" numpy >&2
 fi
 if [[ ${1:-} == --cmake-args ]]; then
   echo "-DPANOPROJ_BUILD_PYTHON=ON" \

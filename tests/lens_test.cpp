@@ -186,7 +186,7 @@ TEST(BrownConrady, FoldsAreErrorsAndCoversIsSafe) {
   EXPECT_NE(m.find("give fov=93.0"), std::string::npos) << m;
   // Without a fov the field ends at the fold, and every pixel inside it maps back.
   const Projection p = make("brown-conrady:k1=-0.3,fx=600", {1920, 1080});
-  EXPECT_NEAR(std::get<BrownConrady>(p).theta_max(), std::atan(1 / std::sqrt(0.9)), 1e-12);
+  EXPECT_NEAR(std::get<CalibratedLens>(p).theta_max(), std::atan(1 / std::sqrt(0.9)), 1e-12);
   // Tangential terms that fold the image.
   EXPECT_THROW(make("brown-conrady:fov=120,p1=0.5", {1920, 1080}), Error);
   // covers(): where it says a rectangle is all valid, every point of it is (random rectangles,

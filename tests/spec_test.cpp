@@ -65,7 +65,11 @@ TEST(Spec, ErrorsNameTheValueAndWhatWasExpected) {
   EXPECT_EQ(error_of("fishey"), "unknown projection 'fishey' (did you mean fisheye? expected one of: " + names + ")");
   EXPECT_EQ(error_of("perspective"), "unknown projection 'perspective' (did you mean pinhole? expected one of: " + names + ")");
   EXPECT_EQ(error_of("zzz"), "unknown projection 'zzz' (expected one of: " + names + ")");
-  EXPECT_EQ(names.rfind("pinhole, brown-conrady, fisheye, dual-fisheye, kannala-brandt, double-sphere, unified, ", 0), 0u);
+  EXPECT_EQ(
+      names.rfind(
+          "pinhole, fisheye, dual-fisheye, brown-conrady, kannala-brandt, double-sphere, unified, ",
+          0),
+      0u);
   EXPECT_EQ(error_of("fisheye:fov=nan"), "fisheye: fov=nan is not finite (expected 0 < fov <= 360)");
   EXPECT_EQ(error_of("fisheye:fov=inf"), "fisheye: fov=inf is not finite (expected 0 < fov <= 360)");
   EXPECT_EQ(error_of("fisheye:fov=-10"), "fisheye: fov=-10 is out of range (expected 0 < fov <= 360)");

@@ -8,7 +8,7 @@ from typing import Dict, Literal, Optional, Type, TypedDict, Union
 from ._projection import Projection
 from ._types import FillLike, SizeLike
 
-ProjectionName = Literal['pinhole', 'brown-conrady', 'fisheye', 'dual-fisheye', 'kannala-brandt', 'double-sphere', 'unified', 'extended-unified', 'ptlens', 'panotools', 'equirect', 'cylindrical', 'cubemap', 'gopro-max', 'panini', 'compressed-rectilinear', 'aitoff', 'hammer', 'eckert-greifendorff', 'bonne', 'sinusoidal', 'mollweide', 'mercator', 'miller', 'cylindrical-equal-area', 'transverse-mercator']
+ProjectionName = Literal['pinhole', 'fisheye', 'dual-fisheye', 'brown-conrady', 'kannala-brandt', 'double-sphere', 'unified', 'extended-unified', 'omni-radtan', 'thin-prism-fisheye', 'rad-tan-thin-prism-fisheye', 'devernay-faugeras', 'division', 'ptlens', 'f-theta', 'ocamcalib', 'panotools', 'equirect', 'cylindrical', 'cubemap', 'gopro-max', 'panini', 'compressed-rectilinear', 'aitoff', 'hammer', 'eckert-greifendorff', 'bonne', 'sinusoidal', 'mollweide', 'mercator', 'miller', 'cylindrical-equal-area', 'transverse-mercator']
 Interp = Literal['nearest', 'bilinear', 'bicubic', 'lanczos3', 'bicubic-dering', 'lanczos3-dering']
 Engine = Literal['simd', 'scalar', 'reference']
 Antialias = Literal['auto', 'off', 'mip']
@@ -59,64 +59,6 @@ class Pinhole(Projection):
         vignetting_centre: Optional[str] = None,
     ) -> None:
         self._set(hfov=hfov, vfov=vfov, focal=focal, cx=cx, cy=cy, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
-
-
-class BrownConrady(Projection):
-    """Calibrated pinhole camera with OpenCV's radial and tangential distortion (k1, k2, p1, p2,
-    k3).
-
-    Parameters (degrees, pixels; None: the default):
-    fov: full field of view the model is used in (deg); default: up to where the radial
-        distortion folds, at most 160
-    fx: focal length in pixels along x; default: half the width (hfov 90 undistorted)
-    fy: focal length in pixels along y; default: fx
-    cx: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
-        centre
-    cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
-        centre
-    k1: distortion coefficient (OpenCV's, theta in radians) (default 0)
-    k2: distortion coefficient (OpenCV's, theta in radians) (default 0)
-    p1: distortion coefficient (OpenCV's, theta in radians) (default 0)
-    p2: distortion coefficient (OpenCV's, theta in radians) (default 0)
-    k3: distortion coefficient (OpenCV's, theta in radians) (default 0)
-    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
-        converts within its half (default mono)
-    eye: a stereo source's eye a mono target takes (default left)
-    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
-        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
-    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
-        of the source's lenses) (default 0)
-    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
-    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
-        r from the image's centre over its half diagonal
-    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
-    """
-
-    name = 'brown-conrady'
-    summary = "calibrated pinhole camera with OpenCV's radial and tangential distortion (k1, k2, p1, p2, k3)"
-
-    def __init__(
-        self,
-        *,
-        fov: Optional[float] = None,
-        fx: Optional[float] = None,
-        fy: Optional[float] = None,
-        cx: Optional[float] = None,
-        cy: Optional[float] = None,
-        k1: Optional[float] = None,
-        k2: Optional[float] = None,
-        p1: Optional[float] = None,
-        p2: Optional[float] = None,
-        k3: Optional[float] = None,
-        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
-        eye: Optional[Literal['left', 'right']] = None,
-        response: Optional[str] = None,
-        ev: Optional[float] = None,
-        wb: Optional[str] = None,
-        vignetting: Optional[str] = None,
-        vignetting_centre: Optional[str] = None,
-    ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Fisheye(Projection):
@@ -255,6 +197,78 @@ class DualFisheye(Projection):
         vignetting_centre2: Optional[str] = None,
     ) -> None:
         self._set(fov=fov, fov2=fov2, model=model, layout=layout, radius=radius, radius2=radius2, cx=cx, cy=cy, cx2=cx2, cy2=cy2, yaw=yaw, pitch=pitch, roll=roll, yaw2=yaw2, pitch2=pitch2, roll2=roll2, feather=feather, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre, ev2=ev2, wb2=wb2, vignetting2=vignetting2, vignetting_centre2=vignetting_centre2)
+
+
+class BrownConrady(Projection):
+    """Calibrated pinhole camera with OpenCV's distortion: radial k1..k6 (rational), tangential p1,
+    p2, thin prism s1..s4.
+
+    Parameters (degrees, pixels; None: the default):
+    fov: full field of view the model is used in (deg); default: up to where the distortion
+        folds, at most 160
+    fx: focal length in pixels along x; default: half the width (hfov 90 undistorted)
+    fy: focal length in pixels along y; default: fx
+    cx: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    k1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k2: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    p1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    p2: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k3: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k4: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k5: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k6: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    s1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    s2: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    s3: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    s4: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
+    """
+
+    name = 'brown-conrady'
+    summary = "calibrated pinhole camera with OpenCV's distortion: radial k1..k6 (rational), tangential p1, p2, thin prism s1..s4"
+
+    def __init__(
+        self,
+        *,
+        fov: Optional[float] = None,
+        fx: Optional[float] = None,
+        fy: Optional[float] = None,
+        cx: Optional[float] = None,
+        cy: Optional[float] = None,
+        k1: Optional[float] = None,
+        k2: Optional[float] = None,
+        p1: Optional[float] = None,
+        p2: Optional[float] = None,
+        k3: Optional[float] = None,
+        k4: Optional[float] = None,
+        k5: Optional[float] = None,
+        k6: Optional[float] = None,
+        s1: Optional[float] = None,
+        s2: Optional[float] = None,
+        s3: Optional[float] = None,
+        s4: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
+    ) -> None:
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, k4=k4, k5=k5, k6=k6, s1=s1, s2=s2, s3=s3, s4=s4, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class KannalaBrandt(Projection):
@@ -463,6 +477,300 @@ class ExtendedUnified(Projection):
         self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, alpha=alpha, beta=beta, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
+class OmniRadtan(Projection):
+    """Calibrated omnidirectional camera, Mei's model with radtan distortion (Kalibr's omni-radtan,
+    cv2.omnidir).
+
+    Parameters (degrees, pixels; None: the default):
+    fov: full field of view (deg); default: the model's whole domain (at most 180 where R is
+        unbounded), up to where the distortion folds
+    fx: focal length in pixels along x; default: the image circle fills the shorter side
+    fy: focal length in pixels along y; default: fx
+    cx: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    xi: xi: the unit sphere's offset (Mei's model) (default 1)
+    k1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k2: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    p1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    p2: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k3: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
+    """
+
+    name = 'omni-radtan'
+    summary = "calibrated omnidirectional camera, Mei's model with radtan distortion (Kalibr's omni-radtan, cv2.omnidir)"
+
+    def __init__(
+        self,
+        *,
+        fov: Optional[float] = None,
+        fx: Optional[float] = None,
+        fy: Optional[float] = None,
+        cx: Optional[float] = None,
+        cy: Optional[float] = None,
+        xi: Optional[float] = None,
+        k1: Optional[float] = None,
+        k2: Optional[float] = None,
+        p1: Optional[float] = None,
+        p2: Optional[float] = None,
+        k3: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
+    ) -> None:
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+
+
+class ThinPrismFisheye(Projection):
+    """Calibrated fisheye, COLMAP's THIN_PRISM_FISHEYE (k1..k4 on the equidistant plane, p1, p2,
+    sx1, sy1).
+
+    Parameters (degrees, pixels; None: the default):
+    fov: full field of view across the image circle (deg); default: the model's whole domain if
+        R stays finite there, else 180 (default 180)
+    fx: focal length in pixels along x; default: the image circle fills the shorter side
+    fy: focal length in pixels along y; default: fx
+    cx: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    k1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k2: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    p1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    p2: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k3: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k4: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    sx1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    sy1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
+    """
+
+    name = 'thin-prism-fisheye'
+    summary = "calibrated fisheye, COLMAP's THIN_PRISM_FISHEYE (k1..k4 on the equidistant plane, p1, p2, sx1, sy1)"
+
+    def __init__(
+        self,
+        *,
+        fov: Optional[float] = None,
+        fx: Optional[float] = None,
+        fy: Optional[float] = None,
+        cx: Optional[float] = None,
+        cy: Optional[float] = None,
+        k1: Optional[float] = None,
+        k2: Optional[float] = None,
+        p1: Optional[float] = None,
+        p2: Optional[float] = None,
+        k3: Optional[float] = None,
+        k4: Optional[float] = None,
+        sx1: Optional[float] = None,
+        sy1: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
+    ) -> None:
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, k4=k4, sx1=sx1, sy1=sy1, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+
+
+class RadTanThinPrismFisheye(Projection):
+    """Calibrated fisheye, COLMAP's RAD_TAN_THIN_PRISM_FISHEYE (Project Aria's: k0..k5 in theta,
+    p0, p1, s0..s3).
+
+    Parameters (degrees, pixels; None: the default):
+    fov: full field of view across the image circle (deg); default: the model's whole domain if
+        R stays finite there, else 180 (default 180)
+    fx: focal length in pixels along x; default: the image circle fills the shorter side
+    fy: focal length in pixels along y; default: fx
+    cx: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    k0: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k2: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k3: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k4: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    k5: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    p0: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    p1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    s0: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    s1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    s2: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    s3: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
+    """
+
+    name = 'rad-tan-thin-prism-fisheye'
+    summary = "calibrated fisheye, COLMAP's RAD_TAN_THIN_PRISM_FISHEYE (Project Aria's: k0..k5 in theta, p0, p1, s0..s3)"
+
+    def __init__(
+        self,
+        *,
+        fov: Optional[float] = None,
+        fx: Optional[float] = None,
+        fy: Optional[float] = None,
+        cx: Optional[float] = None,
+        cy: Optional[float] = None,
+        k0: Optional[float] = None,
+        k1: Optional[float] = None,
+        k2: Optional[float] = None,
+        k3: Optional[float] = None,
+        k4: Optional[float] = None,
+        k5: Optional[float] = None,
+        p0: Optional[float] = None,
+        p1: Optional[float] = None,
+        s0: Optional[float] = None,
+        s1: Optional[float] = None,
+        s2: Optional[float] = None,
+        s3: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
+    ) -> None:
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k0=k0, k1=k1, k2=k2, k3=k3, k4=k4, k5=k5, p0=p0, p1=p1, s0=s0, s1=s1, s2=s2, s3=s3, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+
+
+class DevernayFaugeras(Projection):
+    """Calibrated wide-angle camera, the FOV model (Devernay and Faugeras 2001; COLMAP's FOV).
+
+    Parameters (degrees, pixels; None: the default):
+    fov: full field of view (deg); default: the model's whole domain (360)
+    fx: focal length in pixels along x; default: half the width (hfov 90 undistorted)
+    fy: focal length in pixels along y; default: fx
+    cx: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    omega: omega, in radians as COLMAP and Kalibr give it (default 0.5)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
+    """
+
+    name = 'devernay-faugeras'
+    summary = "calibrated wide-angle camera, the FOV model (Devernay and Faugeras 2001; COLMAP's FOV)"
+
+    def __init__(
+        self,
+        *,
+        fov: Optional[float] = None,
+        fx: Optional[float] = None,
+        fy: Optional[float] = None,
+        cx: Optional[float] = None,
+        cy: Optional[float] = None,
+        omega: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
+    ) -> None:
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, omega=omega, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+
+
+class Division(Projection):
+    """Calibrated camera, the one-parameter division model (Fitzgibbon 2001; COLMAP's
+    SIMPLE_DIVISION and DIVISION).
+
+    Parameters (degrees, pixels; None: the default):
+    fov: full field of view (deg); default: 160 where k >= 0 (k > 0: up to where the law folds),
+        180 where k < 0
+    fx: focal length in pixels along x; default: half the width (hfov 90 undistorted)
+    fy: focal length in pixels along y; default: fx
+    cx: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    k: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
+    """
+
+    name = 'division'
+    summary = "calibrated camera, the one-parameter division model (Fitzgibbon 2001; COLMAP's SIMPLE_DIVISION and DIVISION)"
+
+    def __init__(
+        self,
+        *,
+        fov: Optional[float] = None,
+        fx: Optional[float] = None,
+        fy: Optional[float] = None,
+        cx: Optional[float] = None,
+        cy: Optional[float] = None,
+        k: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
+    ) -> None:
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k=k, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+
+
 class Ptlens(Projection):
     """Rectilinear lens with Panorama Tools' a, b, c radial polynomial (lensfun's ptlens model).
 
@@ -512,6 +820,110 @@ class Ptlens(Projection):
         vignetting_centre: Optional[str] = None,
     ) -> None:
         self._set(hfov=hfov, fov=fov, a=a, b=b, c=c, cx=cx, cy=cy, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+
+
+class FTheta(Projection):
+    """Calibrated camera, NVIDIA's f-theta model: pixel distance a polynomial in theta.
+
+    Parameters (degrees, pixels; None: the default):
+    fov: full field of view (deg; twice max_angle); default: up to where the polynomial folds,
+        at most 180
+    cx: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
+        centre
+    poly: c0/c1/.../c5: angle_to_pixeldist, pixels at theta^0..theta^5 (c0 = 0)
+    bw_poly: pixeldist_to_angle, as the calibration fitted it: only compared with the law (info)
+    c: affine term c (the calibration's; 1: none) (default 1)
+    d: affine term d (default 0)
+    e: affine term e (default 0)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
+    """
+
+    name = 'f-theta'
+    summary = "calibrated camera, NVIDIA's f-theta model: pixel distance a polynomial in theta"
+
+    def __init__(
+        self,
+        *,
+        fov: Optional[float] = None,
+        cx: Optional[float] = None,
+        cy: Optional[float] = None,
+        poly: Optional[str] = None,
+        bw_poly: Optional[str] = None,
+        c: Optional[float] = None,
+        d: Optional[float] = None,
+        e: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
+    ) -> None:
+        self._set(fov=fov, cx=cx, cy=cy, poly=poly, bw_poly=bw_poly, c=c, d=d, e=e, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+
+
+class Ocamcalib(Projection):
+    """Calibrated fisheye or catadioptric camera, Scaramuzza's OCamCalib model (calib_results.txt).
+
+    Parameters (degrees, pixels; None: the default):
+    fov: full field of view (deg); default: to the frame's farthest corner, up to where pol
+        folds
+    xc: centre's row (OCamCalib's xc, pixel centres at integers)
+    yc: centre's column (OCamCalib's yc)
+    pol: a0/a1/...: the pixel -> ray polynomial (cam2world's), a0 < 0
+    invpol: the fitted inverse (world2cam's): only compared with the law (info)
+    c: affine term c (the calibration's; 1: none) (default 1)
+    d: affine term d (default 0)
+    e: affine term e (default 0)
+    stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
+        converts within its half (default mono)
+    eye: a stereo source's eye a mono target takes (default left)
+    response: the camera response: emor (EMoR's mean curve, Hugin's default), linear, or the
+        EMoR coefficients Ra/Rb/Rc/Rd/Re; default emor for integer images, linear for float ones
+    ev: the image's exposure value (Hugin's Eev); on a target, the output's (default: the mean
+        of the source's lenses) (default 0)
+    wb: white balance R/B: red divided by R, blue by B (Hugin's Er/Eb)
+    vignetting: a/b/c/d: the vignetting a + b r^2 + c r^4 + d r^6 divided out (Hugin's Va..Vd),
+        r from the image's centre over its half diagonal
+    vignetting_centre: X/Y: the vignetting centre's shift from the image's (pixels)
+    """
+
+    name = 'ocamcalib'
+    summary = "calibrated fisheye or catadioptric camera, Scaramuzza's OCamCalib model (calib_results.txt)"
+
+    def __init__(
+        self,
+        *,
+        fov: Optional[float] = None,
+        xc: Optional[float] = None,
+        yc: Optional[float] = None,
+        pol: Optional[str] = None,
+        invpol: Optional[str] = None,
+        c: Optional[float] = None,
+        d: Optional[float] = None,
+        e: Optional[float] = None,
+        stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
+        eye: Optional[Literal['left', 'right']] = None,
+        response: Optional[str] = None,
+        ev: Optional[float] = None,
+        wb: Optional[str] = None,
+        vignetting: Optional[str] = None,
+        vignetting_centre: Optional[str] = None,
+    ) -> None:
+        self._set(fov=fov, xc=xc, yc=yc, pol=pol, invpol=invpol, c=c, d=d, e=e, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Panotools(Projection):
@@ -1297,18 +1709,25 @@ class TransverseMercator(Projection):
         self._set(x_max=x_max, lon0=lon0, aspect=aspect, hfov=hfov, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
-__all__ = ['ProjectionName', 'Interp', 'Engine', 'Antialias', 'DecodeScale', 'Pinhole', 'BrownConrady', 'Fisheye', 'DualFisheye', 'KannalaBrandt', 'DoubleSphere', 'Unified', 'ExtendedUnified', 'Ptlens', 'Panotools', 'Equirect', 'Cylindrical', 'Cubemap', 'GoproMax', 'Panini', 'CompressedRectilinear', 'Aitoff', 'Hammer', 'EckertGreifendorff', 'Bonne', 'Sinusoidal', 'Mollweide', 'Mercator', 'Miller', 'CylindricalEqualArea', 'TransverseMercator']
+__all__ = ['ProjectionName', 'Interp', 'Engine', 'Antialias', 'DecodeScale', 'Pinhole', 'Fisheye', 'DualFisheye', 'BrownConrady', 'KannalaBrandt', 'DoubleSphere', 'Unified', 'ExtendedUnified', 'OmniRadtan', 'ThinPrismFisheye', 'RadTanThinPrismFisheye', 'DevernayFaugeras', 'Division', 'Ptlens', 'FTheta', 'Ocamcalib', 'Panotools', 'Equirect', 'Cylindrical', 'Cubemap', 'GoproMax', 'Panini', 'CompressedRectilinear', 'Aitoff', 'Hammer', 'EckertGreifendorff', 'Bonne', 'Sinusoidal', 'Mollweide', 'Mercator', 'Miller', 'CylindricalEqualArea', 'TransverseMercator']
 
 CLASSES: Dict[str, Type[Projection]] = {
     'pinhole': Pinhole,
-    'brown-conrady': BrownConrady,
     'fisheye': Fisheye,
     'dual-fisheye': DualFisheye,
+    'brown-conrady': BrownConrady,
     'kannala-brandt': KannalaBrandt,
     'double-sphere': DoubleSphere,
     'unified': Unified,
     'extended-unified': ExtendedUnified,
+    'omni-radtan': OmniRadtan,
+    'thin-prism-fisheye': ThinPrismFisheye,
+    'rad-tan-thin-prism-fisheye': RadTanThinPrismFisheye,
+    'devernay-faugeras': DevernayFaugeras,
+    'division': Division,
     'ptlens': Ptlens,
+    'f-theta': FTheta,
+    'ocamcalib': Ocamcalib,
     'panotools': Panotools,
     'equirect': Equirect,
     'cylindrical': Cylindrical,

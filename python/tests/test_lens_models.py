@@ -3,6 +3,9 @@ OpenCV's conventions): panoproj's kannala-brandt against cv2.fisheye's distortPo
 undistortPoints, for fields under 180 degrees (OpenCV works on x/z and y/z, so it cannot go
 further; panoproj's own round trips beyond it are in ctest), and brown-conrady against
 cv2.projectPoints / cv2.undistortPoints; all within 1e-3 px."""
+import os
+import subprocess
+
 import cv2
 import numpy as np
 import pytest
@@ -131,3 +134,107 @@ def test_a_calibration_file_is_a_spec(tmp_path):
     with pytest.raises(ValueError, match="no \"projection\" key"):
         (tmp_path / "bad.json").write_text('{"fx": 1}')
         pp.projection(f"@{tmp_path / 'bad.json'}")
+
+
+# OpenCV's full model: rational k4..k6 and thin prism s1..s4 (cv2.projectPoints with the
+# 12-coefficient vector, CALIB_RATIONAL_MODEL | CALIB_THIN_PRISM_MODEL's order).
+FULL = [
+    dict(fx=700.0, fy=702.0, cx=958.3, cy=541.2,
+         d=(2.1, 0.9, 0.0004, -0.0003, 0.02, 2.45, 1.6, 0.15, 0.001, -0.0002, -0.0008, 0.0001)),
+    dict(fx=900.0, fy=900.0, cx=951.0, cy=548.25, d=(-0.25, 0.06, 0.0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.004, 0.0, -0.003, 0.0)),
+]
+FULL_KEYS = ("k1", "k2", "p1", "p2", "k3", "k4", "k5", "k6", "s1", "s2", "s3", "s4")
+
+
+def full_spec(cam):
+    keys = ",".join(f"{k}={v}" for k, v in zip(FULL_KEYS, cam["d"]))
+    return f"brown-conrady:fx={cam['fx']},fy={cam['fy']},cx={cam['cx']},cy={cam['cy']},{keys}"
+
+
+@pytest.mark.parametrize("cam", FULL, ids=["rational", "thin-prism"])
+def test_rational_and_thin_prism_match_cv2_project_points(cam):
+    K = np.array([[cam["fx"], 0, cam["cx"]], [0, cam["fy"], cam["cy"]], [0, 0, 1]], np.float64)
+    D = np.array(cam["d"], np.float64)
+    rays = rays_under(50, n=100_000)
+    x, y, ok = pp.to_pixel(full_spec(cam), SIZE, rays)
+    theirs, _ = cv2.projectPoints(rays.reshape(-1, 1, 3), np.zeros(3), np.zeros(3), K, D)
+    theirs = theirs.reshape(-1, 2)
+    assert ok.sum() > 10_000
+    err = np.hypot(x - 0.5 - theirs[:, 0], y - 0.5 - theirs[:, 1])[ok]
+    print(f"\n{full_spec(cam)}: ray -> pixel, {ok.sum()} points: max {err.max():.2e} px vs cv2.projectPoints")
+    assert err.max() < 1e-9, err.max()
+    # Pixels -> rays against cv2.undistortPoints iterated to convergence.
+    gx, gy = np.meshgrid(np.arange(0, SIZE[0], 21.3), np.arange(0, SIZE[1], 17.7))
+    px = np.stack([gx.ravel(), gy.ravel()], -1)
+    ours, ok = pp.to_ray(full_spec(cam), SIZE, px[:, 0] + 0.5, px[:, 1] + 0.5)
+    assert ok.sum() > 1000
+    crit = (cv2.TERM_CRITERIA_COUNT + cv2.TERM_CRITERIA_EPS, 500, 1e-16)
+    und = cv2.undistortPoints(px[ok].reshape(-1, 1, 2), K, D, None, None, None, crit).reshape(-1, 2)
+    mine = ours[ok, :2] / ours[ok, 2:3]
+    e2 = np.hypot((mine[:, 0] - und[:, 0]) * cam["fx"], (mine[:, 1] - und[:, 1]) * cam["fy"])
+    # OpenCV's undistortPoints iterates a fixed-point scheme: how far its own result is from
+    # reprojecting onto the pixel bounds the comparison.
+    back, _ = cv2.projectPoints(np.concatenate([und, np.ones((len(und), 1))], 1).reshape(-1, 1, 3), np.zeros(3),
+                                np.zeros(3), K, D)
+    own = np.hypot(*(back.reshape(-1, 2) - px[ok]).T)
+    good = own < 1e-9
+    print(f"pixel -> ray, {good.sum()} points (cv2's own round trip under 1e-9 px; {(~good).sum()} excluded): "
+          f"max {e2[good].max():.2e} px vs cv2.undistortPoints")
+    assert good.sum() > 500 and e2[good].max() < 1e-9
+
+
+# Mei's omnidirectional model with radtan, as Kalibr and cv2.omnidir calibrate it (an Insta360
+# lens's xi past 1, and a catadioptric xi under it).
+OMNI = [
+    dict(xi=1.82, fx=741.5, fy=740.7, cx=639.6, cy=511.2, d=(-0.0346, 0.0236, 0.0004, -0.0009), size=(1280, 1024)),
+    dict(xi=0.9, fx=380.0, fy=381.0, cx=512.5, cy=511.0, d=(-0.1, 0.02, 0.001, 0.002), size=(1024, 1024)),
+]
+OMNIDIR_PYTHON = os.path.join(os.path.dirname(__file__), "..", "..", ".venv-omnidir", "bin", "python")
+
+
+def omni_spec(cam, k3=0.0):
+    k1, k2, p1, p2 = cam["d"]
+    return (f"omni-radtan:xi={cam['xi']},fx={cam['fx']},fy={cam['fy']},cx={cam['cx']},cy={cam['cy']},"
+            f"k1={k1},k2={k2},p1={p1},p2={p2},k3={k3}")
+
+
+def omni_law(cam, rays, k3):
+    """Mei's projection with radtan and k3, from the formulas (Mei and Rives 2007; OpenCV's radtan)."""
+    xs = rays / np.linalg.norm(rays, axis=1)[:, None]
+    x, y = xs[:, 0] / (xs[:, 2] + cam["xi"]), xs[:, 1] / (xs[:, 2] + cam["xi"])
+    k1, k2, p1, p2 = cam["d"]
+    r2 = x * x + y * y
+    radial = 1 + k1 * r2 + k2 * r2 * r2 + k3 * r2**3
+    xd = x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x)
+    yd = y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y
+    return np.stack([cam["fx"] * xd + cam["cx"], cam["fy"] * yd + cam["cy"]], -1)
+
+
+@pytest.mark.parametrize("cam", OMNI, ids=["xi-1.82", "xi-0.9"])
+def test_omni_radtan_matches_cv2_omnidir(cam, tmp_path):
+    """cv2.omnidir lives in opencv-contrib, which cannot share a venv with opencv-python: it runs in
+    .venv-omnidir (scripts/python-env.sh) on the rays written here."""
+    if not os.path.exists(OMNIDIR_PYTHON):
+        pytest.skip(".venv-omnidir is missing (scripts/python-env.sh makes it)")
+    rays = rays_under(120, n=100_000)
+    x, y, ok = pp.to_pixel(omni_spec(cam), cam["size"], rays)
+    np.save(tmp_path / "rays.npy", rays)
+    code = ("import cv2, numpy as np, sys; r = np.load(sys.argv[1]); K = np.array(" + repr(
+        [[cam["fx"], 0, cam["cx"]], [0, cam["fy"], cam["cy"]], [0, 0, 1]]) + ", np.float64); "
+            "p, _ = cv2.omnidir.projectPoints(r.reshape(1, -1, 3), np.zeros((1, 3)), np.zeros((1, 3)), K, "
+            f"{cam['xi']!r}, np.array([{list(cam['d'])!r}], np.float64)); np.save(sys.argv[2], p.reshape(-1, 2))")
+    subprocess.run([OMNIDIR_PYTHON, "-c", code, str(tmp_path / "rays.npy"), str(tmp_path / "px.npy")], check=True)
+    theirs = np.load(tmp_path / "px.npy")
+    assert ok.sum() > 10_000
+    err = np.hypot(x - 0.5 - theirs[:, 0], y - 0.5 - theirs[:, 1])[ok]
+    print(f"\n{omni_spec(cam)}: {ok.sum()} rays to 120 deg, max {err.max():.2e} px vs cv2.omnidir.projectPoints")
+    assert err.max() < 1e-9, err.max()
+    # k3, which cv2.omnidir lacks: against the formula.
+    k3 = -0.004
+    x, y, ok = pp.to_pixel(omni_spec(cam, k3), cam["size"], rays)
+    law = omni_law(cam, rays, k3)
+    e3 = np.hypot(x - 0.5 - law[:, 0], y - 0.5 - law[:, 1])[ok]
+    print(f"with k3={k3}: max {e3.max():.2e} px vs the closed form")
+    assert e3.max() < 1e-9
+    # And the spec without k3 is the formula too (the oracle of the oracle).
+    assert np.hypot(*(omni_law(cam, rays[ok], 0.0) - theirs[ok]).T).max() < 1e-9

@@ -53,6 +53,10 @@ class ProjectionSpec {
   // The given value, else the table default, else nullopt (a derived default).
   std::optional<double> number(std::string_view key) const;
   std::string choice(std::string_view key) const;  // a Choice or Text key
+  // A Text key's numbers "a/b/c": least..most finite numbers, else Error naming the key and
+  // `expected`.
+  std::vector<double> numbers(std::string_view key, size_t least, size_t most,
+                              const char* expected) const;
   // Canonical text: name and the given keys in table order.
   std::string str() const;
 

@@ -15,29 +15,6 @@ ParamDef text(const char* key, const char* help) {
   return {key, ParamType::Text, "", 0, 0, false, false, "", help};
 }
 
-// The numbers of a value "a/b/c" (count within [least, most]); throws naming the spec's key.
-std::vector<double> numbers(const ProjectionSpec& s, const std::string& key, size_t least,
-                            size_t most, const char* expected) {
-  const std::string value = s.choice(key);
-  std::vector<double> out;
-  size_t at = 0;
-  while (true) {
-    const size_t slash = value.find('/', at);
-    const std::string item = value.substr(at, slash - at);
-    char* end = nullptr;
-    const double v = std::strtod(item.c_str(), &end);
-    if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(v))
-      throw Error(s.name() + ": " + key + "=" + value + " (expected " + expected + ")");
-    out.push_back(v);
-    if (slash == std::string::npos) break;
-    at = slash + 1;
-  }
-  if (out.size() < least || out.size() > most)
-    throw Error(s.name() + ": " + key + "=" + value + " has " + std::to_string(out.size()) +
-                " numbers (expected " + expected + ")");
-  return out;
-}
-
 }  // namespace
 
 std::vector<ParamDef> photometric_key_defs(bool two_lenses) {
@@ -82,21 +59,21 @@ PhotometricKeys photometric_keys(const ProjectionSpec& s, int lens) {
     p.linear = r == "linear";
     if (r != "linear" && r != "emor") {
       const auto c =
-          numbers(s, "response", 5, 5, "emor, linear or five EMoR coefficients Ra/Rb/Rc/Rd/Re");
+          s.numbers("response", 5, 5, "emor, linear or five EMoR coefficients Ra/Rb/Rc/Rd/Re");
       p.emor = std::array<double, 5>{c[0], c[1], c[2], c[3], c[4]};
     }
   }
   if (const std::string k = key("ev"); s.given(k)) p.ev = *s.number(k);
   if (const std::string k = key("wb"); s.given(k)) {
-    const auto c = numbers(s, k, 2, 2, "two multipliers R/B");
+    const auto c = s.numbers(k, 2, 2, "two multipliers R/B");
     p.red = c[0], p.blue = c[1];
   }
   if (const std::string k = key("vignetting"); s.given(k)) {
-    const auto c = numbers(s, k, 1, 4, "1 to 4 coefficients a/b/c/d");
+    const auto c = s.numbers(k, 1, 4, "1 to 4 coefficients a/b/c/d");
     for (size_t i = 0; i < 4; ++i) p.vignetting[i] = i < c.size() ? c[i] : 0.0;
   }
   if (const std::string k = key("vignetting_centre"); s.given(k)) {
-    const auto c = numbers(s, k, 2, 2, "a shift X/Y in pixels");
+    const auto c = s.numbers(k, 2, 2, "a shift X/Y in pixels");
     p.shift_x = c[0], p.shift_y = c[1];
   }
   return p;

@@ -150,6 +150,28 @@ std::optional<double> ProjectionSpec::number(std::string_view key) const {
   throw InternalError(std::string(def_->name) + " has no key " + std::string(key));
 }
 
+std::vector<double> ProjectionSpec::numbers(std::string_view key, size_t least, size_t most,
+                                            const char* expected) const {
+  const std::string value = choice(key);
+  std::vector<double> out;
+  size_t at = 0;
+  while (true) {
+    const size_t slash = value.find('/', at);
+    const std::string item = value.substr(at, slash - at);
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(v))
+      throw Error(name_ + ": " + std::string(key) + "=" + value + " (expected " + expected + ")");
+    out.push_back(v);
+    if (slash == std::string::npos) break;
+    at = slash + 1;
+  }
+  if (out.size() < least || out.size() > most)
+    throw Error(name_ + ": " + std::string(key) + "=" + value + " has " +
+                std::to_string(out.size()) + " numbers (expected " + expected + ")");
+  return out;
+}
+
 std::string ProjectionSpec::choice(std::string_view key) const {
   for (const auto& p : def_->params) {
     if (key != p.key) continue;

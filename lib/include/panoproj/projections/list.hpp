@@ -5,7 +5,6 @@
 // rescaling, one file per type) are generated from it.
 #include "panoproj/projections/aitoff.hpp"
 #include "panoproj/projections/bonne.hpp"
-#include "panoproj/projections/brown_conrady.hpp"
 #include "panoproj/projections/calibrated_lens.hpp"
 #include "panoproj/projections/cubemap.hpp"
 #include "panoproj/projections/cylindrical.hpp"
@@ -23,7 +22,6 @@
 
 #define PANOPROJ_PROJECTIONS(X) \
   X(Pinhole)                    \
-  X(BrownConrady)               \
   X(Fisheye)                    \
   X(DualFisheye)                \
   X(CalibratedLens)             \

@@ -178,7 +178,7 @@ class PanoTools {
     const PTLensLaw law = dist_.radial();
     if (rs == 0.0) return 1.0 / law.d();
     const double r = bracketed_newton([&law](double q) { return law.g(q); },
-                                      [&law](double q) { return law.slope(q); }, rs, fold_);
+                                      [&law](double q) { return law.slope(q); }, rs, fold_, rs);
     return r / rs;
   }
 
