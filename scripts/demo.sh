@@ -54,6 +54,11 @@ echo "   lens looking down, a Brown-Conrady camera with barrel distortion"
 run "$pano" "$out/jordan_kannala_brandt220.jpg" --to @"$root/samples/lenses/fisheye_220_kannala_brandt.yaml" --size 1536x1536
 run "$pano" "$out/jordan_double_sphere_down.jpg" --to double-sphere:xi=-0.18,alpha=0.59 --pitch -90 --size 1536x1536
 run "$pano" "$out/jordan_brown_conrady_barrel.jpg" --to brown-conrady:fx=700,k1=-0.3,k2=0.08 --size 1920x1080 --yaw 75 --pitch -5
+echo "== Calibration tools' files: a Kalibr omni-radtan camera, an OCamCalib fisheye; COLMAP's"
+echo "   THIN_PRISM_FISHEYE to 220 degrees"
+run "$pano" "$out/jordan_omni_radtan.jpg" --to "@$root/samples/lenses/kalibr_camchain.yaml#cam0" --size 1280x1024
+run "$pano" "$out/jordan_ocamcalib.jpg" --to "@$root/samples/lenses/ocamcalib_fisheye190_calib_results.txt" --size 1024x768
+run "$pano" "$out/jordan_thin_prism_fisheye.jpg" --to thin-prism-fisheye:fov=220,fx=260,k1=0.02,p1=0.002,sx1=0.004 --size 1024x1024
 
 echo "== A 360 camera: two 200-degree lenses side by side, and back to equirect (blended across the"
 echo "   20-degree overlap); a top/bottom pair whose back lens is turned a quarter"

@@ -289,6 +289,34 @@ PARAMS = [
     ("thoby_past_turn", ["--to", "fisheye:model=thoby,fov=260"], "fov=260 is past where model=thoby with k2=0.713 turns back",
      False),
     ("k2_without_thoby", ["--to", "fisheye:k2=0.5"], "k2 applies to model=thoby", False),
+    # the calibrated camera models: wrong counts, non-finite values, folding calibrations, fields
+    # past the law's domain
+    ("brown_radial_fold", ["--to", "brown-conrady:fov=120,k1=-0.3"], "fold the lens law back at theta=46.5", False),
+    ("brown_k4_nan", ["--to", "brown-conrady:k4=nan"], "k4=nan is not finite", False),
+    ("brown_prism_folds", ["--to", "brown-conrady:fov=120,s1=2"], "thin-prism terms fold the image", False),
+    ("brown_fov_180", ["--to", "brown-conrady:fov=180"], "fov=180 is past the model's domain (expected fov < 180)", False),
+    ("omni_xi_negative", ["--to", "omni-radtan:xi=-1"], "xi=-1 is out of range", False),
+    ("omni_past_domain", ["--to", "omni-radtan:xi=2,fov=300"], "fov=300 is past the model's domain (expected fov <= 240",
+     False),
+    ("radtan_fisheye_folds", ["--to", "rad-tan-thin-prism-fisheye:fov=200,k0=-0.0255,k1=0.0998,k2=-0.0697,k3=0.0132,"
+                              "k4=0.0034,k5=-0.0012"], "k0..k5 fold the lens law back at theta=96.9", False),
+    ("thin_prism_fisheye_inf", ["--to", "thin-prism-fisheye:sx1=inf"], "sx1=inf is not finite", False),
+    ("fov_omega_pi", ["--to", "devernay-faugeras:omega=3.2"], "omega=3.2 is out of range (expected 0 < omega < 3.14",
+     False),
+    ("division_past_fold", ["--to", "division:k=0.3,fov=120"], "fov=120 is past the model's domain (expected fov <= 84.",
+     False),
+    ("ftheta_no_poly", ["--to", "f-theta"], "f-theta: poly= (expected 2 to 6 coefficients", False),
+    ("ftheta_c0", ["--to", "f-theta:poly=1/500"], "poly's c0 = 1.000000 (expected 0", False),
+    ("ftheta_decreasing", ["--to", "f-theta:poly=0/-500"], "expected c1 > 0", False),
+    ("ftheta_seven", ["--to", "f-theta:poly=0/1/2/3/4/5/6"], "has 7 numbers (expected 2 to 6", False),
+    ("ftheta_fold", ["--to", "f-theta:fov=200,poly=0/500/0/-100"], "poly fold the lens law back at theta=73.", False),
+    ("ftheta_singular", ["--to", "f-theta:poly=0/500,c=0.5,d=1,e=0.5"], "c, d, e make the affine term singular", False),
+    ("ocam_no_centre", ["--to", "ocamcalib:pol=-244/0/0.0017"], "xc and yc are required", False),
+    ("ocam_a0_positive", ["--to", "ocamcalib:xc=100,yc=100,pol=244/0/0.0017"], "pol's a0 = 244.000000 (expected a negative",
+     False),
+    ("ocam_pol_nan", ["--to", "ocamcalib:xc=100,yc=100,pol=-244/nan"], "pol=-244/nan (expected 2 to 16", False),
+    ("ocam_fov_unreached", ["--to", "ocamcalib:xc=100,yc=100,pol=-244/0/0.0017,fov=350"],
+     "pol reaches only fov=23", False),
     ("k2_huge", ["--to", "fisheye:model=thoby,k2=1e300"], "k2=1e300 is out of range (expected 0 < k2 <= 10)", False),
     # cube formats and stereo frames
     ("cube_order_letters", ["--to", "cubemap:order=frbluu"], "order=frbluu is not six distinct letters of f r b l u d", False),
@@ -297,7 +325,8 @@ PARAMS = [
     ("cube_pad_half", ["--to", "cubemap:pad=0.5"], "pad=0.5 is out of range (expected 0 <= pad <= 0.4)", False),
     ("cube_pad_px_wide", ["--to", "cubemap:face=10,pad_px=5"], "pad_px=5 is over 0.4 of a 10-px cell (expected at most 4)",
      False),
-    ("cube_order_huge", ["--to", "cubemap:order=" + "f" * 100], "up to 64 characters", False),
+    ("cube_order_long", ["--to", "cubemap:order=" + "f" * 100], "is not six distinct letters", False),
+    ("cube_order_huge", ["--to", "cubemap:order=" + "f" * 2000], "order= is 2000 characters long (expected up to 1024)", False),
     ("border_without_eac", ["--to", "cubemap:border=ffmpeg"], "border=ffmpeg needs layout=eac", False),
     ("border_cells_small", ["--to", "cubemap:layout=eac,border=ffmpeg,face=4"], "border=ffmpeg needs cells of at least 5 px",
      False),
@@ -421,7 +450,32 @@ def spec_file_cases(tmp):
     (tmp / "nested.json").write_text('{"projection": "fisheye", "fov": {"a": 1}}')
     (tmp / "specdir").mkdir()
     os.mkfifo(tmp / "spec.fifo")
+    ocam = "#polynomial coefficients for the DIRECT mapping function\n"
+    (tmp / "ocam_short.txt").write_text(ocam + "5 -244.5 0 0.0017\n")
+    (tmp / "ocam_count.txt").write_text(ocam + "5 -244.5 0 0.0017\n3 1 2 3\n383 511\n1 0 0\n768 1024\n")
+    (tmp / "ocam_nan.txt").write_text(ocam + "3 -244.5 nan 0.0017\n3 1 2 3\n383 511\n1 0 0\n768 1024\n")
+    (tmp / "ocam_centre.txt").write_text(ocam + "3 -244.5 0 0.0017\n3 1 2 3\n383\n1 0 0\n768 1024\n")
+    chain = "cam0:\n  camera_model: {}\n  distortion_coeffs: {}\n  distortion_model: {}\n  intrinsics: {}\n"
+    (tmp / "kalibr_model.yaml").write_text(chain.format("mei", "[]", "none", "[1, 2, 3, 4]"))
+    (tmp / "kalibr_combo.yaml").write_text(chain.format("ds", "[0.1]", "radtan", "[0.1, 0.5, 300, 300, 320, 240]"))
+    (tmp / "kalibr_count.yaml").write_text(chain.format("omni", "[0.1, 0.2]", "radtan", "[1.8, 700, 700, 640]"))
+    (tmp / "kalibr_list.yaml").write_text(chain.format("pinhole", "0.1", "radtan", "[700, 700, 640, 512]"))
+    (tmp / "kalibr_inf.yaml").write_text(chain.format("pinhole", "[]", "none", "[700, inf, 640, 512]"))
+    (tmp / "kalibr_two.yaml").write_text(chain.format("pinhole", "[]", "none", "[700, 700, 640, 512]") +
+                                         chain.format("pinhole", "[]", "none", "[700, 700, 640, 512]").replace("cam0", "cam1"))
     return [("dup_projection", "@dup.json", 'the key "projection" is given twice'),
+            ("ocam_short", "@ocam_short.txt", "ocam_short.txt: 1 data lines (expected OCamCalib's calib_results.txt"),
+            ("ocam_count", "@ocam_count.txt", "the pol line gives 5 then 3 coefficients"),
+            ("ocam_nan", "@ocam_nan.txt", "pol holds 'nan' (expected a finite number)"),
+            ("ocam_centre", "@ocam_centre.txt", "the centre line has 1 values"),
+            ("kalibr_model", "@kalibr_model.yaml", "camera_model mei (expected pinhole, omni, ds or eucm)"),
+            ("kalibr_combo", "@kalibr_combo.yaml", "camera_model ds with distortion_model radtan"),
+            ("kalibr_count", "@kalibr_count.yaml", "cam0's intrinsics (omni) has 4 values (expected 5)"),
+            ("kalibr_list", "@kalibr_list.yaml", "cam0's distortion_coeffs is not a [..] list"),
+            ("kalibr_inf", "@kalibr_inf.yaml", "cam0's intrinsics holds 'inf' (expected a finite number)"),
+            ("kalibr_two", "@kalibr_two.yaml", "holds cameras cam0, cam1 (name one"),
+            ("kalibr_no_camera", "@kalibr_two.yaml#cam5", "no camera cam5 (it holds cam0, cam1)"),
+            ("fragment_not_kalibr", "@dupkey.yaml#cam0", "#cam0 names a camera, but"),
             ("dup_key", "@dupkey.yaml", 'the key "fov" is given twice'),
             ("nested", "@nested.json", "not a string or number"),
             ("directory", "@specdir", "cannot read the spec file specdir: a directory"),
@@ -429,7 +483,9 @@ def spec_file_cases(tmp):
             ("missing", "@none.yaml", "the spec file none.yaml does not exist")]
 
 
-SPEC_IDS = ["dup_projection", "dup_key", "nested", "directory", "fifo", "missing"]
+SPEC_IDS = ["dup_projection", "dup_key", "nested", "directory", "fifo", "missing", "ocam_short", "ocam_count", "ocam_nan",
+            "ocam_centre", "kalibr_model", "kalibr_combo", "kalibr_count", "kalibr_list", "kalibr_inf", "kalibr_two",
+            "kalibr_no_camera", "fragment_not_kalibr"]
 
 
 @pytest.mark.parametrize("which", [pytest.param(i, marks=[pytest.mark.why] if i in ("dup_projection", "directory", "fifo")

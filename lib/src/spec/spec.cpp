@@ -77,8 +77,11 @@ std::string validate(const ProjectionDef& d, const ParamDef& p, const std::strin
   }
   // Text: its module's check reads it; here only what no value may hold.
   if (p.type == ParamType::Text) {
-    if (text.empty() || text.size() > 64 || text.find_first_of("|\"") != std::string::npos)
-      throw Error(where + " is not a valid value (expected up to 64 characters)");
+    if (text.size() > 1024)
+      throw Error(std::string(d.name) + ": " + p.key + "= is " + std::to_string(text.size()) +
+                  " characters long (expected up to 1024)");
+    if (text.empty() || text.find_first_of("|\"") != std::string::npos)
+      throw Error(where + " is not a valid value (expected up to 1024 characters, no '|' or '\"')");
     return text;
   }
   char* end = nullptr;

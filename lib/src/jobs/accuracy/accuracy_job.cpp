@@ -1,7 +1,10 @@
 // The accuracy job: a synthetic scene converted with each option, against its truth, timed
 // (diagnostics/accuracy.hpp); the command only.
+#include <tuple>
+
 #include "jobs/list.hpp"
 #include "panoproj/diagnostics/accuracy.hpp"
+#include "panoproj/diagnostics/fitted_inverse.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/spec.hpp"
@@ -125,7 +128,13 @@ Report run(const Arguments& a, const JobEvents& events) {
       run_sweep(geometry.source, geometry.target, geometry.rotation, sweep, options);
   std::string table = sweep_table(results);
   if (!table.empty() && table.back() == '\n') table.pop_back();
-  if (events.line) events.line(about + "\n\n" + table);
+  // A calibration's fitted inverse, measured against the law panoproj inverts exactly.
+  std::string fitted;
+  for (const auto& [side, text, p] : {std::tuple{"source", a.text("src"), &geometry.source},
+                                      std::tuple{"target", a.text("dst"), &geometry.target}})
+    if (const auto f = fitted_inverse(parse_spec(text), *p))
+      fitted += std::string("\nThe ") + side + ": " + f->text();
+  if (events.line) events.line(about + "\n\n" + table + fitted);
   if (!csv.empty()) write_text(sweep_csv(results), csv, overwrite);
   if (!json.empty()) write_text(sweep_json(results, about), json, overwrite);
   if (!plot.empty()) {
@@ -133,7 +142,7 @@ Report run(const Arguments& a, const JobEvents& events) {
     w.overwrite = overwrite;
     write_image(plot_sweep(results, about), plot, w);
   }
-  return {{"about", {about}}, {"table", {table}}};
+  return {{"about", {about}}, {"table", {table}}, {"fitted_inverse", {fitted}}};
 }
 
 }  // namespace
