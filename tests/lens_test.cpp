@@ -160,14 +160,15 @@ TEST(KannalaBrandt, ALawFoldingBackInsideTheFieldIsAnError) {
   // Coefficients whose law overflows at the rim; fields past a model's domain (a double sphere's
   // here ends at 2 acos(-w2) = 251.2 degrees; a unified model's at xi = 0.5 at 2 acos(-0.5) = 240,
   // where R is infinite: open); a unified model at xi = 0 (a pinhole: R is infinite at 90
-  // degrees) without a field.
+  // degrees) without a field takes a rectilinear lens's 160 degrees, and 180 is refused.
   EXPECT_THROW(make("kannala-brandt:fov=360,k4=1e305", {512, 512}), Error);
   const std::string past = error_of("double-sphere:xi=-0.18,alpha=0.59,fov=251.3", {512, 512});
   EXPECT_NE(past.find("expected fov <= 251.2"), std::string::npos) << past;
   EXPECT_NO_THROW(make("double-sphere:xi=-0.18,alpha=0.59,fov=251.2", {512, 512}));
   EXPECT_THROW(make("unified:xi=0.5,fov=240", {512, 512}), Error);
   EXPECT_NO_THROW(make("unified:xi=0.5,fov=239.9", {512, 512}));
-  EXPECT_THROW(make("unified:xi=0", {512, 512}), Error);
+  EXPECT_NEAR(std::get<CalibratedLens>(make("unified:xi=0", {512, 512})).theta_max(), deg2rad(80.0), 1e-15);
+  EXPECT_THROW(make("unified:xi=0,fov=180", {512, 512}), Error);
   EXPECT_NO_THROW(make("unified:xi=0,fov=120", {512, 512}));
   // The field it suggests is accepted, and its rim still round-trips.
   const Projection p = make("kannala-brandt:fov=209.2,k1=-0.1", {512, 512});
