@@ -167,7 +167,8 @@ TEST(KannalaBrandt, ALawFoldingBackInsideTheFieldIsAnError) {
   EXPECT_NO_THROW(make("double-sphere:xi=-0.18,alpha=0.59,fov=251.2", {512, 512}));
   EXPECT_THROW(make("unified:xi=0.5,fov=240", {512, 512}), Error);
   EXPECT_NO_THROW(make("unified:xi=0.5,fov=239.9", {512, 512}));
-  EXPECT_NEAR(std::get<CalibratedLens>(make("unified:xi=0", {512, 512})).theta_max(), deg2rad(80.0), 1e-15);
+  EXPECT_NEAR(std::get<CalibratedLens>(make("unified:xi=0", {512, 512})).theta_max(), deg2rad(80.0),
+              1e-15);
   EXPECT_THROW(make("unified:xi=0,fov=180", {512, 512}), Error);
   EXPECT_NO_THROW(make("unified:xi=0,fov=120", {512, 512}));
   // The field it suggests is accepted, and its rim still round-trips.
