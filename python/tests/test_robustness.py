@@ -315,6 +315,10 @@ PARAMS = [
     ("ocam_a0_positive", ["--to", "ocamcalib:xc=100,yc=100,pol=244/0/0.0017"], "pol's a0 = 244.000000 (expected a negative",
      False),
     ("ocam_pol_nan", ["--to", "ocamcalib:xc=100,yc=100,pol=-244/nan"], "pol=-244/nan (expected 2 to 16", False),
+    ("ocam_other_size", ["--to", "ocamcalib:xc=100,yc=100,pol=-244/0/0.0017,width=640,height=480", "--size", "320x240"],
+     "the calibration is of 640x480 images, this frame is 320x240", False),
+    ("ocam_from_other_size", ["--from", "ocamcalib:xc=100,yc=100,pol=-244/0/0.0017,width=640,height=480", "--to",
+                              "equirect", "--size", "64x32"], "the calibration is of 640x480 images, this frame is", False),
     ("ocam_fov_unreached", ["--to", "ocamcalib:xc=100,yc=100,pol=-244/0/0.0017,fov=350"],
      "pol reaches only fov=23", False),
     ("k2_huge", ["--to", "fisheye:model=thoby,k2=1e300"], "k2=1e300 is out of range (expected 0 < k2 <= 10)", False),
@@ -455,6 +459,7 @@ def spec_file_cases(tmp):
     (tmp / "ocam_count.txt").write_text(ocam + "5 -244.5 0 0.0017\n3 1 2 3\n383 511\n1 0 0\n768 1024\n")
     (tmp / "ocam_nan.txt").write_text(ocam + "3 -244.5 nan 0.0017\n3 1 2 3\n383 511\n1 0 0\n768 1024\n")
     (tmp / "ocam_centre.txt").write_text(ocam + "3 -244.5 0 0.0017\n3 1 2 3\n383\n1 0 0\n768 1024\n")
+    (tmp / "ocam_size.txt").write_text(ocam + "3 -244.5 0 0.0017\n3 1 2 3\n383 511\n1 0 0\n768\n")
     chain = "cam0:\n  camera_model: {}\n  distortion_coeffs: {}\n  distortion_model: {}\n  intrinsics: {}\n"
     (tmp / "kalibr_model.yaml").write_text(chain.format("mei", "[]", "none", "[1, 2, 3, 4]"))
     (tmp / "kalibr_combo.yaml").write_text(chain.format("ds", "[0.1]", "radtan", "[0.1, 0.5, 300, 300, 320, 240]"))
@@ -468,6 +473,7 @@ def spec_file_cases(tmp):
             ("ocam_count", "@ocam_count.txt", "the pol line gives 5 then 3 coefficients"),
             ("ocam_nan", "@ocam_nan.txt", "pol holds 'nan' (expected a finite number)"),
             ("ocam_centre", "@ocam_centre.txt", "the centre line has 1 values"),
+            ("ocam_size", "@ocam_size.txt", "the image size line has 1 values"),
             ("kalibr_model", "@kalibr_model.yaml", "camera_model mei (expected pinhole, omni, ds or eucm)"),
             ("kalibr_combo", "@kalibr_combo.yaml", "camera_model ds with distortion_model radtan"),
             ("kalibr_count", "@kalibr_count.yaml", "cam0's intrinsics (omni) has 4 values (expected 5)"),
@@ -484,7 +490,7 @@ def spec_file_cases(tmp):
 
 
 SPEC_IDS = ["dup_projection", "dup_key", "nested", "directory", "fifo", "missing", "ocam_short", "ocam_count", "ocam_nan",
-            "ocam_centre", "kalibr_model", "kalibr_combo", "kalibr_count", "kalibr_list", "kalibr_inf", "kalibr_two",
+            "ocam_centre", "ocam_size", "kalibr_model", "kalibr_combo", "kalibr_count", "kalibr_list", "kalibr_inf", "kalibr_two",
             "kalibr_no_camera", "fragment_not_kalibr"]
 
 

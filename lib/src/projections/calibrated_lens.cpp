@@ -140,7 +140,11 @@ std::vector<ProjectionDef> catalog() {
             number("yc", "", -kInf, kInf, true, true, "centre's column (OCamCalib's yc)"),
             numbers_key("pol", "a0/a1/...: the pixel -> ray polynomial (cam2world's), a0 < 0"),
             numbers_key("invpol",
-                        "the fitted inverse (world2cam's): only compared with the law (info)")})},
+                        "the fitted inverse (world2cam's): only compared with the law (panoproj "
+                        "accuracy)"),
+            number("width", "", 0, kInf, true, true,
+                   "the calibrated image's width: a frame of another size is refused"),
+            number("height", "", 0, kInf, true, true, "the calibrated image's height")})},
   };
 }
 
@@ -259,8 +263,12 @@ CalibratedLens unit_lens(const ProjectionSpec& s, Size frame = {0, 0}) {
            "xc and yc are required (the centre's row and column, as calib_results.txt gives them)");
     A = affine_of(s);
     // The frame's farthest corner from the centre, in the law's pixels.
-    const double w = frame.width > 0 ? static_cast<double>(frame.width) : 2.0 * k("yc") + 1.0;
-    const double h = frame.height > 0 ? static_cast<double>(frame.height) : 2.0 * k("xc") + 1.0;
+    const double w = frame.width > 0    ? static_cast<double>(frame.width)
+                     : s.given("width") ? k("width")
+                                        : 2.0 * k("yc") + 1.0;
+    const double h = frame.height > 0    ? static_cast<double>(frame.height)
+                     : s.given("height") ? k("height")
+                                         : 2.0 * k("xc") + 1.0;
     const double det = A.det();
     double reach = 0.0;
     for (double x : {0.0, w})
@@ -376,9 +384,20 @@ Projection make(const ProjectionSpec& s, Size size) {
   const double w = static_cast<double>(size.width), h = static_cast<double>(size.height);
   const CalibratedLens unit = unit_lens(s, size);
   const std::string& n = s.name();
-  if (n == "ocamcalib")
+  if (n == "ocamcalib") {
+    // Its polynomial and centre are in the calibrated image's pixels.
+    if ((s.given("width") && *s.number("width") != w) ||
+        (s.given("height") && *s.number("height") != h)) {
+      std::ostringstream o;
+      o << "the calibration is of " << (s.given("width") ? *s.number("width") : w) << "x"
+        << (s.given("height") ? *s.number("height") : h) << " images, this frame is " << size.width
+        << "x" << size.height
+        << " (expected the calibrated size: pol, xc and yc are in its pixels)";
+      fail(s, o.str());
+    }
     return CalibratedLens(size, unit.affine(), *s.number("yc") + kCvPixelShift,
                           *s.number("xc") + kCvPixelShift, unit.law(), unit.theta_max());
+  }
   const double cx = center_of(s, "cx", w), cy = center_of(s, "cy", h);
   if (n == "ptlens" || n == "f-theta")
     return CalibratedLens(size, unit.affine(), cx, cy, unit.law(), unit.theta_max());
@@ -397,8 +416,9 @@ Size size_for(const ProjectionSpec& s, double density) {
     return framed_size(s, w, w);
   }
   const CalibratedLens unit = unit_lens(s);
-  if (n == "ocamcalib")  // the frame its centre is the middle of
-    return framed_size(s, 2.0 * *s.number("yc") + 1.0, 2.0 * *s.number("xc") + 1.0);
+  if (n == "ocamcalib")  // the calibrated frame, else the one its centre is the middle of
+    return framed_size(s, s.given("width") ? *s.number("width") : 2.0 * *s.number("yc") + 1.0,
+                       s.given("height") ? *s.number("height") : 2.0 * *s.number("xc") + 1.0);
   if (n == "f-theta") {  // the image circle's bounding box; its scale is the calibration's
     const LensAffine& A = unit.affine();
     return framed_size(s, 2.0 * unit.rd_max() * std::hypot(A.a, A.b),

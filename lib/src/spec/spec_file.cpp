@@ -1,7 +1,7 @@
 // Specs from files, turned into spec text for parse_spec: a flat JSON object or a flat YAML mapping
 // whose "projection" names the form and whose other keys are its spec keys (a lens calibration
 // kept beside the photos); OCamCalib's calib_results.txt; a camera of Kalibr's camchain.yaml.
-#include "panoproj/spec.hpp"
+#include "spec/spec_file.hpp"
 
 #include <cctype>
 #include <cmath>
@@ -119,7 +119,7 @@ std::vector<std::string> words(const std::string& line) {
 }
 
 // OCamCalib's calib_results.txt: after '#' comments, the lines "n a0 .. a(n-1)" (pol), "m b0 ..
-// b(m-1)" (invpol), "xc yc", "c d e", "height width".
+// b(m-1)" (invpol), "xc yc", "c d e" and, in newer files, "height width".
 std::string ocamcalib_spec(const std::string& text, const std::string& path) {
   std::vector<std::vector<std::string>> rows;
   std::istringstream in(text);
@@ -150,10 +150,19 @@ std::string ocamcalib_spec(const std::string& text, const std::string& path) {
   if (rows[3].size() != 3)
     throw Error(path + ": the affine line has " + std::to_string(rows[3].size()) + " values" +
                 expected);
+  // The image size line (height, width), where the file has it.
+  std::string size;
+  if (rows.size() > 4) {
+    if (rows[4].size() != 2)
+      throw Error(path + ": the image size line has " + std::to_string(rows[4].size()) + " values" +
+                  expected);
+    size = ",width=" + number_token(rows[4][1], path, "width") +
+           ",height=" + number_token(rows[4][0], path, "height");
+  }
   return "ocamcalib:xc=" + number_token(rows[2][0], path, "xc") +
          ",yc=" + number_token(rows[2][1], path, "yc") + ",pol=" + pol + ",invpol=" + invpol +
          ",c=" + number_token(rows[3][0], path, "c") + ",d=" + number_token(rows[3][1], path, "d") +
-         ",e=" + number_token(rows[3][2], path, "e");
+         ",e=" + number_token(rows[3][2], path, "e") + size;
 }
 
 // Kalibr's camchain.yaml: cameras "camN:" at the margin, each with indented keys; the lists
@@ -258,24 +267,11 @@ bool is_camchain(const std::string& text) {
 
 }  // namespace
 
-std::string spec_from_file(const std::string& path_text) {
-  // "@camchain.yaml#cam1": a camera of a Kalibr file (a '#' that is part of an existing file's
-  // name stays in it).
-  std::string path = path_text, camera;
-  if (const auto hash = path_text.rfind('#');
-      hash != std::string::npos && !std::filesystem::exists(path_text)) {
-    path = path_text.substr(0, hash);
-    camera = path_text.substr(hash + 1);
-  }
-  // A spec file is a few lines: at most 1 MiB is read; read_head refuses directories, FIFOs and
-  // devices before reading.
-  constexpr size_t kMax = size_t{1} << 20;
-  std::string text = read_head(path, kMax + 1, "the spec file", "a JSON or YAML file after @");
-  if (text.size() > kMax) throw Error(path + " is over 1 MiB (expected a small JSON or YAML spec file)");
+std::string spec_from_text(std::string text, const std::string& path, const std::string& camera) {
   if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);  // a UTF-8 byte order mark
   if (is_camchain(text)) return kalibr_spec(text, path, camera);
   if (!camera.empty())
-    throw Error(path_text + ": #" + camera + " names a camera, but " + path +
+    throw Error(path + "#" + camera + ": #" + camera + " names a camera, but " + path +
                 " is not Kalibr's camchain.yaml");
   if (text.find("#polynomial coefficients for the DIRECT mapping function") != std::string::npos)
     return ocamcalib_spec(text, path);
@@ -299,6 +295,24 @@ std::string spec_from_file(const std::string& path_text) {
   // The name may carry keys of its own ("fisheye:fov=200").
   if (!keys.empty() && name.find(':') == std::string::npos) keys[0] = ':';
   return name + keys;
+}
+
+std::string spec_from_file(const std::string& path_text) {
+  // "@camchain.yaml#cam1": a camera of a Kalibr file (a '#' that is part of an existing file's
+  // name stays in it).
+  std::string path = path_text, camera;
+  if (const auto hash = path_text.rfind('#');
+      hash != std::string::npos && !std::filesystem::exists(path_text)) {
+    path = path_text.substr(0, hash);
+    camera = path_text.substr(hash + 1);
+  }
+  // A spec file is a few lines: at most 1 MiB is read; read_head refuses directories, FIFOs and
+  // devices before reading.
+  constexpr size_t kMax = size_t{1} << 20;
+  std::string text = read_head(path, kMax + 1, "the spec file", "a JSON or YAML file after @");
+  if (text.size() > kMax)
+    throw Error(path + " is over 1 MiB (expected a small JSON or YAML spec file)");
+  return spec_from_text(std::move(text), path, camera);
 }
 
 }  // namespace panoproj
