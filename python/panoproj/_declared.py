@@ -884,7 +884,9 @@ class Ocamcalib(Projection):
     xc: centre's row (OCamCalib's xc, pixel centres at integers)
     yc: centre's column (OCamCalib's yc)
     pol: a0/a1/...: the pixel -> ray polynomial (cam2world's), a0 < 0
-    invpol: the fitted inverse (world2cam's): only compared with the law (info)
+    invpol: the fitted inverse (world2cam's): only compared with the law (panoproj accuracy)
+    width: the calibrated image's width: a frame of another size is refused
+    height: the calibrated image's height
     c: affine term c (the calibration's; 1: none) (default 1)
     d: affine term d (default 0)
     e: affine term e (default 0)
@@ -912,6 +914,8 @@ class Ocamcalib(Projection):
         yc: Optional[float] = None,
         pol: Optional[str] = None,
         invpol: Optional[str] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         c: Optional[float] = None,
         d: Optional[float] = None,
         e: Optional[float] = None,
@@ -923,7 +927,7 @@ class Ocamcalib(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, xc=xc, yc=yc, pol=pol, invpol=invpol, c=c, d=d, e=e, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, xc=xc, yc=yc, pol=pol, invpol=invpol, width=width, height=height, c=c, d=d, e=e, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Panotools(Projection):
