@@ -2,15 +2,12 @@
 toolbox's own cam2world formula, written here from its C code, and its fitted invpol reported by
 `panoproj accuracy`), NVIDIA's f-theta polynomial (against its forward formula), and Kalibr's
 camchain.yaml (each camera_model / distortion_model pair as the spec it names)."""
-import os
 import subprocess
 
 import numpy as np
 import pytest
 
 import panoproj as pp
-
-CLI = os.environ.get("PANOPROJ_CLI", "panoproj")
 
 # A 190-degree fisheye on 1024x768 in OCamCalib's form: pol (pixel -> ray), centre (row, column),
 # affine c, d, e.
@@ -80,7 +77,7 @@ def test_ocamcalib_calib_results_is_its_cam2world_law(tmp_path):
     assert e2.max() < 1e-9
 
 
-def test_ocamcalib_fitted_invpol_is_reported_not_used(tmp_path):
+def test_ocamcalib_fitted_invpol_is_reported_not_used(cli, tmp_path):
     invpol = fitted_invpol(np.deg2rad(97), degree=6)  # a coarse fit: a visible difference
     write_calib_results(tmp_path / "calib_results.txt", invpol)
     spec = f"@{tmp_path / 'calib_results.txt'}"
@@ -91,7 +88,7 @@ def test_ocamcalib_fitted_invpol_is_reported_not_used(tmp_path):
     theta = np.arccos(rays[:, 2])
     rho_fit = np.polyval(invpol[::-1], theta - np.pi / 2)
     diff = np.abs(rho_fit - np.hypot(x - YC - 0.5, y - XC - 0.5))[ok]
-    run = subprocess.run([CLI, "accuracy", "--from", spec, "--from-size", "1024x768", "--to", "equirect", "--size",
+    run = subprocess.run([cli, "accuracy", "--from", spec, "--from-size", "1024x768", "--to", "equirect", "--size",
                           "256x128", "--interp", "bilinear", "--antialias", "off", "--engine", "simd", "--runs", "1"],
                          capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
@@ -114,7 +111,7 @@ def ftheta_pixels(rays, poly, cx, cy, cde):
     return np.stack([cx + c * u + d * v, cy + e * u + v], -1)
 
 
-def test_f_theta_is_its_forward_polynomial(tmp_path):
+def test_f_theta_is_its_forward_polynomial(cli, tmp_path):
     poly = np.array([0, 1090.6, -12.8, -34.1, 6.2, -0.55])
     cx, cy, cde = 1925.4, 1084.6, (1.0003, 0.0002, -0.0001)
     size = (3848, 2168)
@@ -135,7 +132,7 @@ def test_f_theta_is_its_forward_polynomial(tmp_path):
     # A calibration's bw_poly (fitted here, as NVIDIA's tools do) is only compared.
     t = np.linspace(0, np.deg2rad(100), 5000)
     bw = np.polyfit(np.polyval(poly[::-1], t), t, 5)[::-1]
-    run = subprocess.run([CLI, "accuracy", "--from", spec + ",bw_poly=" + "/".join(repr(float(v)) for v in bw), "--from-size",
+    run = subprocess.run([cli, "accuracy", "--from", spec + ",bw_poly=" + "/".join(repr(float(v)) for v in bw), "--from-size",
                           "3848x2168", "--to", "equirect", "--size", "256x128", "--interp", "bilinear", "--antialias",
                           "off", "--engine", "simd", "--runs", "1"], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
