@@ -224,6 +224,9 @@ class BrownConrady(Projection):
     s2: distortion coefficient (OpenCV's, theta in radians) (default 0)
     s3: distortion coefficient (OpenCV's, theta in radians) (default 0)
     s4: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    width: the calibrated image's width (pixels): a frame of another size is refused; default:
+        any
+    height: the calibrated image's height (pixels)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -260,6 +263,8 @@ class BrownConrady(Projection):
         s2: Optional[float] = None,
         s3: Optional[float] = None,
         s4: Optional[float] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
         response: Optional[str] = None,
@@ -268,7 +273,7 @@ class BrownConrady(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, k4=k4, k5=k5, k6=k6, s1=s1, s2=s2, s3=s3, s4=s4, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, k4=k4, k5=k5, k6=k6, s1=s1, s2=s2, s3=s3, s4=s4, width=width, height=height, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class KannalaBrandt(Projection):
@@ -287,6 +292,9 @@ class KannalaBrandt(Projection):
     k2: distortion coefficient (OpenCV's, theta in radians) (default 0)
     k3: distortion coefficient (OpenCV's, theta in radians) (default 0)
     k4: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    width: the calibrated image's width (pixels): a frame of another size is refused; default:
+        any
+    height: the calibrated image's height (pixels)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -315,6 +323,8 @@ class KannalaBrandt(Projection):
         k2: Optional[float] = None,
         k3: Optional[float] = None,
         k4: Optional[float] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
         response: Optional[str] = None,
@@ -323,7 +333,7 @@ class KannalaBrandt(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, k3=k3, k4=k4, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, k3=k3, k4=k4, width=width, height=height, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class DoubleSphere(Projection):
@@ -340,6 +350,9 @@ class DoubleSphere(Projection):
         centre
     xi: xi: the second sphere's offset (default 0)
     alpha: alpha (default 0.5)
+    width: the calibrated image's width (pixels): a frame of another size is refused; default:
+        any
+    height: the calibrated image's height (pixels)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -366,6 +379,8 @@ class DoubleSphere(Projection):
         cy: Optional[float] = None,
         xi: Optional[float] = None,
         alpha: Optional[float] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
         response: Optional[str] = None,
@@ -374,7 +389,7 @@ class DoubleSphere(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, alpha=alpha, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, alpha=alpha, width=width, height=height, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Unified(Projection):
@@ -390,6 +405,9 @@ class Unified(Projection):
     cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
         centre
     xi: xi: the sphere's offset (0: pinhole, 1: stereographic) (default 1)
+    width: the calibrated image's width (pixels): a frame of another size is refused; default:
+        any
+    height: the calibrated image's height (pixels)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -415,6 +433,8 @@ class Unified(Projection):
         cx: Optional[float] = None,
         cy: Optional[float] = None,
         xi: Optional[float] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
         response: Optional[str] = None,
@@ -423,7 +443,7 @@ class Unified(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, width=width, height=height, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class ExtendedUnified(Projection):
@@ -440,6 +460,9 @@ class ExtendedUnified(Projection):
         centre
     alpha: alpha (default 0.5)
     beta: beta (1: the unified model) (default 1)
+    width: the calibrated image's width (pixels): a frame of another size is refused; default:
+        any
+    height: the calibrated image's height (pixels)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -466,6 +489,8 @@ class ExtendedUnified(Projection):
         cy: Optional[float] = None,
         alpha: Optional[float] = None,
         beta: Optional[float] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
         response: Optional[str] = None,
@@ -474,7 +499,7 @@ class ExtendedUnified(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, alpha=alpha, beta=beta, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, alpha=alpha, beta=beta, width=width, height=height, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class OmniRadtan(Projection):
@@ -496,6 +521,9 @@ class OmniRadtan(Projection):
     p1: distortion coefficient (OpenCV's, theta in radians) (default 0)
     p2: distortion coefficient (OpenCV's, theta in radians) (default 0)
     k3: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    width: the calibrated image's width (pixels): a frame of another size is refused; default:
+        any
+    height: the calibrated image's height (pixels)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -526,6 +554,8 @@ class OmniRadtan(Projection):
         p1: Optional[float] = None,
         p2: Optional[float] = None,
         k3: Optional[float] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
         response: Optional[str] = None,
@@ -534,7 +564,7 @@ class OmniRadtan(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, xi=xi, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, width=width, height=height, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class ThinPrismFisheye(Projection):
@@ -558,6 +588,9 @@ class ThinPrismFisheye(Projection):
     k4: distortion coefficient (OpenCV's, theta in radians) (default 0)
     sx1: distortion coefficient (OpenCV's, theta in radians) (default 0)
     sy1: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    width: the calibrated image's width (pixels): a frame of another size is refused; default:
+        any
+    height: the calibrated image's height (pixels)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -590,6 +623,8 @@ class ThinPrismFisheye(Projection):
         k4: Optional[float] = None,
         sx1: Optional[float] = None,
         sy1: Optional[float] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
         response: Optional[str] = None,
@@ -598,7 +633,7 @@ class ThinPrismFisheye(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, k4=k4, sx1=sx1, sy1=sy1, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k1=k1, k2=k2, p1=p1, p2=p2, k3=k3, k4=k4, sx1=sx1, sy1=sy1, width=width, height=height, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class RadTanThinPrismFisheye(Projection):
@@ -626,6 +661,9 @@ class RadTanThinPrismFisheye(Projection):
     s1: distortion coefficient (OpenCV's, theta in radians) (default 0)
     s2: distortion coefficient (OpenCV's, theta in radians) (default 0)
     s3: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    width: the calibrated image's width (pixels): a frame of another size is refused; default:
+        any
+    height: the calibrated image's height (pixels)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -662,6 +700,8 @@ class RadTanThinPrismFisheye(Projection):
         s1: Optional[float] = None,
         s2: Optional[float] = None,
         s3: Optional[float] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
         response: Optional[str] = None,
@@ -670,7 +710,7 @@ class RadTanThinPrismFisheye(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k0=k0, k1=k1, k2=k2, k3=k3, k4=k4, k5=k5, p0=p0, p1=p1, s0=s0, s1=s1, s2=s2, s3=s3, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k0=k0, k1=k1, k2=k2, k3=k3, k4=k4, k5=k5, p0=p0, p1=p1, s0=s0, s1=s1, s2=s2, s3=s3, width=width, height=height, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class DevernayFaugeras(Projection):
@@ -685,6 +725,9 @@ class DevernayFaugeras(Projection):
     cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
         centre
     omega: omega, in radians as COLMAP and Kalibr give it (default 0.5)
+    width: the calibrated image's width (pixels): a frame of another size is refused; default:
+        any
+    height: the calibrated image's height (pixels)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -710,6 +753,8 @@ class DevernayFaugeras(Projection):
         cx: Optional[float] = None,
         cy: Optional[float] = None,
         omega: Optional[float] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
         response: Optional[str] = None,
@@ -718,7 +763,7 @@ class DevernayFaugeras(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, omega=omega, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, omega=omega, width=width, height=height, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Division(Projection):
@@ -735,6 +780,9 @@ class Division(Projection):
     cy: centre in pixels, OpenCV convention (pixel centres at integers); default: the frame's
         centre
     k: distortion coefficient (OpenCV's, theta in radians) (default 0)
+    width: the calibrated image's width (pixels): a frame of another size is refused; default:
+        any
+    height: the calibrated image's height (pixels)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -760,6 +808,8 @@ class Division(Projection):
         cx: Optional[float] = None,
         cy: Optional[float] = None,
         k: Optional[float] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
         response: Optional[str] = None,
@@ -768,7 +818,7 @@ class Division(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k=k, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, fx=fx, fy=fy, cx=cx, cy=cy, k=k, width=width, height=height, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Ptlens(Projection):
@@ -837,6 +887,9 @@ class FTheta(Projection):
     c: affine term c (the calibration's; 1: none) (default 1)
     d: affine term d (default 0)
     e: affine term e (default 0)
+    width: the calibrated image's width (pixels): a frame of another size is refused; default:
+        any
+    height: the calibrated image's height (pixels)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -864,6 +917,8 @@ class FTheta(Projection):
         c: Optional[float] = None,
         d: Optional[float] = None,
         e: Optional[float] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
         response: Optional[str] = None,
@@ -872,7 +927,7 @@ class FTheta(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, cx=cx, cy=cy, poly=poly, bw_poly=bw_poly, c=c, d=d, e=e, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, cx=cx, cy=cy, poly=poly, bw_poly=bw_poly, c=c, d=d, e=e, width=width, height=height, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Ocamcalib(Projection):
@@ -885,11 +940,12 @@ class Ocamcalib(Projection):
     yc: centre's column (OCamCalib's yc)
     pol: a0/a1/...: the pixel -> ray polynomial (cam2world's), a0 < 0
     invpol: the fitted inverse (world2cam's): only compared with the law (panoproj accuracy)
-    width: the calibrated image's width: a frame of another size is refused
-    height: the calibrated image's height
     c: affine term c (the calibration's; 1: none) (default 1)
     d: affine term d (default 0)
     e: affine term e (default 0)
+    width: the calibrated image's width (pixels): a frame of another size is refused; default:
+        any
+    height: the calibrated image's height (pixels)
     stereo: two eyes in one image: tb top (left eye) and bottom, sbs left and right; each eye
         converts within its half (default mono)
     eye: a stereo source's eye a mono target takes (default left)
@@ -914,11 +970,11 @@ class Ocamcalib(Projection):
         yc: Optional[float] = None,
         pol: Optional[str] = None,
         invpol: Optional[str] = None,
-        width: Optional[float] = None,
-        height: Optional[float] = None,
         c: Optional[float] = None,
         d: Optional[float] = None,
         e: Optional[float] = None,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
         stereo: Optional[Literal['mono', 'tb', 'sbs']] = None,
         eye: Optional[Literal['left', 'right']] = None,
         response: Optional[str] = None,
@@ -927,7 +983,7 @@ class Ocamcalib(Projection):
         vignetting: Optional[str] = None,
         vignetting_centre: Optional[str] = None,
     ) -> None:
-        self._set(fov=fov, xc=xc, yc=yc, pol=pol, invpol=invpol, width=width, height=height, c=c, d=d, e=e, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
+        self._set(fov=fov, xc=xc, yc=yc, pol=pol, invpol=invpol, c=c, d=d, e=e, width=width, height=height, stereo=stereo, eye=eye, response=response, ev=ev, wb=wb, vignetting=vignetting, vignetting_centre=vignetting_centre)
 
 
 class Panotools(Projection):

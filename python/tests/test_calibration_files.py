@@ -165,14 +165,14 @@ cam1:
 
 @pytest.mark.parametrize("model,dist,intrinsics,coeffs,expected", [
     ("pinhole", "radtan", "[458.654, 457.296, 367.215, 248.375]", "[-0.2834, 0.0739, 0.0002, 1.76e-05]",
-     "brown-conrady:fx=458.654,fy=457.296,cx=367.215,cy=248.375,k1=-0.2834,k2=0.0739,p1=0.0002,p2=1.76e-05"),
+     "brown-conrady:fx=458.654,fy=457.296,cx=367.215,cy=248.375,k1=-0.2834,k2=0.0739,p1=0.0002,p2=1.76e-05,width=1024,height=1024"),
     ("pinhole", "equidistant", "[380.8, 380.6, 510.3, 514.3]", "[0.0101, -0.0055, 0.0008, -0.0001]",
-     "kannala-brandt:fx=380.8,fy=380.6,cx=510.3,cy=514.3,k1=0.0101,k2=-0.0055,k3=0.0008,k4=-0.0001"),
+     "kannala-brandt:fx=380.8,fy=380.6,cx=510.3,cy=514.3,k1=0.0101,k2=-0.0055,k3=0.0008,k4=-0.0001,width=1024,height=1024"),
     ("pinhole", "fov", "[380.8, 380.6, 510.3, 514.3]", "[0.93]",
-     "devernay-faugeras:fx=380.8,fy=380.6,cx=510.3,cy=514.3,omega=0.93"),
-    ("omni", "none", "[0.95, 380.8, 380.6, 510.3, 514.3]", "[]", "unified:xi=0.95,fx=380.8,fy=380.6,cx=510.3,cy=514.3"),
+     "devernay-faugeras:fx=380.8,fy=380.6,cx=510.3,cy=514.3,omega=0.93,width=1024,height=1024"),
+    ("omni", "none", "[0.95, 380.8, 380.6, 510.3, 514.3]", "[]", "unified:xi=0.95,fx=380.8,fy=380.6,cx=510.3,cy=514.3,width=1024,height=1024"),
     ("eucm", "none", "[0.63, 1.04, 380.8, 380.6, 510.3, 514.3]", "[]",
-     "extended-unified:alpha=0.63,beta=1.04,fx=380.8,fy=380.6,cx=510.3,cy=514.3"),
+     "extended-unified:alpha=0.63,beta=1.04,fx=380.8,fy=380.6,cx=510.3,cy=514.3,width=1024,height=1024"),
 ])
 def test_kalibr_camchain_models(tmp_path, model, dist, intrinsics, coeffs, expected):
     (tmp_path / "camchain.yaml").write_text(
@@ -185,9 +185,13 @@ def test_kalibr_camchain_picks_a_camera(tmp_path):
     path = tmp_path / "camchain.yaml"
     path.write_text(CAMCHAIN)
     assert str(pp.projection(f"@{path}#cam0")) == str(pp.projection(
-        "omni-radtan:xi=1.82,fx=741.5,fy=740.7,cx=639.6,cy=511.2,k1=-0.0346,k2=0.0236,p1=0.0004,p2=-0.0009"))
+        "omni-radtan:xi=1.82,fx=741.5,fy=740.7,cx=639.6,cy=511.2,k1=-0.0346,k2=0.0236,p1=0.0004,p2=-0.0009,width=1280,"
+        "height=1024"))
     assert str(pp.projection(f"@{path}#cam1")) == str(pp.projection(
-        "double-sphere:xi=-0.18,alpha=0.59,fx=313.2,fy=313.1,cx=638.9,cy=514.6"))
+        "double-sphere:xi=-0.18,alpha=0.59,fx=313.2,fy=313.1,cx=638.9,cy=514.6,width=1280,height=1024"))
+    # Its resolution is the calibrated size: an image of another size is refused.
+    with pytest.raises(ValueError, match=r"the calibration is of 1280x1024 images, this frame is 640x512"):
+        pp.to_ray(f"@{path}#cam0", (640, 512), np.array([1.0]), np.array([1.0]))
     with pytest.raises(ValueError, match=r"holds cameras cam0, cam1 \(name one"):
         pp.projection(f"@{path}")
     with pytest.raises(ValueError, match=r"no camera cam2 \(it holds cam0, cam1\)"):

@@ -193,3 +193,61 @@ def test_pixels_to_rays_match_colmap(m, report):
     else:
         assert err.max() * f <= 10 * own_max + 1e-12, line
     report(line)
+
+
+@pytest.fixture(scope="module")
+def colmap_model(tmp_path_factory):
+    """Every model above as a camera of one COLMAP model (and an EQUIRECTANGULAR one), written by
+    pycolmap as text and as binary."""
+    rec = pycolmap.Reconstruction()
+    cams = {}
+    for i, p in enumerate(models() + [pytest.param(dict(model="EQUIRECTANGULAR", params=[2048.0, 1024.0],
+                                                        size=(2048, 1024), closed=True, mirrored=False, theta=180),
+                                                   id="EQUIRECTANGULAR")]):
+        m = p.values[0]
+        cam = pycolmap.Camera(model=m["model"], width=m["size"][0], height=m["size"][1], params=m["params"])
+        cam.camera_id = i + 1
+        rec.add_camera(cam)
+        cams[m["model"]] = (i + 1, m, cam)
+    root = tmp_path_factory.mktemp("colmap")
+    (root / "text").mkdir()
+    (root / "binary").mkdir()
+    rec.write_text(str(root / "text"))
+    rec.write_binary(str(root / "binary"))
+    return root, cams
+
+
+@pytest.mark.parametrize("form", ["text", "binary"])
+def test_colmap_cameras_files_are_specs(colmap_model, form, report):
+    """@sparse/cameras.txt#ID (or cameras.bin): each camera's pixel -> ray against pycolmap's, as
+    the spec written by hand is above."""
+    root, cams = colmap_model
+    name = "cameras.txt" if form == "text" else "cameras.bin"
+    rng = np.random.default_rng(8)
+    worst = {}
+    for model, (cid, m, cam) in cams.items():
+        W, H = m["size"]
+        px = np.stack([rng.random(20_000) * W, rng.random(20_000) * H], -1)
+        ours, ok = pp.to_ray(f"@{root / form / name}#{cid}", m["size"], px[:, 0], px[:, 1])
+        theirs = cam.cam_ray_from_img(px)
+        limit = min(m["theta"], 89.9) if m["mirrored"] else m["theta"]
+        use = ok & np.isfinite(theirs).all(1) & (ours[:, 2] >= np.cos(np.deg2rad(limit)))
+        assert use.sum() > 1000, model
+        err = angle(ours[use], theirs[use])
+        if m["closed"]:
+            assert err.max() < 1e-9, (model, err.max())
+        else:
+            back = cam.img_from_cam(theirs[use], check_cheirality=False)
+            own = np.hypot(*(back - px[use]).T).max()
+            assert err.max() * m["params"][0] <= 10 * own + 1e-12, (model, err.max(), own)
+        worst[model] = err.max()
+    report(f"{name}: {len(cams)} cameras read as specs; pixel -> ray vs pycolmap, worst " +
+           ", ".join(f"{k} {v:.1e}" for k, v in worst.items()) + " rad")
+    # A camera's size is the calibrated one: an image of another size is refused.
+    cid, m, _ = cams["OPENCV"]
+    with pytest.raises(ValueError, match=r"the calibration is of 1920x1080 images, this frame is 960x540"):
+        pp.to_ray(f"@{root / form / name}#{cid}", (960, 540), np.array([1.0]), np.array([1.0]))
+    with pytest.raises(ValueError, match=r"holds cameras 1, 2, 3"):
+        pp.projection(f"@{root / form / name}")
+    with pytest.raises(ValueError, match=r"no camera 99 \(it holds 1, 2, 3"):
+        pp.projection(f"@{root / form / name}#99")

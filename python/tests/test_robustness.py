@@ -468,7 +468,28 @@ def spec_file_cases(tmp):
     (tmp / "kalibr_inf.yaml").write_text(chain.format("pinhole", "[]", "none", "[700, inf, 640, 512]"))
     (tmp / "kalibr_two.yaml").write_text(chain.format("pinhole", "[]", "none", "[700, 700, 640, 512]") +
                                          chain.format("pinhole", "[]", "none", "[700, 700, 640, 512]").replace("cam0", "cam1"))
+    for name, body in {"model": "1 PINHOLEISH 640 480 500 500 320 240\n", "count": "1 PINHOLE 640 480 500 500 320\n",
+                       "nan": "1 PINHOLE 640 480 500 nan 320 240\n", "zero": "1 PINHOLE 0 480 500 500 320 240\n",
+                       "fields": "1 PINHOLE 640\n", "twice": "1 SIMPLE_PINHOLE 64 48 50 32 24\n" * 2}.items():
+        (tmp / f"colmap_{name}").mkdir()
+        (tmp / f"colmap_{name}" / "cameras.txt").write_text(body)
+    camera = struct.pack("<IiQQ", 1, 1, 640, 480) + struct.pack("<4d", 500, 500, 320, 240)
+    for name, body in {"short": struct.pack("<Q", 1) + camera[:-5], "absurd": struct.pack("<Q", 10**15) + camera,
+                       "model_id": struct.pack("<Q", 1) + struct.pack("<IiQQ", 1, 42, 640, 480) + camera[24:],
+                       "trailing": struct.pack("<Q", 1) + camera + b"xx"}.items():
+        (tmp / f"colmapbin_{name}").mkdir()
+        (tmp / f"colmapbin_{name}" / "cameras.bin").write_bytes(body)
     return [("dup_projection", "@dup.json", 'the key "projection" is given twice'),
+            ("colmap_model", "@colmap_model/cameras.txt", "camera 1 has the model PINHOLEISH (expected one of COLMAP's"),
+            ("colmap_count", "@colmap_count/cameras.txt", "camera 1 (PINHOLE) has 3 parameters (expected 4)"),
+            ("colmap_nan", "@colmap_nan/cameras.txt", "camera 1 has a parameter nan (expected finite numbers)"),
+            ("colmap_zero", "@colmap_zero/cameras.txt", "camera 1 is 0x480 pixels"),
+            ("colmap_fields", "@colmap_fields/cameras.txt", "line 1 has 3 fields (expected CAMERA_ID MODEL WIDTH HEIGHT"),
+            ("colmap_twice", "@colmap_twice/cameras.txt#1", "camera 1 is listed twice"),
+            ("colmapbin_short", "@colmapbin_short/cameras.bin", "cut short in the parameters at byte 32"),
+            ("colmapbin_absurd", "@colmapbin_absurd/cameras.bin", "says it holds 1000000000000000 cameras"),
+            ("colmapbin_model_id", "@colmapbin_model_id/cameras.bin", "camera 1 has the model id 42 (expected 0 to 17)"),
+            ("colmapbin_trailing", "@colmapbin_trailing/cameras.bin", "2 bytes after its cameras"),
             ("ocam_short", "@ocam_short.txt", "ocam_short.txt: 1 data lines (expected OCamCalib's calib_results.txt"),
             ("ocam_count", "@ocam_count.txt", "the pol line gives 5 then 3 coefficients"),
             ("ocam_nan", "@ocam_nan.txt", "pol holds 'nan' (expected a finite number)"),
@@ -491,7 +512,8 @@ def spec_file_cases(tmp):
 
 SPEC_IDS = ["dup_projection", "dup_key", "nested", "directory", "fifo", "missing", "ocam_short", "ocam_count", "ocam_nan",
             "ocam_centre", "ocam_size", "kalibr_model", "kalibr_combo", "kalibr_count", "kalibr_list", "kalibr_inf", "kalibr_two",
-            "kalibr_no_camera", "fragment_not_kalibr"]
+            "kalibr_no_camera", "fragment_not_kalibr", "colmap_model", "colmap_count", "colmap_nan", "colmap_zero",
+            "colmap_fields", "colmap_twice", "colmapbin_short", "colmapbin_absurd", "colmapbin_model_id", "colmapbin_trailing"]
 
 
 @pytest.mark.parametrize("which", [pytest.param(i, marks=[pytest.mark.why] if i in ("dup_projection", "directory", "fifo")

@@ -17,6 +17,15 @@ ParamDef numbers_key(const char* key, const char* help) {
   return {key, ParamType::Text, "", 0, 0, false, false, "", help};
 }
 
+// The calibrated image's size: a frame of another size is refused (make).
+std::vector<ParamDef> with_size(std::vector<ParamDef> p) {
+  p.push_back(number(
+      "width", "", 0, kInf, true, true,
+      "the calibrated image's width (pixels): a frame of another size is refused; default: any"));
+  p.push_back(number("height", "", 0, kInf, true, true, "the calibrated image's height (pixels)"));
+  return p;
+}
+
 // fov, fx, fy, cx, cy, then the law's own keys. fov_default "": as the module's default field.
 std::vector<ParamDef> lens_params(const char* fov_default, std::vector<ParamDef> law,
                                   const char* fov_help = nullptr, const char* fx_help = nullptr) {
@@ -33,7 +42,7 @@ std::vector<ParamDef> lens_params(const char* fov_default, std::vector<ParamDef>
       number("fy", "", 0, kInf, true, true, "focal length in pixels along y; default: fx"),
       center("cx"), center("cy")};
   p.insert(p.end(), law.begin(), law.end());
-  return p;
+  return with_size(p);
 }
 
 constexpr const char* kPlaneFov =
@@ -47,7 +56,7 @@ std::vector<ParamDef> affine_keys(std::vector<ParamDef> p) {
       number("c", "1", -kInf, kInf, true, true, "affine term c (the calibration's; 1: none)"));
   p.push_back(number("d", "0", -kInf, kInf, true, true, "affine term d"));
   p.push_back(number("e", "0", -kInf, kInf, true, true, "affine term e"));
-  return p;
+  return with_size(p);
 }
 
 std::vector<ProjectionDef> catalog() {
@@ -141,10 +150,7 @@ std::vector<ProjectionDef> catalog() {
             numbers_key("pol", "a0/a1/...: the pixel -> ray polynomial (cam2world's), a0 < 0"),
             numbers_key("invpol",
                         "the fitted inverse (world2cam's): only compared with the law (panoproj "
-                        "accuracy)"),
-            number("width", "", 0, kInf, true, true,
-                   "the calibrated image's width: a frame of another size is refused"),
-            number("height", "", 0, kInf, true, true, "the calibrated image's height")})},
+                        "accuracy)")})},
   };
 }
 
@@ -382,22 +388,21 @@ bool pinhole_framed(const std::string& n) {
 
 Projection make(const ProjectionSpec& s, Size size) {
   const double w = static_cast<double>(size.width), h = static_cast<double>(size.height);
+  // A calibration's focal lengths, centre and pixel laws are in its image's pixels.
+  if ((s.given("width") && *s.number("width") != w) ||
+      (s.given("height") && *s.number("height") != h)) {
+    std::ostringstream o;
+    o << "the calibration is of " << (s.given("width") ? *s.number("width") : w) << "x"
+      << (s.given("height") ? *s.number("height") : h) << " images, this frame is " << size.width
+      << "x" << size.height
+      << " (expected the calibrated size: its focal lengths and centre are in its pixels)";
+    fail(s, o.str());
+  }
   const CalibratedLens unit = unit_lens(s, size);
   const std::string& n = s.name();
-  if (n == "ocamcalib") {
-    // Its polynomial and centre are in the calibrated image's pixels.
-    if ((s.given("width") && *s.number("width") != w) ||
-        (s.given("height") && *s.number("height") != h)) {
-      std::ostringstream o;
-      o << "the calibration is of " << (s.given("width") ? *s.number("width") : w) << "x"
-        << (s.given("height") ? *s.number("height") : h) << " images, this frame is " << size.width
-        << "x" << size.height
-        << " (expected the calibrated size: pol, xc and yc are in its pixels)";
-      fail(s, o.str());
-    }
+  if (n == "ocamcalib")
     return CalibratedLens(size, unit.affine(), *s.number("yc") + kCvPixelShift,
                           *s.number("xc") + kCvPixelShift, unit.law(), unit.theta_max());
-  }
   const double cx = center_of(s, "cx", w), cy = center_of(s, "cy", h);
   if (n == "ptlens" || n == "f-theta")
     return CalibratedLens(size, unit.affine(), cx, cy, unit.law(), unit.theta_max());
@@ -410,15 +415,18 @@ Projection make(const ProjectionSpec& s, Size size) {
 
 Size size_for(const ProjectionSpec& s, double density) {
   const std::string& n = s.name();
+  if (s.given("width") && s.given("height")) {  // the calibrated image
+    unit_lens(s);
+    return framed_size(s, *s.number("width"), *s.number("height"));
+  }
   if (n == "ptlens") {  // a square frame (PTLens radii are in its half side)
     unit_lens(s);
     const double w = 2.0 * density / (1.0 - *s.number("a") - *s.number("b") - *s.number("c")) * std::tan(0.5 * rad(s, "hfov"));
     return framed_size(s, w, w);
   }
   const CalibratedLens unit = unit_lens(s);
-  if (n == "ocamcalib")  // the calibrated frame, else the one its centre is the middle of
-    return framed_size(s, s.given("width") ? *s.number("width") : 2.0 * *s.number("yc") + 1.0,
-                       s.given("height") ? *s.number("height") : 2.0 * *s.number("xc") + 1.0);
+  if (n == "ocamcalib")  // the frame its centre is the middle of
+    return framed_size(s, 2.0 * *s.number("yc") + 1.0, 2.0 * *s.number("xc") + 1.0);
   if (n == "f-theta") {  // the image circle's bounding box; its scale is the calibration's
     const LensAffine& A = unit.affine();
     return framed_size(s, 2.0 * unit.rd_max() * std::hypot(A.a, A.b),

@@ -3,6 +3,8 @@
 // kept beside the photos); OCamCalib's calib_results.txt; a camera of Kalibr's camchain.yaml.
 #include "spec/spec_file.hpp"
 
+#include "spec/colmap_cameras.hpp"
+
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -228,8 +230,16 @@ std::string kalibr_spec(const std::string& text, const std::string& path,
   if (law == 99)
     throw Error(where + "camera_model " + model + " (expected pinhole, omni, ds or eucm)");
   need(k, law + 4, "intrinsics (" + model + ")");
+  // Kalibr's resolution [width, height], where given: the calibrated image's size.
+  std::string size;
+  for (const auto& [key, v] : cam->second)
+    if (key == "resolution") {
+      const auto r = list("resolution");
+      need(r, 2, "resolution");
+      size = ",width=" + r[0] + ",height=" + r[1];
+    }
   const std::string K =
-      "fx=" + k[law] + ",fy=" + k[law + 1] + ",cx=" + k[law + 2] + ",cy=" + k[law + 3];
+      "fx=" + k[law] + ",fy=" + k[law + 1] + ",cx=" + k[law + 2] + ",cy=" + k[law + 3] + size;
   const std::string combo = model + "-" + dist;
   if (combo == "pinhole-radtan") {
     need(d, 4, "distortion_coeffs (radtan)");
@@ -268,11 +278,12 @@ bool is_camchain(const std::string& text) {
 }  // namespace
 
 std::string spec_from_text(std::string text, const std::string& path, const std::string& camera) {
+  if (is_colmap_cameras(text, path)) return colmap_camera_spec(text, path, camera);
   if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);  // a UTF-8 byte order mark
   if (is_camchain(text)) return kalibr_spec(text, path, camera);
   if (!camera.empty())
     throw Error(path + "#" + camera + ": #" + camera + " names a camera, but " + path +
-                " is not Kalibr's camchain.yaml");
+                " is not Kalibr's camchain.yaml or COLMAP's cameras file");
   if (text.find("#polynomial coefficients for the DIRECT mapping function") != std::string::npos)
     return ocamcalib_spec(text, path);
   const std::string head = trim(text, kSpace);
