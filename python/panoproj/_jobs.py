@@ -197,6 +197,31 @@ def views(
     )
 
 
+def convert_model(
+    model: PathLike,
+    out_dir: PathLike,
+    *,
+    format: Literal['txt', 'bin'] = 'txt',
+    overwrite: bool = False,
+) -> Dict[str, Any]:
+    """Reads the COLMAP model in the folder ``model`` (``cameras``, ``images``, ``points3D`` and,
+    from COLMAP 3.12, ``rigs`` and ``frames``; ``.bin`` or ``.txt``), checks every reference and
+    number in it, and writes it into the new folder ``out_dir`` as ``format`` (``"txt"`` or
+    ``"bin"``), every value as read (as ``panoproj model``; COLMAP's model_converter). A model
+    without rigs and frames (COLMAP 3.x) is written without them. Returns the counts.
+    """
+    return _job.run(
+        'model',
+        {
+            'model': model,
+            'out_dir': out_dir,
+            'format': format,
+            'overwrite': overwrite,
+        },
+        {},
+    )
+
+
 @_takes_options('stitch', job=True)
 def stitch(
     project: PathLike,
@@ -248,4 +273,4 @@ def stitch(
     )
 
 
-__all__ = ['convert_file', 'ConvertFileOptions', 'tiles', 'TilesOptions', 'views', 'ViewsOptions', 'stitch', 'StitchOptions']
+__all__ = ['convert_file', 'ConvertFileOptions', 'tiles', 'TilesOptions', 'views', 'ViewsOptions', 'convert_model', 'stitch', 'StitchOptions']

@@ -486,7 +486,7 @@ def spec_file_cases(tmp):
             ("colmap_zero", "@colmap_zero/cameras.txt", "camera 1 is 0x480 pixels"),
             ("colmap_fields", "@colmap_fields/cameras.txt", "line 1 has 3 fields (expected CAMERA_ID MODEL WIDTH HEIGHT"),
             ("colmap_twice", "@colmap_twice/cameras.txt#1", "camera 1 is listed twice"),
-            ("colmapbin_short", "@colmapbin_short/cameras.bin", "cut short in the parameters at byte 32"),
+            ("colmapbin_short", "@colmapbin_short/cameras.bin", "cut short in the parameters at byte 56"),
             ("colmapbin_absurd", "@colmapbin_absurd/cameras.bin", "says it holds 1000000000000000 cameras"),
             ("colmapbin_model_id", "@colmapbin_model_id/cameras.bin", "camera 1 has the model id 42 (expected 0 to 17)"),
             ("colmapbin_trailing", "@colmapbin_trailing/cameras.bin", "2 bytes after its cameras"),

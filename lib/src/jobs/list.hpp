@@ -8,6 +8,7 @@
   X(maps)                \
   X(tiles)               \
   X(views)               \
+  X(model)               \
   X(stitch)              \
   X(accuracy)            \
   X(stability)           \

@@ -317,12 +317,14 @@ std::string spec_from_file(const std::string& path_text) {
     path = path_text.substr(0, hash);
     camera = path_text.substr(hash + 1);
   }
-  // A spec file is a few lines: at most 1 MiB is read; read_head refuses directories, FIFOs and
-  // devices before reading.
-  constexpr size_t kMax = size_t{1} << 20;
-  std::string text = read_head(path, kMax + 1, "the spec file", "a JSON or YAML file after @");
-  if (text.size() > kMax)
-    throw Error(path + " is over 1 MiB (expected a small JSON or YAML spec file)");
+  // A spec file is a few lines: at most 1 MiB is read, 256 MiB of COLMAP's cameras (a camera
+  // per image); read_head refuses directories, FIFOs and devices before reading.
+  const bool cameras = is_colmap_cameras("", path);
+  const size_t most = size_t{1} << (cameras ? 28 : 20);
+  std::string text = read_head(path, most + 1, "the spec file", "a JSON or YAML file after @");
+  if (text.size() > most)
+    throw Error(path + (cameras ? " is over 256 MiB (expected COLMAP's cameras file)"
+                                : " is over 1 MiB (expected a small JSON or YAML spec file)"));
   return spec_from_text(std::move(text), path, camera);
 }
 
