@@ -1878,6 +1878,18 @@ class ViewsOptions(TypedDict, total=False):
     memory_limit: Union[int, str, None]
 
 
+class UndistortOptions(TypedDict, total=False):
+    """The keyword options of undistort() (the command's flags)."""
+
+    size: SizeLike
+    interp: Interp
+    threads: int
+    engine: Engine
+    antialias: Union[Antialias, int, None]
+    decode_scale: DecodeScale
+    memory_limit: Union[int, str, None]
+
+
 class StitchOptions(TypedDict, total=False):
     """The keyword options of stitch() (the command's flags)."""
 

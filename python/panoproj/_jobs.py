@@ -6,7 +6,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, Dict, Literal, Mapping, Optional, Sequence, Union
 
 from . import _job
-from ._declared import ConvertFileOptions, TilesOptions, ViewsOptions, StitchOptions
+from ._declared import ConvertFileOptions, TilesOptions, ViewsOptions, UndistortOptions, StitchOptions
 from ._options import _takes_options
 from ._projection import Projection
 from ._types import PathLike
@@ -222,6 +222,56 @@ def convert_model(
     )
 
 
+@_takes_options('undistort', job=True)
+def undistort(
+    model: PathLike,
+    image_path: PathLike,
+    out_dir: PathLike,
+    *,
+    max_fov: float = 120.0,
+    rig: Union[str, Sequence[Mapping[str, Any]]] = 'cube',
+    blank_pixels: float = 0.0,
+    min_scale: float = 0.2,
+    max_scale: float = 2.0,
+    max_image_size: int = 0,
+    format: Literal['same', 'jpg', 'png'] = 'same',
+    quality: int = 95,
+    overwrite: bool = False,
+    client: Any = None,
+    **options: Unpack[UndistortOptions],
+) -> Dict[str, Any]:
+    """Undistorts the images of the COLMAP model in ``model`` (their names relative to
+    ``image_path``) into the new folder ``out_dir`` (as ``panoproj undistort``; COLMAP's
+    image_undistorter): a camera whose field is at most ``max_fov`` degrees becomes one PINHOLE
+    camera (COLMAP's choice of frame: ``blank_pixels`` 0 crops to no blank pixel, 1 keeps every
+    source pixel; ``min_scale``, ``max_scale``, ``max_image_size``); a wider one, a fisheye past 180
+    degrees too, becomes a rig of pinhole views around its axis (``rig``: as ``views``; ``size``: each
+    view's), written ``images/{view}/<name>`` with ``masks/``. ``sparse/`` holds the new model
+    (cameras, images with their observations moved, points3D, rigs and frames; the input's format).
+    ``client``: a ``dask.distributed`` Client; each image is then a task, with the same bytes as a
+    local run. Returns a report: each camera's field and what it became, the images written.
+    """
+    return _job.run(
+        'undistort',
+        {
+            'model': model,
+            'image_path': image_path,
+            'out_dir': out_dir,
+            'max_fov': max_fov,
+            'rig': rig,
+            'blank_pixels': blank_pixels,
+            'min_scale': min_scale,
+            'max_scale': max_scale,
+            'max_image_size': max_image_size,
+            'format': format,
+            'quality': quality,
+            'overwrite': overwrite,
+        },
+        options,
+        client,
+    )
+
+
 @_takes_options('stitch', job=True)
 def stitch(
     project: PathLike,
@@ -273,4 +323,4 @@ def stitch(
     )
 
 
-__all__ = ['convert_file', 'ConvertFileOptions', 'tiles', 'TilesOptions', 'views', 'ViewsOptions', 'convert_model', 'stitch', 'StitchOptions']
+__all__ = ['convert_file', 'ConvertFileOptions', 'tiles', 'TilesOptions', 'views', 'ViewsOptions', 'convert_model', 'undistort', 'UndistortOptions', 'stitch', 'StitchOptions']

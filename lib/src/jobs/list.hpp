@@ -9,6 +9,7 @@
   X(tiles)               \
   X(views)               \
   X(model)               \
+  X(undistort)           \
   X(stitch)              \
   X(accuracy)            \
   X(stability)           \

@@ -64,4 +64,20 @@ std::string encoded(const Image& image, const ImageFormat& f, const WriteOptions
   return std::string(reinterpret_cast<const char*>(b.data()), b.size());
 }
 
+Image mask_of(const Image& view) {
+  const int a = view.alpha_channel();
+  Image mask(view.size(), 1, PixelType::U8);
+  with_sample_type(view.type(), [&](auto sample) {
+    using T = decltype(sample);
+    const double full =
+        std::is_integral_v<T> ? static_cast<double>(std::numeric_limits<T>::max()) : 1.0;
+    for (int64_t y = 0; y < view.height(); ++y) {
+      uint8_t* out = mask.row(y);
+      for (int64_t x = 0; x < view.width(); ++x)
+        out[x] = load<T>(view.pixel(x, y) + a * sizeof(T)) >= full ? 255 : 0;
+    }
+  });
+  return mask;
+}
+
 }  // namespace panoproj

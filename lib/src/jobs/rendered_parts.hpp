@@ -22,4 +22,8 @@ Flat flatten(const Image& part, int64_t x0, int64_t y0, int64_t w, int64_t h, bo
 std::string encoded(const Image& image, const ImageFormat& format, const WriteOptions& write,
                     const std::string& path);
 
+// A view's mask from its alpha: 255 where wholly covered, else 0 (COLMAP's and nerfstudio's
+// masks: features and rays are taken where it is not 0).
+Image mask_of(const Image& view);
+
 }  // namespace panoproj

@@ -1,6 +1,7 @@
 // COLMAP's cameras as specs (colmap_cameras.hpp).
 #include "spec/colmap_cameras.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "io/colmap/model.hpp"
+#include "panoproj/conventions.hpp"
 #include "panoproj/error.hpp"
 
 namespace panoproj {
@@ -77,11 +79,66 @@ std::string lens_spec(const colmap::Camera& c) {
   return "";
 }
 
+// The Kannala-Brandt family's radial coefficients (theta_d = theta (1 + k1 theta^2 + ...)), its
+// focal lengths and principal point; false for other models.
+bool fisheye_law(const colmap::Camera& c, std::vector<double>& k, double f[4]) {
+  const auto& p = c.params;
+  const bool one = c.model == "SIMPLE_RADIAL_FISHEYE" || c.model == "RADIAL_FISHEYE" ||
+                   c.model == "SIMPLE_FISHEYE";
+  if (c.model == "OPENCV_FISHEYE")
+    k = {p[4], p[5], p[6], p[7]};
+  else if (c.model == "SIMPLE_RADIAL_FISHEYE")
+    k = {p[3]};
+  else if (c.model == "RADIAL_FISHEYE")
+    k = {p[3], p[4]};
+  else if (c.model == "THIN_PRISM_FISHEYE")
+    k = {p[4], p[5], p[8], p[9]};
+  else if (c.model == "RAD_TAN_THIN_PRISM_FISHEYE")
+    k = {p[4], p[5], p[6], p[7], p[8], p[9]};
+  else if (c.model != "SIMPLE_FISHEYE" && c.model != "FISHEYE")
+    return false;
+  const size_t at = one ? 1 : 2;
+  f[0] = p[0], f[1] = one ? p[0] : p[1], f[2] = p[at], f[3] = p[at + 1];
+  return true;
+}
+
+// A fisheye's field wider than the spec's default 180 degrees: to its frame's corners (2% past
+// their radius) or short of its law's first fold, whichever is nearer; "" within 180 degrees.
+// (COLMAP's cameras hold no field: their frame is the field.)
+std::string fisheye_fov(const colmap::Camera& c) {
+  std::vector<double> k;
+  double f[4];
+  if (!fisheye_law(c, k, f)) return "";
+  double r = 0;
+  for (double x : {0.0, static_cast<double>(c.width)})
+    for (double y : {0.0, static_cast<double>(c.height)})
+      r = std::max(r, std::hypot((x - f[2]) / f[0], (y - f[3]) / f[1]));
+  auto g = [&](double t) {  // theta_d and its slope
+    double s = 1, d = 1, t2 = t * t, pw = t2;
+    for (size_t i = 0; i < k.size(); ++i, pw *= t2)
+      s += k[i] * pw, d += static_cast<double>(2 * i + 3) * k[i] * pw;
+    return std::pair{t * s, d};
+  };
+  constexpr double kStep = 1e-3;
+  double t = 0;
+  for (; t + kStep < kPi; t += kStep) {
+    const auto [rd, slope] = g(t + kStep);
+    if (!(slope > 0) || !std::isfinite(rd)) break;  // (the fold: stop a step short of it)
+    if (rd > 1.02 * r) {
+      t += kStep;
+      break;
+    }
+  }
+  if (t <= kPi / 2) return "";
+  return ",fov=" + num(2 * t * 180 / kPi);
+}
+
 // The lens's spec with the camera's size (a frame of another size is refused), or equirect for
 // EQUIRECTANGULAR (the whole sphere on its frame, COLMAP's axes: tested).
 std::string spec_of(const colmap::Camera& c) {
   if (c.model == "EQUIRECTANGULAR") return "equirect";
-  return lens_spec(c) + ",width=" + std::to_string(c.width) + ",height=" + std::to_string(c.height);
+  return lens_spec(c) + fisheye_fov(c) + ",width=" + std::to_string(c.width) +
+         ",height=" + std::to_string(c.height);
 }
 
 }  // namespace
@@ -109,6 +166,10 @@ std::string colmap_camera_spec(const std::string& text, const std::string& path,
                                          std::to_string(cams[0].id) + ")"
                                    : ": no camera " + id + " (it holds " + ids + ")"));
   return spec_of(*cam);
+}
+
+std::string colmap_camera_spec(const colmap::Camera& camera) {
+  return spec_of(camera);
 }
 
 }  // namespace panoproj

@@ -6,6 +6,9 @@
 #include <string>
 
 namespace panoproj {
+namespace colmap {
+struct Camera;
+}
 
 // Whether a spec file is COLMAP's cameras file: "cameras.txt" or "cameras.bin" by name, or text
 // with COLMAP's header.
@@ -13,5 +16,7 @@ bool is_colmap_cameras(const std::string& text, const std::string& path);
 // The spec of the camera with id `id` ("": the file's only camera) of such a file's contents.
 std::string colmap_camera_spec(const std::string& text, const std::string& path,
                                const std::string& id);
+// The spec of a camera read and checked (io/colmap/model.hpp).
+std::string colmap_camera_spec(const colmap::Camera& camera);
 
 }  // namespace panoproj

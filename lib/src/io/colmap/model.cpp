@@ -98,6 +98,8 @@ Pose pose_of(const Eigen::Matrix3d& r, const Eigen::Vector3d& t) {
 }
 
 Pose compose(const Pose& b_from_a, const Pose& a_from_world) {
+  if (b_from_a == kIdentity) return a_from_world;  // (bit for bit)
+  if (a_from_world == kIdentity) return b_from_a;
   const Eigen::Matrix3d r = rotation_of(b_from_a);
   return pose_of(r * rotation_of(a_from_world),
                  r * translation_of(a_from_world) + translation_of(b_from_a));

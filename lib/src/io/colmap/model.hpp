@@ -31,7 +31,8 @@ inline constexpr Pose kIdentity{1, 0, 0, 0, 0, 0, 0};
 Eigen::Matrix3d rotation_of(const Pose& p);
 Eigen::Vector3d translation_of(const Pose& p);
 Pose pose_of(const Eigen::Matrix3d& r, const Eigen::Vector3d& t);  // qw >= 0
-Pose compose(const Pose& b_from_a, const Pose& a_from_world);      // b_from_world
+// b_from_world (either side the identity: the other as it is)
+Pose compose(const Pose& b_from_a, const Pose& a_from_world);
 
 inline constexpr uint64_t kNoPoint3D = ~uint64_t{0};  // -1 in text
 

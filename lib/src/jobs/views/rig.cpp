@@ -1,4 +1,5 @@
 // Rigs of perspective views (views.hpp): cube, rings and a YAML file's list of views.
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -10,8 +11,11 @@
 #include "base/mapping_list.hpp"
 #include "base/text.hpp"
 #include "jobs/views/views.hpp"
+#include "panoproj/conventions.hpp"
 #include "panoproj/error.hpp"
+#include "panoproj/limits.hpp"
 #include "panoproj/options.hpp"
+#include "panoproj/rotation.hpp"
 
 namespace panoproj {
 namespace {
@@ -209,6 +213,55 @@ std::vector<ViewSpec> parse_rig(std::string_view text) {
       throw Error("rig: two views named " + v.name + " (names must differ: they name the files)");
   }
   return views;
+}
+
+namespace {
+
+// tan(fov / 2), exactly 1 at 90 degrees (so a cube face's focal is exactly W / 2).
+double tan_half(double fov_deg) {
+  return fov_deg == 90 ? 1.0 : std::tan(fov_deg * kPi / 360);
+}
+
+}  // namespace
+
+std::vector<ViewCamera> view_cameras(const std::vector<ViewSpec>& rig, std::optional<Size> size,
+                                     double density) {
+  std::vector<ViewCamera> cams;
+  for (const ViewSpec& v : rig) {
+    const double th = tan_half(v.hfov);
+    int64_t w = v.width, h = v.height;
+    if (w == 0 && size) {
+      w = size->width, h = size->height;
+      if (v.vfov > 0)
+        throw Error("view " + v.name + ": vfov " + std::to_string(v.vfov) + " and a size " +
+                    size_text(*size) + " both given (the height follows from vfov: give one)");
+    }
+    double focal;
+    if (w > 0) {
+      focal = 0.5 * static_cast<double>(w) / th;
+    } else {
+      focal = density;
+      const double wide = std::round(2 * focal * th);
+      if (!(wide <= kMaxViewSide))
+        throw Error("view " + v.name + ": " +
+                    std::to_string(static_cast<int64_t>(std::min(wide, 1e15))) +
+                    " px wide at the source's resolution (at most " + std::to_string(kMaxViewSide) +
+                    "): give a size, or a smaller hfov");
+      w = std::max<int64_t>(1, static_cast<int64_t>(wide));
+      focal = 0.5 * static_cast<double>(w) / th;
+    }
+    if (h == 0) {
+      const double tall = std::round(2 * focal * tan_half(v.vfov > 0 ? v.vfov : v.hfov));
+      if (!(tall <= kMaxViewSide))
+        throw Error("view " + v.name + ": " +
+                    std::to_string(static_cast<int64_t>(std::min(tall, 1e15))) +
+                    " px tall (at most " + std::to_string(kMaxViewSide) +
+                    "): give a size, or a smaller vfov");
+      h = std::max<int64_t>(1, static_cast<int64_t>(tall));
+    }
+    cams.push_back({v.name, Size{w, h}, focal, rotation_from_ypr(v.yaw, v.pitch, v.roll)});
+  }
+  return cams;
 }
 
 }  // namespace panoproj

@@ -52,6 +52,7 @@
 //                                       distortion (shared at the top when all views share them);
 //                                       every camera at the origin (nerfstudio: --auto-scale-poses
 //                                       False, it divides by the largest translation)
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -81,5 +82,11 @@ struct ViewCamera {
   double focal = 0;
   Eigen::Matrix3d world_from_camera = Eigen::Matrix3d::Identity();
 };
+
+// The views' sizes and focals: a view's own size, else `size`, else the source's resolution at
+// its centre (`density`, pixels per radian); the focal follows from the width and hfov, the
+// height from vfov unless given. Throws Error for a view over 65536 px a side.
+std::vector<ViewCamera> view_cameras(const std::vector<ViewSpec>& rig, std::optional<Size> size,
+                                     double density);
 
 }  // namespace panoproj

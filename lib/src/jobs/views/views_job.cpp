@@ -159,50 +159,8 @@ class VideoPanoramas {
   std::optional<FramePicker> picker_;
 };
 
-// tan(fov / 2), exactly 1 at 90 degrees (so a cube face's focal is exactly W / 2).
-double tan_half(double fov_deg) {
-  return fov_deg == 90 ? 1.0 : std::tan(fov_deg * kPi / 360);
-}
-
-// Sizes and focals: a view's own size, else the job's, else the source's resolution at its centre.
 std::vector<ViewCamera> cameras_for(const ViewsJob& job, const Frame& frame) {
-  std::vector<ViewCamera> cams;
-  for (const ViewSpec& v : parse_rig(job.rig)) {
-    const double th = tan_half(v.hfov);
-    int64_t w = v.width, h = v.height;
-    if (w == 0 && job.options.size) {
-      w = job.options.size->width, h = job.options.size->height;
-      if (v.vfov > 0)
-        throw Error("view " + v.name + ": vfov " + std::to_string(v.vfov) + " and a size " +
-                    size_text(*job.options.size) +
-                    " both given (the height follows from vfov: give one)");
-    }
-    double focal;
-    if (w > 0) {
-      focal = 0.5 * static_cast<double>(w) / th;
-    } else {
-      focal = center_density(frame.base.source);
-      const double wide = std::round(2 * focal * th);
-      if (!(wide <= kMaxViewSide))
-        throw Error("view " + v.name + ": " +
-                    std::to_string(static_cast<int64_t>(std::min(wide, 1e15))) +
-                    " px wide at the source's resolution (at most " + std::to_string(kMaxViewSide) +
-                    "): give a size, or a smaller hfov");
-      w = std::max<int64_t>(1, static_cast<int64_t>(wide));
-      focal = 0.5 * static_cast<double>(w) / th;
-    }
-    if (h == 0) {
-      const double tall = std::round(2 * focal * tan_half(v.vfov > 0 ? v.vfov : v.hfov));
-      if (!(tall <= kMaxViewSide))
-        throw Error("view " + v.name + ": " +
-                    std::to_string(static_cast<int64_t>(std::min(tall, 1e15))) +
-                    " px tall (at most " + std::to_string(kMaxViewSide) +
-                    "): give a size, or a smaller vfov");
-      h = std::max<int64_t>(1, static_cast<int64_t>(tall));
-    }
-    cams.push_back({v.name, Size{w, h}, focal, rotation_from_ypr(v.yaw, v.pitch, v.roll)});
-  }
-  return cams;
+  return view_cameras(parse_rig(job.rig), job.options.size, center_density(frame.base.source));
 }
 
 ViewFiles files_of(const ViewsJob& job, bool partial) {
@@ -265,23 +223,6 @@ void check_inputs(const ViewsJob& job, const Frame& first, size_t views) {
                   ", the first " + size_text(first.info.size) + " " + first.from_text +
                   " (a rig's frames need one size and projection)");
   }
-}
-
-// 255 where the view is wholly covered, else 0 (COLMAP and nerfstudio skip the zeros).
-Image mask_of(const Image& view) {
-  const int a = view.alpha_channel();
-  Image mask(view.size(), 1, PixelType::U8);
-  with_sample_type(view.type(), [&](auto sample) {
-    using T = decltype(sample);
-    const double full =
-        std::is_integral_v<T> ? static_cast<double>(std::numeric_limits<T>::max()) : 1.0;
-    for (int64_t y = 0; y < view.height(); ++y) {
-      uint8_t* out = mask.row(y);
-      for (int64_t x = 0; x < view.width(); ++x)
-        out[x] = load<T>(view.pixel(x, y) + a * sizeof(T)) >= full ? 255 : 0;
-    }
-  });
-  return mask;
 }
 
 // A frame's views: their geometries and the decode scale they allow (1 unless the file scales).

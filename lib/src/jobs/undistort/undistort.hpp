@@ -1,0 +1,79 @@
+#pragma once
+// The undistort job's plan (internal): what each camera of a COLMAP model becomes and the model
+// written beside the undistorted images.
+//
+// A camera whose field (twice the largest angle off its axis of any pixel that has a ray) is at
+// most max_fov becomes one PINHOLE camera, chosen as COLMAP's image_undistorter chooses it: its
+// focal lengths and principal point kept, then the frame scaled about the principal point so
+// that blank_pixels = 1 keeps every source pixel and 0 leaves no pixel without a source
+// (interpolated between), each scale clamped to [min_scale, max_scale], then the whole camera
+// shrunk to max_image_size (0: none). A wider camera (a fisheye, past 180 degrees too, or an
+// EQUIRECTANGULAR one) becomes a rig of pinhole views around its axis (the views job's rigs,
+// cube by default; views.hpp), those that see none of its pixels left out.
+//
+// The new model: pinhole cameras and their images keep their ids and names; a camera's views
+// are new cameras (the first keeps the camera's id, the others take ids after the largest), each
+// image's views new images named "{view}/{name}" (the first keeps the image's id). Observations
+// (points2D) move to where their ray falls in the new image (a view's: the first view that holds
+// it; one that none holds is dropped, and tracks follow). Rigs: each camera's sensor becomes its
+// pinhole camera or its views (sensor_from_rig turned by each view's rotation); when a rig's
+// reference camera is split, its first view becomes the reference and the rig's frame turns with
+// it (frames' rig_from_world). A model without rigs (COLMAP 3.x) stays so unless a camera is
+// split: it then gets COLMAP's implicit rigs (one per camera, one frame per image).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "io/colmap/model.hpp"
+#include "jobs/views/views.hpp"
+#include "panoproj/projection.hpp"
+
+namespace panoproj {
+
+struct UndistortOptions {
+  double max_fov = 120;     // degrees: the widest field undistorted to one pinhole
+  double blank_pixels = 0;  // [0, 1]
+  double min_scale = 0.2, max_scale = 2;
+  int64_t max_image_size = 0;  // pixels a side; 0: none
+  std::vector<ViewSpec> rig;   // a wide camera's views
+  std::optional<Size> size;    // each view's size (else the camera's resolution at its centre)
+  std::string extension;       // the images' (".jpg", ".png"); "": each name's own
+};
+
+// One image written: its name in the new model, camera, and where it looks from the source
+// camera.
+struct OutputImage {
+  std::string name;
+  uint32_t id = 0, camera = 0;
+  Size size;
+  double fx = 0, fy = 0, cx = 0, cy = 0;  // COLMAP's (pixel centres at i + 0.5)
+  Eigen::Matrix3d camera_from_view = Eigen::Matrix3d::Identity();
+  bool view = false;  // a wide camera's view (masked where it sees no source)
+};
+
+struct CameraPlan {
+  colmap::Camera camera;                // the source camera
+  std::string spec;                     // its spec (spec/colmap_cameras.hpp)
+  double field = 0;                     // degrees
+  bool pinhole = false;                 // else views
+  std::vector<colmap::Camera> cameras;  // the new cameras: one pinhole, or one per view
+  std::vector<ViewCamera> views;        // the views (their rotation: camera from view)
+};
+
+struct UndistortPlan {
+  std::vector<CameraPlan> cameras;               // the model's, in its order
+  std::vector<std::vector<OutputImage>> images;  // each image's outputs, the model's order
+  colmap::Model model;                           // the new model
+};
+
+// A source camera's projection on its frame.
+Projection camera_projection(const CameraPlan& plan);
+CameraPlan plan_camera(const colmap::Camera& camera, const UndistortOptions& o);
+// Throws Error naming the model and what cannot be undistorted (an image name that leaves the
+// folder, ids that overflow).
+UndistortPlan plan_undistort(const colmap::Model& in, const UndistortOptions& o,
+                             const std::string& model_dir);
+
+}  // namespace panoproj
