@@ -78,5 +78,11 @@ echo "== Perspective views for SfM and NeRF: a ring of eight 90-degree views pit
 echo "   with COLMAP's model (one rig), rig_config.json and nerfstudio's transforms.json"
 "$pp" views "$pano" "$out/jordan_views" --rig ring:n=8,fov=90,pitch=10 --size 960x720 --layout folders --overwrite
 
+echo "== A COLMAP model's 220-degree fisheye (its image rendered through the model's own camera)"
+echo "   undistorted into a rig of pinhole cube views with the new model (rigs, frames) and masks"
+mkdir -p "$out/colmap_images"
+run "$pano" "$out/colmap_images/jordan_fisheye220.jpg" --to "@$root/samples/colmap/fisheye220/cameras.txt#1" --pitch -20
+"$pp" undistort "$root/samples/colmap/fisheye220" "$out/colmap_images" "$out/jordan_undistorted" --size 768x768 --overwrite
+
 echo
 echo "Results written to $out"

@@ -1,19 +1,19 @@
 #!/usr/bin/env bash
 # Fuzzes the spec parser, the image-reading path, the Photo Sphere XMP reader, the views' rig parser, the Hugin
-# project reader, whole conversions of small images and the video demuxing path with libFuzzer under ASan and UBSan (fuzz/):
+# project reader, COLMAP's model readers, whole conversions of small images and the video demuxing path with libFuzzer under ASan and UBSan (fuzz/):
 # builds them in build-sanitized/ (scripts/build-sanitized.sh), runs each target SECONDS (default 30) from
 # the seed corpora in fuzz/corpus/ (new inputs go to a scratch copy, the repository's stay as
 # they are). A crash leaves its input in build-sanitized/ and fails. The seed is fixed (SEED, default
 # 1) so that a CI run is repeatable; pass another to explore further.
-# Usage: [SEED=N] [TARGETS="spec read xmp rig convert video pto"] scripts/fuzz.sh [SECONDS]
+# Usage: [SEED=N] [TARGETS="spec read xmp rig convert video pto colmap"] scripts/fuzz.sh [SECONDS]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-30}
 build="$root/build-sanitized"
 # The build scripts/sanitize.sh runs the suite in (ASan + UBSan + libFuzzer's coverage).
-bash "$root/scripts/build-sanitized.sh" spec_fuzz read_fuzz xmp_fuzz rig_fuzz convert_fuzz video_fuzz pto_fuzz panoproj_oiio \
+bash "$root/scripts/build-sanitized.sh" spec_fuzz read_fuzz xmp_fuzz rig_fuzz convert_fuzz video_fuzz pto_fuzz colmap_fuzz panoproj_oiio \
   panoproj_video
-for t in ${TARGETS:-spec read xmp rig convert video pto}; do
+for t in ${TARGETS:-spec read xmp rig convert video pto colmap}; do
   work="$build/corpus-$t"
   rm -rf "$work" && mkdir -p "$work"
   cp "$root/fuzz/corpus/$t/"* "$work/"

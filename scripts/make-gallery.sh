@@ -43,3 +43,18 @@ PY
 # The views' picture: their borders where the written COLMAP cameras look (pycolmap), the views below.
 "$root/.venv/bin/python" "$root/scripts/views_figure.py" "$root/out/demo/jordan_views" \
   "$root/samples/images/jordan_pond_4096x2048.jpg" "$root/docs/gallery/views_on_the_panorama.jpg"
+# The undistorted fisheye: the 220-degree image and its views laid out as a cube's cross.
+"$root/.venv/bin/python" - "$root/out/demo" "$root/docs/gallery/undistort_fisheye220.jpg" <<'PY'
+import sys, pathlib
+from PIL import Image
+src, dst = pathlib.Path(sys.argv[1]), sys.argv[2]
+fisheye = Image.open(src / "colmap_images" / "jordan_fisheye220.jpg").convert("RGB").resize((360, 360), Image.LANCZOS)
+side = 120
+figure = Image.new("RGB", (360 + 20 + 3 * side, 360), (255, 255, 255))
+figure.paste(fisheye, (0, 0))
+for view, (col, row) in {"up": (1, 0), "left": (0, 1), "front": (1, 1), "right": (2, 1), "down": (1, 2)}.items():
+    face = Image.open(src / "jordan_undistorted" / "images" / view / "jordan_fisheye220.jpg").convert("RGB")
+    figure.paste(face.resize((side, side), Image.LANCZOS), (380 + col * side, row * side))
+figure.save(dst, quality=85, optimize=True)
+print("gallery:", dst)
+PY

@@ -2499,3 +2499,136 @@ def test_stitch_signals_leave_no_layer(cli, stitch_folder, sig):
     assert r.code in (-sig, 128 + sig), (r.code, r.err)
     assert not list(stitch_folder.glob("l_*"))
     assert not [p for p in stitch_folder.iterdir() if p.name.startswith(".panoproj-")]
+
+
+# ---------------------------------------------------------------------------------------------
+# 10. COLMAP models (panoproj model, panoproj undistort, pp.convert_model, pp.undistort): every
+# file and image checked before anything is written; one line each, nothing written.
+
+COLMAP_CAMERAS = ("# Camera list with one line of data per camera:\n"
+                  "1 OPENCV 64 48 50 51 32.5 23.5 -0.1 0.01 0.001 -0.001\n"
+                  "2 OPENCV_FISHEYE 64 64 20 20 32 32 0.01 0 0 0\n")
+COLMAP_IMAGES = ("# Image list with two lines of data per image:\n"
+                 "1 1 0 0 0 0 0 0 1 a.png\n10 20 -1\n"
+                 "2 1 0 0 0 0 0 1 2 b.png\n\n")
+COLMAP_POINTS = "# 3D point list with one line of data per point:\n"
+
+
+def _colmap_folder(tmp):
+    """sparse/ (text), sparse_bin/ (binary), images/ a.png 64x48 and b.png 64x64."""
+    sparse = tmp / "sparse"
+    sparse.mkdir()
+    (sparse / "cameras.txt").write_text(COLMAP_CAMERAS)
+    (sparse / "images.txt").write_text(COLMAP_IMAGES)
+    (sparse / "points3D.txt").write_text(COLMAP_POINTS)
+    (tmp / "images").mkdir()
+    pp.write(str(tmp / "images" / "a.png"), np.full((48, 64, 3), 90, np.uint8))
+    pp.write(str(tmp / "images" / "b.png"), np.full((64, 64, 3), 90, np.uint8))
+    pp.convert_model(str(sparse), str(tmp / "sparse_bin"), format="bin")
+    os.unlink(tmp / "sparse_bin" / MARKER)
+
+
+def _edit_text(name, old, new):
+    def edit(tmp):
+        p = tmp / "sparse" / name
+        p.write_text(p.read_text().replace(old, new))
+    return edit
+
+
+def _edit_bytes(name, change):
+    def edit(tmp):
+        p = tmp / "sparse_bin" / name
+        p.write_bytes(change(p.read_bytes()))
+    return edit
+
+
+COLMAP_CASES = [
+    # (id, edit, args after the command, needle); {m}: sparse or sparse_bin
+    ("model_unknown_model", _edit_text("cameras.txt", "OPENCV ", "OPENCVX "), ["undistort", "sparse"],
+     "camera 1 has the model OPENCVX (expected one of COLMAP's: SIMPLE_PINHOLE"),
+    ("model_param_count", _edit_text("cameras.txt", "-0.001\n", "\n"), ["undistort", "sparse"],
+     "camera 1 (OPENCV) has 7 parameters (expected 8)"),
+    ("model_unknown_camera", _edit_text("images.txt", "0 1 a.png", "0 7 a.png"), ["undistort", "sparse"],
+     "images.txt: image 1 has the camera 7, which cameras does not list"),
+    ("model_unknown_point", _edit_text("images.txt", "10 20 -1", "10 20 20"), ["undistort", "sparse"],
+     "point2D 0 sees the point3D 20, which points3D does not list"),
+    ("model_nan", _edit_text("cameras.txt", " 50 51", " nan 51"), ["undistort", "sparse"], "has a parameter nan"),
+    ("model_id_twice", _edit_text("images.txt", "2 1 0 0 0 0 0 1 2", "1 1 0 0 0 0 0 1 2"), ["undistort", "sparse"],
+     "image 1 is listed twice"),
+    ("model_name_escapes", _edit_text("images.txt", " a.png", " ../a.png"), ["undistort", "sparse"],
+     "the image name '../a.png' leaves the images folder"),
+    ("model_zero_quaternion", _edit_text("images.txt", "1 1 0 0 0", "1 0 0 0 0"), ["undistort", "sparse"],
+     "(expected finite numbers, a non-zero quaternion)"),
+    ("model_huge_id", _edit_text("cameras.txt", "2 OPENCV_FISHEYE", "99999999999 OPENCV_FISHEYE"), ["model", "sparse"],
+     "'99999999999' for the camera id (expected a whole number, 0 to 4294967295)"),
+    ("bin_cut", _edit_bytes("images.bin", lambda b: b[:-3]), ["undistort", "sparse_bin"], "images.bin: cut short"),
+    ("bin_absurd", _edit_bytes("images.bin", lambda b: (10 ** 15).to_bytes(8, "little") + b[8:]),
+     ["undistort", "sparse_bin"], "says it holds 1000000000000000 images"),
+    ("bin_model_id", _edit_bytes("cameras.bin", lambda b: b[:12] + (99).to_bytes(4, "little") + b[16:]),
+     ["model", "sparse_bin"], "has the model id 99 (expected 0 to 17)"),
+    ("bin_trailing", _edit_bytes("points3D.bin", lambda b: b + b"\0\0"), ["model", "sparse_bin"],
+     "2 bytes after its points3D"),
+    ("only_rigs", lambda tmp: (tmp / "sparse" / "rigs.txt").write_text("1 1 CAMERA 1\n"), ["undistort", "sparse"],
+     "has rigs.txt but no frames.txt"),
+    ("not_a_model", lambda tmp: None, ["undistort", "images"], "has no cameras.bin or cameras.txt"),
+    ("missing_model", lambda tmp: None, ["undistort", "nowhere"], "no such folder"),
+    ("missing_image", lambda tmp: os.unlink(tmp / "images" / "b.png"), ["undistort", "sparse"], "b.png"),
+    ("image_size", lambda tmp: pp.write(str(tmp / "images" / "a.png"), np.zeros((40, 64, 3), np.uint8), overwrite=True),
+     ["undistort", "sparse"], "images/a.png is 64x40, its camera 1 (OPENCV) 64x48 (expected the camera's size)"),
+    ("image_not_an_image", lambda tmp: (tmp / "images" / "a.png").write_text("hello"), ["undistort", "sparse"],
+     "a.png"),
+    ("image_format", lambda tmp: (_edit_text("images.txt", " a.png", " a.exr")(tmp),
+                                  shutil.copy(tmp / "images" / "a.png", tmp / "images" / "a.exr")),
+     ["undistort", "sparse"], "image a.exr: undistorted images are written as JPEG, PNG or PNM (give --format jpg or png"),
+    ("blank_pixels", lambda tmp: None, ["undistort", "sparse", "--blank-pixels", "2"], "blank_pixels: 2 (expected 0 to 1)"),
+    ("max_fov", lambda tmp: None, ["undistort", "sparse", "--max-fov", "0"], "max_fov: 0 (expected 1 to 360)"),
+    ("scales", lambda tmp: None, ["undistort", "sparse", "--min-scale", "3", "--max-scale", "2"], "max_scale: 2"),
+    ("max_image_size", lambda tmp: None, ["undistort", "sparse", "--max-image-size", "-1"], "max_image_size: -1"),
+    ("rig", lambda tmp: None, ["undistort", "sparse", "--rig", "sphere"], "rig: 'sphere'"),
+    ("format", lambda tmp: None, ["undistort", "sparse", "--format", "webp"], "--format webp"),
+    ("model_format", lambda tmp: None, ["model", "sparse", "--format", "json"], "format: json (expected txt or bin)"),
+]
+
+
+@pytest.mark.parametrize("case", COLMAP_CASES, ids=[c[0] for c in COLMAP_CASES])
+def test_colmap_models_refused(cli, tmp_path, case):
+    name, edit, args, needle = case
+    _colmap_folder(tmp_path)
+    if edit:
+        edit(tmp_path)
+    before = snapshot(tmp_path)
+    command, model, *rest = args
+    positional = [model, "images", "out"] if command == "undistort" else [model, "out"]
+    r = run(cli, [command] + positional + rest, tmp_path, timeout=30)
+    expect_refused(r, needle)
+    assert snapshot(tmp_path) == before and not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("case, kw, error", [
+    ("missing_image", {}, FileNotFoundError), ("blank_pixels", dict(blank_pixels=-0.5), ValueError),
+    ("rig_type", dict(rig=5), TypeError), ("exists", {}, FileExistsError),
+    ("memory", dict(memory_limit="1M", size=(2000, 2000)), MemoryError),
+])
+def test_undistort_python_refusals(tmp_path, case, kw, error):
+    _colmap_folder(tmp_path)
+    if case == "missing_image":
+        os.unlink(tmp_path / "images" / "a.png")
+    if case == "exists":
+        (tmp_path / "out").mkdir()
+    with pytest.raises(error):
+        pp.undistort(str(tmp_path / "sparse"), str(tmp_path / "images"), str(tmp_path / "out"), **kw)
+    assert not (tmp_path / "out").exists() or case == "exists"
+
+
+def test_undistort_lands_whole_and_overwrites_only_its_own(cli, tmp_path):
+    _colmap_folder(tmp_path)
+    r = run(cli, ["undistort", "sparse", "images", "out", "--size", "32x32"], tmp_path)
+    assert r.code == 0, r.err
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["images", "masks", MARKER, "sparse"]
+    again = run(cli, ["undistort", "sparse", "images", "out"], tmp_path)
+    expect_refused(again, "exists")
+    (tmp_path / "mine").mkdir()
+    (tmp_path / "mine" / "notes.txt").write_text("mine")
+    theirs = run(cli, ["undistort", "sparse", "images", "mine", "--overwrite"], tmp_path)
+    expect_refused(theirs, "mine")
+    assert run(cli, ["undistort", "sparse", "images", "out", "--overwrite"], tmp_path).code == 0

@@ -144,6 +144,46 @@ def test_written_colmap_cameras_sample_the_panorama_where_it_is(smooth, tmp_path
     print(rig.split("\n")[0], {k: (round(a, 3), round(b, 2)) for k, (a, b) in errors.items()})
 
 
+@pytest.mark.parametrize("rig", ["cube", "ring:n=5,fov=80,vfov=60,pitch=-25,yaw=10",
+                                 "- {name: tilted, yaw: -35, pitch: 20, roll: 15, hfov: 70, size: 640x400}\n"
+                                 "- {name: wide, yaw: 150, pitch: -60, hfov: 120, vfov: 90}"])
+def test_views_through_colmaps_equirectangular_camera(smooth, tmp_path, rig):
+    """A panorama pixel's ray by COLMAP 4's EQUIRECTANGULAR camera (sensor/models/spherical.h: what
+    panorama_sfm.py --convert_to_equirectangular uses), taken into each view by the written model
+    (the image's cam_from_world, and the rig's sensor_from_rig with the frame's rig_from_world),
+    equals panoproj's ray of that pixel turned into the view (the report's world_from_camera),
+    within 1e-9 rad."""
+    path, pano = smooth
+    report = pp.views(path, tmp_path / "out", rig=rig, format="png")
+    rec = pycolmap.Reconstruction(str(tmp_path / "out" / "sparse" / "0"))
+    equirect = pycolmap.Camera.create_from_model_name(1, "EQUIRECTANGULAR", 1.0, W, H)
+    rng = np.random.default_rng(13)
+    x, y = rng.uniform(0, W, 20_000), rng.uniform(0, H, 20_000)
+    x[:4], y[:4] = [0.5, W - 0.5, 0.5, W / 2], [0.5, H - 0.5, H / 2, 0.5]  # (rims and the poles' rows)
+    rays, ok = pp.to_ray("equirect", (W, H), x, y)
+    assert ok.all()
+    theirs = np.array([equirect.cam_ray_from_img(np.array([u, v])) for u, v in zip(x, y)])
+    theirs /= np.linalg.norm(theirs, axis=1, keepdims=True)
+    (frame,) = rec.frames.values()
+    (rig_model,) = rec.rigs.values()
+    worst = 0.0
+    views = {v["name"]: np.array(v["world_from_camera"]) for v in report["views"]}
+    for image in rec.images.values():
+        view = image.name[len("pano_"):-len(".png")]
+        ours = rays @ views[view]  # (R^T ray per row)
+        by_image = theirs @ image.cam_from_world().rotation.matrix().T
+        sensor = rig_model.sensor_from_rig(image.data_id.sensor_id) if image.data_id.sensor_id != rig_model.ref_sensor_id \
+            else pycolmap.Rigid3d()
+        cam_from_world = sensor.rotation.matrix() @ frame.rig_from_world.rotation.matrix()
+        by_rig = theirs @ cam_from_world.T
+        for b in (by_image, by_rig):
+            # (atan2 of the cross and dot products: arccos loses digits near 0)
+            worst = max(worst, np.arctan2(np.linalg.norm(np.cross(ours, b), axis=1), np.sum(ours * b, axis=1)).max())
+    print(f"\n{rig.splitlines()[0]}: {len(report['views'])} views x {len(x)} panorama pixels, "
+          f"COLMAP's EQUIRECTANGULAR within {worst:.1e} rad")
+    assert worst <= 1e-9
+
+
 def images_txt_poses(path):
     """NAME -> (quaternion w x y z, translation) read from images.txt as other readers do."""
     lines = [l for l in pathlib.Path(path).read_text().splitlines() if l and not l.startswith("#")]

@@ -133,14 +133,14 @@ std::vector<Camera> parse_cameras(std::string_view bytes, bool binary, const std
   return cams;
 }
 
-void check_model(const Model& m, const std::string& dir) {
+void check_model(const Model& m, const std::string& dir, const std::string& ext) {
   const std::string f = dir + "/";
-  const auto cams = index_of<Camera, uint32_t>(m.cameras, "camera", f + "cameras");
-  const auto images = index_of<Image, uint32_t>(m.images, "image", f + "images");
-  const auto points = index_of<Point3D, uint64_t>(m.points, "point3D", f + "points3D");
+  const auto cams = index_of<Camera, uint32_t>(m.cameras, "camera", f + "cameras" + ext);
+  const auto images = index_of<Image, uint32_t>(m.images, "image", f + "images" + ext);
+  const auto points = index_of<Point3D, uint64_t>(m.points, "point3D", f + "points3D" + ext);
   std::unordered_set<std::string> names;
   for (const Image& im : m.images) {
-    const std::string where = f + "images: image " + std::to_string(im.id);
+    const std::string where = f + "images" + ext + ": image " + std::to_string(im.id);
     if (!cams.count(im.camera))
       throw Error(where + " has the camera " + std::to_string(im.camera) +
                   ", which cameras does not list");
@@ -161,7 +161,7 @@ void check_model(const Model& m, const std::string& dir) {
     }
   }
   for (const Point3D& p : m.points) {
-    const std::string where = f + "points3D: point3D " + std::to_string(p.id);
+    const std::string where = f + "points3D" + ext + ": point3D " + std::to_string(p.id);
     if (p.id == kNoPoint3D) throw Error(where + " has an id kept for none");
     for (double v : p.xyz)
       if (!std::isfinite(v)) throw Error(where + " is at " + num(v) + " (expected finite numbers)");
@@ -177,13 +177,16 @@ void check_model(const Model& m, const std::string& dir) {
     }
   }
   if (!m.rigs_and_frames) return;
-  const auto rigs = index_of<Rig, uint32_t>(m.rigs, "rig", f + "rigs");
-  index_of<Frame, uint32_t>(m.frames, "frame", f + "frames");
+  const auto rigs = index_of<Rig, uint32_t>(m.rigs, "rig", f + "rigs" + ext);
+  index_of<Frame, uint32_t>(m.frames, "frame", f + "frames" + ext);
   std::unordered_map<uint32_t, uint32_t> rig_of_camera;
   for (const Rig& r : m.rigs) {
-    const std::string where = f + "rigs: rig " + std::to_string(r.id);
+    const std::string where = f + "rigs" + ext + ": rig " + std::to_string(r.id);
     if (r.sensors.empty()) throw Error(where + " has no sensors");
     for (const Sensor& s : r.sensors) {
+      if (s.type != SensorType::Camera && s.type != SensorType::Imu)
+        throw Error(where + " has a sensor of type " + std::to_string(static_cast<int>(s.type)) +
+                    " (expected CAMERA or IMU)");
       if (s.from_rig) check_pose(*s.from_rig, where);
       if (s.type != SensorType::Camera) continue;
       if (!cams.count(s.id))
@@ -195,7 +198,7 @@ void check_model(const Model& m, const std::string& dir) {
   }
   std::unordered_map<uint32_t, uint32_t> frame_of_image;
   for (const Frame& fr : m.frames) {
-    const std::string where = f + "frames: frame " + std::to_string(fr.id);
+    const std::string where = f + "frames" + ext + ": frame " + std::to_string(fr.id);
     const auto r = rigs.find(fr.rig);
     if (r == rigs.end())
       throw Error(where + " has the rig " + std::to_string(fr.rig) + ", which rigs does not list");
@@ -219,7 +222,7 @@ void check_model(const Model& m, const std::string& dir) {
   }
   for (const Image& im : m.images)
     if (!frame_of_image.count(im.id))
-      throw Error(f + "frames: no frame holds the image " + std::to_string(im.id));
+      throw Error(f + "frames" + ext + ": no frame holds the image " + std::to_string(im.id));
 }
 
 Model parse_model(const ModelFiles& files, const std::string& dir) {
@@ -238,7 +241,7 @@ Model parse_model(const ModelFiles& files, const std::string& dir) {
     m.frames = files.binary ? frames_binary(files.frames, p + "frames" + ext)
                             : frames_text(files.frames, p + "frames" + ext);
   }
-  check_model(m, dir);
+  check_model(m, dir, ext);
   return m;
 }
 

@@ -113,7 +113,7 @@ Model read_model(const std::string& dir, int64_t max_bytes);
 Model parse_model(const ModelFiles& files, const std::string& dir);
 // One file's cameras (cameras.txt or cameras.bin's contents), each checked.
 std::vector<Camera> parse_cameras(std::string_view bytes, bool binary, const std::string& path);
-void check_model(const Model& m, const std::string& dir);
+void check_model(const Model& m, const std::string& dir, const std::string& ext);  // ext: ".txt"
 
 struct File {
   std::string path, bytes;

@@ -69,9 +69,11 @@ struct UndistortJob {
 
 double number(const Arguments& a, const char* name, double lo, double hi) {
   const double v = a.angle(name);
-  if (!(v >= lo && v <= hi))
-    throw Error(std::string(name) + ": " + std::to_string(v) + " (expected " + std::to_string(lo) +
-                " to " + std::to_string(hi) + ")");
+  if (!(v >= lo && v <= hi)) {
+    char b[160];
+    std::snprintf(b, sizeof b, "%s: %g (expected %g to %g)", name, v, lo, hi);
+    throw Error(b);
+  }
   return v;
 }
 
@@ -130,7 +132,14 @@ UndistortPlan plan_of(const UndistortJob& job, const colmap::Model& m) {
       throw Error("image " + image_file(job, im) + " is " + size_text(info.size) + ", its camera " +
                   std::to_string(c.id) + " (" + c.model + ") " + std::to_string(c.width) + "x" +
                   std::to_string(c.height) + " (expected the camera's size)");
-    for (const OutputImage& o : plan.images[i]) output_format(o);
+    uint64_t out = 0;
+    for (const OutputImage& o : plan.images[i]) {
+      output_format(o);
+      out = std::max(out, image_bytes(o.size, info.channels + 1, 2 * bytes_of(info.type)));
+    }
+    require_memory("image " + im.name + " and its largest output",
+                   add_bytes(image_bytes(info.size, info.channels, bytes_of(info.type)), out),
+                   job.options.memory_limit);
   }
   return plan;
 }
@@ -216,10 +225,13 @@ std::string summary(const UndistortJob& job, const UndistortPlan& plan, PartCoun
                     double seconds) {
   int64_t pinholes = 0, split = 0;
   for (const CameraPlan& cp : plan.cameras) (cp.pinhole ? pinholes : split) += 1;
-  std::string line = job.model + " (" + std::to_string(plan.images.size()) + " images) -> " +
-                     job.output + ": " + std::to_string(pinholes) + " cameras as pinholes, " +
-                     std::to_string(split) + " as views (" + std::to_string(counts.written) +
-                     " images), COLMAP model in sparse/";
+  auto count = [](int64_t n, const char* what) {
+    return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
+  };
+  std::string line = job.model + " (" + count(static_cast<int64_t>(plan.images.size()), "image") +
+                     ") -> " + job.output + ": " + count(pinholes, "camera") + " as pinholes, " +
+                     count(split, "camera") + " as views, " + count(counts.written, "image") +
+                     " written, COLMAP model in sparse/";
   char b[32];
   std::snprintf(b, sizeof b, ", %.3f s", seconds);
   line += b;
