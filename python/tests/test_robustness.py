@@ -2585,6 +2585,12 @@ COLMAP_CASES = [
     ("scales", lambda tmp: None, ["undistort", "sparse", "--min-scale", "3", "--max-scale", "2"], "max_scale: 2"),
     ("max_image_size", lambda tmp: None, ["undistort", "sparse", "--max-image-size", "-1"], "max_image_size: -1"),
     ("rig", lambda tmp: None, ["undistort", "sparse", "--rig", "sphere"], "rig: 'sphere'"),
+    ("roi_text", lambda tmp: None, ["undistort", "sparse", "--roi", "0,0,1"],
+     "roi: '0,0,1' (expected x0,y0,x1,y1: four fractions of the frame from 0 to 1)"),
+    ("roi_order", lambda tmp: None, ["undistort", "sparse", "--roi", "0.5,0,0.2,1"], "(expected x0 < x1 and y0 < y1)"),
+    ("roi_nan", lambda tmp: None, ["undistort", "sparse", "--roi", "nan,0,1,1"], "roi: 'nan,0,1,1'"),
+    ("max_cam_point_norm", lambda tmp: None, ["undistort", "sparse", "--max-cam-point-norm", "-1"],
+     "max_cam_point_norm: -1 (expected 0 to 1e+12)"),
     ("format", lambda tmp: None, ["undistort", "sparse", "--format", "webp"], "--format webp"),
     ("model_format", lambda tmp: None, ["model", "sparse", "--format", "json"], "format: json (expected txt or bin)"),
 ]

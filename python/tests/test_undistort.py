@@ -111,15 +111,45 @@ def pinhole_model(tmp_path_factory, cli):
     return root
 
 
-@pytest.mark.parametrize("blank, max_size", [(0.0, 0), (1.0, 0), (0.5, 500)], ids=["crop", "keep_all", "half_max500"])
-def test_pinholes_match_pycolmap(pinhole_model, tmp_path, blank, max_size, report):
+# (id, COLMAP's UndistortCameraOptions, panoproj's arguments)
+OPTIONS = [
+    ("crop", {}, {}),
+    ("keep_all", dict(blank_pixels=1.0), dict(blank_pixels=1.0)),
+    ("half_max500", dict(blank_pixels=0.5, max_image_size=500), dict(blank_pixels=0.5, max_image_size=500)),
+    ("roi", dict(roi_min_x=0.1, roi_min_y=0.05, roi_max_x=0.8, roi_max_y=0.9, blank_pixels=0.3),
+     dict(roi="0.1,0.05,0.8,0.9", blank_pixels=0.3)),
+    ("scales", dict(min_scale=0.9, max_scale=1.05, blank_pixels=1.0),
+     dict(min_scale=0.9, max_scale=1.05, blank_pixels=1.0)),
+]
+
+
+@pytest.mark.parametrize("theirs_kw, ours_kw", [o[1:] for o in OPTIONS], ids=[o[0] for o in OPTIONS])
+def test_pinholes_match_pycolmap(pinhole_model, tmp_path, theirs_kw, ours_kw, report):
+    compare_with_pycolmap(pinhole_model, tmp_path, theirs_kw, ours_kw, report, PINHOLE_CAMERAS)
+
+
+# A 152-degree fisheye undistorted into one pinhole anyway (max_fov raised), its frame's edge cut
+# where tan(theta) passes max_cam_point_norm, as COLMAP does.
+WIDE = [("OPENCV_FISHEYE", 640, 480, [300.0, 300.5, 321.0, 238.0, 0.03, -0.01, 0.002, -0.0003])]
+
+
+@pytest.mark.parametrize("norm", [0, 2.5, 1.6])
+def test_a_wide_fisheye_as_one_pinhole_matches_pycolmap(tmp_path, cli, norm, report):
+    build_model(tmp_path / "model", WIDE, cli)
+    theirs = dict(max_cam_point_norm=norm) if norm else {}
+    compare_with_pycolmap(tmp_path / "model", tmp_path, theirs, dict(max_fov=170, max_cam_point_norm=norm),
+                          report, WIDE)
+
+
+def compare_with_pycolmap(model, tmp_path, theirs_kw, ours_kw, report, cameras):
+    pinhole_model = model
     options = pycolmap.UndistortCameraOptions()
-    options.blank_pixels = blank
-    options.max_image_size = max_size if max_size else -1
+    for k, v in theirs_kw.items():
+        setattr(options, k, v)
     pycolmap.undistort_images(str(tmp_path / "colmap"), str(pinhole_model / "sparse"), str(pinhole_model / "images"),
                               undistort_options=options)
     r = pp.undistort(str(pinhole_model / "sparse"), str(pinhole_model / "images"), str(tmp_path / "ours"),
-                     blank_pixels=blank, max_image_size=max_size, interp="bilinear")
+                     interp="bilinear", **ours_kw)
     assert all(c["pinhole"] for c in r["cameras"])
     theirs = pycolmap.Reconstruction(str(tmp_path / "colmap" / "sparse"))
     ours = pycolmap.Reconstruction(str(tmp_path / "ours" / "sparse"))
@@ -146,16 +176,12 @@ def test_pinholes_match_pycolmap(pinhole_model, tmp_path, blank, max_size, repor
         q = psnr(x[fx & fy], y[fx & fy])
         edge = (fx ^ fy).mean()
         cam = theirs.cameras[im.camera_id]
-        lines.append(f"{pinhole_model_name(im.camera_id)} {cam.width}x{cam.height}: PSNR {q:.1f} dB, "
+        lines.append(f"{cameras[im.camera_id - 1][0]} {cam.width}x{cam.height}: PSNR {q:.1f} dB, "
                      f"{100 * edge:.2f}% edge pixels only one has")
         assert q > 38 and edge < 0.01, lines[-1]
-    report(f"undistort blank_pixels={blank} max_image_size={max_size}: params within {worst_param:.1e} px, "
+    report(f"undistort {ours_kw}: params within {worst_param:.1e} px, "
            f"points2D within {worst_point:.1e} px; " + "; ".join(lines))
     assert worst_param <= 1e-9 and worst_point <= 1e-6
-
-
-def pinhole_model_name(camera_id):
-    return PINHOLE_CAMERAS[camera_id - 1][0]
 
 
 @pytest.fixture

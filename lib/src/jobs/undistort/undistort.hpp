@@ -3,11 +3,13 @@
 // written beside the undistorted images.
 //
 // A camera whose field (twice the largest angle off its axis of any pixel that has a ray) is at
-// most max_fov becomes one PINHOLE camera, chosen as COLMAP's image_undistorter chooses it: its
+// most max_fov becomes one PINHOLE camera, chosen as COLMAP's image_undistorter chooses it (a
+// SIMPLE_PINHOLE or PINHOLE camera is kept as it is unless max_image_size shrinks it): its
 // focal lengths and principal point kept, then the frame scaled about the principal point so
 // that blank_pixels = 1 keeps every source pixel and 0 leaves no pixel without a source
 // (interpolated between), each scale clamped to [min_scale, max_scale], then the whole camera
-// shrunk to max_image_size (0: none). A wider camera (a fisheye, past 180 degrees too, or an
+// shrunk to max_image_size (0: none); of a region of interest (roi) and without border points
+// past max_cam_point_norm where given. A wider camera (a fisheye, past 180 degrees too, or an
 // EQUIRECTANGULAR one) becomes a rig of pinhole views around its axis (the views job's rigs,
 // cube by default; views.hpp), those that see none of its pixels left out.
 //
@@ -20,6 +22,7 @@
 // reference camera is split, its first view becomes the reference and the rig's frame turns with
 // it (frames' rig_from_world). A model without rigs (COLMAP 3.x) stays so unless a camera is
 // split: it then gets COLMAP's implicit rigs (one per camera, one frame per image).
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,10 +39,12 @@ struct UndistortOptions {
   double max_fov = 120;     // degrees: the widest field undistorted to one pinhole
   double blank_pixels = 0;  // [0, 1]
   double min_scale = 0.2, max_scale = 2;
-  int64_t max_image_size = 0;  // pixels a side; 0: none
-  std::vector<ViewSpec> rig;   // a wide camera's views
-  std::optional<Size> size;    // each view's size (else the camera's resolution at its centre)
-  std::string extension;       // the images' (".jpg", ".png"); "": each name's own
+  int64_t max_image_size = 0;             // pixels a side; 0: none
+  std::array<double, 4> roi{0, 0, 1, 1};  // the source's region: x0, y0, x1, y1 (fractions)
+  double max_cam_point_norm = 0;          // border points past this tan(theta) skipped; 0: none
+  std::vector<ViewSpec> rig;              // a wide camera's views
+  std::optional<Size> size;  // each view's size (else the camera's resolution at its centre)
+  std::string extension;     // the images' (".jpg", ".png"); "": each name's own
 };
 
 // One image written: its name in the new model, camera, and where it looks from the source
@@ -58,7 +63,8 @@ struct CameraPlan {
   std::string spec;                     // its spec (spec/colmap_cameras.hpp)
   double field = 0;                     // degrees
   bool pinhole = false;                 // else views
-  std::vector<colmap::Camera> cameras;  // the new cameras: one pinhole, or one per view
+  std::vector<colmap::Camera> cameras;  // the new cameras: one pinhole (or the camera, kept), or
+                                        // one per view
   std::vector<ViewCamera> views;        // the views (their rotation: camera from view)
 };
 
@@ -68,6 +74,12 @@ struct UndistortPlan {
   colmap::Model model;                           // the new model
 };
 
+// COLMAP's focal lengths and principal point of a camera of a model that has them (one focal
+// length for the SIMPLE_ models, RADIAL and the radial fisheyes).
+struct Intrinsics {
+  double fx, fy, cx, cy;
+};
+Intrinsics intrinsics_of(const colmap::Camera& c);
 // A source camera's projection on its frame.
 Projection camera_projection(const CameraPlan& plan);
 CameraPlan plan_camera(const colmap::Camera& camera, const UndistortOptions& o);

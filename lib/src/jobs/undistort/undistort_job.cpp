@@ -7,8 +7,10 @@
 //   masks/<image's name>.png views: 255 where the view sees the source, else 0
 //   sparse/                  the new model, as the input's (.bin or .txt)
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "io/atomic_output.hpp"
@@ -47,6 +49,11 @@ const std::vector<OptionDef>& rows() {
            "the pinhole frame's largest scale (COLMAP's)"},
           {"max_image_size", OptionType::Integer, 0, "0",
            "a pinhole image's longest side at most this (0: no limit)"},
+          {"roi", OptionType::Text, 0, "'0,0,1,1'",
+           "x0,y0,x1,y1: the pinhole's region of the source frame, fractions (COLMAP's roi_*)"},
+          {"max_cam_point_norm", OptionType::Angle, 0, "0.0",
+           "frame edge points past this tan(angle off axis) ignored for the pinhole's frame (0: "
+           "none)"},
           {"format", OptionType::Text, 0, "'same'",
            "same (default: each name's, JPEG, PNG or PNM) | jpg | png (names change with it)",
            nullptr, "same|jpg|png"},
@@ -77,6 +84,24 @@ double number(const Arguments& a, const char* name, double lo, double hi) {
   return v;
 }
 
+// "x0,y0,x1,y1", each in [0, 1], x0 < x1 and y0 < y1.
+std::array<double, 4> roi_of(const std::string& text) {
+  std::array<double, 4> r{};
+  const char* at = text.c_str();
+  for (size_t i = 0; i < 4; ++i) {
+    char* end = nullptr;
+    r[i] = std::strtod(at, &end);
+    const bool more = i < 3 ? *end == ',' : *end == '\0';
+    if (end == at || !more || !(r[i] >= 0 && r[i] <= 1))
+      throw Error("roi: '" + text.substr(0, 80) +
+                  "' (expected x0,y0,x1,y1: four fractions of the frame from 0 to 1)");
+    at = end + 1;
+  }
+  if (!(r[0] < r[2] && r[1] < r[3]))
+    throw Error("roi: '" + text + "' (expected x0 < x1 and y0 < y1)");
+  return r;
+}
+
 UndistortJob job_of(const Arguments& a) {
   UndistortJob job{a.text("model"), a.text("image_path"), a.text("out_dir"), {}, a.options(),
                    a.write()};
@@ -88,6 +113,8 @@ UndistortJob job_of(const Arguments& a) {
   u.max_image_size = a.integer("max_image_size");
   if (u.max_image_size < 0 || u.max_image_size > 65536)
     throw Error("max_image_size: " + std::to_string(u.max_image_size) + " (expected 0 to 65536)");
+  u.roi = roi_of(a.text("roi"));
+  u.max_cam_point_norm = number(a, "max_cam_point_norm", 0, 1e12);
   u.rig = parse_rig(a.text("rig"));
   u.size = job.options.size;
   const std::string format = a.text("format");

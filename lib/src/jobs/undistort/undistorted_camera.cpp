@@ -13,15 +13,19 @@
 namespace panoproj {
 namespace {
 
-// Positions along a side of n pixels: every centre, or 4096 spread evenly on a longer side.
-std::vector<double> centres(uint64_t n) {
-  const uint64_t k = std::min<uint64_t>(n, 4096);
+// Pixel centres from..to - 1 along a side: every one, or 65536 spread evenly over a longer run.
+std::vector<double> centres(uint64_t from, uint64_t to) {
+  const uint64_t n = to - from, k = std::min<uint64_t>(n, 65536);
   std::vector<double> v(k);
   for (uint64_t i = 0; i < k; ++i)
-    v[i] = k == n ? static_cast<double>(i) + 0.5
-                  : 0.5 + static_cast<double>(i) * static_cast<double>(n - 1) /
-                              static_cast<double>(k - 1);
+    v[i] =
+        static_cast<double>(from) + 0.5 +
+        (k == n ? static_cast<double>(i)
+                : static_cast<double>(i) * static_cast<double>(n - 1) / static_cast<double>(k - 1));
   return v;
+}
+std::vector<double> centres(uint64_t n) {
+  return centres(0, n);
 }
 
 // Twice the largest angle off the axis (degrees) of the frame's border pixels and a 65 x 65
@@ -40,57 +44,80 @@ double field_of(const Projection& p, Size size) {
   return 2 * most * 180 / kPi;
 }
 
-// COLMAP's focal lengths and principal point of a camera (one focal length for the SIMPLE_
-// models, RADIAL and the radial fisheyes).
-struct Intrinsics {
-  double fx, fy, cx, cy;
+// The region of interest in whole pixels (COLMAP's rounding and clamps).
+struct Roi {
+  uint64_t x0, y0, x1, y1;
+  bool on;
 };
-Intrinsics intrinsics_of(const colmap::Camera& c) {
-  const std::string& m = c.model;
-  const bool one = m.rfind("SIMPLE_", 0) == 0 || m == "RADIAL" || m == "RADIAL_FISHEYE";
-  const auto& p = c.params;
-  return one ? Intrinsics{p[0], p[0], p[1], p[2]} : Intrinsics{p[0], p[1], p[2], p[3]};
+Roi roi_of(const colmap::Camera& c, const UndistortOptions& o) {
+  const auto& r = o.roi;
+  Roi roi{0, 0, c.width, c.height, r[0] > 0 || r[1] > 0 || r[2] < 1 || r[3] < 1};
+  if (!roi.on) return roi;
+  const double w = static_cast<double>(c.width), h = static_cast<double>(c.height);
+  roi.x0 = std::min(static_cast<uint64_t>(std::round(r[0] * w)), c.width - 1);
+  roi.y0 = std::min(static_cast<uint64_t>(std::round(r[1] * h)), c.height - 1);
+  roi.x1 = std::max(static_cast<uint64_t>(std::round(r[2] * w)), roi.x0 + 1);
+  roi.y1 = std::max(static_cast<uint64_t>(std::round(r[3] * h)), roi.y0 + 1);
+  return roi;
 }
 
-// The pinhole that keeps every source pixel (blank_pixels 1) or leaves none blank (0).
-colmap::Camera pinhole_of(const colmap::Camera& c, const Projection& p, const UndistortOptions& o) {
-  const Intrinsics in = intrinsics_of(c);
-  const double w = static_cast<double>(c.width), h = static_cast<double>(c.height);
-  constexpr double kBig = std::numeric_limits<double>::max();
+// Where the frame's border pixels land on the pinhole: the least and largest x of its left and
+// right edges, y of its top and bottom edges (the ROI's rows and columns of the whole frame's
+// edges, as COLMAP samples them).
+struct Border {
+  static constexpr double kBig = std::numeric_limits<double>::max();
   double left_min = kBig, left_max = -kBig, right_min = kBig, right_max = -kBig;
   double top_min = kBig, top_max = -kBig, bottom_min = kBig, bottom_max = -kBig;
-  // Where a source pixel lands on the pinhole (false: no ray, or behind it).
+};
+Border border_of(const colmap::Camera& c, const Projection& p, const Intrinsics& in, const Roi& roi,
+                 double max_norm) {
+  const double w = static_cast<double>(c.width), h = static_cast<double>(c.height);
+  // Where a source pixel lands on the pinhole (false: no ray, behind it, or past max_norm).
   auto land = [&](double x, double y, double& u, double& v) {
     Ray d;
     if (!to_ray(p, x, y, d) || !(d.z() > 0)) return false;
-    u = in.fx * d.x() / d.z() + in.cx, v = in.fy * d.y() / d.z() + in.cy;
+    const double a = d.x() / d.z(), b = d.y() / d.z();
+    if (max_norm > 0 && !(a * a + b * b < max_norm * max_norm)) return false;
+    u = in.fx * a + in.cx, v = in.fy * b + in.cy;
     return true;
   };
+  Border e;
   double u, v;
-  for (double y : centres(c.height)) {
-    if (land(0.5, y, u, v)) left_min = std::min(left_min, u), left_max = std::max(left_max, u);
+  for (double y : centres(roi.y0, roi.y1)) {
+    if (land(0.5, y, u, v))
+      e.left_min = std::min(e.left_min, u), e.left_max = std::max(e.left_max, u);
     if (land(w - 0.5, y, u, v))
-      right_min = std::min(right_min, u), right_max = std::max(right_max, u);
+      e.right_min = std::min(e.right_min, u), e.right_max = std::max(e.right_max, u);
   }
-  for (double x : centres(c.width)) {
-    if (land(x, 0.5, u, v)) top_min = std::min(top_min, v), top_max = std::max(top_max, v);
+  for (double x : centres(roi.x0, roi.x1)) {
+    if (land(x, 0.5, u, v)) e.top_min = std::min(e.top_min, v), e.top_max = std::max(e.top_max, v);
     if (land(x, h - 0.5, u, v))
-      bottom_min = std::min(bottom_min, v), bottom_max = std::max(bottom_max, v);
+      e.bottom_min = std::min(e.bottom_min, v), e.bottom_max = std::max(e.bottom_max, v);
   }
-  const double cx = in.cx, cy = in.cy;
+  return e;
+}
+
+// The pinhole that keeps every source pixel (blank_pixels 1) or leaves none blank (0), of the
+// region of interest.
+colmap::Camera pinhole_of(const colmap::Camera& c, const Projection& p, const UndistortOptions& o) {
+  const Intrinsics in = intrinsics_of(c);
+  const Roi roi = roi_of(c, o);
+  const double w = static_cast<double>(roi.x1 - roi.x0), h = static_cast<double>(roi.y1 - roi.y0);
+  const double cx = in.cx - static_cast<double>(roi.x0), cy = in.cy - static_cast<double>(roi.y0);
   double sx = 1, sy = 1;
-  if (c.model != "SIMPLE_PINHOLE" && c.model != "PINHOLE") {
-    const double keep_x = std::min(cx / (cx - left_min), (w - 0.5 - cx) / (right_max - cx));
-    const double keep_y = std::min(cy / (cy - top_min), (h - 0.5 - cy) / (bottom_max - cy));
-    const double fill_x = std::max(cx / (cx - left_max), (w - 0.5 - cx) / (right_min - cx));
-    const double fill_y = std::max(cy / (cy - top_max), (h - 0.5 - cy) / (bottom_min - cy));
+  if (roi.on || (c.model != "SIMPLE_PINHOLE" && c.model != "PINHOLE")) {
+    const Intrinsics shifted{in.fx, in.fy, cx, cy};
+    const Border e = border_of(c, p, shifted, roi, o.max_cam_point_norm);
+    const double keep_x = std::min(cx / (cx - e.left_min), (w - 0.5 - cx) / (e.right_max - cx));
+    const double keep_y = std::min(cy / (cy - e.top_min), (h - 0.5 - cy) / (e.bottom_max - cy));
+    const double fill_x = std::max(cx / (cx - e.left_max), (w - 0.5 - cx) / (e.right_min - cx));
+    const double fill_y = std::max(cy / (cy - e.top_max), (h - 0.5 - cy) / (e.bottom_min - cy));
     sx = 1 / (keep_x * o.blank_pixels + fill_x * (1 - o.blank_pixels));
     sy = 1 / (keep_y * o.blank_pixels + fill_y * (1 - o.blank_pixels));
     if (!std::isfinite(sx) || !std::isfinite(sy))
-      throw Error(
-          "camera " + std::to_string(c.id) + " (" + c.model +
-          "): its frame's edge has no ray on the pinhole (give a smaller max_fov to undistort "
-          "it into views)");
+      throw Error("camera " + std::to_string(c.id) + " (" + c.model +
+                  "): its frame's edge has no ray on the pinhole (give a smaller max_fov to "
+                  "undistort it into views)");
     sx = std::clamp(sx, o.min_scale, o.max_scale);
     sy = std::clamp(sy, o.min_scale, o.max_scale);
   }
@@ -135,6 +162,13 @@ bool sees(const Projection& p, const ViewCamera& v) {
 
 }  // namespace
 
+Intrinsics intrinsics_of(const colmap::Camera& c) {
+  const std::string& m = c.model;
+  const bool one = m.rfind("SIMPLE_", 0) == 0 || m == "RADIAL" || m == "RADIAL_FISHEYE";
+  const auto& p = c.params;
+  return one ? Intrinsics{p[0], p[0], p[1], p[2]} : Intrinsics{p[0], p[1], p[2], p[3]};
+}
+
 Projection camera_projection(const CameraPlan& plan) {
   return make_projection(parse_spec(plan.spec), {static_cast<int64_t>(plan.camera.width),
                                                  static_cast<int64_t>(plan.camera.height)});
@@ -149,7 +183,10 @@ CameraPlan plan_camera(const colmap::Camera& camera, const UndistortOptions& o) 
   plan.field = field_of(p, size);
   plan.pinhole = camera.model != "EQUIRECTANGULAR" && plan.field <= o.max_fov;
   if (plan.pinhole) {
-    plan.cameras.push_back(pinhole_of(camera, p, o));
+    // (COLMAP keeps an undistorted camera as it is unless max_image_size shrinks it.)
+    const bool undistorted = camera.model == "SIMPLE_PINHOLE" || camera.model == "PINHOLE";
+    plan.cameras.push_back(undistorted && o.max_image_size == 0 ? camera
+                                                                : pinhole_of(camera, p, o));
     return plan;
   }
   for (const ViewCamera& v : view_cameras(o.rig, o.size, center_density(p)))

@@ -121,7 +121,8 @@ struct Builder {
       oi.id = v == 0 ? im.id : ids.take();
       oi.camera = c.id;
       oi.size = {static_cast<int64_t>(c.width), static_cast<int64_t>(c.height)};
-      oi.fx = c.params[0], oi.fy = c.params[1], oi.cx = c.params[2], oi.cy = c.params[3];
+      const Intrinsics in = intrinsics_of(c);
+      oi.fx = in.fx, oi.fy = in.fy, oi.cx = in.cx, oi.cy = in.cy;
       if (oi.view) oi.camera_from_view = cp.views[v].world_from_camera;
       outs.push_back(oi);
     }
