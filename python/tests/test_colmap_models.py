@@ -201,14 +201,17 @@ def colmap_model(tmp_path_factory):
     pycolmap as text and as binary."""
     rec = pycolmap.Reconstruction()
     cams = {}
-    for i, p in enumerate(models() + [pytest.param(dict(model="EQUIRECTANGULAR", params=[2048.0, 1024.0],
-                                                        size=(2048, 1024), closed=True, mirrored=False, theta=180),
-                                                   id="EQUIRECTANGULAR")]):
+    # (EQUIRECTANGULAR's params are the panorama's w, h: a frame smaller is its top-left part.)
+    panoramas = [pytest.param(dict(model="EQUIRECTANGULAR", params=[2048.0, 1024.0], size=(2048, 1024), closed=True,
+                                   mirrored=False, theta=180), id="EQUIRECTANGULAR"),
+                 pytest.param(dict(model="EQUIRECTANGULAR", params=[3000.0, 1600.0], size=(2048, 1024), closed=True,
+                                   mirrored=False, theta=180), id="EQUIRECTANGULAR_PART")]
+    for i, p in enumerate(models() + panoramas):
         m = p.values[0]
         cam = pycolmap.Camera(model=m["model"], width=m["size"][0], height=m["size"][1], params=m["params"])
         cam.camera_id = i + 1
         rec.add_camera(cam)
-        cams[m["model"]] = (i + 1, m, cam)
+        cams[p.id] = (i + 1, m, cam)
     root = tmp_path_factory.mktemp("colmap")
     (root / "text").mkdir()
     (root / "binary").mkdir()

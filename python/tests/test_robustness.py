@@ -2561,6 +2561,9 @@ COLMAP_CASES = [
      "(expected finite numbers, a non-zero quaternion)"),
     ("model_huge_id", _edit_text("cameras.txt", "2 OPENCV_FISHEYE", "99999999999 OPENCV_FISHEYE"), ["model", "sparse"],
      "'99999999999' for the camera id (expected a whole number, 0 to 4294967295)"),
+    ("equirect_params", _edit_text("cameras.txt", "0.01 0 0 0\n", "0.01 0 0 0\n3 EQUIRECTANGULAR 64 32 60 32\n"),
+     ["undistort", "sparse"], "camera 3 (EQUIRECTANGULAR) has w, h = 60, 32 for a frame of 64x32 (expected the "
+                              "panorama's size: at least the frame's)"),
     ("bin_cut", _edit_bytes("images.bin", lambda b: b[:-3]), ["undistort", "sparse_bin"], "images.bin: cut short"),
     ("bin_absurd", _edit_bytes("images.bin", lambda b: (10 ** 15).to_bytes(8, "little") + b[8:]),
      ["undistort", "sparse_bin"], "says it holds 1000000000000000 images"),

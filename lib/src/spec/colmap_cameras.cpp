@@ -133,10 +133,26 @@ std::string fisheye_fov(const colmap::Camera& c) {
   return ",fov=" + num(2 * t * 180 / kPi);
 }
 
+// EQUIRECTANGULAR: its params are the full panorama's w, h (COLMAP sets them to the frame's
+// size): the frame is the whole sphere, or the top-left part of one from longitude -180 and
+// latitude 90 (COLMAP's x / w and y / h).
+std::string equirect_spec(const colmap::Camera& c) {
+  const double w = static_cast<double>(c.width), h = static_cast<double>(c.height);
+  const double pw = c.params[0], ph = c.params[1];
+  if (pw == w && ph == h) return "equirect";
+  if (!(pw >= w && ph >= h))
+    throw Error("camera " + std::to_string(c.id) + " (EQUIRECTANGULAR) has w, h = " + num(pw) +
+                ", " + num(ph) + " for a frame of " + std::to_string(c.width) + "x" +
+                std::to_string(c.height) + " (expected the panorama's size: at least the frame's)");
+  const double hfov = 360 * w / pw, vfov = 180 * h / ph;
+  return "equirect:hfov=" + num(hfov) + ",vfov=" + num(vfov) + ",lon0=" + num(-180 + hfov / 2) +
+         ",lat0=" + num(90 - vfov / 2);
+}
+
 // The lens's spec with the camera's size (a frame of another size is refused), or equirect for
-// EQUIRECTANGULAR (the whole sphere on its frame, COLMAP's axes: tested).
+// EQUIRECTANGULAR (COLMAP's axes: tested).
 std::string spec_of(const colmap::Camera& c) {
-  if (c.model == "EQUIRECTANGULAR") return "equirect";
+  if (c.model == "EQUIRECTANGULAR") return equirect_spec(c);
   return lens_spec(c) + fisheye_fov(c) + ",width=" + std::to_string(c.width) +
          ",height=" + std::to_string(c.height);
 }
