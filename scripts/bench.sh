@@ -13,7 +13,8 @@
 # against v360 (bench/video_quality.py); with "gopro-max" first, GoPro MAX 5.6K pairs and a .360
 # to a 5376x2688 equirect, against max2sphere given its binary (bench/bench_gopro_max.py); with
 # "stitch" first, a Hugin project's layers against nona -m TIFF_m (bench/bench_stitch.py); with
-# "photometry" first, convert with a lens's photometric keys against without (bench/bench_photometry.py).
+# "photometry" first, convert with a lens's photometric keys against without (bench/bench_photometry.py); with
+# "undistort" first, a COLMAP model's undistortion against pycolmap and COLMAP 3.8 (bench/bench_undistort.py).
 # Installs what is missing, builds in build-bench/, runs.
 # Usage: scripts/bench.sh [--threads N] [--runs N]  |  scripts/bench.sh big [--threads N]
 #        scripts/bench.sh python [--runs N] [--only keep]  |  scripts/bench.sh plot [--runs N]
@@ -22,7 +23,7 @@
 #        scripts/bench.sh video [--runs N] [--frames N] [--only filter,transcode,rss]  |  scripts/bench.sh video-quality
 #        scripts/bench.sh gopro-max [--runs N] [--frames N] [--max2sphere PATH] [--only pairs,convert,video]
 #        scripts/bench.sh stitch [--runs N] [--only none,deflate,float,photometry,photometry-float]
-#        scripts/bench.sh photometry [--runs N]
+#        scripts/bench.sh photometry [--runs N]  |  scripts/bench.sh undistort [--runs N]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [[ ${1:-} == io ]]; then
@@ -50,6 +51,13 @@ if [[ ${1:-} == stitch ]]; then
   bash "$root/scripts/install-deps.sh" hugin-tools
   bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF
   exec python3 "$root/bench/bench_stitch.py" "$@"
+fi
+if [[ ${1:-} == undistort ]]; then
+  shift
+  bash "$root/scripts/install-deps.sh" colmap
+  bash "$root/scripts/build.sh" "$root/build-bench" -DPANOPROJ_BUILD_BENCH=ON -DPANOPROJ_BUILD_TESTS=OFF
+  bash "$root/scripts/python-env.sh"
+  exec python3 "$root/bench/bench_undistort.py" "$@"
 fi
 if [[ ${1:-} == photometry ]]; then
   shift

@@ -335,10 +335,12 @@ const JobDef undistort_job{
 ``image_path``) into the new folder ``out_dir`` (as ``panoproj undistort``; COLMAP's
 image_undistorter): a camera whose field is at most ``max_fov`` degrees becomes one PINHOLE
 camera (COLMAP's choice of frame: ``blank_pixels`` 0 crops to no blank pixel, 1 keeps every
-source pixel; ``min_scale``, ``max_scale``, ``max_image_size``); a wider one, a fisheye past 180
-degrees too, becomes a rig of pinhole views around its axis (``rig``: as ``views``; ``size``: each
-view's), written ``images/{view}/<name>`` with ``masks/``. ``sparse/`` holds the new model
-(cameras, images with their observations moved, points3D, rigs and frames; the input's format).
+source pixel; ``min_scale``, ``max_scale``, ``max_image_size``, ``roi``, ``max_cam_point_norm``;
+a SIMPLE_PINHOLE or PINHOLE camera is kept unless ``max_image_size`` shrinks it); a wider one, a
+fisheye past 180 degrees too, becomes a rig of pinhole views around its axis (``rig``: as
+``views``; ``size``: each view's), written ``images/{view}/<name>`` with ``masks/``.
+``sparse/`` holds the new model (cameras, images with their observations moved, points3D, rigs
+and frames; the input's format).
 ``client``: a ``dask.distributed`` Client; each image is then a task, with the same bytes as a
 local run. Returns a report: each camera's field and what it became, the images written.)",
     .rows = rows,
