@@ -14,8 +14,11 @@
 // cube by default; views.hpp), those that see none of its pixels left out.
 //
 // The new model: pinhole cameras and their images keep their ids and names; a camera's views
-// are new cameras (the first keeps the camera's id, the others take ids after the largest), each
-// image's views new images named "{view}/{name}" (the first keeps the image's id). Observations
+// are new cameras, each image's views new images named "{view}/{name}": the first view keeps the
+// camera's (image's) id, view v > 0 of the rig's n takes last + index x (n - 1) + v, where last
+// is the model's largest id and index the camera's (image's) place in the model, so any image's
+// outputs are known without planning the others (views a camera does not see leave theirs
+// unused). Observations
 // (points2D) move to where their ray falls in the new image (a view's: the first view that holds
 // it; one that none holds is dropped, and tracks follow). Rigs: each camera's sensor becomes its
 // pinhole camera or its views (sensor_from_rig turned by each view's rotation); when a rig's
@@ -66,7 +69,17 @@ struct CameraPlan {
   std::vector<colmap::Camera> cameras;  // the new cameras: one pinhole (or the camera, kept), or
                                         // one per view
   std::vector<ViewCamera> views;        // the views (their rotation: camera from view)
+  std::vector<size_t> rig_index;        // each view's place in the rig
 };
+
+// The largest camera and image ids of a model (the views' ids follow them).
+struct LastIds {
+  uint32_t camera = 0, image = 0;
+};
+LastIds last_ids(const colmap::Model& m);
+// View v's id of a rig of `views` (v = 0: `own`), for the camera or image at `index`.
+uint32_t view_id(uint32_t own, uint32_t last, size_t index, size_t views, size_t v,
+                 const std::string& dir, const char* what);
 
 struct UndistortPlan {
   std::vector<CameraPlan> cameras;               // the model's, in its order
@@ -82,7 +95,13 @@ struct Intrinsics {
 Intrinsics intrinsics_of(const colmap::Camera& c);
 // A source camera's projection on its frame.
 Projection camera_projection(const CameraPlan& plan);
-CameraPlan plan_camera(const colmap::Camera& camera, const UndistortOptions& o);
+// Camera `index` of the model; throws Error naming `dir` where the views' ids pass 2^32 - 1.
+CameraPlan plan_camera(const colmap::Camera& camera, const UndistortOptions& o, size_t index,
+                       LastIds last, const std::string& dir);
+// Image `index`'s outputs (its camera's plan `cp`).
+std::vector<OutputImage> image_outputs(const colmap::Image& im, size_t index, const CameraPlan& cp,
+                                       const UndistortOptions& o, LastIds last,
+                                       const std::string& dir);
 // Throws Error naming the model and what cannot be undistorted (an image name that leaves the
 // folder, ids that overflow).
 UndistortPlan plan_undistort(const colmap::Model& in, const UndistortOptions& o,

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <unordered_map>
 
 #include "io/atomic_output.hpp"
 #include "io/formats.hpp"
@@ -171,20 +172,16 @@ UndistortPlan plan_of(const UndistortJob& job, const colmap::Model& m) {
   return plan;
 }
 
-// Renders image k's outputs into the folder; returns {written, empty}.
-PartCounts render_image(const UndistortJob& job, const colmap::Model& m, const UndistortPlan& plan,
-                        const FolderWriter& folder, size_t k) {
-  const colmap::Image& im = m.images[k];
-  const CameraPlan& cp =
-      *std::find_if(plan.cameras.begin(), plan.cameras.end(),
-                    [&](const CameraPlan& p) { return p.camera.id == im.camera; });
+// Renders an image's outputs (its camera's plan `cp`) into the folder; returns {written, empty}.
+PartCounts render_image(const UndistortJob& job, const colmap::Image& im, const CameraPlan& cp,
+                        const std::vector<OutputImage>& outs, const FolderWriter& folder) {
   const std::string path = image_file(job, im);
   ConvertOptions base = job.options;
   base.size.reset();
   const FileSource src = open_file_source(path, cp.spec, base, "undistort");
   std::vector<ConversionGeometry> gs;
   int scale = job.options.decode_scale > 0 ? job.options.decode_scale : 8;
-  for (const OutputImage& o : plan.images[k]) {
+  for (const OutputImage& o : outs) {
     ConversionGeometry g = src.base;
     g.target = Pinhole(o.size, o.fx, o.fy, o.cx, o.cy);
     g.rotation = src.base.rotation * o.camera_from_view;
@@ -202,7 +199,7 @@ PartCounts render_image(const UndistortJob& job, const colmap::Model& m, const U
   PartCounts counts;
   for (size_t v = 0; v < gs.size(); ++v) {
     check_interrupt();
-    const OutputImage& o = plan.images[k][v];
+    const OutputImage& o = outs[v];
     ConvertOptions opt = job.options;
     if (o.view) opt.add_alpha = true, opt.edges.soft = true;
     Image with_alpha, out;
@@ -276,7 +273,10 @@ Report run(const Arguments& args, const JobEvents& events) {
   OutputFolder folder(job.output, job.write.overwrite, {job.model, job.images}, "undistort");
   PartCounts counts;
   for (size_t k = 0; k < m.images.size(); ++k) {
-    const PartCounts c = render_image(job, m, plan, folder.writer(), k);
+    const CameraPlan& cp =
+        *std::find_if(plan.cameras.begin(), plan.cameras.end(),
+                      [&](const CameraPlan& p) { return p.camera.id == m.images[k].camera; });
+    const PartCounts c = render_image(job, m.images[k], cp, plan.images[k], folder.writer());
     counts.written += c.written, counts.empty += c.empty;
     if (events.progress)
       events.progress(static_cast<double>(k + 1) / static_cast<double>(m.images.size()));
@@ -304,14 +304,27 @@ PartCounts render(const Arguments& args, const StagedFolder& staged,
   const UndistortJob job = job_of(args);
   std::optional<colmap::Model> kept;
   const colmap::Model& m = model_of(job, kept);
-  const UndistortPlan plan = plan_undistort(m, job.undistort, job.model);
   const FolderWriter folder(staged, job.output);
+  // Only the cameras these images need are planned (a model may hold a camera per image).
+  const LastIds last = last_ids(m);
+  std::unordered_map<uint32_t, size_t> index;  // camera id -> its place in the model
+  for (size_t i = 0; i < m.cameras.size(); ++i) index[m.cameras[i].id] = i;
+  std::unordered_map<uint32_t, CameraPlan> plans;
   PartCounts counts;
   for (int64_t k : parts) {
     if (k < 0 || k >= static_cast<int64_t>(m.images.size()))
       throw Error("image " + std::to_string(k) + " is not in the job (" +
                   std::to_string(m.images.size()) + " images)");
-    const PartCounts c = render_image(job, m, plan, folder, static_cast<size_t>(k));
+    const colmap::Image& im = m.images[static_cast<size_t>(k)];
+    auto at = plans.find(im.camera);
+    if (at == plans.end())
+      at = plans
+               .emplace(im.camera, plan_camera(m.cameras[index.at(im.camera)], job.undistort,
+                                               index.at(im.camera), last, job.model))
+               .first;
+    const std::vector<OutputImage> outs =
+        image_outputs(im, static_cast<size_t>(k), at->second, job.undistort, last, job.model);
+    const PartCounts c = render_image(job, im, at->second, outs, folder);
     counts.written += c.written, counts.empty += c.empty;
   }
   return counts;

@@ -174,7 +174,25 @@ Projection camera_projection(const CameraPlan& plan) {
                                                  static_cast<int64_t>(plan.camera.height)});
 }
 
-CameraPlan plan_camera(const colmap::Camera& camera, const UndistortOptions& o) {
+uint32_t view_id(uint32_t own, uint32_t last, size_t index, size_t views, size_t v,
+                 const std::string& dir, const char* what) {
+  if (v == 0) return own;
+  const uint64_t id = uint64_t{last} + uint64_t{index} * (views - 1) + v;
+  if (id > std::numeric_limits<uint32_t>::max())
+    throw Error(dir + ": the undistorted model's " + what + " ids pass 2^32 - 1 (" +
+                std::to_string(views) + " views each)");
+  return static_cast<uint32_t>(id);
+}
+
+LastIds last_ids(const colmap::Model& m) {
+  LastIds last;
+  for (const colmap::Camera& c : m.cameras) last.camera = std::max(last.camera, c.id);
+  for (const colmap::Image& im : m.images) last.image = std::max(last.image, im.id);
+  return last;
+}
+
+CameraPlan plan_camera(const colmap::Camera& camera, const UndistortOptions& o, size_t index,
+                       LastIds last, const std::string& dir) {
   CameraPlan plan;
   plan.camera = camera;
   plan.spec = colmap_camera_spec(camera);
@@ -189,17 +207,22 @@ CameraPlan plan_camera(const colmap::Camera& camera, const UndistortOptions& o) 
                                                                 : pinhole_of(camera, p, o));
     return plan;
   }
-  for (const ViewCamera& v : view_cameras(o.rig, o.size, center_density(p)))
-    if (sees(p, v)) plan.views.push_back(v);
+  const std::vector<ViewCamera> rig = view_cameras(o.rig, o.size, center_density(p));
+  for (size_t k = 0; k < rig.size(); ++k)
+    if (sees(p, rig[k])) plan.views.push_back(rig[k]), plan.rig_index.push_back(k);
   if (plan.views.empty())
     throw Error("camera " + std::to_string(camera.id) + ": no view of the rig sees its pixels");
-  for (const ViewCamera& v : plan.views)
-    plan.cameras.push_back({0,
-                            "PINHOLE",
-                            static_cast<uint64_t>(v.size.width),
-                            static_cast<uint64_t>(v.size.height),
-                            {v.focal, v.focal, 0.5 * static_cast<double>(v.size.width),
-                             0.5 * static_cast<double>(v.size.height)}});
+  for (size_t v = 0; v < plan.views.size(); ++v) {
+    const ViewCamera& view = plan.views[v];
+    const double w = static_cast<double>(view.size.width),
+                 h = static_cast<double>(view.size.height);
+    plan.cameras.push_back(
+        {view_id(camera.id, last.camera, index, rig.size(), plan.rig_index[v], dir, "camera"),
+         "PINHOLE",
+         static_cast<uint64_t>(view.size.width),
+         static_cast<uint64_t>(view.size.height),
+         {view.focal, view.focal, 0.5 * w, 0.5 * h}});
+  }
   return plan;
 }
 

@@ -74,17 +74,6 @@ Landing land(const Projection& p, const std::vector<OutputImage>& outs, double x
   return {};
 }
 
-struct Ids {
-  uint32_t next;
-  const char* what;
-  const std::string& dir;
-  uint32_t take() {
-    if (next == std::numeric_limits<uint32_t>::max())
-      throw Error(dir + ": the undistorted model's " + what + " ids pass 2^32 - 1");
-    return next++;
-  }
-};
-
 // The plan as it is built: each camera's plan, where each observation went.
 struct Builder {
   const colmap::Model& in;
@@ -98,43 +87,23 @@ struct Builder {
 
   const CameraPlan& camera(uint32_t id) const { return plan.cameras[plan_of.at(id)]; }
 
-  void cameras(Ids& ids) {
-    for (const colmap::Camera& c : in.cameras) {
-      CameraPlan p = plan_camera(c, o);
-      for (size_t v = 0; v < p.cameras.size(); ++v) {
-        p.cameras[v].id = v == 0 ? c.id : ids.take();
-        plan.model.cameras.push_back(p.cameras[v]);
-      }
+  void cameras(LastIds last) {
+    for (size_t i = 0; i < in.cameras.size(); ++i) {
+      const colmap::Camera& c = in.cameras[i];
+      CameraPlan p = plan_camera(c, o, i, last, dir);
+      for (const colmap::Camera& n : p.cameras) plan.model.cameras.push_back(n);
       split = split || !p.pinhole;
       plan_of[c.id] = plan.cameras.size();
       plan.cameras.push_back(std::move(p));
     }
   }
 
-  std::vector<OutputImage> outputs(const colmap::Image& im, const CameraPlan& cp, Ids& ids) const {
-    std::vector<OutputImage> outs;
-    for (size_t v = 0; v < cp.cameras.size(); ++v) {
-      const colmap::Camera& c = cp.cameras[v];
-      OutputImage oi;
-      oi.view = !cp.pinhole;
-      oi.name = with_extension(oi.view ? cp.views[v].name + "/" + im.name : im.name, o.extension);
-      oi.id = v == 0 ? im.id : ids.take();
-      oi.camera = c.id;
-      oi.size = {static_cast<int64_t>(c.width), static_cast<int64_t>(c.height)};
-      const Intrinsics in = intrinsics_of(c);
-      oi.fx = in.fx, oi.fy = in.fy, oi.cx = in.cx, oi.cy = in.cy;
-      if (oi.view) oi.camera_from_view = cp.views[v].world_from_camera;
-      outs.push_back(oi);
-    }
-    return outs;
-  }
-
   // Each image's outputs, their poses and the observations moved into them.
-  void images(Ids& ids) {
-    for (const colmap::Image& im : in.images) {
-      check_name(im.name, dir);
+  void images(LastIds last) {
+    for (size_t k = 0; k < in.images.size(); ++k) {
+      const colmap::Image& im = in.images[k];
       const CameraPlan& cp = camera(im.camera);
-      std::vector<OutputImage> outs = outputs(im, cp, ids);
+      std::vector<OutputImage> outs = image_outputs(im, k, cp, o, last, dir);
       std::vector<colmap::Image> news;
       for (const OutputImage& oi : outs) {
         news.push_back(
@@ -227,17 +196,34 @@ struct Builder {
 
 }  // namespace
 
+std::vector<OutputImage> image_outputs(const colmap::Image& im, size_t index, const CameraPlan& cp,
+                                       const UndistortOptions& o, LastIds last,
+                                       const std::string& dir) {
+  check_name(im.name, dir);
+  std::vector<OutputImage> outs;
+  const size_t rig = cp.pinhole ? 1 : o.rig.size();
+  for (size_t v = 0; v < cp.cameras.size(); ++v) {
+    const colmap::Camera& c = cp.cameras[v];
+    OutputImage oi;
+    oi.view = !cp.pinhole;
+    oi.name = with_extension(oi.view ? cp.views[v].name + "/" + im.name : im.name, o.extension);
+    oi.id = view_id(im.id, last.image, index, rig, cp.pinhole ? 0 : cp.rig_index[v], dir, "image");
+    oi.camera = c.id;
+    oi.size = {static_cast<int64_t>(c.width), static_cast<int64_t>(c.height)};
+    const Intrinsics in = intrinsics_of(c);
+    oi.fx = in.fx, oi.fy = in.fy, oi.cx = in.cx, oi.cy = in.cy;
+    if (oi.view) oi.camera_from_view = cp.views[v].world_from_camera;
+    outs.push_back(oi);
+  }
+  return outs;
+}
+
 UndistortPlan plan_undistort(const colmap::Model& in, const UndistortOptions& o,
                              const std::string& dir) {
-  uint32_t max_camera = 0, max_image = 0;
-  for (const colmap::Camera& c : in.cameras) max_camera = std::max(max_camera, c.id);
-  for (const colmap::Image& im : in.images) max_image = std::max(max_image, im.id);
-  constexpr uint32_t kLast = std::numeric_limits<uint32_t>::max();
-  Ids camera_ids{max_camera == kLast ? kLast : max_camera + 1, "camera", dir};
-  Ids image_ids{max_image == kLast ? kLast : max_image + 1, "image", dir};
+  const LastIds last = last_ids(in);
   Builder b{in, o, dir, {}, {}, {}, {}, false};
-  b.cameras(camera_ids);
-  b.images(image_ids);
+  b.cameras(last);
+  b.images(last);
   b.points();
   auto by_id = [](const auto& x, const auto& y) { return x.id < y.id; };  // (COLMAP's order)
   std::sort(b.plan.model.cameras.begin(), b.plan.model.cameras.end(), by_id);
