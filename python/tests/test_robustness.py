@@ -2564,6 +2564,10 @@ COLMAP_CASES = [
     ("equirect_params", _edit_text("cameras.txt", "0.01 0 0 0\n", "0.01 0 0 0\n3 EQUIRECTANGULAR 64 32 60 32\n"),
      ["undistort", "sparse"], "camera 3 (EQUIRECTANGULAR) has w, h = 60, 32 for a frame of 64x32 (expected the "
                               "panorama's size: at least the frame's)"),
+    ("names_collide", lambda tmp: (_edit_text("images.txt", " a.png", " front/b.png")(tmp),
+                                   os.mkdir(tmp / "images" / "front"),
+                                   shutil.copy(tmp / "images" / "a.png", tmp / "images" / "front" / "b.png")),
+     ["undistort", "sparse", "--max-fov", "100"], "image 2 would be written as front/b.png, another image's name"),
     ("bin_cut", _edit_bytes("images.bin", lambda b: b[:-3]), ["undistort", "sparse_bin"], "images.bin: cut short"),
     ("bin_absurd", _edit_bytes("images.bin", lambda b: (10 ** 15).to_bytes(8, "little") + b[8:]),
      ["undistort", "sparse_bin"], "says it holds 1000000000000000 images"),

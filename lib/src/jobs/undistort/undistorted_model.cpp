@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "jobs/undistort/undistort.hpp"
 #include "panoproj/error.hpp"
@@ -84,6 +85,7 @@ struct Builder {
   std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> moved;  // (image << 32 | idx) -> new
   std::unordered_map<uint32_t, std::vector<uint32_t>> outputs_of;     // image id -> new image ids
   bool split = false;
+  std::unordered_set<std::string> names;  // the outputs' (a view's folder may hold an image's)
 
   const CameraPlan& camera(uint32_t id) const { return plan.cameras[plan_of.at(id)]; }
 
@@ -104,6 +106,11 @@ struct Builder {
       const colmap::Image& im = in.images[k];
       const CameraPlan& cp = camera(im.camera);
       std::vector<OutputImage> outs = image_outputs(im, k, cp, o, last, dir);
+      for (const OutputImage& oi : outs)
+        if (!names.insert(oi.name).second)
+          throw Error(dir + ": image " + std::to_string(im.id) + " would be written as " +
+                      oi.name.substr(0, 200) +
+                      ", another image's name (rename the rig's views, or the format)");
       std::vector<colmap::Image> news;
       for (const OutputImage& oi : outs) {
         news.push_back(
