@@ -228,7 +228,7 @@ std::vector<OutputImage> image_outputs(const colmap::Image& im, size_t index, co
 UndistortPlan plan_undistort(const colmap::Model& in, const UndistortOptions& o,
                              const std::string& dir) {
   const LastIds last = last_ids(in);
-  Builder b{in, o, dir, {}, {}, {}, {}, false};
+  Builder b{in, o, dir, {}, {}, {}, {}, false, {}};
   b.cameras(last);
   b.images(last);
   b.points();
