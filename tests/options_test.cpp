@@ -1,6 +1,7 @@
 // The conversion options table: every row sets its ConvertOptions field from its type's value,
 // refuses bad values naming itself, and is offered by the command for each subcommand it names.
 #include "panoproj/options.hpp"
+#include "panoproj/limits.hpp"
 
 #include <gtest/gtest.h>
 
@@ -43,6 +44,40 @@ TEST(Options, EveryRowSetsItsFieldAndHasACase) {
   }
 }
 
+TEST(Options, SizesTakeEitherXAndASquare) {
+  EXPECT_EQ(parse_size("640x480"), (Size{640, 480}));
+  EXPECT_EQ(parse_size("640X480"), (Size{640, 480}));
+  EXPECT_EQ(parse_size("1024"), (Size{1024, 1024}));
+  for (const char* bad : {"x5", "5x", "-5", "+5", "5x-5", "0", "5x5x5", "", "5.0", "five"})
+    EXPECT_THROW(parse_size(bad), Error) << bad;
+}
+
+TEST(Options, MemoryLimitsTakeDecimalAndBinaryUnits) {
+  EXPECT_EQ(parse_memory_limit("4G"), 4000000000);
+  EXPECT_EQ(parse_memory_limit("4GB"), 4000000000);
+  EXPECT_EQ(parse_memory_limit("4GiB"), int64_t{4} << 30);
+  EXPECT_EQ(parse_memory_limit("512MiB"), int64_t{512} << 20);
+  EXPECT_EQ(parse_memory_limit("1mib"), int64_t{1} << 20);
+  EXPECT_THROW(parse_memory_limit("2KiB"), Error);  // (under 1M)
+  EXPECT_EQ(parse_memory_limit("1000000"), 1000000);
+  auto message = [](const char* text) -> std::string {
+    try {
+      parse_memory_limit(text);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(message("999999"), "memory limit: 999999 (expected at least 1M: a job needs more)");
+  EXPECT_EQ(
+      message("1e19"),
+      "memory limit: 1e19 (expected at most 9E18 bytes; leave it out for the memory available)");
+  EXPECT_EQ(message("4GiBB"),
+            "memory limit: 4GiBB (expected a size such as 4G, 4GiB, 512M or 800000000)");
+  EXPECT_EQ(message("lots"),
+            "memory limit: lots (expected a size such as 4G, 4GiB, 512M or 800000000)");
+}
+
 TEST(Options, BadValuesNameTheOption) {
   auto error_of = [](const char* name, OptionValue v) -> std::string {
     ConvertOptions o;
@@ -53,7 +88,8 @@ TEST(Options, BadValuesNameTheOption) {
     }
     return "";
   };
-  EXPECT_EQ(error_of("size", std::string("0x5")), "size: 0x5 (expected WxH with positive integers, e.g. 2048x1024)");
+  EXPECT_EQ(error_of("size", std::string("0x5")),
+            "size: 0x5 (expected WxH with positive integers, e.g. 2048x1024, or N for a square)");
   EXPECT_EQ(error_of("threads", int64_t{1} << 40), "threads: 1099511627776 (expected 0 for all cores, or 1 to 1024)");
   EXPECT_NE(error_of("interp", std::string("cubic")).find("cubic"), std::string::npos);
   EXPECT_NE(error_of("memory_limit", std::string("lots")).find("memory limit: lots"), std::string::npos);

@@ -13,8 +13,10 @@
 #include <iostream>
 #include <sstream>
 
+#include "base/text.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/jobs.hpp"
+#include "panoproj/spec.hpp"
 
 namespace {
 
@@ -191,6 +193,66 @@ int run_job(const Command& command) {
   return ok && !std::get<bool>(ok->value) ? 1 : 0;
 }
 
+// The command's own texts where CLI11's would be raw: a word that is no command, a flag the
+// command does not take (a projection's key: it goes in the spec), each with the nearest name.
+// "" when the line's commands and flags are all known.
+std::string unknown_words(int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return "";
+  std::vector<std::string> names;
+  const JobDef* job = nullptr;
+  for (const JobDef* j : jobs()) {
+    names.emplace_back(j->name);
+    if (names.back() == argv[1]) job = j;
+  }
+  if (!job) {
+    const std::string near = closest(argv[1], names);
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    return "'" + std::string(argv[1]).substr(0, 60) + "' is not a command (" +
+           (near.empty() ? "" : "did you mean " + near + "? ") + "the commands: " + list + ")";
+  }
+  std::vector<std::string> flags{"--help", "-h"};
+  for (const OptionDef& d : job->rows()) {
+    if (d.traits & (kPythonOnly | kNeither | kPositional)) continue;
+    std::stringstream spelled(flag_of(d));
+    for (std::string f; std::getline(spelled, f, ',');) flags.push_back(f);
+  }
+  // A projection's key given as a flag goes in the target's spec: --to's, as given, for the
+  // example.
+  const bool takes_to = std::find(flags.begin(), flags.end(), "--to") != flags.end();
+  std::string to = "<projection>";
+  for (int i = 2; i + 1 < argc; ++i)
+    if (std::string_view(argv[i]) == "--to") to = std::string(argv[i + 1]).substr(0, 200);
+  for (int i = 2; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word == "--") break;
+    if (word.rfind("--", 0) != 0) continue;
+    const std::string flag = word.substr(0, word.find('='));
+    if (std::find(flags.begin(), flags.end(), flag) != flags.end()) continue;
+    std::string key = flag.substr(2);
+    std::replace(key.begin(), key.end(), '-', '_');
+    const std::string head = flag.substr(0, 60) + " is not an option of " + job->name;
+    for (const ProjectionDef& d : projection_catalog())
+      for (const ParamDef& p : d.params)
+        if (takes_to && key == p.key) {
+          const std::string value = word.find('=') != std::string::npos
+                                        ? word.substr(word.find('=') + 1)
+                                    : i + 1 < argc ? std::string(argv[i + 1])
+                                                   : std::string("...");
+          return head + ": a projection's keys go in its spec (--to " + to +
+                 (to.find(':') == std::string::npos ? ":" : ",") + key + "=" + value.substr(0, 20) +
+                 ")";
+        }
+    std::vector<std::string> longs;
+    for (const std::string& f : flags)
+      if (f.rfind("--", 0) == 0) longs.push_back(f.substr(2));
+    const std::string near = closest(flag.substr(2), longs);
+    return head + " (" + (near.empty() ? "" : "did you mean --" + near + "? ") + "see panoproj " +
+           job->name + " --help)";
+  }
+  return "";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -200,6 +262,10 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "panoproj " PANOPROJ_VERSION);
   std::deque<Command> commands;
   for (const JobDef* job : jobs()) commands.emplace_back(app, *job);
+  if (const std::string said = unknown_words(argc, argv); !said.empty()) {
+    std::fprintf(stderr, "panoproj: error: %s\n", said.c_str());
+    return 1;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -10,7 +10,8 @@ Conventions (the same as the ``panoproj`` command; see docs/projections.md):
 - A cubemap in memory is one image in its layout (6x1 by default: front, right, back, left, up,
   down); :func:`convert` also takes six face arrays (a list, or a dict by ``F R B L U D``), and
   :func:`split_faces` gives the faces of a cubemap image as views.
-- Sizes are ``(width, height)`` like OpenCV's ``dsize`` (or ``"WxH"``); angles in degrees.
+- Sizes are ``(width, height)`` like OpenCV's ``dsize`` (or ``"WxH"``; ``N`` or ``"N"`` for a
+  square); angles in degrees.
 - Pixel coordinates put pixel centres at ``i + 0.5`` (panoproj's convention); rays are unit
   vectors, x right, y down, z forward.
 - Every heavy call releases the GIL. Errors, each with the command's one-line message:
@@ -157,7 +158,7 @@ def convert(image: ImageLike, src: Union[str, Projection, None], dst: Union[str,
     anything numpy reads (``__array__``, ``__dlpack__``, buffers). The result has the input's
     dtype and channels (float64 computed in float32); pixels without a source are 0 (alpha 0).
     ``src=None`` takes a 2:1 image as a full equirect, as the command does. In Python, ``size``
-    is ``(width, height)`` (or ``"WxH"``), ``antialias`` may be a sub-pixel count ``N``, ``fill`` a
+    is ``(width, height)`` (or ``"WxH"``, ``N``), ``antialias`` may be a sub-pixel count ``N``, ``fill`` a
     tuple ``(r, g, b[, a])`` in unit range, and ``memory_limit`` a byte count or text such as
     ``"4G"``; a job over it raises MemoryError before any work.
     """

@@ -22,10 +22,14 @@ def _size(size: SizeLike) -> Optional[Tuple[int, int]]:
     if size is None:
         return None
     if isinstance(size, str):
-        m = re.fullmatch(r"\s*(\d+)\s*x\s*(\d+)\s*", size)
+        # "WxH" (either x) or "N" for a square, as the command takes them.
+        m = re.fullmatch(r"\s*(\d+)\s*(?:[xX]\s*(\d+)\s*)?", size)
         if not m:
-            raise ValueError(f"size: {size!r} (expected WxH, e.g. 4096x2048)")
-        w, h = int(m.group(1)), int(m.group(2))
+            raise ValueError(f"size: {size!r} (expected WxH, e.g. 4096x2048, or N for a square)")
+        w = int(m.group(1))
+        h = int(m.group(2)) if m.group(2) is not None else w
+    elif isinstance(size, (int, np.integer)) and not isinstance(size, bool):
+        w = h = int(size)
     else:
         try:
             w, h = size

@@ -19,7 +19,7 @@ class SupportsDLPack(Protocol):
 
 
 PathLike = Union[str, "os.PathLike[str]"]
-SizeLike = Union[Tuple[int, int], str, None]
+SizeLike = Union[Tuple[int, int], int, str, None]  # (W, H), N for a square, "WxH" or "N"
 """(width, height) like OpenCV's dsize, or "WxH"; None: derived from the source."""
 FillLike = Union[str, Sequence[float], None]
 """(r, g, b[, a]) in unit range, "R,G,B[,A]" or "#rrggbb[aa]"."""

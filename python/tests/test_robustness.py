@@ -1405,7 +1405,7 @@ VIEW_PY_CALLS = [
     ("rig_empty", dict(rig=[]), ValueError, "rig: no views"),
     ("images_type", dict(images=5), TypeError, "images: 5 (expected a path or a sequence of paths)"),
     ("no_images", dict(images=[]), ValueError, "no input given"),
-    ("size_text", dict(size="64"), ValueError, "size: '64' (expected WxH"),
+    ("size_text", dict(size="64y"), ValueError, "size: '64y' (expected WxH, e.g. 4096x2048, or N for a square)"),
     ("unknown_option", dict(yaw=10), TypeError, "unknown option 'yaw'"),
     ("memory", dict(memory_limit="1M"), MemoryError, "over the memory limit"),
 ]

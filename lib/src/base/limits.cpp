@@ -3,13 +3,14 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
 #include <optional>
 #include <string>
-#include <algorithm>
 
 #include "panoproj/error.hpp"
 
@@ -157,16 +158,28 @@ int64_t parse_memory_limit(std::string_view text) {
   char* end = nullptr;
   const double v = std::strtod(s.c_str(), &end);
   std::string unit(end ? end : "");
-  if (!unit.empty() && (unit.back() == 'B' || unit.back() == 'b') && unit.size() == 2) unit.pop_back();
+  // Decimal units (k, M, G, T: 10^3n, also with B) and binary ones (KiB, MiB, GiB, TiB: 2^10n).
+  const bool binary =
+      unit.size() == 3 && (unit[1] == 'i' || unit[1] == 'I') && (unit[2] == 'B' || unit[2] == 'b');
+  if (binary) unit.resize(1);
+  if (!binary && unit.size() == 2 && (unit.back() == 'B' || unit.back() == 'b')) unit.pop_back();
   double scale = 0;
-  if (unit.empty()) scale = 1;
-  else if (unit == "k" || unit == "K") scale = 1e3;
-  else if (unit == "M" || unit == "m") scale = 1e6;
-  else if (unit == "G" || unit == "g") scale = 1e9;
-  else if (unit == "T" || unit == "t") scale = 1e12;
+  const std::string units = "kmgt";
+  if (unit.empty())
+    scale = 1;
+  else if (const auto at = unit.size() == 1 ? units.find(static_cast<char>(std::tolower(
+                                                  static_cast<unsigned char>(unit[0]))))
+                                            : std::string::npos;
+           at != std::string::npos)
+    scale = std::pow(binary ? 1024.0 : 1000.0, static_cast<double>(at + 1));
   const double bytes = v * scale;
-  if (end == s.c_str() || scale == 0 || !std::isfinite(bytes) || bytes < 1e6 || bytes > 9e18)
-    throw Error("memory limit: " + s + " (expected a size of at least 1M, e.g. 4G, 512M or 800000000)");
+  if (end == s.c_str() || scale == 0 || !std::isfinite(bytes) || bytes < 0)
+    throw Error("memory limit: " + s.substr(0, 40) +
+                " (expected a size such as 4G, 4GiB, 512M or 800000000)");
+  if (bytes < 1e6) throw Error("memory limit: " + s + " (expected at least 1M: a job needs more)");
+  if (bytes > 9e18)
+    throw Error("memory limit: " + s +
+                " (expected at most 9E18 bytes; leave it out for the memory available)");
   return static_cast<int64_t>(bytes);
 }
 

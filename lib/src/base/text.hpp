@@ -1,7 +1,9 @@
 #pragma once
 // Small text helpers for the parsers of user text (specs, spec files, rigs).
+#include <algorithm>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace panoproj {
 
@@ -10,6 +12,37 @@ inline std::string trim(std::string_view s, std::string_view space = " \t") {
   const auto b = s.find_first_not_of(space);
   if (b == std::string_view::npos) return {};
   return std::string(s.substr(b, s.find_last_not_of(space) - b + 1));
+}
+
+// Levenshtein distance, for "did you mean" on a misspelt name.
+inline size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// The name of `names` nearest `word`: one it begins or that begins it (cubic, bicubic), else
+// within `most` edits; "" if none.
+inline std::string closest(std::string_view word, const std::vector<std::string>& names,
+                           size_t most = 2) {
+  std::string best;
+  size_t best_distance = most + 1;
+  for (const std::string& n : names) {
+    const bool part = word.size() >= 3 &&
+                      (n.find(word) != std::string::npos || word.find(n) != std::string::npos);
+    if (const size_t e = part ? 0 : edit_distance(word, n); e < best_distance)
+      best_distance = e, best = n;
+  }
+  return best;
 }
 
 }  // namespace panoproj

@@ -2,6 +2,7 @@
 #include "panoproj/options.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 
@@ -160,17 +161,24 @@ OptionValue option_value(const OptionDef& option, const std::string& text) {
 
 Size parse_size(std::string_view text, std::string_view what) {
   const std::string t(text);
-  const auto x = t.find('x');
-  if (x != std::string::npos) {
+  // "WxH" (either x), or "N" for a square.
+  const auto x = t.find_first_of("xX");
+  auto whole = [](const std::string& part, long long& v) {
+    size_t used = 0;
     try {
-      size_t a = 0, b = 0;
-      const long long w = std::stoll(t.substr(0, x), &a), h = std::stoll(t.substr(x + 1), &b);
-      if (a == x && b == t.size() - x - 1 && w > 0 && h > 0) return {w, h};
+      v = std::stoll(part, &used);
     } catch (const std::exception&) {
+      return false;
     }
-  }
-  throw Error(std::string(what) + ": " + t +
-              " (expected WxH with positive integers, e.g. 2048x1024)");
+    return used == part.size() && !part.empty() &&
+           std::isdigit(static_cast<unsigned char>(part[0]));
+  };
+  long long w = 0, h = 0;
+  const bool ok = x == std::string::npos ? whole(t, w) && (h = w, true)
+                                         : whole(t.substr(0, x), w) && whole(t.substr(x + 1), h);
+  if (ok && w > 0 && h > 0) return {w, h};
+  throw Error(std::string(what) + ": " + t.substr(0, 60) +
+              " (expected WxH with positive integers, e.g. 2048x1024, or N for a square)");
 }
 
 }  // namespace panoproj

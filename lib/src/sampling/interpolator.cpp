@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "base/text.hpp"
 #include "panoproj/conventions.hpp"
 #include "panoproj/error.hpp"
 
@@ -32,11 +33,16 @@ const char* name_of(Interp k) {
 }
 
 Interp parse_interp(std::string_view name) {
-  for (Interp k : {Interp::Nearest, Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3, Interp::BicubicDering,
-                   Interp::Lanczos3Dering})
+  std::vector<std::string> names;
+  for (Interp k : {Interp::Nearest, Interp::Bilinear, Interp::Bicubic, Interp::Lanczos3,
+                   Interp::BicubicDering, Interp::Lanczos3Dering}) {
     if (name == name_of(k)) return k;
-  throw Error("interpolator '" + std::string(name) +
-              "' is unknown (expected nearest, bilinear, bicubic, lanczos3, bicubic-dering or lanczos3-dering)");
+    names.emplace_back(name_of(k));
+  }
+  const std::string near = closest(name, names);
+  throw Error("interpolator '" + std::string(name) + "' is unknown (" +
+              (near.empty() ? "" : "did you mean " + near + "? ") +
+              "expected nearest, bilinear, bicubic, lanczos3, bicubic-dering or lanczos3-dering)");
 }
 
 int64_t first_tap(Interp k, double s) {

@@ -27,22 +27,6 @@ constexpr std::pair<std::string_view, std::string_view> kOtherNames[] = {
     {"cylinder", "cylindrical"},      {"brown", "brown-conrady"},         {"opencv-fisheye", "kannala-brandt"},
 };
 
-// Levenshtein distance, for "did you mean" on a misspelt name.
-size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
 // "did you mean X? " for another tool's name, a catalogue name within two edits, or one that
 // begins the text (equirectangle); else "".
 std::string did_you_mean(const std::string& name) {
