@@ -45,6 +45,7 @@ from ._options import (_F, _core_options, _int, _memory_limit, _one_line_type_er
 from ._declared import *  # noqa: F401,F403 (the projection classes and Literal aliases)
 from ._declared import CLASSES, ConvertOptions, MapOptions, ProjectionName
 from ._projection import _CLASSES, Projection, projection
+from ._text import shown as _shown
 from ._types import Array, FillLike, ImageLike, Mask, PathLike, SizeLike
 from ._video import VideoPlan
 from ._stitch import Layer, Layers, StitchPlan, stitch_layers, stitch_panorama
@@ -314,8 +315,8 @@ class Plan:
 
     def __repr__(self) -> str:
         src, dst, source_size, options = self._args
-        shown = "".join(f", {k}={v!r}" for k, v in options.items() if k != "size")
-        return f"Plan({src!r}, {dst!r}, source_size={source_size}, size={self.size}{shown})"
+        given = "".join(f", {k}={v!r}" for k, v in options.items() if k != "size")
+        return f"Plan({src!r}, {dst!r}, source_size={source_size}, size={self.size}{given})"
 
 
 @overload
@@ -336,7 +337,7 @@ def read(path: PathLike, *, metadata: bool = False,
     dict holding the file's attributes by OpenImageIO's names (EXIF, XMP, ICC profile ...)."""
     path = os.fspath(path)
     if not isinstance(path, str):
-        raise TypeError(f"path: {path!r} (expected a str or os.PathLike path)")
+        raise TypeError(f"path: {_shown(path)} (expected a str or os.PathLike path)")
     limit = _memory_limit(memory_limit)
     array = _core.read_faces(path, limit) if re.search(r"\{(face|index|axis)\}", path) else _core.read(path, limit)
     if metadata:
@@ -397,3 +398,8 @@ def split_faces(image: Array, layout: Union[str, Projection] = "cubemap") -> Lis
 def simd_target() -> str:
     """The SIMD instruction set the engine dispatches to on this machine (e.g. ``AVX3``)."""
     return _core.simd_target()
+
+
+def __dir__() -> List[str]:
+    """The API (``__all__``) and the module's own dunders, not the names it imports to work."""
+    return sorted(set(__all__) | {n for n in globals() if n.startswith("__")})

@@ -12,13 +12,15 @@ from typing import Literal, Tuple
 
 import numpy as np
 
+from ._text import shown
+
 Convention = Literal["panoproj", "opencv", "torch"]
 _NAMES = ("panoproj", "opencv", "torch")
 
 
 def check(convention: object) -> str:
     if convention not in _NAMES:
-        raise ValueError(f"convention: {convention!r} (expected 'panoproj', 'opencv' or 'torch')")
+        raise ValueError(f"convention: {shown(convention)} (expected 'panoproj', 'opencv' or 'torch')")
     return str(convention)
 
 

@@ -11,6 +11,7 @@ import os
 import time
 from typing import Any, Callable, Dict, List, Mapping, Sequence, Tuple
 
+from ._text import shown
 from . import _core, _options
 from ._projection import projection
 
@@ -29,38 +30,38 @@ def rig_text(rig: Any) -> str:
     if isinstance(rig, str):
         return rig
     if isinstance(rig, Mapping) or not isinstance(rig, Sequence):
-        raise TypeError(f"rig: {rig!r} (expected a str such as 'cube', or a sequence of mappings)")
+        raise TypeError(f"rig: {shown(rig)} (expected a str such as 'cube', or a sequence of mappings)")
     lines = []
     for i, view in enumerate(rig):
         if not isinstance(view, Mapping):
-            raise TypeError(f"rig[{i}]: {view!r} (expected a mapping: name, yaw, pitch, roll, hfov, vfov, size)")
+            raise TypeError(f"rig[{i}]: {shown(view)} (expected a mapping: name, yaw, pitch, roll, hfov, vfov, size)")
         items = []
         for key, value in view.items():
-            where = f"rig[{i}][{key!r}]"
+            where = f"rig[{i}][{shown(key)}]"
             if key == "name":
                 if not isinstance(value, str):
-                    raise TypeError(f"{where}: {value!r} (expected a str)")
+                    raise TypeError(f"{where}: {shown(value)} (expected a str)")
                 text = value
             elif key in _NUMBER_KEYS:
                 if isinstance(value, bool) or not isinstance(value, (int, float)):
-                    raise TypeError(f"{where}: {value!r} (expected a number of degrees)")
+                    raise TypeError(f"{where}: {shown(value)} (expected a number of degrees)")
                 if not math.isfinite(value):
-                    raise ValueError(f"{where}: {value!r} (expected a finite number of degrees)")
+                    raise ValueError(f"{where}: {shown(value)} (expected a finite number of degrees)")
                 text = repr(float(value))
             elif key in _INTEGER_KEYS:
                 if isinstance(value, bool) or not isinstance(value, int):
-                    raise TypeError(f"{where}: {value!r} (expected an int)")
+                    raise TypeError(f"{where}: {shown(value)} (expected an int)")
                 text = str(value)
             elif key == "size":
                 if (not isinstance(value, (tuple, list)) or len(value) != 2
                         or any(isinstance(v, bool) or not isinstance(v, int) for v in value)):
-                    raise TypeError(f"{where}: {value!r} (expected (width, height) ints)")
+                    raise TypeError(f"{where}: {shown(value)} (expected (width, height) ints)")
                 text = f"{value[0]}x{value[1]}"
             else:
-                raise TypeError(f"rig[{i}]: unknown key {key!r} (expected name, yaw, pitch, roll, hfov or fov, "
+                raise TypeError(f"rig[{i}]: unknown key {shown(key)} (expected name, yaw, pitch, roll, hfov or fov, "
                                 "vfov, size, width, height)")
             if any(c in text for c in ",:{}#\n"):
-                raise ValueError(f"{where}: {text!r} (a name of letters, digits, '_' or '-')")
+                raise ValueError(f"{where}: {shown(text)} (a name of letters, digits, '_' or '-')")
             items.append(f"{key}: {text}")
         lines.append("- {" + ", ".join(items) + "}")
     if not lines:
@@ -73,9 +74,9 @@ def _path(name: str, v: Any) -> str:
     try:
         p = os.fspath(v)
     except TypeError:
-        raise TypeError(f"{name}: {v!r} (expected a str or os.PathLike path)") from None
+        raise TypeError(f"{name}: {shown(v)} (expected a str or os.PathLike path)") from None
     if not isinstance(p, str):
-        raise TypeError(f"{name}: {v!r} (expected a str or os.PathLike path)")
+        raise TypeError(f"{name}: {shown(v)} (expected a str or os.PathLike path)")
     return p
 
 
@@ -84,12 +85,12 @@ def _paths(name: str, v: Any) -> List[str]:
         return [_path(name, v)]
     if isinstance(v, Sequence):
         return [_path(f"{name}[{i}]", p) for i, p in enumerate(v)]
-    raise TypeError(f"{name}: {v!r} (expected a path or a sequence of paths)")
+    raise TypeError(f"{name}: {shown(v)} (expected a path or a sequence of paths)")
 
 
 def _integer(name: str, v: Any) -> int:
     if isinstance(v, bool) or not isinstance(v, int):
-        raise TypeError(f"{name}: {v!r} (expected an int)")
+        raise TypeError(f"{name}: {shown(v)} (expected an int)")
     if not -(1 << 62) < v < (1 << 62):
         raise ValueError(f"{name}: {v} is out of range")
     return v
@@ -97,18 +98,18 @@ def _integer(name: str, v: Any) -> int:
 
 def _text(name: str, v: Any) -> str:
     if not isinstance(v, str):
-        raise TypeError(f"{name}: {v!r} (expected a str)")
+        raise TypeError(f"{name}: {shown(v)} (expected a str)")
     return v
 
 
 def _time(name: str, v: Any) -> str:
     """A time or rate: a number (seconds, frames a second) or the command's text of one."""
     if isinstance(v, bool) or not isinstance(v, (int, float, str)):
-        raise TypeError(f"{name}: {v!r} (expected a number or a str such as '1:30')")
+        raise TypeError(f"{name}: {shown(v)} (expected a number or a str such as '1:30')")
     if isinstance(v, str):
         return v
     if not math.isfinite(v):
-        raise ValueError(f"{name}: {v!r} (expected a finite number)")
+        raise ValueError(f"{name}: {shown(v)} (expected a finite number)")
     return repr(float(v))
 
 

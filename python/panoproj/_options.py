@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any, Callable, Dict, Optional, Tuple, TypeVar,
 
 import numpy as np
 
+from ._text import shown
 from . import _core
 from ._types import FillLike, SizeLike
 
@@ -25,7 +26,7 @@ def _size(size: SizeLike) -> Optional[Tuple[int, int]]:
         # "WxH" (either x) or "N" for a square, as the command takes them.
         m = re.fullmatch(r"\s*(\d+)\s*(?:[xX]\s*(\d+)\s*)?", size)
         if not m:
-            raise ValueError(f"size: {size!r} (expected WxH, e.g. 4096x2048, or N for a square)")
+            raise ValueError(f"size: {shown(size)} (expected WxH, e.g. 4096x2048, or N for a square)")
         w = int(m.group(1))
         h = int(m.group(2)) if m.group(2) is not None else w
     elif isinstance(size, (int, np.integer)) and not isinstance(size, bool):
@@ -34,9 +35,9 @@ def _size(size: SizeLike) -> Optional[Tuple[int, int]]:
         try:
             w, h = size
         except (TypeError, ValueError):
-            raise TypeError(f"size: {size!r} (expected (width, height))") from None
+            raise TypeError(f"size: {shown(size)} (expected (width, height))") from None
         if not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in (w, h)):
-            raise TypeError(f"size: {size!r} (expected two integers, (width, height))")
+            raise TypeError(f"size: {shown(size)} (expected two integers, (width, height))")
         w, h = int(w), int(h)
     if not (1 <= w <= _MAX_SIDE and 1 <= h <= _MAX_SIDE):
         raise ValueError(f"size: {w}x{h} (expected 1 to {_MAX_SIDE} pixels a side)")
@@ -45,7 +46,7 @@ def _size(size: SizeLike) -> Optional[Tuple[int, int]]:
 
 def _int(name: str, v: Any, lo: int, hi: int, expected: str) -> int:
     if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
-        raise TypeError(f"{name}: {v!r} (expected an integer, {expected})")
+        raise TypeError(f"{name}: {shown(v)} (expected an integer, {expected})")
     if not lo <= int(v) <= hi:
         raise ValueError(f"{name}: {int(v)} (expected {expected})")
     return int(v)
@@ -59,9 +60,9 @@ def _angle(name: str, v: Any) -> float:
     try:
         return float(v)
     except OverflowError:
-        raise ValueError(f"{name}: {v!r} (expected a finite angle in degrees)") from None
+        raise ValueError(f"{name}: {shown(v)} (expected a finite angle in degrees)") from None
     except (TypeError, ValueError):
-        raise TypeError(f"{name}: {v!r} (expected a number of degrees)") from None
+        raise TypeError(f"{name}: {shown(v)} (expected a number of degrees)") from None
 
 
 def _memory_limit(limit: Union[int, str, None]) -> int:
@@ -96,7 +97,7 @@ def _antialias(antialias: Union[str, int, None]) -> Optional[str]:
         return antialias
     if isinstance(antialias, (int, np.integer)) and not isinstance(antialias, bool):
         return str(int(antialias))
-    raise TypeError(f"antialias: {antialias!r} (expected 'auto', 'off', 'mip', a sub-pixel count or None)")
+    raise TypeError(f"antialias: {shown(antialias)} (expected 'auto', 'off', 'mip', a sub-pixel count or None)")
 
 
 
@@ -107,7 +108,7 @@ def _fill(fill: FillLike) -> Optional[str]:
     try:
         values = [float(v) for v in fill]
     except (TypeError, ValueError):
-        raise TypeError(f"fill: {fill!r} (expected 'R,G,B[,A]', '#rrggbb[aa]' or a sequence of 3 or 4 numbers)") from None
+        raise TypeError(f"fill: {shown(fill)} (expected 'R,G,B[,A]', '#rrggbb[aa]' or a sequence of 3 or 4 numbers)") from None
     return ",".join(repr(v) for v in values)
 
 
@@ -120,12 +121,12 @@ _CHOICES = {o["name"]: o["choices"].split("|") for o in _OPTIONS if o["choices"]
 
 def _option_text(name: str, v: Any) -> str:
     if not isinstance(v, str):
-        raise TypeError(f"{name}: {v!r} (expected text)")
+        raise TypeError(f"{name}: {shown(v)} (expected text)")
     choices = _CHOICES.get(name)
     if choices and v not in choices:
         near = difflib.get_close_matches(v, choices, 1)
-        raise ValueError(f"{name}: {v!r} (expected one of {', '.join(choices)}"
-                         + (f"; did you mean {near[0]!r}?)" if near else ")"))
+        raise ValueError(f"{name}: {shown(v)} (expected one of {', '.join(choices)}"
+                         + (f"; did you mean {shown(near[0])}?)" if near else ")"))
     return v
 
 
@@ -188,8 +189,8 @@ def _takes_options(use: str, job: bool = False) -> Callable[[_F], _F]:
             bad = [k for k in kwargs if k not in own and k not in names]
             if bad:
                 near = difflib.get_close_matches(bad[0], names + list(own), 1)
-                raise TypeError(f"{fn.__qualname__}: unknown option {bad[0]!r} ("
-                                + (f"did you mean {near[0]!r}? " if near else "") + f"expected one of: {expected})")
+                raise TypeError(f"{fn.__qualname__}: unknown option {shown(bad[0])} ("
+                                + (f"did you mean {shown(near[0])}? " if near else "") + f"expected one of: {expected})")
             return fn(*args, **kwargs)
 
         keywords = [inspect.Parameter(o["name"], inspect.Parameter.KEYWORD_ONLY, default=ast.literal_eval(o["default"]))

@@ -8,6 +8,7 @@ from typing import Any, Dict, Tuple, Union
 
 import numpy as np
 
+from ._text import shown
 from . import _core
 
 
@@ -55,7 +56,7 @@ def _text(key: str, v: Any) -> str:
     if isinstance(v, str):
         return v
     if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Integral, numbers.Real)):
-        raise TypeError(f"{key}: {v!r} (expected a number or a name)")
+        raise TypeError(f"{key}: {shown(v)} (expected a number or a name)")
     return str(int(v)) if isinstance(v, numbers.Integral) else repr(float(v))
 
 
@@ -76,7 +77,7 @@ def projection(spec: Union[str, Projection]) -> Projection:
     if isinstance(spec, Projection):
         return spec
     if not isinstance(spec, str):
-        raise TypeError(f"projection: {spec!r} (expected spec text such as 'pinhole:hfov=90', or a Projection)")
+        raise TypeError(f"projection: {shown(spec)} (expected spec text such as 'pinhole:hfov=90', or a Projection)")
     text = _core.canonical(spec)
     cls = _CLASSES[text.partition(":")[0]]
     p = cls.__new__(cls)

@@ -6,6 +6,7 @@ from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from ._text import shown
 from . import _core, _pyav
 from ._options import _core_options, _one_line_type_errors, _takes_options
 from ._projection import Projection, projection
@@ -64,7 +65,7 @@ class VideoPlan:
                           codec)
         if chroma_siting is not None:
             if chroma_siting not in _SITINGS:
-                raise ValueError(f"chroma_siting: {chroma_siting!r} (expected one of {', '.join(_SITINGS)})")
+                raise ValueError(f"chroma_siting: {shown(chroma_siting)} (expected one of {', '.join(_SITINGS)})")
             px["siting"], px["siting_said"] = _SITINGS[chroma_siting], True
         self._build((str(projection(src)), str(projection(dst)), px, size, _core_options(options)), name)
         for line in self._plan.warnings:
@@ -157,5 +158,5 @@ class VideoPlan:
 
     def __repr__(self) -> str:
         src, dst, px, size, options = self._state
-        shown = "".join(f", {k}={v!r}" for k, v in options.items() if k != "size")
-        return (f"VideoPlan({src!r}, {dst!r}, {size[0]}x{size[1]} {px['pixel_format']}, size={self.size}{shown})")
+        given = "".join(f", {k}={v!r}" for k, v in options.items() if k != "size")
+        return (f"VideoPlan({src!r}, {dst!r}, {size[0]}x{size[1]} {px['pixel_format']}, size={self.size}{given})")

@@ -43,11 +43,12 @@ using namespace panoproj;
 
 namespace {
 
+// (By equality, not identity: a dtype that carries metadata is another object of the same type.)
 PixelType pixel_type(const py::dtype& dt) {
-  if (dt.is(py::dtype::of<uint8_t>())) return PixelType::U8;
-  if (dt.is(py::dtype::of<uint16_t>())) return PixelType::U16;
-  if (dt.is(py::dtype("float16"))) return PixelType::F16;
-  if (dt.is(py::dtype::of<float>())) return PixelType::F32;
+  if (dt.equal(py::dtype::of<uint8_t>())) return PixelType::U8;
+  if (dt.equal(py::dtype::of<uint16_t>())) return PixelType::U16;
+  if (dt.equal(py::dtype("float16"))) return PixelType::F16;
+  if (dt.equal(py::dtype::of<float>())) return PixelType::F32;
   throw py::type_error("array dtype: " + py::str(dt).cast<std::string>() +
                        " (expected uint8, uint16, float16 or float32)");
 }

@@ -67,3 +67,27 @@ def test_memory_limits_with_binary_units(cli, tmp_path, limit):
                     "-q"], check=True)
     pp.convert(np.zeros((32, 64, 3), np.uint8), "equirect", "pinhole", memory_limit=limit)
 
+
+
+def test_dir_lists_the_api_only():
+    names = [n for n in dir(pp) if not n.startswith("__")]
+    assert names == sorted(pp.__all__)
+    assert not {"np", "os", "re", "Any", "Union", "Optional", "ThreadPoolExecutor", "warnings"} & set(dir(pp))
+    for n in names:
+        getattr(pp, n)
+
+
+def test_a_dtype_with_metadata_is_its_dtype():
+    plain = np.arange(8 * 16 * 3, dtype=np.uint8).reshape(8, 16, 3)
+    tagged = plain.astype(np.dtype(np.uint8, metadata={"source": "camera"}))
+    assert np.array_equal(pp.convert(tagged, "equirect", "pinhole", size=(8, 8)),
+                          pp.convert(plain, "equirect", "pinhole", size=(8, 8)))
+
+
+def test_an_array_argument_is_shown_by_its_shape():
+    with pytest.raises(TypeError) as e:
+        pp.convert(np.zeros((8, 16, 3), np.uint8), "equirect", "pinhole", size=np.zeros((100, 100)))
+    assert str(e.value) == "size: an array of shape (100, 100) and dtype float64 (expected (width, height))"
+    with pytest.raises(ValueError) as e:
+        pp.convert(np.zeros((8, 16, 3), np.uint8), "equirect", "pinhole", interp="x" * 500)
+    assert len(str(e.value)) < 300
