@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 
 #include "base/json_text.hpp"
+#include "io/colmap/model.hpp"
 
 namespace panoproj {
 namespace {
@@ -21,43 +22,6 @@ std::string wxyz(const Eigen::Matrix3d& r, const char* sep) {
   q.normalize();
   if (q.w() < 0) q.coeffs() = -q.coeffs();
   return num(q.w()) + sep + num(q.x()) + sep + num(q.y()) + sep + num(q.z());
-}
-
-// "QW QX QY QZ TX TY TZ" of a rotation without translation (COLMAP's Rigid3d as text).
-std::string pose(const Eigen::Matrix3d& r) {
-  return wxyz(r, " ") + " 0 0 0";
-}
-
-std::string colmap_cameras(const std::vector<ViewCamera>& views) {
-  std::string s =
-      "# Camera list with one line of data per camera:\n#   CAMERA_ID, MODEL, WIDTH, HEIGHT, "
-      "PARAMS[]\n"
-      "# Number of cameras: " +
-      std::to_string(views.size()) + "\n";
-  for (size_t v = 0; v < views.size(); ++v) {
-    const ViewCamera& c = views[v];
-    // PINHOLE: fx fy cx cy; COLMAP's top-left pixel centre is (0.5, 0.5), so the centre is W/2,
-    // H/2.
-    s += std::to_string(v + 1) + " PINHOLE " + std::to_string(c.size.width) + " " +
-         std::to_string(c.size.height) + " " + num(c.focal) + " " + num(c.focal) + " " +
-         num(0.5 * static_cast<double>(c.size.width)) + " " +
-         num(0.5 * static_cast<double>(c.size.height)) + "\n";
-  }
-  return s;
-}
-
-// One rig: sensor v (camera v + 1) at cam_v_from_rig = R_v^T R_0, the first view the reference.
-std::string colmap_rigs(const std::vector<ViewCamera>& views) {
-  std::string s =
-      "# Rig calib list with one line of data per calib:\n"
-      "#   RIG_ID, NUM_SENSORS, REF_SENSOR_TYPE, REF_SENSOR_ID, SENSORS[] as (SENSOR_TYPE, "
-      "SENSOR_ID, HAS_POSE, "
-      "[QW, QX, QY, QZ, TX, TY, TZ])\n# Number of rigs: 1\n";
-  s += "1 " + std::to_string(views.size()) + " CAMERA 1";
-  for (size_t v = 1; v < views.size(); ++v)
-    s += " CAMERA " + std::to_string(v + 1) + " 1 " +
-         pose(views[v].world_from_camera.transpose() * views[0].world_from_camera);
-  return s + "\n";
 }
 
 // COLMAP's rig_configurator input: sensor v's images under "{view}/", its cam_from_rig (the
@@ -82,44 +46,51 @@ std::string rig_config(const std::vector<ViewCamera>& views) {
   return s + "\n    ]\n  }\n]\n";
 }
 
-// One frame per panorama: rig_from_world = R_0^T (every panorama at the origin, levelled alike).
-std::string colmap_frames(const std::vector<ViewCamera>& views, size_t frames) {
-  std::string s =
-      "# Frame list with one line of data per frame:\n"
-      "#   FRAME_ID, RIG_ID, RIG_FROM_WORLD[QW, QX, QY, QZ, TX, TY, TZ], NUM_DATA_IDS, DATA_IDS[] "
-      "as "
-      "(SENSOR_TYPE, SENSOR_ID, DATA_ID)\n# Number of frames: " +
-      std::to_string(frames) + "\n";
-  const std::string rig_from_world = pose(views[0].world_from_camera.transpose());
-  for (size_t f = 0; f < frames; ++f) {
-    s += std::to_string(f + 1) + " 1 " + rig_from_world + " " + std::to_string(views.size());
-    for (size_t v = 0; v < views.size(); ++v)
-      s += " CAMERA " + std::to_string(v + 1) + " " + std::to_string(f * views.size() + v + 1);
-    s += "\n";
+// COLMAP's model of the views (io/colmap/model.hpp writes it): a PINHOLE camera per view (COLMAP's
+// top-left pixel centre is (0.5, 0.5), so the principal point is W/2, H/2); one rig, the first
+// view its reference and each other's sensor_from_rig = R_v^T R_0; one frame per panorama,
+// rig_from_world = R_0^T (every panorama at the origin, levelled alike); each image's
+// cam_from_world = R_v^T; no points.
+colmap::Model colmap_model(const std::vector<ViewCamera>& views,
+                           const std::vector<std::string>& stems, const ViewFiles& files) {
+  colmap::Model m;
+  m.rigs_and_frames = true;
+  auto rotation = [](const Eigen::Matrix3d& r) {
+    return colmap::pose_of(r, Eigen::Vector3d::Zero());
+  };
+  colmap::Rig rig{1, {}};
+  for (size_t v = 0; v < views.size(); ++v) {
+    const ViewCamera& c = views[v];
+    const auto id = static_cast<uint32_t>(v + 1);
+    const double w = static_cast<double>(c.size.width), h = static_cast<double>(c.size.height);
+    m.cameras.push_back({id,
+                         "PINHOLE",
+                         static_cast<uint64_t>(c.size.width),
+                         static_cast<uint64_t>(c.size.height),
+                         {c.focal, c.focal, 0.5 * w, 0.5 * h}});
+    rig.sensors.push_back(
+        {colmap::SensorType::Camera, id,
+         v == 0 ? std::nullopt
+                : std::optional<colmap::Pose>(
+                      rotation(c.world_from_camera.transpose() * views[0].world_from_camera))});
   }
-  return s;
+  m.rigs.push_back(std::move(rig));
+  for (size_t f = 0; f < stems.size(); ++f) {
+    colmap::Frame frame{
+        static_cast<uint32_t>(f + 1), 1, rotation(views[0].world_from_camera.transpose()), {}};
+    for (size_t v = 0; v < views.size(); ++v) {
+      const auto id = static_cast<uint32_t>(f * views.size() + v + 1);
+      frame.data.push_back({colmap::SensorType::Camera, static_cast<uint32_t>(v + 1), id});
+      m.images.push_back({id,
+                          rotation(views[v].world_from_camera.transpose()),
+                          static_cast<uint32_t>(v + 1),
+                          files.image_name(stems[f], views[v].name),
+                          {}});
+    }
+    m.frames.push_back(std::move(frame));
+  }
+  return m;
 }
-
-std::string colmap_images(const std::vector<ViewCamera>& views,
-                          const std::vector<std::string>& stems, const ViewFiles& files) {
-  const size_t n = stems.size() * views.size();
-  std::string s =
-      "# Image list with two lines of data per image:\n#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, "
-      "CAMERA_ID, NAME\n"
-      "#   POINTS2D[] as (X, Y, POINT3D_ID)\n# Number of images: " +
-      std::to_string(n) + ", mean observations per image: 0\n";
-  for (size_t f = 0; f < stems.size(); ++f)
-    for (size_t v = 0; v < views.size(); ++v)
-      s += std::to_string(f * views.size() + v + 1) + " " +
-           pose(views[v].world_from_camera.transpose()) + " " + std::to_string(v + 1) + " " +
-           files.image_name(stems[f], views[v].name) + "\n\n";
-  return s;
-}
-
-const char* kPoints =
-    "# 3D point list with one line of data per point:\n"
-    "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
-    "# Number of points: 0, mean track length: 0\n";
 
 // The intrinsics nerfstudio reads (camera_angle_x/_y too, for readers of Blender's format).
 std::string intrinsics(const ViewCamera& c, const std::string& indent) {
@@ -177,12 +148,10 @@ std::string ViewFiles::image_name(const std::string& stem, const std::string& vi
 
 std::vector<TextFile> camera_files(const std::vector<ViewCamera>& views,
                                    const std::vector<std::string>& stems, const ViewFiles& files) {
-  std::vector<TextFile> out{{"sparse/0/cameras.txt", colmap_cameras(views)},
-                            {"sparse/0/images.txt", colmap_images(views, stems, files)},
-                            {"sparse/0/points3D.txt", kPoints},
-                            {"sparse/0/rigs.txt", colmap_rigs(views)},
-                            {"sparse/0/frames.txt", colmap_frames(views, stems.size())},
-                            {"transforms.json", transforms(views, stems, files)}};
+  std::vector<TextFile> out;
+  for (colmap::File& f : colmap::model_files(colmap_model(views, stems, files), false, "sparse/0/"))
+    out.push_back({std::move(f.path), std::move(f.bytes)});
+  out.push_back({"transforms.json", transforms(views, stems, files)});
   if (files.folders) out.push_back({"rig_config.json", rig_config(views)});
   return out;
 }
