@@ -1667,7 +1667,7 @@ def test_a_broadcast_array_is_counted_before_it_is_copied():
 
 @pytest.mark.parametrize("call", ["tiles", "views", "convert", "convert_file_video", "convert_file_video_pyav",
                                   "stitch", "stitch_layers", "stitch_panorama", "stitch_plan", "stitch_exposure_layers",
-                                  "convert_photometry"])
+                                  "convert_photometry", "undistort"])
 def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
     env = child_env(call.endswith("pyav"))
     clip = tmp_path / "clip.mkv"
@@ -1687,6 +1687,11 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
     if call.startswith("stitch"):
         project.write_text('p f2 w12000 h6000 v360 n"TIFF_m c:NONE r:CROP"\n' + "".join(
             f'i w4096 h2048 f4 v360 r0 p0 y{90 * k} n"big.jpg"\n' for k in range(4)))
+    sparse = tmp_path / "sparse"  # (undistort: the panorama as a COLMAP model's EQUIRECTANGULAR camera)
+    if call == "undistort":
+        sparse.mkdir()
+        (sparse / "cameras.txt").write_text("1 EQUIRECTANGULAR 4096 2048 4096 2048\n")
+        (sparse / "images.txt").write_text("1 1 0 0 0 0 0 0 1 big.jpg\n\n")
     # Each 20 to 40 s uninterrupted here (lanczos3, 4x4 samples a pixel): far from done at the
     # signal on a machine several times faster.
     slow = "threads=1, interp='lanczos3', antialias=4"
@@ -1695,6 +1700,7 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
             "convert": f"pp.convert(a, 'equirect', 'fisheye', size=(12000, 12000), {slow})",
             "convert_file_video": f"pp.convert_file({str(clip)!r}, {str(out) + '.mkv'!r}, dst='equirect', "
                                   f"size=(4096, 2048), codec='ffv1', {slow})",
+            "undistort": f"pp.undistort({str(sparse)!r}, {str(tmp_path)!r}, {str(out)!r}, size=(3000, 3000), {slow})",
             "stitch": f"pp.stitch({str(project)!r}, {str(out)!r}, {slow})",
             "stitch_layers": f"pp.stitch_layers({str(project)!r}, {slow})",
             "stitch_panorama": f"pp.stitch_panorama({str(project)!r}, blend='multiband', {slow})",
@@ -1722,7 +1728,7 @@ def test_ctrl_c_stops_a_long_python_call_with_nothing_written(tmp_path, call):
     assert "interrupted" in out_text, out_text + err
     assert time.perf_counter() - sent < 3, "Ctrl-C took effect late"
     made = [pathlib.Path(f).name for f in frames] + (["clip.mkv"] if clip.exists() else []) + (
-        ["p.pto"] if project.exists() else [])
+        ["p.pto"] if project.exists() else []) + (["sparse"] if sparse.exists() else [])
     assert sorted(os.listdir(tmp_path)) == sorted(made)  # nothing written, no temporary
 
 
@@ -2645,3 +2651,49 @@ def test_undistort_lands_whole_and_overwrites_only_its_own(cli, tmp_path):
     theirs = run(cli, ["undistort", "sparse", "images", "mine", "--overwrite"], tmp_path)
     expect_refused(theirs, "mine")
     assert run(cli, ["undistort", "sparse", "images", "out", "--overwrite"], tmp_path).code == 0
+
+
+@pytest.mark.parametrize("command", ["undistort", "model"])
+@pytest.mark.parametrize("cut", [0, 100])
+def test_colmap_jobs_writes_cut_at_a_byte_offset(cli, tmp_path, cut, command):
+    # RLIMIT_FSIZE: the first file past `cut` bytes fails (EFBIG); the old folder stays, nothing is left.
+    work = tmp_path / "work"
+    work.mkdir()
+    _colmap_folder(work)
+    _old_folder(tmp_path)
+    args = [work / "sparse", work / "images"] if command == "undistort" else [work / "sparse"]
+    r = run(cli, [command, *args, "out", "--overwrite"], tmp_path, fsize=cut)
+    expect_refused(r, "cannot write ", "File too large")
+    assert listing(tmp_path) == ["out", "work"]
+    assert listing(tmp_path / "out") == ["mine.txt", MARKER]
+
+
+@pytest.mark.skipif(not STRACE, reason="strace (a test oracle) is not installed")
+@pytest.mark.parametrize("command", ["undistort", "model"])
+def test_colmap_jobs_signals_leave_nothing_behind(cli, tmp_path, command):
+    # strace holds the one syncfs for 3 s: every file is in the temporary folder then.
+    work = tmp_path / "work"
+    work.mkdir()
+    _colmap_folder(work)
+    _old_folder(tmp_path)
+    args = [work / "sparse", work / "images"] if command == "undistort" else [work / "sparse"]
+    r = run(cli, [command, *args, "out", "--overwrite"], tmp_path,
+            strace=["-e", "trace=syncfs", "-e", "inject=syncfs:delay_enter=3000000:when=1"],
+            on_start=_signal_once_a_temporary_exists(tmp_path, signal.SIGINT, 0.5))
+    assert r.code in (-signal.SIGINT, 128 + signal.SIGINT), (r.code, r.err)
+    assert listing(tmp_path) == ["out", "work"]
+    assert listing(tmp_path / "out") == ["mine.txt", MARKER]
+
+
+@pytest.mark.parametrize("command", ["undistort", "model"])
+def test_colmap_jobs_never_write_through_a_link(cli, tmp_path, command):
+    work = tmp_path / "work"
+    work.mkdir()
+    _colmap_folder(work)
+    (tmp_path / "elsewhere").mkdir()
+    (tmp_path / "elsewhere" / "keep.txt").write_text("keep")
+    os.symlink(tmp_path / "elsewhere", tmp_path / "out")
+    args = [work / "sparse", work / "images"] if command == "undistort" else [work / "sparse"]
+    r = run(cli, [command, *args, "out", "--overwrite"], tmp_path)
+    assert r.code == 1, r.err
+    assert (tmp_path / "out").is_symlink() and listing(tmp_path / "elsewhere") == ["keep.txt"]
