@@ -53,7 +53,7 @@ TEST(ConversionGeometry, RefusesBadParameters) {
   EXPECT_EQ(geometry_error("equirect", {64, 32}, "equirect", o), "size: 0x10 (expected 1 to 2147483647 pixels a side)");
   EXPECT_EQ(geometry_error("cubemap", {600, 120}, "equirect"),
             "cubemap: layout=6x1 needs a 6F x 1F image with square faces; got 600x120 (check the "
-            "size or the layout)");
+            "size or the layout; a target's --face-size N gives N x N faces)");
   EXPECT_EQ(geometry_error("fisheye:fov=200,model=orthographic", {64, 64}, "equirect"),
             "fisheye: fov=200 is too wide for model=orthographic (expected <= 180)");
   EXPECT_EQ(geometry_error("equirect:lat0=60,vfov=90", {64, 32}, "equirect"),

@@ -20,17 +20,26 @@ struct Good {
   bool (*changed)(const ConvertOptions&);
 };
 const Good kGood[] = {
-    {"size", std::string("640x480"), [](const ConvertOptions& o) { return o.size == Size{640, 480}; }},
+    {"size", std::string("640x480"),
+     [](const ConvertOptions& o) { return o.size == Size{640, 480}; }},
+    {"face_size", int64_t{256}, [](const ConvertOptions& o) { return o.face_size == 256; }},
     {"yaw", 12.5, [](const ConvertOptions& o) { return o.yaw == 12.5; }},
     {"pitch", -3.0, [](const ConvertOptions& o) { return o.pitch == -3.0; }},
     {"roll", 1e-9, [](const ConvertOptions& o) { return o.roll == 1e-9; }},
-    {"interp", std::string("lanczos3"), [](const ConvertOptions& o) { return o.interp == Interp::Lanczos3; }},
+    {"interp", std::string("lanczos3"),
+     [](const ConvertOptions& o) { return o.interp == Interp::Lanczos3; }},
     {"threads", int64_t{3}, [](const ConvertOptions& o) { return o.threads == 3; }},
-    {"engine", std::string("scalar"), [](const ConvertOptions& o) { return o.engine == Engine::Scalar; }},
-    {"antialias", std::string("4"), [](const ConvertOptions& o) { return o.antialias.has_value(); }},
+    {"engine", std::string("scalar"),
+     [](const ConvertOptions& o) { return o.engine == Engine::Scalar; }},
+    {"antialias", std::string("4"),
+     [](const ConvertOptions& o) { return o.antialias.has_value(); }},
     {"alpha", true, [](const ConvertOptions& o) { return o.add_alpha && o.edges.soft; }},
-    {"fill", std::string("#ff0000"), [](const ConvertOptions& o) { return o.edges.colour && (*o.edges.colour)[0] == 1.0 && o.edges.soft; }},
-    {"memory_limit", std::string("2G"), [](const ConvertOptions& o) { return o.memory_limit == 2000000000; }},
+    {"fill", std::string("#ff0000"),
+     [](const ConvertOptions& o) {
+       return o.edges.colour && (*o.edges.colour)[0] == 1.0 && o.edges.soft;
+     }},
+    {"memory_limit", std::string("2G"),
+     [](const ConvertOptions& o) { return o.memory_limit == 2000000000; }},
     {"decode_scale", std::string("4"), [](const ConvertOptions& o) { return o.decode_scale == 4; }},
 };
 
@@ -100,7 +109,9 @@ TEST(Options, BadValuesNameTheOption) {
     conversion_option("zoom", kUseConvert);
     ADD_FAILURE();
   } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("unknown option 'zoom' (expected one of: size, yaw, pitch, roll, ", 0), 0u);
+    EXPECT_EQ(std::string(e.what()).rfind(
+                  "unknown option 'zoom' (expected one of: size, face_size, yaw, pitch, roll, ", 0),
+              0u);
   }
   ConvertOptions o;
   EXPECT_THROW(conversion_option("yaw", kUseConvert).set(o, std::string("10")), InternalError);

@@ -62,9 +62,12 @@ TEST(Spec, ErrorsNameTheValueAndWhatWasExpected) {
   // Every catalogue name, in catalogue order (a new projection's module adds its own).
   std::string names;
   for (const auto& d : projection_catalog()) names += (names.empty() ? "" : ", ") + std::string(d.name);
-  EXPECT_EQ(error_of("fishey"), "unknown projection 'fishey' (did you mean fisheye? expected one of: " + names + ")");
-  EXPECT_EQ(error_of("perspective"), "unknown projection 'perspective' (did you mean pinhole? expected one of: " + names + ")");
-  EXPECT_EQ(error_of("zzz"), "unknown projection 'zzz' (expected one of: " + names + ")");
+  const std::string listed = "expected one of the " + std::to_string(projection_catalog().size()) +
+                             " that panoproj info lists: " + names + ")";
+  EXPECT_EQ(error_of("fishey"), "unknown projection 'fishey' (did you mean fisheye? " + listed);
+  EXPECT_EQ(error_of("perspective"),
+            "unknown projection 'perspective' (did you mean pinhole? " + listed);
+  EXPECT_EQ(error_of("zzz"), "unknown projection 'zzz' (" + listed);
   EXPECT_EQ(
       names.rfind(
           "pinhole, fisheye, dual-fisheye, brown-conrady, kannala-brandt, double-sphere, unified, ",

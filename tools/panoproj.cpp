@@ -174,6 +174,7 @@ int run_job(const Command& command) {
   };
   const bool quiet = has("quiet");
   QuietStderr hold(!has("verbose"));
+  install_signal_cleanup(hold.fd());  // (a batch's line on the real stderr)
   ProgressBar bar(hold.fd(), !quiet);
   JobEvents events;
   events.progress = [&](double f) { bar.update(f); };
@@ -184,10 +185,11 @@ int run_job(const Command& command) {
       std::printf("%s\n", line.c_str());
       std::fflush(stdout);
     };
-  events.warning = [&](const std::string& line) {  // (the real stderr, even when quiet)
-    bar.clear();
-    dprintf(hold.fd(), "panoproj: %s\n", line.c_str());
-  };
+  if (!quiet)
+    events.warning = [&](const std::string& line) {  // (the real stderr)
+      bar.clear();
+      dprintf(hold.fd(), "panoproj: warning: %s\n", line.c_str());
+    };
   const Report report = command.job().run(args, events);
   const ReportValue* ok = report_find(report, "ok");
   return ok && !std::get<bool>(ok->value) ? 1 : 0;

@@ -149,20 +149,23 @@ def _codec(image: Any, options: Dict[str, Any]) -> "_arrays.Codec":
 
 @_one_line_type_errors
 @_takes_options("convert")
-def convert(image: ImageLike, src: Union[str, Projection, None], dst: Union[str, Projection],
+def convert(image: Union[ImageLike, PathLike], src: Union[str, Projection, None], dst: Union[str, Projection],
             **options: Unpack[ConvertOptions]) -> Array:
     """Converts ``image`` from projection ``src`` to ``dst`` and returns the new image.
 
     ``image``: HxW, HxWxC, a batch NxHxWxC (frames converted in parallel on one plan, equal to
     converting each), a cubemap's six faces (a list, or a dict by ``F R B L U D``), or a GoPro
     MAX's two strips (``src="gopro-max"``: a list of stream 0:0's and 0:5's frames); numpy or
-    anything numpy reads (``__array__``, ``__dlpack__``, buffers). The result has the input's
+    anything numpy reads (``__array__``, ``__dlpack__``, buffers); or an image file's path, read as
+    ``read`` reads it (``convert_file`` writes a file instead, keeping its metadata). The result has the input's
     dtype and channels (float64 computed in float32); pixels without a source are 0 (alpha 0).
     ``src=None`` takes a 2:1 image as a full equirect, as the command does. In Python, ``size``
     is ``(width, height)`` (or ``"WxH"``, ``N``), ``antialias`` may be a sub-pixel count ``N``, ``fill`` a
     tuple ``(r, g, b[, a])`` in unit range, and ``memory_limit`` a byte count or text such as
     ``"4G"``; a job over it raises MemoryError before any work.
     """
+    if isinstance(image, (str, os.PathLike)):
+        image = read(image, memory_limit=options.get("memory_limit"))
     if src is not None:
         image = _arrays.strip_pair(image, str(projection(src)))
     job, size = _image_job(image)

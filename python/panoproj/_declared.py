@@ -136,7 +136,7 @@ class DualFisheye(Projection):
         centre
     cy2: lens 1's centre in the whole image's pixels, OpenCV convention; default: its half's
         centre
-    yaw: lens 0's yaw (deg; rotation.hpp's convention) (default 0)
+    yaw: lens 0's yaw (deg; as --yaw: positive turns it right) (default 0)
     pitch: lens 0's pitch (deg) (default 0)
     roll: lens 0's roll (deg) (default 0)
     yaw2: lens 1's yaw (deg; 180: back to back) (default 180)
@@ -1812,6 +1812,7 @@ class ConvertOptions(TypedDict, total=False):
     """The keyword options of the calls that take 'convert' rows (the command's flags)."""
 
     size: SizeLike
+    face_size: int
     yaw: float
     pitch: float
     roll: float
@@ -1828,6 +1829,7 @@ class MapOptions(TypedDict, total=False):
     """The keyword options of the calls that take 'maps' rows (the command's flags)."""
 
     size: SizeLike
+    face_size: int
     yaw: float
     pitch: float
     roll: float
@@ -1839,6 +1841,7 @@ class ConvertFileOptions(TypedDict, total=False):
     """The keyword options of convert_file() (the command's flags)."""
 
     size: SizeLike
+    face_size: int
     yaw: float
     pitch: float
     roll: float

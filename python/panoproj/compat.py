@@ -19,30 +19,61 @@ chosen exactly where py360convert approximates their borders per column (so tiny
 rows high, differ); ``c2e`` takes any width (py360convert wants a multiple of 8); keyword-only
 ``antialias="auto"`` averages the source pixels under each output pixel when shrinking, where
 py360convert (and the default ``"off"``) samples one point.
+
+Each call keeps what it builds (its plans, their maps, c2e's face masks) for the next call of the
+same shapes and options, as py360convert caches its maps: the most recent (64 plans, 16 c2e
+layouts), dropped by ``clear_cache()``.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
 from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 
-from . import Pinhole, _arrays, _core, convert, split_faces
+from . import Pinhole, Plan, _arrays, _core, split_faces
 from ._declared import Antialias
+from ._text import shown as _shown
 from ._types import Array
 
 CubeFormat = Literal["horizon", "list", "dict", "dice"]
 InterpolationMode = Literal["nearest", "linear", "bilinear", "bicubic", "cubic"]
 
-__all__ = ["e2c", "c2e", "e2p", "cube_h2dice", "cube_dice2h", "cube_h2dict", "cube_dict2h", "cube_h2list",
+__all__ = ["e2c", "c2e", "e2p", "clear_cache", "cube_h2dice", "cube_dice2h", "cube_h2dict", "cube_dict2h", "cube_h2list",
            "cube_list2h"]
 
 _MODES = {"nearest": "nearest", "linear": "bilinear", "bilinear": "bilinear", "bicubic": "bicubic", "cubic": "bicubic"}
 _SPLINES = ("biquadratic", "quadratic", "quad", "biquartic", "quartic", "biquintic", "quintic")
 _LAYOUTS = {"horizon": "cubemap:layout=6x1", "dice": "cubemap:layout=cross"}
 _FACES = "FRBLUD"
+
+
+@functools.lru_cache(maxsize=64)  # (a c2e takes 20)
+def _plan(src: str, dst: str, source_size: Tuple[int, int], size: Tuple[int, int], yaw: float, pitch: float,
+          roll: float, interp: str, antialias: Any) -> Plan:
+    """A plan kept for the next call of the same geometry (its maps built on its first run)."""
+    return Plan(src, dst, source_size, size=size, yaw=yaw, pitch=pitch, roll=roll, interp=interp,  # type: ignore
+                antialias=antialias)
+
+
+def _convert(image: Array, src: str, dst: Any, *, size: Tuple[int, int], yaw: float = 0.0, pitch: float = 0.0,
+             roll: float = 0.0, interp: str, antialias: Any = "off") -> Array:
+    """convert() through a kept plan."""
+    try:
+        hash(antialias)
+    except TypeError:
+        raise TypeError(f"antialias: {_shown(antialias)} (expected 'auto', 'off', 'mip' or a sub-pixel count)") from None
+    source_size = (image.shape[1], image.shape[0])
+    return _plan(src, str(dst), source_size, size, yaw, pitch, roll, interp, antialias)(image)
+
+
+def clear_cache() -> None:
+    """Drops the plans and masks kept for repeat calls (their memory)."""
+    _plan.cache_clear()
+    _c2e_layout.cache_clear()
 
 
 def _interp(mode: str) -> str:
@@ -112,8 +143,8 @@ def e2c(e_img: Any, face_w: int = 256, mode: InterpolationMode = "bilinear",
     _core.require_memory(f"e2c cube 6 x {face_w}x{face_w}", 12 * face_w * face_w * e_img.itemsize *
                          (e_img.shape[2] if e_img.ndim == 3 else 1), 0)
     face = Pinhole(hfov=_edge_fov(90.0, face_w))
-    faces = [convert(e_img, "equirect", face, size=(face_w, face_w), yaw=yaw, pitch=pitch, interp=interp,  # type: ignore
-                     antialias=antialias) for yaw, pitch in _ROTATIONS]
+    faces = [_convert(e_img, "equirect", face, size=(face_w, face_w), yaw=yaw, pitch=pitch, interp=interp,
+                      antialias=antialias) for yaw, pitch in _ROTATIONS]
     if fmt == "list":
         return faces
     if fmt == "dict":
@@ -145,8 +176,8 @@ def _padded(faces: List[Array], pad: int) -> List[Array]:
     cube, frame = cube_list2h(faces), Pinhole(hfov=math.degrees(2 * math.atan((w + 2 * pad) / w)))
     out = []
     for face, (yaw, pitch) in zip(faces, _ROTATIONS):
-        p = convert(cube, "cubemap:layout=6x1", frame, size=(w + 2 * pad, w + 2 * pad), yaw=yaw, pitch=pitch,
-                    interp="nearest")
+        p = _convert(cube, "cubemap:layout=6x1", frame, size=(w + 2 * pad, w + 2 * pad), yaw=yaw, pitch=pitch,
+                     interp="nearest")
         p[pad:pad + w, pad:pad + w] = face
         out.append(p)
     return out
@@ -160,17 +191,13 @@ def _pieces(h: int, w: int) -> List[Tuple[int, int, int, int]]:
     return [(r0, r1, c0, c1) for r0, r1 in rows if r1 > r0 for c0, c1 in cols]
 
 
-def c2e(cubemap: Any, h: int, w: int, mode: InterpolationMode = "bilinear",
-        cube_format: CubeFormat = "dice", *, antialias: Antialias = "off") -> Array:
-    """A cubemap in ``cube_format`` as an (h, w[, C]) equirectangular image."""
-    fmt, interp, h, w = _format(cube_format), _interp(mode), _pixels("h", h), _pixels("w", w)
-    faces = _cube_faces(cubemap, fmt)
-    fw = faces[0].shape[0]
-    _core.require_memory(f"c2e output {w}x{h}", h * w * (faces[0][0, 0].nbytes + 3), 0)
+@functools.lru_cache(maxsize=16)
+def _c2e_layout(fw: int, h: int, w: int, antialias: Any) -> Tuple[int, List[Tuple[int, int, int, int, int, str, Array]]]:
+    """c2e's padding and its pieces: (a0, a1, b0, b1) output box, face, the partial equirect it
+    takes from that face, and the box's mask of the samples on that face."""
     # The faces' pixels reach past their edges by up to an output pixel's footprint (antialiasing):
     # padding wider than it keeps every footprint inside the padded face.
     pad = min(fw, 2 + math.ceil(2 * fw / max(1, min(w // 4, h // 2))))
-    padded = _padded(faces, pad)
     lon = np.radians(np.linspace(-180.0, 180.0, w))
     lat = np.radians(np.linspace(90.0, -90.0, h))
     # Each sample's face: the ray's largest component (x right, y up, z forward).
@@ -178,9 +205,8 @@ def c2e(cubemap: Any, h: int, w: int, mode: InterpolationMode = "bilinear",
                     np.where(np.sin(lon) > 0, 1, 3)).astype(np.int8)
     polar = np.abs(np.tan(lat))[:, None] >= np.maximum(np.abs(np.sin(lon)), np.abs(np.cos(lon)))[None, :]
     face_of = np.where(polar, np.where(lat > 0, 4, 5).astype(np.int8)[:, None], band[None, :])
-    out = np.zeros((h, w) + faces[0].shape[2:], faces[0].dtype)
-    source = Pinhole(focal=fw / 2, cx=fw / 2 + pad, cy=fw / 2 + pad)  # py360convert's index (t + 1) w / 2
     dlon, dlat = 360.0 / max(1, w - 1), 180.0 / max(1, h - 1)
+    pieces = []
     for r0, r1, c0, c1 in _pieces(h, w):
         piece = face_of[r0:r1, c0:c1]
         for k in np.nonzero(np.bincount(piece.ravel(), minlength=6))[0]:  # each face over its box in this piece
@@ -191,10 +217,27 @@ def c2e(cubemap: Any, h: int, w: int, mode: InterpolationMode = "bilinear",
             vfov = (a1 - a0) * dlat if abs(lat0) < 90 else _POLE
             hfov = (b1 - b0) * dlon if w > 1 else _POLE
             lat0 = max(vfov / 2 - 90, min(90 - vfov / 2, lat0))
-            yaw, pitch = _ROTATIONS[int(k)]
-            part = convert(padded[int(k)], source, f"equirect:hfov={hfov!r},vfov={vfov!r},lon0={lon0!r},lat0={lat0!r}",
-                           size=(b1 - b0, a1 - a0), yaw=-yaw, pitch=-pitch, interp=interp, antialias=antialias)  # type: ignore
-            _paste(out[a0:a1, b0:b1], part, mask[a0 - r0:a1 - r0, b0 - c0:b1 - c0])
+            target = f"equirect:hfov={hfov!r},vfov={vfov!r},lon0={lon0!r},lat0={lat0!r}"
+            pieces.append((a0, a1, b0, b1, int(k), target, mask[a0 - r0:a1 - r0, b0 - c0:b1 - c0].copy()))
+    return pad, pieces
+
+
+def c2e(cubemap: Any, h: int, w: int, mode: InterpolationMode = "bilinear",
+        cube_format: CubeFormat = "dice", *, antialias: Antialias = "off") -> Array:
+    """A cubemap in ``cube_format`` as an (h, w[, C]) equirectangular image."""
+    fmt, interp, h, w = _format(cube_format), _interp(mode), _pixels("h", h), _pixels("w", w)
+    faces = _cube_faces(cubemap, fmt)
+    fw = faces[0].shape[0]
+    _core.require_memory(f"c2e output {w}x{h}", h * w * (faces[0][0, 0].nbytes + 3), 0)
+    pad, pieces = _c2e_layout(fw, h, w, antialias)
+    padded = _padded(faces, pad)
+    out = np.zeros((h, w) + faces[0].shape[2:], faces[0].dtype)
+    source = Pinhole(focal=fw / 2, cx=fw / 2 + pad, cy=fw / 2 + pad)  # py360convert's index (t + 1) w / 2
+    for a0, a1, b0, b1, k, target, mask in pieces:
+        yaw, pitch = _ROTATIONS[k]
+        part = _convert(padded[k], str(source), target, size=(b1 - b0, a1 - a0), yaw=-yaw, pitch=-pitch,
+                        interp=interp, antialias=antialias)
+        _paste(out[a0:a1, b0:b1], part, mask)
     return out
 
 
@@ -218,8 +261,8 @@ def e2p(e_img: Any, fov_deg: Union[float, Tuple[float, float]], u_deg: float, v_
     out_h, out_w = _pair("out_hw", out_hw, "(height, width) in pixels")
     out_h, out_w = _pixels("out_hw height", out_h), _pixels("out_hw width", out_w)
     view = Pinhole(hfov=_edge_fov(hfov, out_w), vfov=_edge_fov(vfov, out_h))
-    return convert(e_img, "equirect", view, size=(out_w, out_h), yaw=float(u_deg), pitch=float(v_deg),  # type: ignore
-                   roll=float(in_rot_deg), interp=_interp(mode), antialias=antialias)
+    return _convert(_arrays.as_array(e_img, "e_img"), "equirect", view, size=(out_w, out_h), yaw=float(u_deg),
+                    pitch=float(v_deg), roll=float(in_rot_deg), interp=_interp(mode), antialias=antialias)
 
 
 def _faces(a: Any, layout: str, what: str) -> List[Array]:

@@ -781,6 +781,7 @@ void bind_files(py::module_& m) {
                                  " (expected int, float, str, bytes or a sequence of numbers)");
           w.metadata.push_back({k.cast<std::string>(), std::move(*value)});
         }
+        warn_all(write_warnings(path, im, w));  // (the command's named warnings)
         Unlocked unlocked;
         is_face_pattern(path) ? write_cube_faces(im, path, w) : write_image(im, path, w);
       },

@@ -177,7 +177,8 @@ def test_a_swapped_size_for_an_equirect_target_warns():
     (lambda: pp.build_map("equirect", "pinhole", (8, 4), convention="cv2"), ValueError,
      "convention: 'cv2' (expected 'panoproj', 'opencv' or 'torch')"),
     (lambda: pp.convert(None, "equirect", "pinhole"), TypeError, "image: NoneType (expected an array"),
-    (lambda: pp.convert("pano.jpg", "equirect", "pinhole"), TypeError, "read files with panoproj.read"),
+    (lambda: pp.convert(b"pano", "equirect", "pinhole"), TypeError, "read files with panoproj.read"),
+    (lambda: pp.convert("pano.jpg", "equirect", "pinhole"), FileNotFoundError, "input pano.jpg does not exist"),
 ])
 def test_traps_are_one_pythonic_line(call, cls, text):
     with pytest.raises(cls) as e:

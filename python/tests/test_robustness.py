@@ -1048,7 +1048,9 @@ PY_CALLS = [
      "memory limit: lots", False),
     ("memory_limit_tiny", f"pp.convert({PY_IMG}, 'equirect', 'fisheye', memory_limit=5)", "ValueError",
      "memory_limit: 5", False),
-    ("image_not_array", "pp.convert('not an image', 'equirect', 'fisheye')", "TypeError", "image", False),
+    ("image_not_array", "pp.convert(b'not an image', 'equirect', 'fisheye')", "TypeError", "image", False),
+    ("image_path_missing", "pp.convert('not an image', 'equirect', 'fisheye')", "FileNotFoundError",
+     "input not an image does not exist", False),
     ("write_not_array", "pp.write('/tmp/never-written.png', 'pixels')", "TypeError", "array: str", True),
     ("to_ray_text", "pp.to_ray('pinhole', (10, 10), 'a', 'b')", "Exception", "", False),
     ("src_wording", "pp.convert(np.zeros((33, 64, 3), np.uint8), None, 'fisheye')", "ValueError", "give src", False),
@@ -1343,7 +1345,7 @@ VIEW_PARAMS = [
     # (id, args after "views IN", needle[, input key: default png])
     ("rig", ["--rig", "sphere"], "rig: 'sphere' (expected cube, ring:n=8,fov=90,pitch=0"),
     ("ring_n", ["--rig", "ring:n=1000"], "rig ring: n: 1000 (expected a whole number from 1 to 360)"),
-    ("ring_fov", ["--rig", "ring:fov=180"], "hfov 180.000000 (expected more than 0, at most 179 degrees"),
+    ("ring_fov", ["--rig", "ring:fov=180"], "hfov 180 (expected more than 0, at most 179 degrees"),
     ("ring_nan", ["--rig", "ring:pitch=nan"], "rig ring: pitch: 'nan' (expected a finite number)"),
     ("rig_file_missing", ["--rig", "@nowhere.yaml"], "the rig file nowhere.yaml does not exist (check the path)"),
     ("rig_file_fifo", ["--rig", "@fifo"], "cannot read the rig file fifo: a FIFO (expected a YAML list of views after @)"),
@@ -1774,7 +1776,7 @@ def test_a_job_over_the_cgroups_limit_is_refused_at_once(cli, files, tmp_path):
                                         f"{files['jpg']} o.png --to equirect --size 20000x10000"],
                            cwd=tmp_path, capture_output=True, text=True)
         assert time.perf_counter() - t0 < 1
-        assert p.returncode == 1 and "what the process's cgroup still allows" in p.stderr, p.stderr
+        assert p.returncode == 1 and "3/4 of what the process's cgroup still allows" in p.stderr, p.stderr
         assert listing(tmp_path) == []
     finally:
         group.rmdir()
@@ -1933,7 +1935,7 @@ VIDEO_CASES = [
     ("header_says_huge_frames", "huge_frames.mkv", "o.mp4", ["--from", "pinhole:hfov=170", "--size", "512x256"],
      "huge_frames.mkv: decoding a packet"),
     ("absurd_frame_count", "absurd_count.mp4", "o.mp4", [], "not a video libavformat can read"),
-    ("size_the_encoder_refuses", "ok.mp4", "o.mp4", ["--size", "30000x15000"], "refuses these settings"),
+    ("size_the_encoder_refuses", "ok.mp4", "o.mp4", ["--size", "20000x10000"], "refuses these settings"),
     ("no_muxer", "ok.mp4", "o.xyz", [], "o.xyz is not a video container's"),
     ("image_without_n", "ok.mp4", "o.png", [], "images of a video's frames need {n} in it"),
     ("float_images_to_video", "f.exr", "o.mp4", ["--from", "equirect"], "has float samples"),

@@ -13,10 +13,16 @@ namespace panoproj {
 // FileNotFoundError, MemoryError).
 enum class ErrorKind { Value, File, Exists, Missing, Memory };
 
+// `text` with each byte that is not part of valid UTF-8, and each control character but a
+// newline or a tab, written \xNN.
+std::string printable(std::string_view text);
+
+// The message is kept printable: bytes that are not UTF-8 and control characters other than a
+// newline or a tab (a hostile file's name or text quoted back) become \xNN.
 class Error : public std::runtime_error {
  public:
   explicit Error(const std::string& message, ErrorKind kind = ErrorKind::Value)
-      : std::runtime_error(message), kind_(kind) {}
+      : std::runtime_error(printable(message)), kind_(kind) {}
   ErrorKind kind() const { return kind_; }
 
  private:
@@ -39,13 +45,17 @@ std::string option_text(std::string_view cli_option, std::string_view value);
 // An option with a number: "--crf 99", or "crf=99" in Python.
 std::string option_number(std::string_view cli_option, std::string_view number);
 void use_python_option_names();
+// Where a front end lists something: `cli` on the command line, `python` in the Python module
+// ("panoproj info" / "panoproj.projections()").
+std::string front_end_text(std::string_view cli, std::string_view python);
 
 // Something the user should know that is not an error (a stale temporary removed): "panoproj:
 // <text>" on stderr, or given to the handler set (the command's, whose stderr is held during a job).
 void notice(const std::string& text);
 void set_notice_handler(std::function<void(const std::string&)> handler);
 
-// A library's message as one line of at most 240 characters (newlines folded, the rest cut).
+// A library's message as one line of at most 240 characters (newlines folded, the rest cut at a
+// word).
 std::string one_line(std::string text);
 
 }  // namespace panoproj

@@ -91,9 +91,16 @@ ImageInfo read_image_info(const std::string& path);
 Image read_image_region(const std::string& path, int64_t x0, int64_t y0, int64_t x1, int64_t y1,
                         int64_t memory_limit = 0, uint64_t other_bytes = 0, int scale = 1);
 void write_image(const Image& image, const std::string& path, const WriteOptions& options);
-// Throws unless `path` may be written: its folder exists, and it is not a directory nor (without
-// overwrite) an existing entry of any kind, a dangling link included.
-void check_output_path(const std::string& path, bool overwrite);
+// What writing `image` to `path` (its format by the extension) with `options` loses, each a
+// named warning: "alpha dropped: ...", "depth lowered: ..." (an options.type the format cannot
+// hold), "samples clipped: ..." (float samples outside 0..1 or NaN into integers, counted),
+// "metadata dropped: ...".
+std::vector<std::string> write_warnings(const std::string& path, const Image& image,
+                                        const WriteOptions& options);
+// Throws unless `path` may be written: its folder exists (folder_made: or can be made, its nearest
+// existing ancestor being a folder), and it is not a directory nor (without overwrite) an
+// existing entry of any kind, a dangling link included.
+void check_output_path(const std::string& path, bool overwrite, bool folder_made = false);
 // Throws unless the format of `path` (by extension) can hold an image of `size` (JPEG: 65500 a
 // side; others 2^31 - 1) and the options are valid (quality 1 to 100); write_image checks it too,
 // this lets a job fail before its work.
@@ -114,8 +121,12 @@ struct StagedFolder {
 };
 // Removes the temporaries of writes under way (and restores old files moved aside by a face set's
 // commit) on SIGINT, SIGTERM and SIGHUP, then dies of the signal as before. For programs that own
-// their signals (the panoproj command); Python keeps its own.
-void install_signal_cleanup();
+// their signals (the panoproj command); Python keeps its own. Called again, it says on `fd` what a
+// batch had done when its signal came (set_batch_progress).
+void install_signal_cleanup(int fd = 2);
+// What that signal's cleanup then says of a batch of `total` outputs of which `written` landed
+// ("interrupted after 7 of 20; 7 written ..."; nothing for one output).
+void set_batch_progress(int64_t written, int64_t total);
 
 // Converts samples to another type (integers scale by their unit: 255 <-> 65535 <-> 1.0;
 // floats are clamped to [0, 1] when going to integers, NaN and -inf to 0, +inf to the unit).

@@ -19,9 +19,10 @@ int resolve_threads(int threads);  // 0 -> the cores
 uint64_t image_bytes(Size size, int channels, uint64_t sample_bytes);
 uint64_t add_bytes(uint64_t a, uint64_t b);
 
-// The bytes a job may allocate: `limit` when positive, else the memory available now
-// (MemAvailable in /proc/meminfo, else physical memory), or less where the process's cgroup (v1
-// or v2, and those above it) or its address-space limit (RLIMIT_AS) leaves less.
+// The bytes a job may allocate: `limit` when positive, else 3/4 of the memory available now
+// (MemAvailable in /proc/meminfo, else physical memory), or of less where the process's cgroup
+// (v1 or v2, and those above it) or its address-space limit (RLIMIT_AS) leaves less; at least
+// 1 GiB is left free where that is 2 GiB or more, else half.
 uint64_t memory_budget(int64_t limit);
 
 // Throws Error(ErrorKind::Memory): "<what> needs 6.4 GB, over the memory limit of 2.0 GB (...)".

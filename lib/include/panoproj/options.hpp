@@ -106,6 +106,7 @@ struct ConvertOptions {
                                         // reference engine (which has none)
   std::optional<Size> size;             // output size; default: default_size() at the source's
                                         // centre density (square pixels)
+  std::optional<int64_t> face_size;     // a cube target's faces, N x N (its spec's face=N)
   EdgeFill edges;                       // EdgeFill above: pixels without a (whole) source
   bool add_alpha = false;               // give a source without alpha an opaque one first, so
                                         // the output has alpha (0 where it has no source)

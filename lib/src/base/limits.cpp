@@ -104,7 +104,7 @@ struct Budget {
 };
 
 Budget default_budget() {
-  Budget b{UINT64_MAX, "the memory available now"};
+  Budget b{UINT64_MAX, "3/4 of the memory available now"};
   std::ifstream meminfo("/proc/meminfo");
   std::string key, unit;
   uint64_t kb = 0;
@@ -117,8 +117,14 @@ Budget default_budget() {
     const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
     if (pages > 0 && page > 0) b.bytes = static_cast<uint64_t>(pages) * static_cast<uint64_t>(page);
   }
-  if (const uint64_t c = cgroup_room(); c < b.bytes) b = {c, "what the process's cgroup still allows"};
-  if (const uint64_t a = address_space_room(); a < b.bytes) b = {a, "what the address-space limit (ulimit -v) leaves"};
+  if (const uint64_t c = cgroup_room(); c < b.bytes)
+    b = {c, "3/4 of what the process's cgroup still allows"};
+  if (const uint64_t a = address_space_room(); a < b.bytes)
+    b = {a, "3/4 of what the address-space limit (ulimit -v) leaves"};
+  // The machine stays usable: a quarter of it left to everything else, at least 1 GiB where there
+  // are 2 GiB (else half).
+  constexpr uint64_t kGiB = uint64_t{1} << 30;
+  if (b.bytes != UINT64_MAX) b.bytes -= std::max(b.bytes / 4, std::min(kGiB, b.bytes / 2));
   return b;
 }
 

@@ -54,7 +54,7 @@ void add_entry(Mapping& m, const std::string& key, const std::string& value, int
                const std::string& where, const ListWords& words) {
   const std::string k = unquoted(trim(key));
   for (const auto& e : m.entries)
-    if (e.first == k) throw Error(where + "'" + k + "' given twice in one " + words.noun);
+    if (e.first == k) throw Error(where + "'" + shown(k) + "' given twice in one " + words.noun);
   m.entries.emplace_back(k, unquoted(trim(value)));
   m.lines.push_back(line);
 }
@@ -89,22 +89,22 @@ std::vector<Mapping> parse_yaml(const std::string& text, const std::string& labe
       if (s.empty()) continue;
       if (s.front() == '{') {
         if (s.back() != '}')
-          throw Error(where + "'" + s + "' (a flow mapping ends with '}' on its line)");
+          throw Error(where + "'" + shown(s) + "' (a flow mapping ends with '}' on its line)");
         for (const std::string& kv : split_outside_quotes(s.substr(1, s.size() - 2))) {
           if (trim(kv).empty()) continue;
           const size_t colon = kv.find(':');
           if (colon == std::string::npos)
-            throw Error(where + "'" + trim(kv) + "' (expected key: value)");
+            throw Error(where + "'" + shown(trim(kv)) + "' (expected key: value)");
           add_entry(items.back(), kv.substr(0, colon), kv.substr(colon + 1), line_no, where, words);
         }
         continue;
       }
     } else if (items.empty()) {
-      throw Error(where + "'" + s + "' (expected a list of " + words.plural +
+      throw Error(where + "'" + shown(s) + "' (expected a list of " + words.plural +
                   ": lines starting '- ', optionally under '" + top_line + "')");
     }
     const size_t colon = s.find(':');
-    if (colon == std::string::npos) throw Error(where + "'" + s + "' (expected key: value)");
+    if (colon == std::string::npos) throw Error(where + "'" + shown(s) + "' (expected key: value)");
     add_entry(items.back(), s.substr(0, colon), s.substr(colon + 1), line_no, where, words);
   }
   return items;

@@ -1,6 +1,7 @@
 #pragma once
 // Small text helpers for the parsers of user text (specs, spec files, rigs).
 #include <algorithm>
+#include <cstdio>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -12,6 +13,22 @@ inline std::string trim(std::string_view s, std::string_view space = " \t") {
   const auto b = s.find_first_not_of(space);
   if (b == std::string_view::npos) return {};
   return std::string(s.substr(b, s.find_last_not_of(space) - b + 1));
+}
+
+// A number as text: `digits` significant digits (17: it reads back to the same double), -0 as 0.
+inline std::string number_text(double v, int digits = 17) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.*g", digits, v + 0.0);
+  return b;
+}
+
+// A value the user gave, as a message quotes it: at most `most` bytes (then "..."), cut between
+// UTF-8 characters (Error's message escapes what is not printable).
+inline std::string shown(std::string_view s, size_t most = 80) {
+  if (s.size() <= most) return std::string(s);
+  size_t cut = most - 3;
+  while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;
+  return std::string(s.substr(0, cut)) + "...";
 }
 
 // Levenshtein distance, for "did you mean" on a misspelt name.

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "base/parallel.hpp"
+#include "base/text.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
 #include "panoproj/rotation.hpp"
@@ -163,10 +164,33 @@ void require_valid_pixels(const Projection& p, const ProjectionSpec& spec, const
               " (its valid region is empty or under a pixel across): give parameters that show a field");
 }
 
+// The target spec with --face-size N as its face=N.
+ProjectionSpec with_face_size(const ProjectionSpec& to, const ConvertOptions& o) {
+  if (!o.face_size) return to;
+  const int64_t n = *o.face_size;
+  const std::string given = option_number("face-size", std::to_string(n));
+  if (o.size)
+    throw Error("give " + option_text("size") + " or " + option_text("face-size") + ", not both");
+  const auto& keys = to.def().params;
+  if (std::none_of(keys.begin(), keys.end(),
+                   [](const ParamDef& p) { return std::string_view(p.key) == "face"; }))
+    throw Error(given + ": " + to.name() + " has no faces (it sizes cube targets; give " +
+                option_text("size") + " WxH)");
+  if (n < 1 || n > kMaxSide)
+    throw Error(given + " (expected 1 to " + std::to_string(kMaxSide) + " pixels a side)");
+  if (to.given("face") && *to.number("face") != static_cast<double>(n))
+    throw Error(given + " and the spec's face=" + number_text(*to.number("face")) +
+                " differ (give one)");
+  const std::string text = to.str();
+  return parse_spec(text + (text.find(':') == std::string::npos ? ":" : ",") +
+                    "face=" + std::to_string(n));
+}
+
 }  // namespace
 
-ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, const ProjectionSpec& to,
-                                 const ConvertOptions& o) {
+ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from,
+                                 const ProjectionSpec& to_given, const ConvertOptions& o) {
+  const ProjectionSpec to = with_face_size(to_given, o);
   for (const auto& [name, v] : {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"roll", o.roll}}) {
     if (!std::isfinite(v) || std::fabs(v) > 1e6) {
       std::ostringstream s;
@@ -200,7 +224,9 @@ ConversionGeometry make_geometry(Size source_size, const ProjectionSpec& from, c
   // Absurd sizes stop here, before any per-tile work: the output alone, at one byte a pixel.
   const Size frame = stereo_frame(size_of(target), stereo.target);
   if (frame.width > kMaxSide || frame.height > kMaxSide)
-    throw Error("size: both eyes' " + size_text(frame) + " (expected at most " + std::to_string(kMaxSide) + " pixels a side)");
+    throw Error("size: " + std::string(stereo.target == StereoLayout::Mono ? "" : "both eyes' ") +
+                size_text(frame) + " (expected at most " + std::to_string(kMaxSide) +
+                " pixels a side)");
   require_memory("output " + size_text(frame), image_bytes(frame, 1, 1), o.memory_limit);
   auto correction = SourceCorrection::make(from, to, source, stereo.source);
   return {std::move(source),

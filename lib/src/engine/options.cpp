@@ -24,10 +24,16 @@ std::vector<OptionDef> make_options() {
   constexpr unsigned kAll = kUseConvert | kUseMaps | kUseAccuracy;
   return {
       {"size", OptionType::Text, kAll | kUseViews | kUseStitch, "None",
-       "output size WxH (cube faces: one face); default: the source's resolution at the target's "
+       "output size WxH, or N for a square: the whole image in every layout but "
+       "cubemap:layout=files (there one face); default: the source's resolution at the target's "
        "centre, square pixels",
        [](ConvertOptions& o, const OptionValue& v) {
          o.size = parse_size(value_as<std::string>(v, "size"));
+       }},
+      {"face_size", OptionType::Integer, kUseConvert | kUseMaps, "None",
+       "a cube target's faces, N x N pixels, in any layout (its spec's face=N; instead of size)",
+       [](ConvertOptions& o, const OptionValue& v) {
+         o.face_size = value_as<int64_t>(v, "face_size");
        }},
       {"yaw", OptionType::Angle, kAll | kUseTiles, "0.0", "degrees, positive looks right",
        [](ConvertOptions& o, const OptionValue& v) { o.yaw = value_as<double>(v, "yaw"); }},
@@ -96,7 +102,8 @@ std::vector<OptionDef> make_options() {
        },
        "auto|1|2|4|8"},
       {"memory_limit", OptionType::Text, kAll | kUseTiles | kUseViews | kUseStitch, "None",
-       "bytes a job may allocate, e.g. 4G or 512M (default: the memory available now); larger jobs "
+       "bytes a job may allocate, e.g. 4G or 512M (default: 3/4 of the memory available now, at "
+       "least 1 GiB left free); larger jobs "
        "are refused "
        "before any work",
        [](ConvertOptions& o, const OptionValue& v) {

@@ -123,6 +123,39 @@ void each_entry(int fd, Each&& each) {
   ::closedir(d);
 }
 
+// A batch's files landed and its size, for the line a signal prints (set_batch_progress).
+std::atomic<int64_t> batch_written{0}, batch_total{0};
+std::atomic<int> report_fd{STDERR_FILENO};
+
+// Appends n's digits at `at` (async-signal-safe); returns the end.
+char* put_number(char* at, int64_t n) {
+  char digits[24];
+  int k = 0;
+  do digits[k++] = static_cast<char>('0' + n % 10), n /= 10;
+  while (n > 0 && k < 24);
+  while (k > 0) *at++ = digits[--k];
+  return at;
+}
+
+// "panoproj: interrupted after 7 of 20; 7 written (each whole)" on stderr.
+void say_batch_progress() {
+  const int64_t total = batch_total.load(), written = batch_written.load();
+  if (total <= 1) return;
+  char line[160];
+  char* at = line;
+  auto put = [&](const char* text) {
+    while (*text) *at++ = *text++;
+  };
+  put("\npanoproj: interrupted after ");
+  at = put_number(at, written);
+  put(" of ");
+  at = put_number(at, total);
+  put("; ");
+  at = put_number(at, written);
+  put(" written, each whole, the rest not begun or removed\n");
+  (void)!::write(report_fd.load(), line, static_cast<size_t>(at - line));
+}
+
 extern "C" void cleanup_and_reraise(int sig) {
   for (Slot& s : slots) {
     if (s.state.load() != 2) continue;
@@ -132,6 +165,7 @@ extern "C" void cleanup_and_reraise(int sig) {
     }
     else (void)::unlinkat(s.dir, s.temp, 0);
   }
+  say_batch_progress();
   std::signal(sig, SIG_DFL);
   std::raise(sig);
 }
@@ -274,7 +308,13 @@ struct Closer {
 
 }  // namespace
 
-void install_signal_cleanup() {
+void set_batch_progress(int64_t written, int64_t total) {
+  batch_written = written;
+  batch_total = total;
+}
+
+void install_signal_cleanup(int fd) {
+  report_fd = fd;
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
     struct sigaction sa {};
     sa.sa_handler = cleanup_and_reraise;
@@ -284,7 +324,7 @@ void install_signal_cleanup() {
   }
 }
 
-void check_output_path(const std::string& path, bool overwrite) {
+void check_output_path(const std::string& path, bool overwrite, bool folder_made) {
   if (path.empty()) throw Error("output: an empty path (give a file name)");
   struct stat st {};
   if (lexists(path, &st)) {
@@ -296,13 +336,40 @@ void check_output_path(const std::string& path, bool overwrite) {
     if (!S_ISREG(st.st_mode) && !S_ISLNK(st.st_mode))
       throw Error("output " + path + " is not a regular file (give a file name)", ErrorKind::File);
   }
-  const fs::path dir = fs::path(path).parent_path();
+  fs::path dir = fs::path(path).parent_path();
   struct stat ds {};
-  if (!dir.empty() && (::stat(dir.c_str(), &ds) != 0 || !S_ISDIR(ds.st_mode)))
+  // (A folder to be made: its nearest existing ancestor must be a folder.)
+  while (folder_made && !dir.empty() && ::stat(dir.c_str(), &ds) != 0 &&
+         (errno == ENOENT || errno == ENOTDIR))
+    dir = dir.parent_path();
+  if (!dir.empty() && ::stat(dir.c_str(), &ds) != 0)
     throw Error("output folder " + dir.string() + " does not exist (create it first)", ErrorKind::Missing);
+  if (!dir.empty() && !S_ISDIR(ds.st_mode))
+    throw Error("output folder " + dir.string() + " is not a folder (give another path)",
+                ErrorKind::File);
   const std::string name = name_of(path);
   if (name.empty() || name == "." || name == "..")
     throw Error("output " + path + " names no file (give a file name)", ErrorKind::File);
+}
+
+MadeFolders::~MadeFolders() {
+  for (auto it = made_.rbegin(); it != made_.rend(); ++it) ::rmdir(it->c_str());  // (only if empty)
+}
+
+void MadeFolders::make(const std::vector<std::string>& paths) {
+  for (const std::string& path : paths) {
+    std::vector<fs::path> missing;
+    struct stat st {};
+    for (fs::path dir = fs::path(path).parent_path(); !dir.empty() && ::stat(dir.c_str(), &st) != 0;
+         dir = dir.parent_path())
+      missing.push_back(dir);
+    for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+      if (::mkdir(it->c_str(), 0777) != 0 && errno != EEXIST)
+        throw Error("cannot make the output folder " + it->string() + ": " + std::strerror(errno),
+                    ErrorKind::File);
+      made_.push_back(it->string());
+    }
+  }
 }
 
 bool same_file(const std::string& a, const std::string& b) {

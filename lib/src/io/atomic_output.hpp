@@ -127,6 +127,23 @@ class OutputFolder {
   bool done_ = false;
 };
 
+// The missing folders of a pattern's outputs ('cube/{face}.jpg', 'frames/{n}.png'): made before
+// the files, removed again (each if empty, deepest first) unless keep() is called once the job
+// has landed.
+class MadeFolders {
+ public:
+  MadeFolders() = default;
+  ~MadeFolders();
+  MadeFolders(const MadeFolders&) = delete;
+  MadeFolders& operator=(const MadeFolders&) = delete;
+  // Makes the folders that hold `paths` where missing; throws naming the folder and the reason.
+  void make(const std::vector<std::string>& paths);
+  void keep() { made_.clear(); }
+
+ private:
+  std::vector<std::string> made_;  // in the order made
+};
+
 // The same file by device and inode, or (where either cannot be looked at) the same normalised
 // path; a path that cannot be resolved is never taken for another.
 bool same_file(const std::string& a, const std::string& b);

@@ -4,6 +4,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstring>
+
+#include <Imath/half.h>
 
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
@@ -16,6 +20,63 @@ PixelType ImageFormat::stored_type(PixelType wanted) const {
   if (deepest == PixelType::U16 && (wanted == PixelType::F16 || wanted == PixelType::F32))
     return PixelType::U16;
   return wanted;
+}
+
+namespace {
+
+// Float samples outside 0..1 or NaN: what an integer output clips (alpha included).
+int64_t clipped_samples(const Image& image) {
+  int64_t n = 0;
+  const size_t row = static_cast<size_t>(image.width()) * static_cast<size_t>(image.channels());
+  for (int64_t y = 0; y < image.height(); ++y) {
+    const unsigned char* p = image.row(y);
+    for (size_t i = 0; i < row; ++i) {
+      float v;
+      if (image.type() == PixelType::F32) {
+        std::memcpy(&v, p + 4 * i, 4);
+      } else {
+        Imath::half h;
+        std::memcpy(&h, p + 2 * i, 2);
+        v = float(h);
+      }
+      n += !(v >= 0.0f && v <= 1.0f);
+    }
+  }
+  return n;
+}
+
+}  // namespace
+
+std::vector<std::string> write_warnings(const std::string& path, const Image& image,
+                                        const WriteOptions& options) {
+  const ImageFormat& format = format_of_path(path);
+  std::vector<std::string> lost;
+  const PixelType wanted = options.type.value_or(image.type());
+  const PixelType stored = format.stored_type(wanted);
+  if (image.alpha_channel() >= 0 && !format.holds_alpha)
+    lost.push_back("alpha dropped: " + path + ": " + format.title +
+                   " holds no alpha, so transparent pixels show their colour (write PNG, TIFF or "
+                   "EXR to keep it)");
+  if (options.type && stored != *options.type)
+    lost.push_back("depth lowered: " + path + ": " + format.title + " holds " + name_of(stored) +
+                   " samples, not " + name_of(*options.type) +
+                   " (PNG holds uint16; TIFF and EXR hold half and float)");
+  const bool to_integer = stored == PixelType::U8 || stored == PixelType::U16;
+  if (to_integer && (image.type() == PixelType::F16 || image.type() == PixelType::F32)) {
+    if (const int64_t n = clipped_samples(image); n > 0) {
+      const double all = static_cast<double>(image.width()) * static_cast<double>(image.height()) *
+                         image.channels();
+      char share[32];
+      std::snprintf(share, sizeof share, "%.3g%%", 100.0 * static_cast<double>(n) / all);
+      lost.push_back("samples clipped: " + path + ": " + std::to_string(n) + " samples (" + share +
+                     ") outside 0..1 clipped to " + name_of(stored) +
+                     " (write EXR, TIFF or HDR to keep them, or scale the image first)");
+    }
+  }
+  if (!format.holds_metadata && (!options.metadata.empty() || !options.embedded.empty()))
+    lost.push_back("metadata dropped: " + path + ": " + format.title +
+                   " holds no metadata: the EXIF, ICC profile and XMP given are not written");
+  return lost;
 }
 
 const std::vector<const ImageFormat*>& image_formats() {

@@ -32,6 +32,7 @@ struct ImageFormat {
   bool float_channels = false;         // float samples in any number of channels (maps)
   bool embedded_metadata = false;      // EXIF, ICC and XMP blocks panoproj reads and writes itself
   bool holds_metadata = true;
+  bool holds_alpha = true;      // false: an alpha channel is left out (JPEG, PNM, Radiance HDR)
   bool decodes_scaled = false;  // its reader decodes at 1/2, 1/4 and 1/8
   bool streams_blocks = false;  // its writer encodes parts as they are final (JpegBlockEncoder)
   bool web = false;             // browsers show it (tiles and views for viewers and trainers)

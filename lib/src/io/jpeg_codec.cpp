@@ -531,6 +531,7 @@ const ImageFormat kJpegFormat{
     .max_side = 65500,
     .deepest = PixelType::U8,
     .embedded_metadata = true,
+    .holds_alpha = false,
     .decodes_scaled = true,
     .streams_blocks = true,
     .web = true,

@@ -76,6 +76,7 @@ const ImageFormat kHdrFormat{
     .most_stored = [](const InputFile& file, Size,
                       const std::string&) { return static_cast<double>(file.bytes) * 256 + 65536; },
     .floats_only = true,
+    .holds_alpha = false,
     .decodes_scaled = true};
 
 }  // namespace panoproj

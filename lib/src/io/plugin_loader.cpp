@@ -15,7 +15,7 @@
 namespace panoproj {
 namespace {
 
-// Where the code of this library sits: the executable, or the Python module.
+// Where the code of this library sits: the executable, the Python module or libpanoproj.so.
 std::filesystem::path own_folder() {
   Dl_info info{};
   if (dladdr(reinterpret_cast<void*>(&load_plugin), &info) == 0 || !info.dli_fname) return {};
@@ -29,6 +29,7 @@ std::vector<std::string> candidates(const char* file, const char* env) {
   std::vector<std::string> out;
   if (const auto own = own_folder(); !own.empty()) {
     out.push_back((own / file).string());
+    out.push_back((own / "panoproj" / file).string());  // beside libpanoproj.so, any libdir
     out.push_back((own.parent_path() / "lib" / "panoproj" / file).string());
     out.push_back((own.parent_path() / "panoproj" / file).string());
   }

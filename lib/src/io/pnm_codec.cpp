@@ -182,6 +182,7 @@ const ImageFormat kPnmFormat{
     .most_stored = most_stored_by_compression,
     .deepest = PixelType::U16,
     .holds_metadata = false,
+    .holds_alpha = false,
     .open = open_pnm,
     .encode = [](const Image& image, const std::string& path, const WriteOptions&,
                  const EmbeddedMetadata&) { return encode_pnm(image, path); },

@@ -137,8 +137,8 @@ const OptionDef& web_format_option() {
 
 const OptionDef& command_option(std::string_view name) {
   static const std::vector<OptionDef> rows{
-      {"quiet", OptionType::Flag, 0, "False", "print nothing on success", nullptr, nullptr,
-       "-q,--quiet", kCommandOnly},
+      {"quiet", OptionType::Flag, 0, "False", "print nothing on success (warnings neither)",
+       nullptr, nullptr, "-q,--quiet", kCommandOnly},
       {"verbose", OptionType::Flag, 0, "False", "let image libraries print their own warnings",
        nullptr, nullptr, "-v,--verbose", kCommandOnly},
   };

@@ -7,18 +7,11 @@
 
 #include "base/parallel.hpp"
 #include "base/sample_io.hpp"
+#include "base/text.hpp"
 #include "panoproj/error.hpp"
 
 namespace panoproj {
-namespace {
-
-std::string number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::shared_ptr<const Image> flat_field_of(const Image& file) {
   auto out = std::make_shared<Image>(file.size(), 1, PixelType::F32);
@@ -45,12 +38,12 @@ PhotometricStep::PhotometricStep(const Photometry& photometry, const Photometric
   const Photometry& p = photometry_;
   for (const auto& [name, v] : {std::pair{"Er", p.red}, std::pair{"Eb", p.blue}})
     if (!(std::isfinite(v) && v > 0))
-      throw Error(what + ": white balance " + name + number(v) +
+      throw Error(what + ": white balance " + name + number_text(v, 6) +
                   ": expected a positive multiplier");
   if (!std::isfinite(p.exposure) || !std::isfinite(output.exposure) ||
       std::fabs(p.exposure - output.exposure) > 64)
-    throw Error(what + ": exposure values " + number(p.exposure) + " and " +
-                number(output.exposure) + ": expected finite EVs at most 64 apart");
+    throw Error(what + ": exposure values " + number_text(p.exposure, 6) + " and " +
+                number_text(output.exposure, 6) + ": expected finite EVs at most 64 apart");
   gain_ = std::exp2(p.exposure - output.exposure);
   const double w = static_cast<double>(size.width), h = static_cast<double>(size.height);
   radius_scale_ = 1 / std::sqrt(w * w / 4 + h * h / 4);
@@ -73,17 +66,19 @@ PhotometricStep::PhotometricStep(const Photometry& photometry, const Photometric
       }
     }
     if (!(lo > 0) || !(lo >= kMinVignetting * hi))
-      throw Error(what + ": the flat field's values run from " + number(lo) + " to " + number(hi) +
-                  ": expected finite values above " + number(kMinVignetting) + " of its largest");
+      throw Error(what + ": the flat field's values run from " + number_text(lo, 6) + " to " +
+                  number_text(hi, 6) + ": expected finite values above " +
+                  number_text(kMinVignetting, 6) + " of its largest");
     flat_max_ = hi;
   } else if (!v.identity()) {
     for (double c : v.coefficients)
       if (!std::isfinite(c) || std::fabs(c) > 1e6)
-        throw Error(what + ": vignetting coefficient " + number(c) + ": expected a finite number");
+        throw Error(what + ": vignetting coefficient " + number_text(c, 6) +
+                    ": expected a finite number");
     if (!std::isfinite(v.shift_x) || !std::isfinite(v.shift_y) ||
         std::fabs(v.shift_x) > 4 * (w + h) || std::fabs(v.shift_y) > 4 * (w + h))
-      throw Error(what + ": vignetting centre shift " + number(v.shift_x) + "," +
-                  number(v.shift_y) + ": expected finite pixels near the image");
+      throw Error(what + ": vignetting centre shift " + number_text(v.shift_x, 6) + "," +
+                  number_text(v.shift_y, 6) + ": expected finite pixels near the image");
     // The polynomial over r^2 from the centre to the farthest corner.
     double far = 0;
     for (double cx : {0.0, w - 1})
@@ -98,9 +93,9 @@ PhotometricStep::PhotometricStep(const Photometry& photometry, const Photometric
       const auto& c = v.coefficients;
       const double value = c[0] + s * (c[1] + s * (c[2] + s * c[3]));
       if (!(value > kMinVignetting))
-        throw Error(what + ": vignetting Va" + number(c[0]) + " Vb" + number(c[1]) + " Vc" +
-                    number(c[2]) + " Vd" + number(c[3]) + " falls to " + number(value) +
-                    " at radius " + number(r) +
+        throw Error(what + ": vignetting Va" + number_text(c[0], 6) + " Vb" + number_text(c[1], 6) +
+                    " Vc" + number_text(c[2], 6) + " Vd" + number_text(c[3], 6) + " falls to " +
+                    number_text(value, 6) + " at radius " + number_text(r, 6) +
                     " of the half diagonal, inside the image: nothing can be divided by it");
     }
   }

@@ -265,8 +265,10 @@ Projection make(const ProjectionSpec& s, Size size) {
   const int64_t f = size.width / g[0];
   if (f * g[0] != size.width || f * g[1] != size.height) {
     std::ostringstream o;
-    o << "layout=" << s.choice("layout") << " needs a " << g[0] << "F x " << g[1] << "F image with square faces; got "
-      << size.width << "x" << size.height << " (check the size or the layout)";
+    o << "layout=" << s.choice("layout") << " needs a " << g[0] << "F x " << g[1]
+      << "F image with square faces; got " << size.width << "x" << size.height
+      << " (check the size or the layout; a target's " << option_text("face-size")
+      << " N gives N x N faces)";
     fail(s, o.str());
   }
   if (s.given("face") && static_cast<int64_t>(*s.number("face")) != f) {

@@ -18,20 +18,28 @@ ParamDef lens_center(const char* key, int lens) {
 }
 
 std::vector<ProjectionDef> catalog() {
-  return {{"dual-fisheye",
-           "the two back-to-back fisheye lenses of a 360 camera, side by side or top/bottom, blended across their overlap",
-           {number("fov", "190", 0, 360, true, false, "lens 0's full field of view (deg)"),
-            number("fov2", "", 0, 360, true, false, "lens 1's full field of view (deg); default: fov"),
-            choice("model", "equidistant", "equidistant|equisolid|orthographic|stereographic", "lens law of both lenses"),
-            choice("layout", "side-by-side", "side-by-side|top-bottom", "lens 0 on the left (top), lens 1 on the right (bottom)"),
-            number("radius", "", 0, kInf, true, true, "lens 0's image-circle radius in pixels; default: half its half's shorter side"),
-            number("radius2", "", 0, kInf, true, true, "lens 1's image-circle radius in pixels; default: radius"),
-            lens_center("cx", 0), lens_center("cy", 0), lens_center("cx2", 1), lens_center("cy2", 1),
-            angle("yaw", "0", "lens 0's yaw (deg; rotation.hpp's convention)"), angle("pitch", "0", "lens 0's pitch (deg)"),
-            angle("roll", "0", "lens 0's roll (deg)"), angle("yaw2", "180", "lens 1's yaw (deg; 180: back to back)"),
-            angle("pitch2", "0", "lens 1's pitch (deg)"), angle("roll2", "0", "lens 1's roll (deg)"),
-            number("feather", "", 0, 360, false, false,
-                   "width of the blend across the overlap (deg, centred on its midline); default: the whole overlap; 0: a hard cut")}}};
+  return {
+      {"dual-fisheye",
+       "the two back-to-back fisheye lenses of a 360 camera, side by side or top/bottom, blended "
+       "across their overlap",
+       {number("fov", "190", 0, 360, true, false, "lens 0's full field of view (deg)"),
+        number("fov2", "", 0, 360, true, false, "lens 1's full field of view (deg); default: fov"),
+        choice("model", "equidistant", "equidistant|equisolid|orthographic|stereographic",
+               "lens law of both lenses"),
+        choice("layout", "side-by-side", "side-by-side|top-bottom",
+               "lens 0 on the left (top), lens 1 on the right (bottom)"),
+        number("radius", "", 0, kInf, true, true,
+               "lens 0's image-circle radius in pixels; default: half its half's shorter side"),
+        number("radius2", "", 0, kInf, true, true,
+               "lens 1's image-circle radius in pixels; default: radius"),
+        lens_center("cx", 0), lens_center("cy", 0), lens_center("cx2", 1), lens_center("cy2", 1),
+        angle("yaw", "0", "lens 0's yaw (deg; as --yaw: positive turns it right)"),
+        angle("pitch", "0", "lens 0's pitch (deg)"), angle("roll", "0", "lens 0's roll (deg)"),
+        angle("yaw2", "180", "lens 1's yaw (deg; 180: back to back)"),
+        angle("pitch2", "0", "lens 1's pitch (deg)"), angle("roll2", "0", "lens 1's roll (deg)"),
+        number("feather", "", 0, 360, false, false,
+               "width of the blend across the overlap (deg, centred on its midline); default: the "
+               "whole overlap; 0: a hard cut")}}};
 }
 
 // The lens fields, rotations and feather (the frame is checked by make): the feather must fit in

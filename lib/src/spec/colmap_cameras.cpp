@@ -10,18 +10,13 @@
 #include <sstream>
 #include <vector>
 
+#include "base/text.hpp"
 #include "io/colmap/model.hpp"
 #include "panoproj/conventions.hpp"
 #include "panoproj/error.hpp"
 
 namespace panoproj {
 namespace {
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
 
 std::string base_name(const std::string& path) {
   const auto slash = path.find_last_of('/');
@@ -31,15 +26,16 @@ std::string base_name(const std::string& path) {
 // "name:fx=..,fy=..,cx=..,cy=..": one focal length or two first, then the principal point.
 std::string intrinsics(const char* name, const std::vector<double>& p, bool one_focal) {
   const size_t c = one_focal ? 1 : 2;
-  return std::string(name) + ":fx=" + num(p[0]) + ",fy=" + num(one_focal ? p[0] : p[1]) +
-         ",cx=" + num(p[c] - 0.5) + ",cy=" + num(p[c + 1] - 0.5);
+  return std::string(name) + ":fx=" + number_text(p[0]) +
+         ",fy=" + number_text(one_focal ? p[0] : p[1]) + ",cx=" + number_text(p[c] - 0.5) +
+         ",cy=" + number_text(p[c + 1] - 0.5);
 }
 
 std::string keys(const std::vector<double>& p, size_t from,
                  std::initializer_list<const char*> names) {
   std::string s;
   size_t i = from;
-  for (const char* n : names) s += std::string(",") + n + "=" + num(p[i++]);
+  for (const char* n : names) s += std::string(",") + n + "=" + number_text(p[i++]);
   return s;
 }
 
@@ -130,7 +126,7 @@ std::string fisheye_fov(const colmap::Camera& c) {
     }
   }
   if (t <= kPi / 2) return "";
-  return ",fov=" + num(2 * t * 180 / kPi);
+  return ",fov=" + number_text(2 * t * 180 / kPi);
 }
 
 // EQUIRECTANGULAR: its params are the full panorama's w, h (COLMAP sets them to the frame's
@@ -141,12 +137,13 @@ std::string equirect_spec(const colmap::Camera& c) {
   const double pw = c.params[0], ph = c.params[1];
   if (pw == w && ph == h) return "equirect";
   if (!(pw >= w && ph >= h))
-    throw Error("camera " + std::to_string(c.id) + " (EQUIRECTANGULAR) has w, h = " + num(pw) +
-                ", " + num(ph) + " for a frame of " + std::to_string(c.width) + "x" +
-                std::to_string(c.height) + " (expected the panorama's size: at least the frame's)");
+    throw Error("camera " + std::to_string(c.id) +
+                " (EQUIRECTANGULAR) has w, h = " + number_text(pw) + ", " + number_text(ph) +
+                " for a frame of " + std::to_string(c.width) + "x" + std::to_string(c.height) +
+                " (expected the panorama's size: at least the frame's)");
   const double hfov = 360 * w / pw, vfov = 180 * h / ph;
-  return "equirect:hfov=" + num(hfov) + ",vfov=" + num(vfov) + ",lon0=" + num(-180 + hfov / 2) +
-         ",lat0=" + num(90 - vfov / 2);
+  return "equirect:hfov=" + number_text(hfov) + ",vfov=" + number_text(vfov) +
+         ",lon0=" + number_text(-180 + hfov / 2) + ",lat0=" + number_text(90 - vfov / 2);
 }
 
 // The lens's spec with the camera's size (a frame of another size is refused), or equirect for

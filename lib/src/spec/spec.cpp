@@ -192,7 +192,10 @@ ProjectionSpec parse_spec(std::string_view text) {
   for (const auto& d : projection_catalog())
     if (name == d.name) def = &d;
   if (!def)
-    throw Error("unknown projection '" + name + "' (" + did_you_mean(name) + "expected one of: " + list_names() + ")");
+    throw Error("unknown projection '" + shown(name) + "' (" + did_you_mean(name) +
+                "expected one of the " + std::to_string(projection_catalog().size()) + " that " +
+                front_end_text("panoproj info", "panoproj.projections()") +
+                " lists: " + list_names() + ")");
 
   std::map<std::string, std::string> values;
   if (colon != std::string_view::npos) {

@@ -8,16 +8,11 @@
 #include <unordered_set>
 
 #include "base/input_check.hpp"
+#include "base/text.hpp"
 #include "panoproj/error.hpp"
 
 namespace panoproj::colmap {
 namespace {
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
 
 bool finite(const Pose& p) {
   for (double v : p)
@@ -27,8 +22,9 @@ bool finite(const Pose& p) {
 
 void check_pose(const Pose& p, const std::string& where) {
   if (!finite(p))
-    throw Error(where + " has the pose " + num(p[0]) + " " + num(p[1]) + " " + num(p[2]) + " " +
-                num(p[3]) + " " + num(p[4]) + " " + num(p[5]) + " " + num(p[6]) +
+    throw Error(where + " has the pose " + number_text(p[0]) + " " + number_text(p[1]) + " " +
+                number_text(p[2]) + " " + number_text(p[3]) + " " + number_text(p[4]) + " " +
+                number_text(p[5]) + " " + number_text(p[6]) +
                 " (expected finite numbers, a non-zero quaternion)");
 }
 
@@ -125,7 +121,7 @@ std::vector<Camera> parse_cameras(std::string_view bytes, bool binary, const std
                   " parameters (expected " + std::to_string(m->params) + ")");
     for (double v : c.params)
       if (!std::isfinite(v))
-        throw Error(where + "has a parameter " + num(v) + " (expected finite numbers)");
+        throw Error(where + "has a parameter " + number_text(v) + " (expected finite numbers)");
     if (c.width < 1 || c.height < 1 || c.width > kMaxSide || c.height > kMaxSide)
       throw Error(where + "is " + std::to_string(c.width) + "x" + std::to_string(c.height) +
                   " pixels (expected 1 to " + std::to_string(kMaxSide) + " each way)");
@@ -153,8 +149,8 @@ void check_model(const Model& m, const std::string& dir, const std::string& ext)
     for (size_t k = 0; k < im.points.size(); ++k) {
       const Point2D& p = im.points[k];
       if (!std::isfinite(p.x) || !std::isfinite(p.y))
-        throw Error(where + ": point2D " + std::to_string(k) + " is at " + num(p.x) + ", " +
-                    num(p.y) + " (expected finite numbers)");
+        throw Error(where + ": point2D " + std::to_string(k) + " is at " + number_text(p.x) + ", " +
+                    number_text(p.y) + " (expected finite numbers)");
       if (p.point3d != kNoPoint3D && !points.count(p.point3d))
         throw Error(where + ": point2D " + std::to_string(k) + " sees the point3D " +
                     std::to_string(p.point3d) + ", which points3D does not list");
@@ -164,7 +160,8 @@ void check_model(const Model& m, const std::string& dir, const std::string& ext)
     const std::string where = f + "points3D" + ext + ": point3D " + std::to_string(p.id);
     if (p.id == kNoPoint3D) throw Error(where + " has an id kept for none");
     for (double v : p.xyz)
-      if (!std::isfinite(v)) throw Error(where + " is at " + num(v) + " (expected finite numbers)");
+      if (!std::isfinite(v))
+        throw Error(where + " is at " + number_text(v) + " (expected finite numbers)");
     for (const TrackElement& e : p.track) {
       const auto at = images.find(e.image);
       if (at == images.end())

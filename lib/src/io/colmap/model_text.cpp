@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <limits>
 
+#include "base/text.hpp"
 #include "io/colmap/model.hpp"
 #include "panoproj/error.hpp"
 
@@ -126,15 +127,9 @@ class Lines {
   int number_ = 0;
 };
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
-
 std::string text(const Pose& p) {
   std::string s;
-  for (double v : p) s += (s.empty() ? "" : " ") + num(v);
+  for (double v : p) s += (s.empty() ? "" : " ") + number_text(v);
   return s;
 }
 
@@ -280,7 +275,7 @@ std::string write_text(const std::vector<Camera>& v) {
   for (const Camera& c : v) {
     s += std::to_string(c.id) + " " + c.model + " " + std::to_string(c.width) + " " +
          std::to_string(c.height);
-    for (double p : c.params) s += " " + num(p);
+    for (double p : c.params) s += " " + number_text(p);
     s += "\n";
   }
   return s;
@@ -296,13 +291,14 @@ std::string write_text(const std::vector<Image>& v) {
       "#   POINTS2D[] as (X, Y, POINT3D_ID)\n"
       "# Number of images: " +
       std::to_string(v.size()) + ", mean observations per image: " +
-      num(v.empty() ? 0.0 : static_cast<double>(seen) / static_cast<double>(v.size())) + "\n";
+      number_text(v.empty() ? 0.0 : static_cast<double>(seen) / static_cast<double>(v.size())) +
+      "\n";
   for (const Image& im : v) {
     s += std::to_string(im.id) + " " + text(im.cam_from_world) + " " + std::to_string(im.camera) +
          " " + im.name + "\n";
     for (size_t k = 0; k < im.points.size(); ++k) {
       const Point2D& p = im.points[k];
-      s += (k ? " " : "") + num(p.x) + " " + num(p.y) + " " +
+      s += (k ? " " : "") + number_text(p.x) + " " + number_text(p.y) + " " +
            (p.point3d == kNoPoint3D ? std::string("-1") : std::to_string(p.point3d));
     }
     s += "\n";
@@ -318,12 +314,13 @@ std::string write_text(const std::vector<Point3D>& v) {
       "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
       "# Number of points: " +
       std::to_string(v.size()) + ", mean track length: " +
-      num(v.empty() ? 0.0 : static_cast<double>(elements) / static_cast<double>(v.size())) + "\n";
+      number_text(v.empty() ? 0.0 : static_cast<double>(elements) / static_cast<double>(v.size())) +
+      "\n";
   for (const Point3D& p : v) {
     s += std::to_string(p.id);
-    for (double x : p.xyz) s += " " + num(x);
+    for (double x : p.xyz) s += " " + number_text(x);
     for (uint8_t c : p.rgb) s += " " + std::to_string(c);
-    s += " " + num(p.error);
+    s += " " + number_text(p.error);
     for (const TrackElement& e : p.track)
       s += " " + std::to_string(e.image) + " " + std::to_string(e.point2d);
     s += "\n";

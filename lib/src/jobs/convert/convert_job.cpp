@@ -4,8 +4,10 @@
 #include <chrono>
 #include <cstdio>
 #include <mutex>
+#include <set>
 
 #include "base/pixel_buffers.hpp"
+#include "io/atomic_output.hpp"
 #include "io/formats.hpp"
 #include "io/region_read.hpp"
 #include "io/streamed_output.hpp"
@@ -150,10 +152,12 @@ std::string stereo_note(const ConversionGeometry& g) {
 struct FrameReport {
   std::string input, output;
   Size input_size, output_size;  // one face's size where a face set
-  double seconds =
-      0;  // map (first input of a batch) and remap, with the source's decoding and the
-          // JPEG blocks encoded as they are made (which they overlap); not the rest of
-          // the write, nor in a pipelined batch the decoding (done ahead, on other threads)
+  // From the conversion's start until the output landed: map (first input of a batch), remap
+  // with the source's decoding, encoding and writing; in a pipelined batch the decoding is done
+  // ahead, on other threads, and is not counted.
+  std::chrono::steady_clock::time_point started;
+  double map_seconds = 0;
+  double seconds = 0;         // (done())
   double read_fraction = 1;   // share of the source's pixels read (only what the view needs)
   std::string source_format;  // "" for face sets
 };
@@ -277,9 +281,7 @@ class FrameRunner {
           progress, finished);
     else
       c.run(source, out, nullptr, progress, finished);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +
-        (n == 0 ? p_.map_seconds : 0.0);  // the map is built once, for the first
+    for (const std::string& w : write_warnings(p_.outputs[n], out, write)) warn_once(w);
     f.encoded =
         single ? single->finish(out) : encode_cube_faces(out, p_.outputs[n], write, p_.out_order);
     auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };
@@ -290,12 +292,30 @@ class FrameRunner {
         p_.outputs[n],
         p_.in_faces ? face_size(source.size()) : p_.frame,
         p_.out_faces ? face_size(out.size()) : out.size(),
-        seconds,
+        t0,
+        n == 0 ? p_.map_seconds : 0.0,  // the map is built once, for the first
+        0.0,
         read,
         p_.held() ? "" : p_.infos[n].format};
   }
 
-  void done(const Frame& f) {
+  // Writes a frame's files and counts them for an interruption's line.
+  void landed(const Frame& f) {
+    f.encoded.write();
+    set_batch_progress(++landed_, static_cast<int64_t>(p_.outputs.size()));
+  }
+
+  // Each named warning ("alpha dropped: ...") once a job, with the first file it concerns.
+  void warn_once(const std::string& line) {
+    std::lock_guard lock(warned_mutex_);
+    if (warned_.insert(line.substr(0, line.find(':'))).second && events_.warning)
+      events_.warning(line);
+  }
+
+  void done(Frame& f) {
+    f.report.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - f.report.started).count() +
+        f.report.map_seconds;
     reports_.push_back({frame_report(f.report)});
     if (events_.line) events_.line(frame_line(p_, f.report));
   }
@@ -307,7 +327,7 @@ class FrameRunner {
       open(n, f, p_.memory.job(), std::move(source));
       convert(n, f, out, f.file.has_value());
       if (f.file) source = std::move(f.file->image());
-      f.encoded.write();
+      landed(f);
       done(f);
     }
   }
@@ -342,7 +362,7 @@ class FrameRunner {
       frames[n].file.reset();
     };
     stages.write = [&](size_t n) {
-      frames[n].encoded.write();
+      landed(frames[n]);
       frames[n].encoded = {};
     };
     stages.written = [&](size_t n) { done(frames[n]); };
@@ -352,6 +372,9 @@ class FrameRunner {
   ConvertPlan& p_;
   const JobEvents& events_;
   std::vector<ReportValue> reports_;
+  int64_t landed_ = 0;  // (written by one thread: the serial loop's or the pipeline's writer)
+  std::mutex warned_mutex_;
+  std::set<std::string> warned_;
 };
 
 VideoRequest video_request_of(const Arguments& a) {
@@ -373,8 +396,14 @@ Report run(const Arguments& args, const JobEvents& events) {
     return convert_video(video_request_of(args), events);
   if (!inputs.empty()) refuse_video_rows(args, inputs[0]);
   ConvertPlan plan = plan_convert(request_of(args));
+  MadeFolders folders;  // a pattern's missing folders, removed again if the job fails
+  if (plan.batch || plan.out_faces) folders.make(plan.files_out);
   FrameRunner runner(plan, events);
-  return {{"frames", {runner.run()}},
+  set_batch_progress(0, static_cast<int64_t>(plan.outputs.size()));
+  std::vector<ReportValue> frames = runner.run();
+  set_batch_progress(0, 0);
+  folders.keep();
+  return {{"frames", {std::move(frames)}},
           {"src", {plan.from_text}},
           {"dst", {plan.to->str()}},
           {"decode_scale", {int64_t{plan.scale}}}};

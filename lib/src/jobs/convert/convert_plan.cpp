@@ -83,7 +83,7 @@ void plan_paths(ConvertPlan& p) {
     for (const auto& i : files_in)
       if (same_file(out, i))
         throw Error("output " + out + " is the input (choose another output path)");
-    check_output_path(out, job.write.overwrite);
+    check_output_path(out, job.write.overwrite, p.batch || p.out_faces);  // (MadeFolders)
   }
   if (p.from && is_cube_files(*p.from) != p.in_faces)
     throw Error(

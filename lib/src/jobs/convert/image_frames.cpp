@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "io/atomic_output.hpp"
 #include "io/formats.hpp"
 #include "panoproj/error.hpp"
 #include "panoproj/limits.hpp"
@@ -84,11 +85,12 @@ class ImageSequenceWriter final : public VideoWriter {
       throw Error("output " + pattern +
                   " names one image for a video's frames (put {n} in it, e.g. frames/{n}.png)");
     format_of_path(pattern);  // (an image format's extension, else the error naming them)
-    check_output_path(path(0), write.overwrite);
+    check_output_path(path(0), write.overwrite, true);
+    folders_.make({path(0)});
   }
 
   void write(const VideoFrame& frame) override { write_image(frame.planes[0], path(n_++), write_); }
-  void finish() override {}
+  void finish() override { folders_.keep(); }
   const std::vector<std::string>& notes() const override { return notes_; }
 
  private:
@@ -100,6 +102,7 @@ class ImageSequenceWriter final : public VideoWriter {
 
   std::string pattern_;
   WriteOptions write_;
+  MadeFolders folders_;  // the pattern's missing folders, removed again if the job fails
   int64_t n_ = 0;
   std::vector<std::string> notes_;
 };

@@ -1,8 +1,10 @@
 // The maps job: a conversion's source-coordinate map written as a 2-channel float image
-// (channels x, y; maps.hpp), for cv::remap and the like.
+// (channels x, y; maps.hpp), for cv::remap and the like: .npy (NumPy, any OpenCV), .exr, .tif.
 #include <cstdio>
+#include <filesystem>
 
 #include "io/formats.hpp"
+#include "io/npy.hpp"
 #include "jobs/list.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
@@ -15,7 +17,8 @@ namespace {
 const std::vector<OptionDef>& rows() {
   static const std::vector<OptionDef> rows = job_rows(
       {
-          {"output", OptionType::Path, 0, "None", "map file: .exr or .tif (2 float channels: x, y)",
+          {"output", OptionType::Path, 0, "None",
+           "map file: .npy (np.load gives cv2.remap's map), .exr or .tif (2 float channels: x, y)",
            nullptr, nullptr, nullptr, kPositional | kRequired},
           {"src", OptionType::Text, 0, "None", "source projection spec", nullptr, nullptr, "from",
            kRequired},
@@ -30,7 +33,8 @@ const std::vector<OptionDef>& rows() {
         "(centres at i + 0.5, NaN "
         "where no source)",
         nullptr, "opencv|panoproj"},
-       write_option("overwrite")});
+       write_option("overwrite"),
+       command_option("quiet")});
   return rows;
 }
 
@@ -45,11 +49,11 @@ Report run(const Arguments& args, const JobEvents& events) {
   const MapConvention convention = convention_of(args.text("convention"));
   const ConvertOptions options = args.options();
   const WriteOptions write = args.write();
-  if (!format_of_path(output).float_channels) {
-    std::string holding;
+  const bool npy = std::filesystem::path(output).extension() == ".npy";
+  if (!npy && !format_of_path(output).float_channels) {
+    std::string holding = ".npy";
     for (const ImageFormat* f : image_formats())
-      if (f->float_channels)
-        holding += (holding.empty() ? "" : " or ") + std::string(f->extensions[0]);
+      if (f->float_channels) holding += ", " + std::string(f->extensions[0]);
     throw Error("output " + output + " cannot hold float maps (use " + holding + ")");
   }
   check_output_path(output, write.overwrite);
@@ -60,13 +64,13 @@ Report run(const Arguments& args, const JobEvents& events) {
   require_no_correction(geometry, "maps", "a map holds positions (drop them)");
   // The map (2 floats a pixel) and its encoded copy.
   const Size out = size_of(geometry.target);
-  check_writable_size(output, out);
+  if (!npy) check_writable_size(output, out);
   require_memory("map " + size_text(out), image_bytes(out, 4, sizeof(float)), options.memory_limit);
   const Image map =
       build_map(geometry.source, geometry.target, geometry.rotation, convention, options.threads);
   WriteOptions w = write;
   w.channel_names = {"x", "y"};
-  write_image(map, output, w);
+  npy ? write_bytes(npy_bytes(map), output, w.overwrite) : write_image(map, output, w);
   if (events.line)
     events.line(output + ": " + size_text(map.size()) + " map (x, y float32, " +
                 args.text("convention") + " convention)");

@@ -10,6 +10,7 @@
 
 #include "base/input_check.hpp"
 #include "base/mapping_list.hpp"
+#include "base/text.hpp"
 #include "panoproj/convert.hpp"
 #include "panoproj/error.hpp"
 
@@ -24,7 +25,7 @@ double angle(const std::string& text, const std::string& what) {
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v) ||
       std::abs(v) > 360)
-    throw Error(what + " '" + text + "' (expected -360 to 360 degrees)");
+    throw Error(what + " '" + shown(text) + "' (expected -360 to 360 degrees)");
   return v;
 }
 
@@ -47,7 +48,7 @@ PixelRect rectangle(const std::string& text, const std::string& what) {
        v[1] + v[3] <= kMaxSide;
   if (!ok)
     throw Error(
-        what + " '" + text +
+        what + " '" + shown(text) +
         "' (expected WxH+X+Y: a rectangle W x H pixels whose top-left pixel is (X, Y), e.g. "
         "1920x1920+1920+0)");
   return {v[2], v[3], v[2] + v[0], v[3] + v[1]};
@@ -67,7 +68,7 @@ std::array<double, 3> circle(const std::string& text, const std::string& what) {
   }
   while (ok && *at == ' ') ++at;
   if (!ok || *at != '\0' || !(v[2] > 0))
-    throw Error(what + " '" + text +
+    throw Error(what + " '" + shown(text) +
                 "' (expected CX CY R: the circle's centre and radius over 0, in pixels, e.g. 960 "
                 "960 950)");
   return v;

@@ -5,23 +5,19 @@
 #include <Eigen/Geometry>
 
 #include "base/json_text.hpp"
+#include "base/text.hpp"
 #include "io/colmap/model.hpp"
 
 namespace panoproj {
 namespace {
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.17g", v + 0.0);
-  return b;
-}
 
 // A rotation's unit quaternion as "w<sep>x<sep>y<sep>z", w >= 0 (COLMAP's order).
 std::string wxyz(const Eigen::Matrix3d& r, const char* sep) {
   Eigen::Quaterniond q(r);
   q.normalize();
   if (q.w() < 0) q.coeffs() = -q.coeffs();
-  return num(q.w()) + sep + num(q.x()) + sep + num(q.y()) + sep + num(q.z());
+  return number_text(q.w()) + sep + number_text(q.x()) + sep + number_text(q.y()) + sep +
+         number_text(q.z());
 }
 
 // COLMAP's rig_configurator input: sensor v's images under "{view}/", its cam_from_rig (the
@@ -40,8 +36,9 @@ std::string rig_config(const std::vector<ViewCamera>& views) {
            "],\n        \"cam_from_rig_translation\": [0, 0, 0],\n";
     }
     s += "        \"camera_model_name\": \"PINHOLE\",\n        \"camera_params\": [" +
-         num(c.focal) + ", " + num(c.focal) + ", " + num(0.5 * static_cast<double>(c.size.width)) +
-         ", " + num(0.5 * static_cast<double>(c.size.height)) + "]\n      }";
+         number_text(c.focal) + ", " + number_text(c.focal) + ", " +
+         number_text(0.5 * static_cast<double>(c.size.width)) + ", " +
+         number_text(0.5 * static_cast<double>(c.size.height)) + "]\n      }";
   }
   return s + "\n    ]\n  }\n]\n";
 }
@@ -96,11 +93,12 @@ colmap::Model colmap_model(const std::vector<ViewCamera>& views,
 std::string intrinsics(const ViewCamera& c, const std::string& indent) {
   const double w = static_cast<double>(c.size.width), h = static_cast<double>(c.size.height);
   return indent + "\"w\": " + std::to_string(c.size.width) + ",\n" + indent +
-         "\"h\": " + std::to_string(c.size.height) + ",\n" + indent + "\"fl_x\": " + num(c.focal) +
-         ",\n" + indent + "\"fl_y\": " + num(c.focal) + ",\n" + indent + "\"cx\": " + num(0.5 * w) +
-         ",\n" + indent + "\"cy\": " + num(0.5 * h) + ",\n" + indent +
-         "\"camera_angle_x\": " + num(2 * std::atan(0.5 * w / c.focal)) + ",\n" + indent +
-         "\"camera_angle_y\": " + num(2 * std::atan(0.5 * h / c.focal)) + ",\n" + indent +
+         "\"h\": " + std::to_string(c.size.height) + ",\n" + indent +
+         "\"fl_x\": " + number_text(c.focal) + ",\n" + indent +
+         "\"fl_y\": " + number_text(c.focal) + ",\n" + indent + "\"cx\": " + number_text(0.5 * w) +
+         ",\n" + indent + "\"cy\": " + number_text(0.5 * h) + ",\n" + indent +
+         "\"camera_angle_x\": " + number_text(2 * std::atan(0.5 * w / c.focal)) + ",\n" + indent +
+         "\"camera_angle_y\": " + number_text(2 * std::atan(0.5 * h / c.focal)) + ",\n" + indent +
          "\"k1\": 0,\n" + indent + "\"k2\": 0,\n" + indent + "\"p1\": 0,\n" + indent +
          "\"p2\": 0,\n";
 }
@@ -132,7 +130,8 @@ std::string transforms(const std::vector<ViewCamera>& views, const std::vector<s
       for (int r = 0; r < 4; ++r) {
         s += r ? ", [" : "[";
         for (int c = 0; c < 4; ++c)
-          s += (c ? ", " : "") + num(r < 3 && c < 3 ? c2w(r, c) : (r == 3 && c == 3 ? 1.0 : 0.0));
+          s += (c ? ", " : "") +
+               number_text(r < 3 && c < 3 ? c2w(r, c) : (r == 3 && c == 3 ? 1.0 : 0.0));
         s += "]";
       }
       s += "]\n    }";

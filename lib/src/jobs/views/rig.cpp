@@ -29,14 +29,14 @@ double number(const std::string& text, const std::string& what) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v))
-    throw Error(what + ": '" + text + "' (expected a finite number)");
+    throw Error(what + ": '" + shown(text) + "' (expected a finite number)");
   return v;
 }
 
 int64_t whole(const std::string& text, const std::string& what, int64_t lo, int64_t hi) {
   const double v = number(text, what);
   if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi))
-    throw Error(what + ": " + text + " (expected a whole number from " + std::to_string(lo) +
+    throw Error(what + ": " + shown(text) + " (expected a whole number from " + std::to_string(lo) +
                 " to " + std::to_string(hi) + ")");
   return static_cast<int64_t>(v);
 }
@@ -45,17 +45,17 @@ void check_view(const ViewSpec& v, const std::string& where) {
   if (v.name.empty() || v.name.size() > 64 ||
       v.name.find_first_not_of(
           "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") != std::string::npos)
-    throw Error(where + "name '" + v.name +
+    throw Error(where + "name '" + shown(v.name) +
                 "' (expected 1 to 64 letters, digits, '_' or '-': it goes into file names)");
   const std::string of = where + "view " + v.name + ": ";
   for (auto [angle, key] : {std::pair{v.yaw, "yaw"}, {v.pitch, "pitch"}, {v.roll, "roll"}})
     if (!(std::abs(angle) <= 360))
-      throw Error(of + key + " " + std::to_string(angle) + " (expected -360 to 360 degrees)");
+      throw Error(of + key + " " + number_text(angle, 10) + " (expected -360 to 360 degrees)");
   if (!(v.hfov > 0 && v.hfov <= 179))
-    throw Error(of + "hfov " + std::to_string(v.hfov) +
+    throw Error(of + "hfov " + number_text(v.hfov, 10) +
                 " (expected more than 0, at most 179 degrees: a pinhole sees less than 180)");
   if (!(v.vfov == 0 || (v.vfov > 0 && v.vfov <= 179)))
-    throw Error(of + "vfov " + std::to_string(v.vfov) +
+    throw Error(of + "vfov " + number_text(v.vfov, 10) +
                 " (expected more than 0, at most 179 degrees)");
   if (v.width == 0 && v.height != 0)
     throw Error(of + "a height without a width (give size WxH, or the width alone)");
@@ -92,7 +92,7 @@ void set_key(ViewSpec& v, const std::string& key, const std::string& value,
   else if (k == "height")
     v.height = whole(value, what, 1, kMaxViewSide);
   else
-    throw Error(where + "unknown key '" + key +
+    throw Error(where + "unknown key '" + shown(key) +
                 "' (expected name, yaw, pitch, roll, hfov or fov, vfov, size, width, height)");
 }
 
@@ -116,7 +116,8 @@ std::vector<ViewSpec> ring(const std::string& keys) {
     at = comma + 1;
     const size_t eq = kv.find('=');
     if (eq == std::string::npos)
-      throw Error("rig ring: '" + kv + "' (expected key=value, e.g. ring:n=8,fov=90,pitch=0)");
+      throw Error("rig ring: '" + shown(kv) +
+                  "' (expected key=value, e.g. ring:n=8,fov=90,pitch=0)");
     const std::string k = kv.substr(0, eq), v = kv.substr(eq + 1), what = "rig ring: " + k;
     if (k == "n")
       n = whole(v, what, 1, 360);
@@ -129,7 +130,7 @@ std::vector<ViewSpec> ring(const std::string& keys) {
     else if (k == "yaw")
       yaw = number(v, what);
     else
-      throw Error("rig ring: unknown key '" + k + "' (expected n, fov, vfov, pitch, yaw)");
+      throw Error("rig ring: unknown key '" + shown(k) + "' (expected n, fov, vfov, pitch, yaw)");
   }
   std::vector<ViewSpec> views;
   for (int64_t i = 0; i < n; ++i) {
@@ -199,7 +200,7 @@ std::vector<ViewSpec> parse_rig(std::string_view text) {
         more = ring(part.substr(5));
       else
         throw Error(
-            "rig: '" + part +
+            "rig: '" + shown(part) +
             "' (expected cube, ring:n=8,fov=90,pitch=0, a sum of them with '+', or @rig.yaml)");
       views.insert(views.end(), more.begin(), more.end());
       if (views.size() > kMaxViews)
@@ -233,7 +234,7 @@ std::vector<ViewCamera> view_cameras(const std::vector<ViewSpec>& rig, std::opti
     if (w == 0 && size) {
       w = size->width, h = size->height;
       if (v.vfov > 0)
-        throw Error("view " + v.name + ": vfov " + std::to_string(v.vfov) + " and a size " +
+        throw Error("view " + v.name + ": vfov " + number_text(v.vfov, 10) + " and a size " +
                     size_text(*size) + " both given (the height follows from vfov: give one)");
     }
     double focal;
