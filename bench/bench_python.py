@@ -32,6 +32,7 @@ import py360convert
 import py360convert.utils
 
 import panoproj as pp
+from panoproj import compat
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 FACE = 1024
@@ -75,6 +76,37 @@ def two_threads_speedup(fn, n=8):
     for th in threads:
         th.join()
     return one / (time.perf_counter() - t)
+
+
+def compat_table(e, cube, runs):
+    """panoproj.compat against py360convert, the same calls: first calls (both caches cleared
+    before each) and repeat calls (both kept), interleaved, medians of `runs`."""
+    h, w = e.shape[:2]
+    calls = {
+        "e2c": lambda m: m.e2c(e, face_w=FACE, mode="bilinear", cube_format="horizon"),
+        "c2e": lambda m: m.c2e(cube, h, w, mode="bilinear", cube_format="horizon"),
+        "e2p": lambda m: m.e2p(e, (HFOV, VFOV), 0, 0, (OUT_H, OUT_W), mode="bilinear"),
+    }
+    print(f"panoproj.compat vs py360convert, 4096x2048 uint8 RGB (faces of {FACE}), bilinear, "
+          f"median of {runs}, interleaved")
+    print()
+    print("| call | py360convert first ms | compat first ms | first speed-up | "
+          "py360convert repeat ms | compat repeat ms | repeat speed-up |")
+    print("|---|---|---|---|---|---|---|")
+    for name, call in calls.items():
+        times = {k: [] for k in ("their_first", "our_first", "their_repeat", "our_repeat")}
+        for _ in range(runs):
+            for who, module, clear in (("their", py360convert, clear_py360_caches), ("our", compat, compat.clear_cache)):
+                clear()
+                t0 = time.perf_counter()
+                call(module)
+                times[f"{who}_first"].append(time.perf_counter() - t0)
+                t0 = time.perf_counter()
+                call(module)
+                times[f"{who}_repeat"].append(time.perf_counter() - t0)
+        m = {k: 1000 * statistics.median(v) for k, v in times.items()}
+        print(f"| {name} | {m['their_first']:.1f} | {m['our_first']:.1f} | {m['their_first'] / m['our_first']:.1f}x | "
+              f"{m['their_repeat']:.1f} | {m['our_repeat']:.1f} | {m['their_repeat'] / m['our_repeat']:.1f}x |")
 
 
 def batch_table(e, runs):
@@ -141,12 +173,16 @@ def keep_table(rounds):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=5)
-    ap.add_argument("--only", choices=["all", "keep"], default="all")
+    ap.add_argument("--only", choices=["all", "keep", "compat"], default="all")
     ap.add_argument("--keep-child", help=argparse.SUPPRESS)
     ap.add_argument("--kept", action="store_true", help=argparse.SUPPRESS)
     a = ap.parse_args()
     if a.keep_child:
         return keep_child(a.keep_child, a.kept)
+    if a.only == "compat":
+        e = pp.read(str(ROOT / "samples/images/jordan_pond_4096x2048.jpg"))
+        return compat_table(e, pp.convert(e, "equirect", "cubemap", size=(6 * FACE, FACE), interp="bilinear"),
+                            max(a.runs, 11))
     keep_table(max(a.runs, 5))
     if a.only == "keep":
         return
@@ -187,6 +223,8 @@ def main():
         our_warm = median_ms(functools.partial(plan, src), a.runs)
         print(f"| {name} | {their_cold:.1f} | {our_cold:.1f} | {their_cold / our_cold:.1f}x | "
               f"{their_warm:.1f} | {our_warm:.1f} | {their_warm / our_warm:.1f}x |")
+    print()
+    compat_table(e, cube, max(a.runs, 11))
     print()
     batch_table(e, a.runs)
     print()

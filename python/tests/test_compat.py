@@ -148,3 +148,27 @@ def test_py360convert_readme_example_runs_with_the_import_changed():
     assert len(cube_list) == 6 and cube_list[0].shape == (256, 256, 3)
     assert py.c2e(cube_dice, 400, 800).shape == (400, 800, 3)  # convert360 c2e ... --width 800 --height 400
     assert py.e2p(PANO, 90, 120, 23, (300, 300)).shape == (300, 300, 3)  # convert360 e2p ... --yaw 120 --pitch 23
+
+
+def test_repeat_calls_reuse_what_the_first_built():
+    """A repeat call (plans, padding and buffers kept) gives the first call's bytes, in any cube
+    format (the horizon's one-gather padding and the per-face one agree), from two threads at
+    once, and after clear_cache(); a call of another shape in between changes nothing."""
+    from concurrent.futures import ThreadPoolExecutor
+    horizon = py360convert.cube_list2h(FACES)
+    compat.clear_cache()
+    first = compat.c2e(horizon, 512, 1024, cube_format="horizon")
+    for fmt, cube in [("horizon", horizon), ("list", FACES), ("dict", dict(zip("FRBLUD", FACES)))]:
+        assert np.array_equal(compat.c2e(cube, 512, 1024, cube_format=fmt), first), fmt
+    compat.c2e(horizon, 256, 512, cube_format="horizon")
+    with ThreadPoolExecutor(2) as pool:
+        for out in pool.map(lambda _: compat.c2e(horizon, 512, 1024, cube_format="horizon"), range(4)):
+            assert np.array_equal(out, first)
+    views = [compat.e2p(PANO, 90, 30, 10, (200, 300)) for _ in range(2)]
+    compat.clear_cache()
+    assert np.array_equal(views[0], views[1]) and np.array_equal(compat.e2p(PANO, 90, 30, 10, (200, 300)), views[0])
+    assert np.array_equal(compat.c2e(horizon, 512, 1024, cube_format="horizon"), first)
+    # A part rendered into a kept buffer is not the array returned: the output is the caller's.
+    out = compat.c2e(horizon, 512, 1024, cube_format="horizon")
+    out[:] = 0
+    assert np.array_equal(compat.c2e(horizon, 512, 1024, cube_format="horizon"), first)
