@@ -334,3 +334,26 @@ def test_maps_as_npy_feed_both_opencv_lines(cli, tmp_path, line):
     subprocess.run([python, "-c", REMAP, str(tmp_path / "slip.npy"), str(tmp_path / "src.npy"),
                     str(tmp_path / "out2.npy")], capture_output=True, check=True)
     assert np.abs(np.load(tmp_path / "out2.npy").astype(int) - ours).max() > 1
+
+
+@pytest.mark.parametrize("viewer, script_global, files", [("pannellum", "pannellum", "node_modules/pannellum/build/"),
+                                                           ("marzipano", "Marzipano", "node_modules/marzipano/dist/")])
+def test_a_tiles_page_says_why_it_is_blank(cli, tmp_path, viewer, script_global, files):
+    """Opened from disk, or without its viewer's script (offline, a wrong --script-url), the page
+    says why it is blank and how to serve it; the command's line says so too."""
+    src = tmp_path / "in.png"
+    pp.write(str(src), np.zeros((64, 128, 3), np.uint8))
+    r = subprocess.run([cli, "tiles", str(src), str(tmp_path / "t"), "--viewer", viewer, "--tile", "64"],
+                       capture_output=True, text=True, check=True)
+    assert f"python3 -m http.server -d {tmp_path / 't'}, then http://localhost:8000/" in r.stdout
+    assert "offline: --script-url to the viewer's files" in r.stdout
+    page = (tmp_path / "t" / "index.html").read_text()
+    assert 'if (location.protocol === "file:")' in page and "browsers do not load its tiles from file://" in page
+    assert f'typeof {script_global} === "undefined"' in page and files in page
+    assert "run python3 -m http.server in it and open http://localhost:8000/" in page
+    # The notice comes before the viewer starts (which fails without its script).
+    assert page.index('id="why"') < page.index("var q = new URLSearchParams")
+    subprocess.run([cli, "tiles", str(src), str(tmp_path / "u"), "--viewer", viewer, "--tile", "64", "-q",
+                    "--script-url", "lib/"], check=True)
+    page = (tmp_path / "u" / "index.html").read_text()
+    assert "did not load from lib/ (offline, or a wrong address)" in page

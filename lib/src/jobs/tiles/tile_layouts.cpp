@@ -80,6 +80,29 @@ const char* const kQuery = R"(var q = new URLSearchParams(location.search);
 function param(name, fallback) { var v = parseFloat(q.get(name)); return isFinite(v) ? v : fallback; }
 )";
 
+// Why a page stays blank, said on it: opened from disk (browsers refuse file:// tiles as textures)
+// or without its viewer's script (offline, or a wrong --script-url). `viewer`: the script's global;
+// `package`: the npm package and the folder of its files in it.
+std::string blank_page_notice(const std::string& script, const char* viewer, const char* package,
+                              const char* folder) {
+  return std::string(
+             R"(<div id="why" style="display: none; position: absolute; top: 0; left: 0; right: 0; z-index: 9; padding: 1em; font: 16px/1.4 sans-serif; background: #fff3cd; color: #222"></div>
+<script>
+function why(text) { var d = document.getElementById("why"); d.textContent = text; d.style.display = "block"; }
+var serve = "serve this folder over HTTP: run python3 -m http.server in it and open http://localhost:8000/";
+if (location.protocol === "file:")
+  why("This page is blank when opened from a file: browsers do not load its tiles from file:// addresses. To view it, " + serve + " (any web server does).");
+else if (typeof )") +
+         viewer + R"( === "undefined")
+  why("The viewer's script did not load from )" +
+         script +
+         R"( (offline, or a wrong address). Run panoproj tiles with --script-url naming a folder that holds the viewer's files (e.g. node_modules/)" +
+         package + "/" + folder + R"(/ after npm install )" + package +
+         R"( here, for a page that works offline), then " + serve + ".");
+</script>
+)";
+}
+
 std::string pannellum_page(const std::string& script, const std::string& config) {
   return "<!DOCTYPE html>\n<html>\n<head>\n<meta charset=\"utf-8\">\n"
          "<meta name=\"viewport\" content=\"width=device-width, "
@@ -88,8 +111,9 @@ std::string pannellum_page(const std::string& script, const std::string& config)
          script + "pannellum.css\">\n<script src=\"" + script +
          "pannellum.js\"></script>\n<style>html, body, #panorama { margin: 0; width: 100%; height: "
          "100%; }</style>\n"
-         "</head>\n<body>\n<div id=\"panorama\"></div>\n<script>\n" +
-         kQuery + "var config = " + config +
+         "</head>\n<body>\n<div id=\"panorama\"></div>\n" +
+         blank_page_notice(script, "pannellum", "pannellum", "build") + "<script>\n" + kQuery +
+         "var config = " + config +
          ";\n"
          "config.basePath = \".\";\nconfig.autoLoad = true;\n"
          "config.yaw = param(\"yaw\", config.yaw || 0);\nconfig.pitch = param(\"pitch\", "
@@ -109,8 +133,9 @@ std::string marzipano_page(const std::string& script, const std::string& config)
          "marzipano.js\"></script>\n"
          "<style>html, body, #pano { margin: 0; width: 100%; height: 100%; overflow: hidden; "
          "}</style>\n"
-         "</head>\n<body>\n<div id=\"pano\"></div>\n<script>\n" +
-         kQuery + "var data = " + config +
+         "</head>\n<body>\n<div id=\"pano\"></div>\n" +
+         blank_page_notice(script, "Marzipano", "marzipano", "dist") + "<script>\n" + kQuery +
+         "var data = " + config +
          ";\n"
          "var deg = Math.PI / 180, element = document.getElementById(\"pano\");\n"
          "var viewer = new Marzipano.Viewer(element, {controls: {mouseViewMode: \"drag\"}});\n"

@@ -52,7 +52,8 @@ const std::vector<OptionDef>& rows() {
            "<= 256)"},
           {"script_url", OptionType::Text, 0, "None",
            "folder index.html loads the viewer's script from (default: the npm package on "
-           "jsDelivr)"},
+           "jsDelivr; a local folder, e.g. node_modules/pannellum/build/, for pages that work "
+           "offline)"},
       },
       kUseTiles,
       {with_help(write_option("overwrite"), "replace an existing output folder"),
@@ -415,6 +416,10 @@ Report run(const Arguments& args, const JobEvents& events) {
     for (const ReportValue& n :
          std::get<std::vector<ReportValue>>(report_find(report, "notes")->value))
       line += "\n  " + std::get<std::string>(n.value);
+    line +=
+        "\n  view it over HTTP (browsers load no tiles from file://): python3 -m http.server -d " +
+        job.output + ", then http://localhost:8000/" +
+        (job.layout.script_url.empty() ? "; offline: --script-url to the viewer's files" : "");
     events.line(line);
   }
   return report;
