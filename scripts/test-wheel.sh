@@ -1,18 +1,31 @@
 #!/usr/bin/env bash
-# The repaired wheel as a user gets it (a CI stage, ~3 min): built by scripts/wheel.sh, installed
+# The repaired wheels as users get them (a CI stage, ~9 min): built by scripts/wheel.sh (one per
+# CPython 3.9 to 3.14 these machines carry), the one of .venv's version installed
 # into a fresh virtual environment, checked to resolve no system imaging library, its command run
 # from the environment's bin, the whole pytest suite run against it with no environment variable,
 # and, where a mount namespace can be made (root), the module used with the system's OpenImageIO
-# really gone, then FFmpeg's libraries too (video through PyAV, the av extra). Prints the wheel's
-# size and tag, and import time and memory.
+# really gone, then FFmpeg's libraries too (video through PyAV, the av extra); then the whole suite
+# on 3.13's wheel, the smoke set (python/tests/wheel_smoke.py) on the others', and the command
+# installed with --target and --user. Prints each wheel's size and tag, import times and memory.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d)
 chmod 755 "$work"  # (a robustness test runs the command as another user)
 trap 'rm -rf "$work"' EXIT
-bash "$root/scripts/wheel.sh" "$work/dist" >/dev/null
-wheel=$(ls "$work"/dist/panoproj-*.whl)
-echo "wheel: $(basename "$wheel"), $(( $(stat -c %s "$wheel") / 1024 )) kB"
+# One wheel per CPython these machines carry (pyenv's 3.9 to 3.14; .venv's own for its version).
+own=$("$root/.venv/bin/python" -c 'import sys; print("%d.%d" % sys.version_info[:2])')
+pyenv_root=$(pyenv root 2>/dev/null || echo "$HOME/.pyenv")
+declare -A interpreter
+for v in 3.9 3.10 3.11 3.12 3.13 3.14; do
+  if [[ $v == "$own" ]]; then interpreter[$v]="$root/.venv/bin/python"; continue; fi
+  found=$(ls -d "$pyenv_root"/versions/"$v".*/bin/python3 2>/dev/null | sort -V | tail -1 || true)
+  [[ -n $found ]] && interpreter[$v]=$found
+done
+versions=$(printf '%s\n' "${!interpreter[@]}" | sort -V)
+PANOPROJ_WHEEL_PYTHONS="$(for v in $versions; do printf '%s ' "${interpreter[$v]}"; done)" \
+  bash "$root/scripts/wheel.sh" "$work/dist" >/dev/null
+wheel=$(ls "$work"/dist/panoproj-*-cp${own/./}-*.whl)
+for w in "$work"/dist/panoproj-*.whl; do echo "wheel: $(basename "$w"), $(( $(stat -c %s "$w") / 1024 )) kB"; done
 python3 -m venv "$work/venv"
 py="$work/venv/bin/python"
 "$py" -m pip install -q "$wheel[io,av,test]"
@@ -80,3 +93,38 @@ ms = statistics.median(float(r[0]) for r in runs) * 1e3
 rss = statistics.median(int(r[1]) for r in runs) / 1024
 print(f"import panoproj after numpy: {ms:.1f} ms (median of 15; target <= 50); peak RSS {rss:.0f} MB (target < 60)")
 PY
+# The other interpreters: the whole suite on 3.13 (as on .venv's), the smoke set on the rest; each
+# with the import time over numpy. Then the command through --target and --user.
+import_time() {
+  "$1" - <<'PY'
+import statistics, subprocess, sys
+code = "import time, numpy; t = time.perf_counter(); import panoproj; print(time.perf_counter() - t)"
+runs = [float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout)
+        for _ in range(9)]
+print(f"Python {sys.version.split()[0]}: import panoproj after numpy {statistics.median(runs) * 1e3:.1f} ms (median of 9)")
+PY
+}
+for v in $versions; do
+  [[ $v == "$own" ]] && continue
+  w=$(ls "$work"/dist/panoproj-*-cp${v/./}-*.whl)
+  "${interpreter[$v]}" -m venv "$work/venv-$v"
+  if [[ $v == 3.13 ]]; then
+    "$work/venv-$v/bin/python" -m pip install -q "$w[io,av,test]"
+    (cd "$work" && env -u PANOPROJ_CLI "$work/venv-$v/bin/python" -m pytest -q -n 2 -p no:cacheprovider \
+      "$root/python/tests" | tail -1 | sed "s/^/Python $v, the whole suite: /")
+  else
+    "$work/venv-$v/bin/python" -m pip install -q "$w"
+    mkdir -p "$work/smoke-$v"
+    (cd "$work" && "$work/venv-$v/bin/python" "$root/python/tests/wheel_smoke.py" "$root/samples/images" "$work/smoke-$v")
+  fi
+  import_time "$work/venv-$v/bin/python"
+done
+# pip install --target DIR and --user: the command runs from DIR/bin and ~/.local/bin, the
+# interpreter having no panoproj of its own.
+last=$(printf '%s\n' $versions | tail -1)
+"${interpreter[$last]}" -m pip install -q --target "$work/target" "$(ls "$work"/dist/panoproj-*-cp${last/./}-*.whl)"
+(cd / && "$work/target/bin/panoproj" convert "$root/samples/images/jordan_pond_4096x2048.jpg" "$work/t.png" \
+  --to pinhole --size 64x64 -q && echo "pip install --target: its bin/panoproj converts")
+PYTHONUSERBASE="$work/user" "${interpreter[$last]}" -m pip install -q --user "$(ls "$work"/dist/panoproj-*-cp${last/./}-*.whl)"
+(cd / && PYTHONUSERBASE="$work/user" "$work/user/bin/panoproj" convert "$root/samples/images/jordan_pond_4096x2048.jpg" \
+  "$work/u.png" --to pinhole --size 64x64 -q && echo "pip install --user: its bin/panoproj converts")

@@ -3,7 +3,11 @@
 # manylinux_2_34 (PANOPROJ_PORTABLE: libstdc++ and libgcc static, hypot's
 # old symbol version), repaired by auditwheel (the libraries it needs, libjpeg, libpng, Imath,
 # copied in; OpenImageIO and FFmpeg left out: the plugins use the system's when it is there),
-# both into dist/.
+# both into dist/. PANOPROJ_WHEEL_PYTHONS (interpreters, space-separated; default .venv's) gives one
+# wheel per CPython: the library's objects are compiled once, in one build folder, and only the
+# module again per interpreter (each its own build environment of scikit-build-core and pybind11).
+# The command's launcher is ours (scripts/wheel_launcher.py: it finds the executable wherever pip
+# put the package, --target and --user included).
 # Usage: scripts/wheel.sh [OUT_DIR]   (default dist/). Needs install-deps.sh's packages.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -27,12 +31,21 @@ src=$(echo "$work"/panoproj-*/)
 src=${src%/}
 # (CXX: CMake's default name, c++, as in the test build; scikit-build-core would take Python's g++,
 # and ccache keys on the name.)
-CXX=${CXX:-c++} CCACHE_BASEDIR="$src" "$py" -m pip wheel -q --no-deps --no-build-isolation -w "$work/raw" \
-  -C cmake.define.PANOPROJ_PORTABLE=ON -C build-dir="$src/build" "$src"
+for python in ${PANOPROJ_WHEEL_PYTHONS:-$py}; do
+  builder=$python
+  if [[ $python != "$py" ]]; then  # (pip's -C is 23.1's: --config-settings for older pips)
+    "$python" -m venv "$work/build-env" && builder="$work/build-env/bin/python"
+    "$builder" -m pip install -q "scikit-build-core>=0.11" "pybind11>=2.12"
+  fi
+  CXX=${CXX:-c++} CCACHE_BASEDIR="$src" "$builder" -m pip wheel -q --no-deps --no-build-isolation -w "$work/raw" \
+    --config-settings=cmake.define.PANOPROJ_PORTABLE=ON --config-settings=build-dir="$src/build" "$src"
+  rm -rf "$work/build-env"
+done
 # The plugins' OpenImageIO (about 260 libraries with its own dependencies) and FFmpeg are the
 # system's or none: excluded, they are looked for at run time.
 "$py" -m auditwheel repair -w "$out" --plat manylinux_2_34_x86_64 \
   --exclude 'libOpenImageIO.so.*' --exclude 'libOpenImageIO_Util.so.*' \
   --exclude 'libavformat.so.*' --exclude 'libavcodec.so.*' --exclude 'libavutil.so.*' \
   --exclude 'libswscale.so.*' "$work"/raw/panoproj-*.whl
+"$py" "$root/scripts/wheel_launcher.py" "$out"/panoproj-*manylinux_2_34*.whl
 ls -l "$out/$(basename "$sdist")" "$out"/panoproj-*manylinux_2_34*.whl

@@ -129,7 +129,10 @@ class Reader:
         self.concealed = 0
         self.queue: List[Any] = []  # the copied streams' packets read so far
         try:
-            self._c = av.open(path, metadata_errors="ignore")
+            try:
+                self._c = av.open(path, metadata_errors="ignore")
+            except TypeError:  # PyAV 19 has no metadata_errors (it decodes metadata leniently)
+                self._c = av.open(path)
         except av.FFmpegError as e:
             self._fail(f"it is not a video PyAV can read ({_why(e)})")
         videos = [s for s in self._c.streams if s.type == "video" and not int(s.disposition) & _ATTACHED_PIC]

@@ -18,6 +18,27 @@ def installed_cli():
     return str(path) if path.is_file() and os.access(path, os.X_OK) else None
 
 
+def native_command(cli):
+    """The executable a wheel's launcher script runs (panoproj.scripts/panoproj beside the
+    package), else `cli` itself."""
+    with open(cli, "rb") as f:
+        if f.read(2) != b"#!":
+            return cli
+    import panoproj
+    native = pathlib.Path(panoproj.__file__).parent.parent / "panoproj.scripts" / "panoproj"
+    return str(native) if native.is_file() else cli
+
+
+def runs_as_nobody(executable):
+    """Whether `executable` starts as user nobody (setpriv; an interpreter under root's home
+    whose libpython nobody cannot read does not)."""
+    import subprocess
+    args = ["--version"] if "python" not in os.path.basename(executable) else ["-c", "pass"]
+    return shutil.which("setpriv") is not None and subprocess.run(
+        ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", executable, *args],
+        capture_output=True).returncode == 0
+
+
 @pytest.fixture(scope="session")
 def cli():
     """The panoproj command of the same build: PANOPROJ_CLI (scripts/test.sh sets it for the build

@@ -357,3 +357,23 @@ def test_a_tiles_page_says_why_it_is_blank(cli, tmp_path, viewer, script_global,
                     "--script-url", "lib/"], check=True)
     page = (tmp_path / "u" / "index.html").read_text()
     assert "did not load from lib/ (offline, or a wrong address)" in page
+
+
+def test_a_source_build_without_its_packages_stops_at_once_naming_them(tmp_path):
+    """CMake's configure, as pip's source build runs it, with two build packages hidden: one line
+    naming both Debian packages, in seconds, before anything compiles."""
+    import os
+    import shutil
+    import time
+    if shutil.which("cmake") is None:
+        pytest.skip("no cmake")
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    t0 = time.perf_counter()
+    r = subprocess.run(["cmake", "-S", root, "-B", str(tmp_path / "b"), "-DCMAKE_DISABLE_FIND_PACKAGE_PNG=ON",
+                        "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON", "-DPANOPROJ_BUILD_TESTS=OFF"],
+                       capture_output=True, text=True)
+    assert r.returncode != 0 and time.perf_counter() - t0 < 30
+    said = " ".join(r.stderr.split())
+    assert "panoproj needs these Debian packages to build: apt install libeigen3-dev libpng-dev " \
+           "(scripts/install-deps.sh installs every build package)" in said, r.stderr
+    assert not (tmp_path / "b" / "build.ninja").exists() and not (tmp_path / "b" / "Makefile").exists()

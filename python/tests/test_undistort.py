@@ -15,10 +15,12 @@ import pathlib
 import subprocess
 
 import numpy as np
-import pycolmap
 import pytest
 
 import panoproj as pp
+
+# (pycolmap 4.2 has no wheels for Python 3.9: the test extra leaves it out there)
+pycolmap = pytest.importorskip("pycolmap")
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PANO = str(ROOT / "samples" / "images" / "jordan_pond_4096x2048.jpg")
