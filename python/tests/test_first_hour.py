@@ -377,3 +377,10 @@ def test_a_source_build_without_its_packages_stops_at_once_naming_them(tmp_path)
     assert "panoproj needs these Debian packages to build: apt install libeigen3-dev libpng-dev " \
            "(scripts/install-deps.sh installs every build package)" in said, r.stderr
     assert not (tmp_path / "b" / "build.ninja").exists() and not (tmp_path / "b" / "Makefile").exists()
+
+
+def test_a_misspelt_spec_key_gets_the_nearest(cli):
+    assert error_of(cli, *COMMON, "--to", "fisheye:fvo=180").startswith(
+        "fisheye: unknown key 'fvo' (did you mean fov? expected one of: fov, model, ")
+    with pytest.raises(ValueError, match=r"unknown key 'modle' \(did you mean model\?"):
+        pp.convert(np.zeros((8, 16), np.uint8), "equirect", "fisheye:modle=equisolid")

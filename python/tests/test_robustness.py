@@ -2702,3 +2702,49 @@ def test_colmap_jobs_never_write_through_a_link(cli, tmp_path, command):
     r = run(cli, [command, *args, "out", "--overwrite"], tmp_path)
     assert r.code == 1, r.err
     assert (tmp_path / "out").is_symlink() and listing(tmp_path / "elsewhere") == ["keep.txt"]
+
+
+# Issue 55's additions: --face-size, a pattern's folders made, maps as .npy, a mono target's size.
+# Each refused in one line, exit 1, nothing written or made (no folder left behind).
+FIRST_HOUR_CASES = [
+    ("face_size_text", ["convert", "{src}", "o.png", "--to", "cubemap", "--face-size", "abc"],
+     "--face-size: abc is not a 64-bit integer"),
+    ("face_size_huge", ["convert", "{src}", "o.png", "--to", "cubemap", "--face-size", "99999999999999999999"],
+     "--face-size: 99999999999999999999 is not a 64-bit integer"),
+    ("face_size_zero", ["convert", "{src}", "o.png", "--to", "cubemap", "--face-size", "0"],
+     "--face-size 0 (expected 1 to 2147483647 pixels a side)"),
+    ("face_size_negative", ["convert", "{src}", "o.png", "--to", "cubemap", "--face-size", "-8"],
+     "--face-size -8 (expected 1 to "),
+    ("face_size_over_memory", ["convert", "{src}", "o.png", "--to", "cubemap", "--face-size", "1000000"],
+     "over the memory limit"),
+    ("face_size_no_faces", ["convert", "{src}", "o.png", "--to", "fisheye", "--face-size", "64"],
+     "fisheye has no faces"),
+    ("pattern_through_a_file", ["convert", "{src}", "file/x/{face}.png", "--to", "cubemap:layout=files"],
+     "output folder file is not a folder"),
+    ("pattern_through_a_device_link", ["convert", "{src}", "null/x/{face}.png", "--to", "cubemap:layout=files"],
+     "output folder null is not a folder"),
+    ("pattern_job_refused_later", ["convert", "{src}", "made/{face}.png", "--to", "cubemap:layout=files",
+                                   "--face-size", "1000000"], "over the memory limit"),
+    ("maps_npy_exists", ["maps", "exists.npy", "--from", "equirect", "--source-size", "64x32", "--to", "pinhole"],
+     "output exists.npy exists (pass --overwrite to replace it)"),
+    ("maps_npy_missing_folder", ["maps", "no/m.npy", "--from", "equirect", "--source-size", "64x32", "--to",
+                                 "pinhole"], "output folder no does not exist"),
+    ("maps_npy_huge", ["maps", "m.npy", "--from", "equirect", "--source-size", "64x32", "--to", "pinhole",
+                       "--size", "900000x900000"], "over the memory limit"),
+    ("maps_png", ["maps", "m.png", "--from", "equirect", "--source-size", "64x32", "--to", "pinhole"],
+     "output m.png cannot hold float maps (use .npy, .tif, .exr)"),
+    ("mono_size", ["convert", "{src}", "o.png", "--to", "cubemap:face=1000000000"],
+     "size: 6000000000x1000000000 (expected at most"),
+]
+
+
+@pytest.mark.parametrize("case", FIRST_HOUR_CASES, ids=[c[0] for c in FIRST_HOUR_CASES])
+def test_first_hour_refusals(cli, files, tmp_path, case):
+    _, args, needle = case
+    (tmp_path / "file").write_bytes(b"")
+    os.symlink("/dev/null", tmp_path / "null")
+    (tmp_path / "exists.npy").write_bytes(b"old")
+    before = snapshot(tmp_path)
+    r = run(cli, [a.replace("{src}", str(files["png"])) for a in args], tmp_path, timeout=30)
+    expect_refused(r, needle)
+    assert snapshot(tmp_path) == before

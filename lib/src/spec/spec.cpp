@@ -212,9 +212,16 @@ ProjectionSpec parse_spec(std::string_view text) {
         if (key == q.key) p = &q;
       if (!p) {
         std::string keys;
-        for (const auto& q : def->params) keys += (keys.empty() ? "" : ", ") + std::string(q.key);
-        throw Error(std::string(def->name) + ": unknown key '" + key + "' (expected one of: " +
-                    (keys.empty() ? "none" : keys) + ")");
+        std::vector<std::string> names;
+        for (const auto& q : def->params) {
+          keys += (keys.empty() ? "" : ", ") + std::string(q.key);
+          names.emplace_back(q.key);
+        }
+        const std::string near =
+            key.size() > 2 ? closest(key, names) : "";  // (a letter or two: any key is near)
+        throw Error(std::string(def->name) + ": unknown key '" + shown(key) + "' (" +
+                    (near.empty() ? "" : "did you mean " + near + "? ") +
+                    "expected one of: " + (keys.empty() ? "none" : keys) + ")");
       }
       if (values.count(key)) throw Error(std::string(def->name) + ": " + key + " given twice");
       values[key] = validate(*def, *p, value);
