@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Benchmarks panoproj against OpenCV's cv::remap and memcpy (bench/bench_remap.cpp);
 # with "big" first, the 40000x20000 demonstration instead (bench/bench_big.cpp, ~4.5 GB); with
-# "python" first, the Python module against py360convert (bench/bench_python.py); with "plot"
+# "python" first, the Python module and panoproj.compat against py360convert (bench/bench_python.py;
+# --only compat: compat's first and repeat calls alone); with "plot"
 # first, bench_remap then its chart in docs/bench_remap.png (bench/plot_remap.py, matplotlib); with
 # "io" first, the file boundary's figures: start-up, JPEG and PPM whole processes against the codec
 # floor and FFmpeg's v360, a 32768x16384 JPEG's views (bench/bench_io.py; hyperfine, ffmpeg); with
@@ -17,7 +18,7 @@
 # "undistort" first, a COLMAP model's undistortion against pycolmap and COLMAP 3.8 (bench/bench_undistort.py).
 # Installs what is missing, builds in build-bench/, runs.
 # Usage: scripts/bench.sh [--threads N] [--runs N]  |  scripts/bench.sh big [--threads N]
-#        scripts/bench.sh python [--runs N] [--only keep]  |  scripts/bench.sh plot [--runs N]
+#        scripts/bench.sh python [--runs N] [--only keep|compat]  |  scripts/bench.sh plot [--runs N]
 #        scripts/bench.sh io [--rounds N] [--runs N] [--batch-runs N] [--only startup,jpeg,ppm,batch,big]
 #        scripts/bench.sh cv [--runs N] [--rounds N]  |  scripts/bench.sh profile [--runs N]
 #        scripts/bench.sh video [--runs N] [--frames N] [--only filter,transcode,rss]  |  scripts/bench.sh video-quality
