@@ -110,8 +110,8 @@ for v in $versions; do
   "${interpreter[$v]}" -m venv "$work/venv-$v"
   if [[ $v == 3.13 ]]; then
     "$work/venv-$v/bin/python" -m pip install -q "$w[io,av,test]"
-    (cd "$work" && env -u PANOPROJ_CLI "$work/venv-$v/bin/python" -m pytest -q -n 2 -p no:cacheprovider \
-      "$root/python/tests" | tail -1 | sed "s/^/Python $v, the whole suite: /")
+    (cd "$work" && env -u PANOPROJ_CLI "$work/venv-$v/bin/python" -m pytest -q -n 2 -p no:cacheprovider -rf \
+      "$root/python/tests" | grep -E "^FAILED|passed|failed" | sed "s/^/Python $v, the whole suite: /")
   else
     "$work/venv-$v/bin/python" -m pip install -q "$w"
     mkdir -p "$work/smoke-$v"
