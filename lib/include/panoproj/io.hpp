@@ -95,8 +95,9 @@ void write_image(const Image& image, const std::string& path, const WriteOptions
 // named warning: "alpha dropped: ...", "depth lowered: ..." (an options.type the format cannot
 // hold), "samples clipped: ..." (float samples outside 0..1 or NaN into integers, counted),
 // "metadata dropped: ...".
+// `count_clipped`: false skips the pass over the samples (a batch that has said it once).
 std::vector<std::string> write_warnings(const std::string& path, const Image& image,
-                                        const WriteOptions& options);
+                                        const WriteOptions& options, bool count_clipped = true);
 // Throws unless `path` may be written: its folder exists (folder_made: or can be made, its nearest
 // existing ancestor being a folder), and it is not a directory nor (without overwrite) an
 // existing entry of any kind, a dangling link included.

@@ -48,7 +48,7 @@ int64_t clipped_samples(const Image& image) {
 }  // namespace
 
 std::vector<std::string> write_warnings(const std::string& path, const Image& image,
-                                        const WriteOptions& options) {
+                                        const WriteOptions& options, bool count_clipped) {
   const ImageFormat& format = format_of_path(path);
   std::vector<std::string> lost;
   const PixelType wanted = options.type.value_or(image.type());
@@ -62,7 +62,8 @@ std::vector<std::string> write_warnings(const std::string& path, const Image& im
                    " samples, not " + name_of(*options.type) +
                    " (PNG holds uint16; TIFF and EXR hold half and float)");
   const bool to_integer = stored == PixelType::U8 || stored == PixelType::U16;
-  if (to_integer && (image.type() == PixelType::F16 || image.type() == PixelType::F32)) {
+  if (count_clipped && to_integer &&
+      (image.type() == PixelType::F16 || image.type() == PixelType::F32)) {
     if (const int64_t n = clipped_samples(image); n > 0) {
       const double all = static_cast<double>(image.width()) * static_cast<double>(image.height()) *
                          image.channels();

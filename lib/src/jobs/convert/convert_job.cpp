@@ -281,7 +281,10 @@ class FrameRunner {
           progress, finished);
     else
       c.run(source, out, nullptr, progress, finished);
-    for (const std::string& w : write_warnings(p_.outputs[n], out, write)) warn_once(w);
+    // (Each name is said once a job: once clipping was, later frames skip counting it.)
+    for (const std::string& w :
+         write_warnings(p_.outputs[n], out, write, !warned("samples clipped")))
+      warn_once(w);
     f.encoded =
         single ? single->finish(out) : encode_cube_faces(out, p_.outputs[n], write, p_.out_order);
     auto face_size = [](Size strip) { return Size{strip.height, strip.height}; };
@@ -303,6 +306,11 @@ class FrameRunner {
   void landed(const Frame& f) {
     f.encoded.write();
     set_batch_progress(++landed_, static_cast<int64_t>(p_.outputs.size()));
+  }
+
+  bool warned(const std::string& name) {
+    std::lock_guard lock(warned_mutex_);
+    return warned_.count(name) > 0;
   }
 
   // Each named warning ("alpha dropped: ...") once a job, with the first file it concerns.
