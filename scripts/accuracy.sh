@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Error against run time at the sample sizes (README "Error against run time"): `panoproj
+# Error against run time at the sample sizes (the site's "Error against run time", docs/accuracy.md): `panoproj
 # accuracy` on equirect -> cubemap (and EAC), fisheye, Mollweide and Panini, and cubemap (and EAC) -> equirect, for the sharp
-# chart scene; tables (Markdown), CSV, JSON and plots in docs/accuracy/ (or $1).
+# chart scene; tables (Markdown pages of the site, each with its plot), CSV, JSON and plots in docs/accuracy/ (or $1).
 # Installs what is missing and builds first. Takes a few minutes (the truth is supersampled).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -12,7 +12,8 @@ mkdir -p "$out"
 sweep() {  # name, then the command's arguments
   local name=$1
   shift
-  "$pp" accuracy "$@" --csv "$out/$name.csv" --json "$out/$name.json" --plot "$out/$name.png" --overwrite |
+  { echo "# ${name//_/ }"; echo; echo "![error against time]($name.png)"; echo
+    "$pp" accuracy "$@" --csv "$out/$name.csv" --json "$out/$name.json" --plot "$out/$name.png" --overwrite; } |
     tee "$out/$name.md"
 }
 sweep equirect_to_cubemap --from equirect --from-size 4096x2048 --to cubemap --size 6144x1024 --truth-supersample 4

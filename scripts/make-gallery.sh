@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the README gallery (docs/gallery/*.jpg) from the main job's results: runs
+# Regenerates the gallery (README and docs/gallery.md) (docs/gallery/*.jpg) from the main job's results: runs
 # scripts/demo.sh, then makes small thumbnails with Pillow's area-aware resize (a docs-only
 # tool in the project's .venv; panoproj itself does not depend on it).
 set -euo pipefail

@@ -11,7 +11,7 @@ venv="$root/.venv"
 if [[ ! -x "$venv/bin/python" ]]; then
   python3 -m venv "$venv"
 fi
-if ! "$venv/bin/python" -c "import pybind11, numpy, pytest, xdist, cv2, dask.distributed, scikit_build_core, OpenImageIO, mypy, pyright, py360convert, pyproj, pycolmap, av" 2>/dev/null \
+if ! "$venv/bin/python" -c "import pybind11, numpy, pytest, xdist, cv2, dask.distributed, scikit_build_core, OpenImageIO, mypy, pyright, py360convert, pyproj, pycolmap, av, sphinx, myst_parser" 2>/dev/null \
   || [[ ! -x "$venv/bin/clang-format" || ! -x "$venv/bin/lizard" ]]; then
   "$venv/bin/python" -m pip install -q -r "$root/python/requirements-test.txt" >&2
 fi

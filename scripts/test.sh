@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Every test: installs what is missing, checks the source's habits (scripts/check-source.sh),
-# builds (with the Python module), runs ctest and pytest.
+# builds (with the Python module), runs ctest and pytest, and builds the documentation site
+# (scripts/docs.sh: warnings are errors, every internal link checked).
 # Usage: scripts/test.sh [BUILD_DIR]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -17,3 +18,4 @@ bash "$root/scripts/check-source.sh"
 bash "$root/scripts/build.sh" "$build" "${py_args[@]}"
 ctest --test-dir "$build" --output-on-failure -j 2
 PYTHONPATH="$build/python" PANOPROJ_CLI="$build/tools/panoproj" "$root/.venv/bin/python" -m pytest -q -n 2 "$root/python/tests"
+bash "$root/scripts/docs.sh" "$build"

@@ -1,4 +1,4 @@
-"""The README's picture of `panoproj views` (docs/gallery/views_on_the_panorama.jpg): each view's
+"""The picture of `panoproj views` (docs/gallery/views_on_the_panorama.jpg): each view's
 border drawn on the panorama where the written COLMAP camera (pycolmap reading sparse/0) says it
 looks, above the views themselves. Usage: views_figure.py VIEWS_FOLDER PANORAMA OUT.jpg"""
 import sys

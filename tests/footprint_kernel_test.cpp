@@ -74,8 +74,8 @@ TEST(FootprintKernel, FieldFollowsTheExactFootprints) {
   // map's within 1/1024 px), where neither is clamped; the footprint changes slowly, so the
   // blend stays close. Worst near a fisheye's rim, where points outside the circle take the
   // others' mean. Tiles whose points lie on different cube faces are left out: the faces' axes
-  // differ, and the blend mixes them (README: cube -> equirect 4x smaller, auto 30.8 dB against
-  // 31.2 for 4x4 sub-pixels).
+  // differ, and the blend mixes them (docs/accuracy.md: cube -> equirect 4x smaller, auto 30.8 dB
+  // against 31.2 for 4x4 sub-pixels).
   struct Case {
     const char* from;
     Size from_size;
