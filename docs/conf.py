@@ -28,7 +28,7 @@ html_theme = "alabaster"
 html_title = "panoproj"
 html_static_path = ["_static"]
 html_css_files = ["custom.css"]
-html_theme_options = {"page_width": "1320px", "sidebar_width": "230px", "body_max_width": "none", "fixed_sidebar": True,
+html_theme_options = {"page_width": "1200px", "sidebar_width": "230px", "body_max_width": "none", "fixed_sidebar": True,
                       "description": "Image-space reprojection between panoramic, fisheye, pinhole, cubemap and map projections"}
 html_sidebars = {"**": ["about.html", "navigation.html", "searchbox.html"]}
 html_show_sourcelink = False

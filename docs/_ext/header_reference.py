@@ -18,12 +18,12 @@ def _split(text):
         i = 1
     comment = []
     while i < len(lines) and lines[i].startswith("//"):
-        comment.append(lines[i][2:].strip())
+        comment.append(lines[i][2:].removeprefix(" ").rstrip())
         i += 1
     while i < len(lines) and (lines[i].startswith("#include") or not lines[i].strip()):
         i += 1
-    paragraphs = [" ".join(p.split("\n")).strip() for p in "\n".join(comment).split("\n\n")]
-    return [p for p in paragraphs if p], "\n".join(lines[i:]).rstrip() + "\n"
+    paragraphs = [p.strip("\n") for p in "\n".join(comment).split("\n\n")]
+    return [p for p in paragraphs if p.strip()], "\n".join(lines[i:]).rstrip() + "\n"
 
 
 def _order(root):
@@ -43,13 +43,15 @@ class HeaderReference(SphinxDirective):
             name = path.relative_to(base).as_posix()
             ident = "header-" + re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")
             prose, code = _split(path.read_text(encoding="utf-8"))
-            first = prose[0].split(". ")[0].rstrip(".") + "." if prose else ""
+            first = " ".join(prose[0].split()).split(". ")[0].rstrip(".") + "." if prose else ""
             ref = nodes.reference("", "", nodes.literal(text=name), refid=ident)
             summary += nodes.list_item("", nodes.paragraph("", "", ref, nodes.Text(": " + first if first else "")))
             section = nodes.section(ids=[ident], names=[nodes.fully_normalize_name(name)])
             section += nodes.title(text=name)
-            for paragraph in prose:
-                section += nodes.paragraph(text=paragraph)
+            for paragraph in prose:  # a list or a table in the comment keeps its lines
+                laid_out = any(line.startswith(("-", " ")) for line in paragraph.split("\n")[1:])
+                section += (nodes.literal_block(paragraph, paragraph, language="none") if laid_out
+                            else nodes.paragraph(text=" ".join(paragraph.split())))
             block = nodes.literal_block(code, code, language="cpp")
             section += block
             out.append(section)

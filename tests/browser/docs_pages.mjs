@@ -1,6 +1,6 @@
 // The documentation site in chromium-headless-shell with every request off this machine
-// refused (scripts/docs-pages.sh): the front page, the Python API page and the projections page
-// at its formulas. Saves a screenshot of each and exits 1 if a page asked for anything off the
+// refused (scripts/docs-pages.sh): the front page, the Python API page, the projections page
+// at its formulas and the C++ reference at convert.hpp. Saves a screenshot of each and exits 1 if a page asked for anything off the
 // machine, a request failed, or the formulas did not render (MathJax's SVG output counted).
 //   node docs_pages.mjs BASE_URL OUT_PREFIX
 import { chromium } from 'playwright-core';
@@ -26,6 +26,7 @@ for (const [name, path, anchor, formulas] of [
   ['front', 'index.html', null, 0],
   ['python', 'python.html', 'api-reference', 0],
   ['projection', 'projections.html', 'the-main-forms-in-formulas', 20],
+  ['cpp', 'cpp.html', 'header-panoproj-convert-hpp', 0],
 ]) {
   await page.goto(`${base}/${path}${anchor ? '#' + anchor : ''}`);
   await page.waitForLoadState('networkidle');
