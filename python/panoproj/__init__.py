@@ -1,7 +1,8 @@
-"""panoproj: convert images between projections (pinhole, fisheye, calibrated lenses, equirect,
-cylindrical, cubemap, Aitoff, Hammer / Eckert-Greifendorff, Bonne) at native speed, from numpy.
+"""panoproj: convert images between projections (pinhole, fisheye laws, calibrated lenses, dual
+fisheyes, equirect, cylindrical, Panini, cube maps, world maps: ``projections()`` lists them) at
+native speed, from numpy; files, videos, Hugin projects and rigs, tiles, views and COLMAP models.
 
-Conventions (the same as the ``panoproj`` command; see docs/projections.md):
+Conventions (the same as the ``panoproj`` command; the documentation's Conventions page):
 
 - Images are arrays ``HxW``, ``HxWxC`` or batches ``NxHxWxC`` of any channel count (2 or 4:
   alpha last; more than 4 in groups, no alpha): uint8, uint16, float16, float32 as they are,
