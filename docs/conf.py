@@ -14,11 +14,9 @@ copyright = "the panoproj authors (MIT)"
 release = version = re.search(r"project\(panoproj VERSION ([0-9.]+)", (root / "CMakeLists.txt").read_text()).group(1)
 
 extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.mathjax", "header_reference"]
-myst_enable_extensions = ["dollarmath", "amsmath"]
+myst_enable_extensions = ["dollarmath"]
 myst_heading_anchors = 4  # links such as projections.md#photometry
 exclude_patterns = ["_ext"]
-suppress_warnings = []
-nitpicky = False
 
 # Formulas without a CDN: scripts/docs.sh copies npm's MathJax 3 into the built site.
 mathjax_path = "mathjax/tex-svg.js"
