@@ -6,20 +6,17 @@
 # from eight views in headless Chromium (SwiftShader WebGL) and compares (threejs_presets.mjs).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+source "$root/scripts/browser-tools.sh"
 work=${1:-"$root/out/browser-oracle"}
 bash "$root/scripts/install-deps.sh" chromium
 bash "$root/scripts/build.sh" >/dev/null
 pp="$root/build/tools/panoproj"
 mkdir -p "$work/threejs" "$work/unity"
 cp "$root/tests/browser/threejs_presets.html" "$root/tests/browser/threejs_presets.mjs" "$work/"
-(cd "$work" && [ -f package.json ] || npm init -y >/dev/null) && (cd "$work" && npm install --silent --no-audit --no-fund three@0.187.0 playwright-core@1.65.1)
+npm_tools "$work" three@0.187.0 playwright-core@1.65.1
 "$pp" convert "$root/samples/images/jordan_pond_4096x2048.jpg" "$work/e.png" --to equirect --size 2048x1024 --overwrite -q
 for preset in threejs unity; do
   "$pp" convert "$work/e.png" "$work/$preset/{axis}.png" --to "cubemap:layout=files,preset=$preset" --size 512x512 --overwrite -q
 done
-port=$((20000 + RANDOM % 20000))
-(cd "$work" && exec python3 -m http.server "$port" --bind 127.0.0.1 >/dev/null 2>&1) &
-server=$!
-trap 'kill $server 2>/dev/null' EXIT
-sleep 1
+serve "$work"
 (cd "$work" && node threejs_presets.mjs "http://127.0.0.1:$port/threejs_presets.html")

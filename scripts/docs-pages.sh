@@ -7,16 +7,12 @@
 # Usage: scripts/docs-pages.sh [OUT (default out/docs-pages)]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+source "$root/scripts/browser-tools.sh"
 work=$(mkdir -p "${1:-$root/out/docs-pages}" && cd "${1:-$root/out/docs-pages}" && pwd)
 bash "$root/scripts/install-deps.sh" chromium-headless-shell
 bash "$root/scripts/docs.sh" "$root/build" "$work/site"
-(cd "$work" && { [ -f package.json ] || npm init -y >/dev/null; } &&
-  npm install --silent --no-audit --no-fund playwright-core@1.65.1)
-port=$((20000 + RANDOM % 20000))
-(cd "$work/site" && exec python3 -m http.server "$port" --bind 127.0.0.1 >/dev/null 2>&1) &
-server=$!
-trap 'kill $server 2>/dev/null' EXIT
-sleep 1
+npm_tools "$work" playwright-core@1.65.1
+serve "$work/site"
 cp "$root/tests/browser/docs_pages.mjs" "$work/"
 (cd "$work" && node docs_pages.mjs "http://127.0.0.1:$port" "$work/docs_page_")
 PYTHONPATH="$root/build/python" "$root/.venv/bin/python" - "$work" <<'PY'

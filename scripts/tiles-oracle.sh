@@ -9,14 +9,14 @@
 # Usage: scripts/tiles-oracle.sh [big] [WORK (default out/tiles-oracle)]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+source "$root/scripts/browser-tools.sh"
 big=0
 if [[ ${1:-} == big ]]; then big=1; shift; fi
 work=$(mkdir -p "${1:-$root/out/tiles-oracle}" && cd "${1:-$root/out/tiles-oracle}" && pwd)
 bash "$root/scripts/install-deps.sh" chromium-headless-shell hugin-tools
 bash "$root/scripts/build.sh" >/dev/null
 bash "$root/scripts/python-env.sh" >/dev/null
-(cd "$work" && { [ -f package.json ] || npm init -y >/dev/null; } &&
-  npm install --silent --no-audit --no-fund pannellum@2.5.7 marzipano@0.10.2 playwright-core@1.65.1)
+npm_tools "$work" pannellum@2.5.7 marzipano@0.10.2 playwright-core@1.65.1
 # generate.py's own environment: Pillow 9.5.0 (its Image.ANTIALIAS is gone from Pillow 10).
 [ -x "$work/venv-pillow/bin/python" ] || python3 -m venv "$work/venv-pillow"
 "$work/venv-pillow/bin/pip" install -q pillow==9.5.0
@@ -25,11 +25,7 @@ export PYTHONPATH="$root/build/python" PANOPROJ_CLI="$root/build/tools/panoproj"
 py="$root/.venv/bin/python"
 status=0
 "$py" "$root/tests/tiles_oracle.py" generate-py "$work" "$gen" "$work/venv-pillow/bin/python" || status=1
-port=$((20000 + RANDOM % 20000))
-(cd "$work" && exec python3 -m http.server "$port" --bind 127.0.0.1 >/dev/null 2>&1) &
-server=$!
-trap 'kill $server 2>/dev/null' EXIT
-sleep 1
+serve "$work"
 "$py" "$root/tests/tiles_oracle.py" browser "$work" "http://127.0.0.1:$port" || status=1
 if ((big)); then
   "$py" "$root/tests/tiles_oracle.py" big "$work" "$gen" "$work/venv-pillow/bin/python" || status=1

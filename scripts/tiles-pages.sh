@@ -6,22 +6,18 @@
 # Usage: scripts/tiles-pages.sh [OUT (default out/tiles-pages)]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+source "$root/scripts/browser-tools.sh"
 work=$(mkdir -p "${1:-$root/out/tiles-pages}" && cd "${1:-$root/out/tiles-pages}" && pwd)
 bash "$root/scripts/install-deps.sh" chromium-headless-shell
 bash "$root/scripts/build.sh" >/dev/null
-(cd "$work" && { [ -f package.json ] || npm init -y >/dev/null; } &&
-  npm install --silent --no-audit --no-fund pannellum@2.5.7 playwright-core@1.65.1)
+npm_tools "$work" pannellum@2.5.7 playwright-core@1.65.1
 pp="$root/build/tools/panoproj"
 pano="$root/samples/images/jordan_pond_4096x2048.jpg"
 rm -rf "$work/cdn" "$work/local"
 "$pp" tiles "$pano" "$work/cdn" --tile 256 -q
 "$pp" tiles "$pano" "$work/local" --tile 256 -q --script-url viewer/
 cp -r "$work/node_modules/pannellum/build" "$work/local/viewer"
-port=$((20000 + RANDOM % 20000))
-(cd "$work" && exec python3 -m http.server "$port" --bind 127.0.0.1 >/dev/null 2>&1) &
-server=$!
-trap 'kill $server 2>/dev/null' EXIT
-sleep 1
+serve "$work"
 cp "$root/tests/browser/tiles_page_states.mjs" "$work/"
 (cd "$work" && node tiles_page_states.mjs "file://$work/cdn/index.html" "http://127.0.0.1:$port/cdn/index.html" \
   "http://127.0.0.1:$port/local/index.html" "$work/tiles_page_")
