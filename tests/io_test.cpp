@@ -4,11 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 
 #include <OpenImageIO/imageio.h>
 
+#include "io/atomic_output.hpp"
 #include "panoproj/error.hpp"
 #include "test_support.hpp"
 
@@ -111,6 +115,40 @@ TEST_F(Io, RefusesToClobberAndLeavesNothingBehindOnFailure) {
   EXPECT_THROW(write_image(im, path("b.xyz"), {}), Error);
   EXPECT_THROW(write_image(im, path("missing/b.png"), {}), Error);
   EXPECT_EQ(listing(), std::vector<std::string>{"a.png"});
+}
+
+// A signal during a commit waits for its renames and its count (landed), so that the batch's line
+// names every file that landed: here the signal comes before the count, and the line says 1.
+TEST_F(Io, ASignalDuringACommitWaitsForItsRenamesAndItsCount) {
+  GTEST_FLAG_SET(death_test_style, "fast");  // (the child forked: the same folder)
+  const std::string a = path("a.txt"), b = path("b.txt");
+  EXPECT_EXIT(
+      {
+        install_signal_cleanup();
+        set_batch_progress(0, 3);
+        OutputSet set(false);
+        set.add(a, "a");
+        set.add(b, "b");
+        set.commit([] {
+          std::raise(SIGINT);
+          set_batch_progress(1, 3);
+        });
+        std::_Exit(0);  // (not reached: the signal acts once the commit is done)
+      },
+      ::testing::KilledBySignal(SIGINT), "interrupted after 1 of 3; 1 written, each whole");
+  EXPECT_EQ(listing(), (std::vector<std::string>{"a.txt", "b.txt"}));
+  // A signal while a file is written: its temporary is removed, nothing lands.
+  EXPECT_EXIT(
+      {
+        install_signal_cleanup();
+        OutputSet set(false);
+        const int fd = set.open(path("c.txt"));
+        (void)!::write(fd, "c", 1);
+        std::raise(SIGTERM);
+        std::_Exit(0);
+      },
+      ::testing::KilledBySignal(SIGTERM), "");
+  EXPECT_EQ(listing(), (std::vector<std::string>{"a.txt", "b.txt"}));
 }
 
 TEST_F(Io, MetadataArraysAndRationalsReadBackElementByElement) {

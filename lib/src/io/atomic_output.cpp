@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <utility>
 
@@ -34,9 +35,9 @@ struct Slot {
   int dir;                    // the folder holding both names (kept open while the slot is live)
   char temp[256];
   char restore_to[256];  // "" : remove temp; else rename temp back to this name
-  bool tree;             // temp is a folder: removed with all it holds, if still this one:
-  uint64_t device;       // its device and inode (0: not checked)
-  uint64_t inode;
+  bool tree;             // temp is a folder: removed with all it holds if still this one,
+  uint64_t device;       // of this device and inode (0: one not looked at yet, removed only
+  uint64_t inode;        // if empty)
 };
 std::array<Slot, 64> slots;
 
@@ -156,12 +157,22 @@ void say_batch_progress() {
   (void)!::write(report_fd.load(), line, static_cast<size_t>(at - line));
 }
 
-extern "C" void cleanup_and_reraise(int sig) {
+// Commits and the signal handler exclude each other, so that a signal finds each output either
+// landed and counted or not begun: commit_gate counts the commits under way (-1: a signal's
+// cleanup has begun); a signal that comes during one waits in deferred_signal for the last to end.
+std::atomic<int> commit_gate{0}, deferred_signal{0};
+
+// Removes the temporaries, says what a batch had done, and raises `sig` again with its default
+// action (in a handler it kills when the handler returns).
+void clean_up_and_reraise(int sig) {
   for (Slot& s : slots) {
     if (s.state.load() != 2) continue;
     if (s.restore_to[0]) (void)::renameat(s.dir, s.temp, s.dir, s.restore_to);
     else if (s.tree) {
-      if (s.inode == 0 || is_folder(s.dir, s.temp, s.device, s.inode)) (void)remove_tree_at(s.dir, s.temp, 0);
+      if (s.inode == 0)
+        (void)::unlinkat(s.dir, s.temp, AT_REMOVEDIR);
+      else if (is_folder(s.dir, s.temp, s.device, s.inode))
+        (void)remove_tree_at(s.dir, s.temp, 0);
     }
     else (void)::unlinkat(s.dir, s.temp, 0);
   }
@@ -169,6 +180,33 @@ extern "C" void cleanup_and_reraise(int sig) {
   std::signal(sig, SIG_DFL);
   std::raise(sig);
 }
+
+extern "C" void on_signal(int sig) {
+  int none = 0, idle = 0;
+  deferred_signal.compare_exchange_strong(none, sig);
+  if (commit_gate.compare_exchange_strong(idle, -1)) clean_up_and_reraise(sig);
+}
+
+// A commit's renames and what runs when they are done (its count), whole before a signal acts.
+class CommitSection {
+ public:
+  CommitSection() {
+    for (int n = commit_gate.load();; n = commit_gate.load()) {
+      if (n < 0 || deferred_signal.load() != 0)
+        ::pause();  // the process is about to die of a signal
+      else if (commit_gate.compare_exchange_weak(n, n + 1))
+        return;
+    }
+  }
+  ~CommitSection() {
+    int idle = 0;
+    if (commit_gate.fetch_sub(1) == 1 && deferred_signal.load() != 0 &&
+        commit_gate.compare_exchange_strong(idle, -1))
+      clean_up_and_reraise(deferred_signal.load());
+  }
+  CommitSection(const CommitSection&) = delete;
+  CommitSection& operator=(const CommitSection&) = delete;
+};
 
 std::string reason(int err) { return std::strerror(err); }
 
@@ -317,9 +355,8 @@ void install_signal_cleanup(int fd) {
   report_fd = fd;
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
     struct sigaction sa {};
-    sa.sa_handler = cleanup_and_reraise;
+    sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESETHAND;
     ::sigaction(sig, &sa, nullptr);
   }
 }
@@ -430,11 +467,16 @@ int OutputSet::open(const std::string& path) {
   remove_stale(dir, folder_of(path));
   std::string temp;
   int fd = -1;
+  int slot = -1;
+  // (Claimed before it exists: a signal meanwhile finds no file, or ours.)
   for (int attempt = 0; attempt < 8 && fd < 0; ++attempt) {
     temp = temp_name();
+    slot = claim(dir, temp);
     fd = ::openat(dir, temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
-    if (fd < 0 && errno != EEXIST) {
-      const int err = errno;
+    if (fd >= 0) break;
+    const int err = errno;
+    release(slot);
+    if (err != EEXIST) {
       ::close(dir);
       fail(path, "cannot create a file in its folder", err);
     }
@@ -443,12 +485,21 @@ int OutputSet::open(const std::string& path) {
     ::close(dir);
     fail(path, "no free temporary name", EEXIST);
   }
-  staged_.push_back({path, name_of(path), temp, dir, claim(dir, temp)});
+  try {
+    staged_.push_back({path, name_of(path), temp, dir, slot});
+  } catch (...) {
+    (void)::unlinkat(dir, temp.c_str(), 0);
+    release(slot);
+    ::close(fd);
+    ::close(dir);
+    throw;
+  }
   return fd;
 }
 
-void OutputSet::commit() {
+void OutputSet::commit(const std::function<void()>& landed) {
   check_interrupt();  // the last moment a stop leaves nothing written
+  const CommitSection section;
   // Old files are moved aside (restored on failure or by a signal) so that a set lands whole.
   struct Moved {
     int dir;
@@ -497,8 +548,9 @@ void OutputSet::commit() {
     (void)::unlinkat(m.dir, m.aside.c_str(), 0);
     release(m.slot);
   }
+  for (Staged& s : staged_) release(s.slot);
+  if (landed) landed();
   for (Staged& s : staged_) {
-    release(s.slot);
     (void)::fsync(s.dir);  // best effort: the renames are done, a failure here loses nothing
     ::close(s.dir);
   }
@@ -675,17 +727,26 @@ OutputFolder::OutputFolder(std::string path, bool overwrite, const std::vector<s
     check_replaceable(parent_, name_, path_, overwrite_, true);
     require_outside(parent_, name_, path_, inputs);
     remove_stale(parent_, folder_of(path_));
+    // (Claimed before it exists, as an empty folder to remove, then by its identity.)
     for (int attempt = 0; attempt < 8 && staged_name_.empty(); ++attempt) {
       const std::string temp = temp_name();
+      slot_ = claim(parent_, temp, {}, true);
       if (::mkdirat(parent_, temp.c_str(), 0777) == 0) staged_name_ = temp;
-      else if (errno != EEXIST) fail(path_, "cannot create a folder beside it", errno);
+      else {
+        const int err = errno;
+        release(slot_);
+        slot_ = -1;
+        if (err != EEXIST) fail(path_, "cannot create a folder beside it", err);
+      }
     }
     if (staged_name_.empty()) fail(path_, "no free temporary name", EEXIST);
     struct stat st {};
     if (::fstatat(parent_, staged_name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) fail(path_, "looking at its temporary folder", errno);
     staged_ = {(fs::path(folder_of(path_)) / staged_name_).string(), static_cast<uint64_t>(st.st_dev),
                static_cast<uint64_t>(st.st_ino)};
+    const int empty_slot = slot_;
     slot_ = claim(parent_, staged_name_, {}, true, &staged_);
+    release(empty_slot);
     writer_ = std::make_unique<FolderWriter>(staged_, path_);
   } catch (...) {
     release(slot_);
@@ -758,6 +819,7 @@ void OutputFolder::commit() {
                 ErrorKind::File);
   std::string aside;
   int aside_slot = -1;
+  std::optional<CommitSection> section(std::in_place);
   struct stat st {};
   if (::fstatat(parent_, name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0) {
     check_replaceable(parent_, name_, path_, overwrite_, false);  // again: it may have changed during the work
@@ -776,9 +838,10 @@ void OutputFolder::commit() {
   done_ = true;
   release(slot_);
   slot_ = -1;
+  if (!aside.empty()) release(aside_slot);  // (landed: its removal is not undone by a signal)
+  section.reset();
   (void)::fsync(parent_);  // best effort: the renames are done, a failure here loses nothing
   if (!aside.empty()) {
-    release(aside_slot);
     if (!remove_tree_at(parent_, aside.c_str(), 0))
       throw Error(path_ + " landed, but its old folder, moved to " + (fs::path(folder_of(path_)) / aside).string() +
                       ", could not be removed whole (a mount point appeared inside it?): remove it yourself",

@@ -13,6 +13,7 @@
 // Removal never enters a mount point (statx's STATX_ATTR_MOUNT_ROOT: bind mounts of the same file
 // system included).
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -44,8 +45,9 @@ class OutputSet {
   // A descriptor not sealed is the caller's to close.
   int open(const std::string& path);
   void seal(int fd, const std::string& path);
-  // Renames every staged file onto its path, all or none.
-  void commit();
+  // Renames every staged file onto its path, all or none, then runs `landed` (a batch's count);
+  // a signal that comes meanwhile is acted on when both are done. `landed` must not commit.
+  void commit(const std::function<void()>& landed = {});
 
  private:
   struct Staged {

@@ -162,13 +162,12 @@ EncodedOutput::EncodedOutput(EncodedOutput&&) noexcept = default;
 EncodedOutput& EncodedOutput::operator=(EncodedOutput&&) noexcept = default;
 EncodedOutput::EncodedOutput(std::unique_ptr<Files> files) : files_(std::move(files)) {}
 
-void EncodedOutput::write() const {
+void EncodedOutput::write(const std::function<void()>& landed) const {
   if (!files_) throw InternalError("an empty EncodedOutput written");
   OutputSet set(files_->overwrite);
   for (const auto& [path, e] : files_->files) set.add(path, e.pieces());
-  set.commit();
+  set.commit(landed);
 }
-
 
 void write_bytes(std::string_view bytes, const std::string& path, bool overwrite) {
   OutputSet set(overwrite);

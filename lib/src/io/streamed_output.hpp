@@ -4,6 +4,7 @@
 // complete there and then (JpegBlockEncoder, codec.hpp); finish() encodes the rest, and the
 // EncodedOutput it returns writes the file like write_image. Other formats, and samples to be
 // converted first, encode whole in finish(). Internal.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,15 +16,16 @@
 namespace panoproj {
 
 // Encoded files not written yet: an output's one, or a face set's six. write() writes them all
-// or none (OutputSet: each path checked again). A PPM of 8-bit samples holds the image's rows,
-// not a copy: the image given to finish() must outlive the write.
+// or none (OutputSet: each path checked again), then runs `landed` before a signal acts. A PPM of
+// 8-bit samples holds the image's rows, not a copy: the image given to finish() must outlive the
+// write.
 class EncodedOutput {
  public:
   EncodedOutput();
   ~EncodedOutput();
   EncodedOutput(EncodedOutput&&) noexcept;
   EncodedOutput& operator=(EncodedOutput&&) noexcept;
-  void write() const;
+  void write(const std::function<void()>& landed = {}) const;
 
   struct Files;  // (io.cpp)
   explicit EncodedOutput(std::unique_ptr<Files> files);

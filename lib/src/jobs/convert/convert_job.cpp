@@ -304,8 +304,8 @@ class FrameRunner {
 
   // Writes a frame's files and counts them for an interruption's line.
   void landed(const Frame& f) {
-    f.encoded.write();
-    set_batch_progress(++landed_, static_cast<int64_t>(p_.outputs.size()));
+    f.encoded.write(
+        [&] { set_batch_progress(++landed_, static_cast<int64_t>(p_.outputs.size())); });
   }
 
   bool warned(const std::string& name) {
