@@ -42,10 +42,10 @@ def main(site):
     for page_path in pages:
         page = _parse(page_path, cache)
         where = page_path.relative_to(site)
-        for url in page.links + page.loads:
+        for url, loaded in [(u, False) for u in page.links] + [(u, True) for u in page.loads]:
             parts = urllib.parse.urlsplit(url)
             if parts.scheme in ("http", "https", "mailto") or url.startswith("//"):
-                if url in page.loads:
+                if loaded:
                     problems.append(f"{where}: loads {url} from the network")
                 external.add(url)
                 continue

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Regenerates the gallery (README and docs/gallery.md) (docs/gallery/*.jpg) from the main job's results: runs
-# scripts/demo.sh, then makes small thumbnails with Pillow's area-aware resize (a docs-only
-# tool in the project's .venv; panoproj itself does not depend on it).
+# Regenerates the gallery's pictures (docs/gallery/*.jpg, shown by README.md and docs/gallery.md)
+# from the main job's results: runs scripts/demo.sh, then makes small thumbnails with Pillow's
+# area-aware resize (a docs-only tool in the project's .venv; panoproj itself does not depend on it).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bash "$root/scripts/demo.sh" "$root/out/demo" >/dev/null

@@ -27,8 +27,7 @@ def _split(text):
 
 
 def _order(root):
-    top = sorted(p for p in root.glob("*.hpp"))
-    return top + sorted(p for p in root.glob("*/*.hpp"))
+    return sorted(root.glob("*.hpp")) + sorted(root.glob("*/*.hpp"))
 
 
 class HeaderReference(SphinxDirective):
@@ -52,8 +51,7 @@ class HeaderReference(SphinxDirective):
                 laid_out = any(line.startswith(("-", " ")) for line in paragraph.split("\n")[1:])
                 section += (nodes.literal_block(paragraph, paragraph, language="none") if laid_out
                             else nodes.paragraph(text=" ".join(paragraph.split())))
-            block = nodes.literal_block(code, code, language="cpp")
-            section += block
+            section += nodes.literal_block(code, code, language="cpp")
             out.append(section)
         return [summary] + out
 

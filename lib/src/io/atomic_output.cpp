@@ -16,7 +16,6 @@
 #include <cstring>
 #include <filesystem>
 #include <mutex>
-#include <optional>
 #include <set>
 #include <utility>
 
@@ -819,34 +818,37 @@ void OutputFolder::commit() {
                 ErrorKind::File);
   std::string aside;
   int aside_slot = -1;
-  std::optional<CommitSection> section(std::in_place);
-  struct stat st {};
-  if (::fstatat(parent_, name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0) {
-    check_replaceable(parent_, name_, path_, overwrite_, false);  // again: it may have changed during the work
-    aside = temp_name();
-    if (::renameat2(parent_, name_.c_str(), parent_, aside.c_str(), RENAME_NOREPLACE) != 0)
-      fail(path_, "moving the old folder aside", errno);
-    aside_slot = claim(parent_, aside, name_);
+  {
+    const CommitSection section;
+    struct stat st {};
+    if (::fstatat(parent_, name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0) {
+      check_replaceable(parent_, name_, path_, overwrite_,
+                        false);  // again: it may have changed during the work
+      aside = temp_name();
+      if (::renameat2(parent_, name_.c_str(), parent_, aside.c_str(), RENAME_NOREPLACE) != 0)
+        fail(path_, "moving the old folder aside", errno);
+      aside_slot = claim(parent_, aside, name_);
+    }
+    if (::renameat2(parent_, staged_name_.c_str(), parent_, name_.c_str(), RENAME_NOREPLACE) != 0) {
+      const int err = errno;
+      if (!aside.empty()) (void)::renameat(parent_, aside.c_str(), parent_, name_.c_str());
+      release(aside_slot);
+      if (err == EEXIST || err == ENOTEMPTY)
+        check_replaceable(parent_, name_, path_, false, false);  // made meanwhile: says so
+      fail(path_, "renaming its temporary folder into place", err);
+    }
+    done_ = true;
+    release(slot_);
+    slot_ = -1;
+    release(aside_slot);  // (landed: its removal is not undone by a signal)
   }
-  if (::renameat2(parent_, staged_name_.c_str(), parent_, name_.c_str(), RENAME_NOREPLACE) != 0) {
-    const int err = errno;
-    if (!aside.empty()) (void)::renameat(parent_, aside.c_str(), parent_, name_.c_str());
-    release(aside_slot);
-    if (err == EEXIST || err == ENOTEMPTY) check_replaceable(parent_, name_, path_, false, false);  // made meanwhile: says so
-    fail(path_, "renaming its temporary folder into place", err);
-  }
-  done_ = true;
-  release(slot_);
-  slot_ = -1;
-  if (!aside.empty()) release(aside_slot);  // (landed: its removal is not undone by a signal)
-  section.reset();
   (void)::fsync(parent_);  // best effort: the renames are done, a failure here loses nothing
-  if (!aside.empty()) {
-    if (!remove_tree_at(parent_, aside.c_str(), 0))
-      throw Error(path_ + " landed, but its old folder, moved to " + (fs::path(folder_of(path_)) / aside).string() +
-                      ", could not be removed whole (a mount point appeared inside it?): remove it yourself",
-                  ErrorKind::File);
-  }
+  if (!aside.empty() && !remove_tree_at(parent_, aside.c_str(), 0))
+    throw Error(
+        path_ + " landed, but its old folder, moved to " +
+            (fs::path(folder_of(path_)) / aside).string() +
+            ", could not be removed whole (a mount point appeared inside it?): remove it yourself",
+        ErrorKind::File);
 }
 
 }  // namespace panoproj
